@@ -1,0 +1,45 @@
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "engine/camera.hpp"
+
+using namespace vkgi;
+
+// The path tracer's pixel ray and the rasteriser's view-projection must agree: a point on
+// the ray through a pixel centre projects back to exactly that pixel centre.
+TEST(Camera, PixelRayReprojectsToPixelCentre) {
+    Camera cam;
+    cam.position = {0.278f, 0.273f, -0.8f};
+    cam.forward = {0.0f, 0.0f, 1.0f};
+    cam.yfov = 2.0f * std::atan(12.5f / 35.0f);
+    const uint32_t w = 64, h = 48;
+    glm::mat4 vp = cam.projection(float(w) / float(h)) * cam.view();
+    for (uint32_t y : {0u, 7u, 47u})
+        for (uint32_t x : {0u, 31u, 63u}) {
+            glm::vec3 p = cam.position + 2.5f * cam.pixelRayDirection(x, y, w, h);
+            glm::vec4 clip = vp * glm::vec4(p, 1.0f);
+            glm::vec2 ndc = glm::vec2(clip) / clip.w;
+            EXPECT_NEAR((ndc.x * 0.5f + 0.5f) * w, x + 0.5f, 1e-3f);
+            EXPECT_NEAR((ndc.y * 0.5f + 0.5f) * h, y + 0.5f, 1e-3f);
+            float depth = clip.z / clip.w;
+            EXPECT_GT(depth, 0.0f);
+            EXPECT_LT(depth, 1.0f);
+        }
+}
+
+TEST(Camera, FramingCameraSeesTheWholeBox) {
+    glm::vec3 bmin(-1.0f, 0.0f, -2.0f), bmax(3.0f, 2.0f, 1.0f);
+    Camera cam = framingCamera(bmin, bmax);
+    glm::mat4 vp = cam.projection(1.0f) * cam.view();
+    for (int i = 0; i < 8; ++i) {
+        glm::vec3 c((i & 1) ? bmax.x : bmin.x, (i & 2) ? bmax.y : bmin.y, (i & 4) ? bmax.z : bmin.z);
+        glm::vec4 clip = vp * glm::vec4(c, 1.0f);
+        ASSERT_GT(clip.w, 0.0f);
+        glm::vec3 ndc = glm::vec3(clip) / clip.w;
+        EXPECT_LE(std::abs(ndc.x), 1.0f) << i;
+        EXPECT_LE(std::abs(ndc.y), 1.0f) << i;
+        EXPECT_GT(ndc.z, 0.0f) << i;
+        EXPECT_LT(ndc.z, 1.0f) << i;
+    }
+}

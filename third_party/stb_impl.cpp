@@ -1,0 +1,3 @@
+// The one translation unit that instantiates stb_image_write (Debian libstb-dev).
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#include <stb_image_write.h>
