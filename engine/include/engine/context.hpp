@@ -1,0 +1,136 @@
+#pragma once
+// The Vulkan context vkgi runs on: either a headless device it creates itself (DeviceBuilder)
+// or a host engine's existing instance/device/queue that it wraps without owning
+// (wrapExternalDevice). Everything else in engine/ takes a Context&.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "engine/result.hpp"
+
+namespace vkgi {
+
+class Allocator;
+
+// Validation-layer messages seen on this context. Tests fail when count() != 0.
+class ValidationLog {
+public:
+    void add(VkDebugUtilsMessageSeverityFlagBitsEXT severity, const char* message);
+    uint32_t count() const;
+    std::vector<std::string> messages() const;
+    void clear();
+
+private:
+    mutable std::mutex m_mutex;
+    std::vector<std::string> m_messages;
+};
+
+// Device-level entry points that are extensions (or optional), loaded once per context.
+struct DeviceFunctions {
+    PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet = nullptr;
+    PFN_vkSetDebugUtilsObjectNameEXT setObjectName = nullptr;
+    PFN_vkCmdBeginDebugUtilsLabelEXT cmdBeginLabel = nullptr;
+    PFN_vkCmdEndDebugUtilsLabelEXT cmdEndLabel = nullptr;
+};
+
+class Context {
+public:
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    VkInstance instance() const { return m_instance; }
+    VkPhysicalDevice physicalDevice() const { return m_physicalDevice; }
+    VkDevice device() const { return m_device; }
+    VkQueue queue() const { return m_queue; }
+    uint32_t queueFamily() const { return m_queueFamily; }
+    const VkPhysicalDeviceProperties& properties() const { return m_properties; }
+    const DeviceFunctions& fn() const { return m_fn; }
+    Allocator& allocator() { return *m_allocator; }
+    ValidationLog& validation() { return m_validation; }
+    bool ownsDevice() const { return m_ownsDevice; }
+    // Nanoseconds per timestamp tick, and whether the queue supports timestamps.
+    double timestampPeriodNs() const { return m_properties.limits.timestampPeriod; }
+    bool timestampsSupported() const { return m_timestampValidBits != 0; }
+
+    // Debug name of a Vulkan object (no-op without VK_EXT_debug_utils).
+    void setName(VkObjectType type, uint64_t handle, const char* name) const;
+    void beginLabel(VkCommandBuffer cmd, const char* name) const;
+    void endLabel(VkCommandBuffer cmd) const;
+
+    // Records `record` into a one-time command buffer, submits it and waits (uploads,
+    // readbacks, tests). Not for per-frame work.
+    void submitAndWait(const std::function<void(VkCommandBuffer)>& record);
+    VkCommandPool commandPool() const { return m_commandPool; }
+
+private:
+    friend class DeviceBuilder;
+    friend Result<std::unique_ptr<Context>> wrapExternalDevice(const struct ExternalDevice&);
+    Context() = default;
+    Result<void> initCommon();
+
+    VkInstance m_instance = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT m_messenger = VK_NULL_HANDLE;
+    VkPhysicalDevice m_physicalDevice = VK_NULL_HANDLE;
+    VkDevice m_device = VK_NULL_HANDLE;
+    VkQueue m_queue = VK_NULL_HANDLE;
+    uint32_t m_queueFamily = 0;
+    uint32_t m_timestampValidBits = 0;
+    VkPhysicalDeviceProperties m_properties{};
+    VkCommandPool m_commandPool = VK_NULL_HANDLE;
+    VkFence m_fence = VK_NULL_HANDLE;
+    DeviceFunctions m_fn;
+    std::unique_ptr<Allocator> m_allocator;
+    ValidationLog m_validation;
+    bool m_ownsDevice = true;
+    bool m_debugUtils = false;
+};
+
+// Creates a headless instance + device (no surface) with the features vkgi needs:
+// Vulkan 1.3, synchronization2, dynamic rendering, VK_KHR_push_descriptor.
+class DeviceBuilder {
+public:
+    // Pick the first device whose name contains `substring` (e.g. "llvmpipe"); error if none does.
+    DeviceBuilder& preferDeviceName(std::string substring);
+    DeviceBuilder& preferDeviceType(VkPhysicalDeviceType type);
+    // Validation layer; `synchronization` also enables synchronization validation.
+    DeviceBuilder& enableValidation(bool enable, bool synchronization = true);
+    // Extra instance extensions (e.g. from glfwGetRequiredInstanceExtensions) and device
+    // extensions (VK_KHR_swapchain) for windowed apps.
+    DeviceBuilder& addInstanceExtension(const char* name);
+    DeviceBuilder& addDeviceExtension(const char* name);
+    DeviceBuilder& setApplicationName(std::string name);
+    Result<std::unique_ptr<Context>> build();
+
+private:
+    std::string m_deviceName;
+    VkPhysicalDeviceType m_deviceType = VK_PHYSICAL_DEVICE_TYPE_MAX_ENUM;
+    bool m_validation = false;
+    bool m_syncValidation = false;
+    std::vector<const char*> m_instanceExtensions;
+    std::vector<const char*> m_deviceExtensions;
+    std::string m_appName = "vkgi";
+};
+
+// A host application's device, which vkgi uses but never destroys. The host must have
+// created it with Vulkan 1.3 and enabled synchronization2, dynamicRendering and
+// VK_KHR_push_descriptor; `queue` must support compute and graphics.
+struct ExternalDevice {
+    VkInstance instance = VK_NULL_HANDLE;
+    VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    uint32_t queueFamily = 0;
+};
+Result<std::unique_ptr<Context>> wrapExternalDevice(const ExternalDevice& external);
+
+// Environment defaults for tools and tests: VKGI_DEVICE selects by name substring,
+// VKGI_VALIDATION=1 turns validation on.
+DeviceBuilder defaultDeviceBuilder();
+
+} // namespace vkgi

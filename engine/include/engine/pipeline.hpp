@@ -1,0 +1,97 @@
+#pragma once
+// Compute and graphics pipelines from build-time SPIR-V. Descriptor layouts are reflected
+// from the SPIR-V itself, so a binding is declared once (in GLSL): set 0 holds per-frame
+// globals, set 1 per-dispatch resources written with push descriptors.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "engine/result.hpp"
+
+namespace vkgi {
+
+class Context;
+
+// Loads <GI_SPIRV_DIR>/<name>.spv, e.g. "engine/fill.comp"; checks the SPIR-V magic and size.
+// The folder can be overridden with the VKGI_SPIRV_DIR environment variable (installed trees).
+Result<std::vector<uint32_t>> loadSpirv(const std::string& name);
+std::string spirvDir();
+
+struct ReflectedBinding {
+    uint32_t set = 0;
+    uint32_t binding = 0;
+    VkDescriptorType type = VK_DESCRIPTOR_TYPE_MAX_ENUM;
+    uint32_t count = 1;
+    std::string name;
+};
+
+struct ShaderReflection {
+    VkShaderStageFlagBits stage = VK_SHADER_STAGE_ALL;
+    std::vector<ReflectedBinding> bindings;
+    uint32_t pushConstantSize = 0;
+    uint32_t localSize[3] = {1, 1, 1};
+};
+Result<ShaderReflection> reflectSpirv(std::span<const uint32_t> code);
+
+struct SpecConstant {
+    uint32_t id = 0;
+    uint32_t value = 0; // raw 32-bit value (use std::bit_cast for floats)
+};
+
+struct Pipeline {
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkDescriptorSetLayout setLayouts[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
+    VkPipelineBindPoint bindPoint = VK_PIPELINE_BIND_POINT_COMPUTE;
+    VkShaderStageFlags stages = 0;
+    uint32_t pushConstantSize = 0;
+    std::vector<ReflectedBinding> bindings; // union over stages, set 0 and set 1
+    uint32_t localSize[3] = {1, 1, 1};
+    std::string name;
+    const ReflectedBinding* findBinding(uint32_t set, uint32_t binding) const;
+};
+
+struct ComputePipelineDesc {
+    std::string shader; // SPIR-V name, e.g. "gi/lpv_propagate.comp"
+    std::vector<SpecConstant> specialization;
+};
+Result<Pipeline> createComputePipeline(Context& ctx, const ComputePipelineDesc& desc);
+
+struct GraphicsPipelineDesc {
+    std::string vertexShader;
+    std::string fragmentShader; // may be empty (depth-only)
+    std::vector<SpecConstant> specialization;
+    std::vector<VkVertexInputBindingDescription> vertexBindings;
+    std::vector<VkVertexInputAttributeDescription> vertexAttributes;
+    std::vector<VkFormat> colorFormats;
+    VkFormat depthFormat = VK_FORMAT_UNDEFINED;
+    VkCullModeFlags cullMode = VK_CULL_MODE_NONE;
+    bool depthTest = true;
+    bool depthWrite = true;
+    VkCompareOp depthCompare = VK_COMPARE_OP_LESS;
+    float depthBiasConstant = 0.0f; // shadow maps
+    float depthBiasSlope = 0.0f;
+    uint32_t viewMask = 0;          // multiview (cube shadow maps); 0 = off
+};
+Result<Pipeline> createGraphicsPipeline(Context& ctx, const GraphicsPipelineDesc& desc);
+void destroyPipeline(Context& ctx, Pipeline& pipeline);
+
+// One resource bound to set 1 by push descriptor. Fill exactly one of image/buffer.
+struct DescriptorItem {
+    uint32_t binding = 0;
+    VkDescriptorImageInfo image{};
+    VkDescriptorBufferInfo buffer{};
+};
+// Pushes set 1 for the bound pipeline; every binding the shaders declare in set 1 must be
+// given exactly once (checked: a missing or unknown binding is a fatal programming error).
+void pushDescriptors(const Context& ctx, VkCommandBuffer cmd, const Pipeline& pipeline,
+                     std::span<const DescriptorItem> items);
+// Push constants; `size` must equal the shader's push-constant block size (checked).
+void pushConstants(VkCommandBuffer cmd, const Pipeline& pipeline, const void* data, uint32_t size);
+
+inline uint32_t groupCount(uint32_t threads, uint32_t localSize) { return (threads + localSize - 1) / localSize; }
+
+} // namespace vkgi
