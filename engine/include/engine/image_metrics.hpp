@@ -1,0 +1,33 @@
+#pragma once
+// Error of a rendered image against a reference, on linear HDR radiance (no tone mapping):
+// the figures vkgi-bench plots against run time.
+#include <cstdint>
+
+#include "engine/hdr_image.hpp"
+#include "engine/result.hpp"
+
+namespace vkgi {
+
+struct ErrorMetrics {
+    // Relative MSE as in the rendering literature (e.g. Rousselle et al. 2011):
+    // mean over pixels and RGB channels of (t - r)^2 / (r^2 + epsilon).
+    double relMse = 0.0;
+    // Root mean squared error over pixels and RGB channels, in nits: sqrt(mean (t - r)^2).
+    double rmse = 0.0;
+    // Test pixels with a NaN/Inf channel. When non-zero, relMse and rmse are +inf: a broken
+    // pixel is an error, never silently dropped from the mean.
+    uint64_t nonFinite = 0;
+};
+
+// Compares `test` against `ref`. Errors (one line) when the sizes differ, the images are
+// empty, or the reference itself has a non-finite pixel (a reference must be clean).
+// `epsilon` (> 0) keeps relMSE bounded where the reference is black; 0.01 is the usual choice.
+Result<ErrorMetrics> compareImages(const HdrImage& test, const HdrImage& ref, float epsilon = 0.01f);
+
+// Per-pixel a - b (e.g. indirect-only = full - direct). Errors when the sizes differ.
+Result<HdrImage> subtract(const HdrImage& a, const HdrImage& b);
+
+// Number of pixels with a NaN/Inf channel.
+uint64_t countNonFinite(const HdrImage& image);
+
+} // namespace vkgi

@@ -1,0 +1,205 @@
+#include "engine/image_io.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include <unistd.h>
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <stb_image_write.h>
+
+namespace vkgi {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Largest image either format accepts: guards against garbage headers asking for huge buffers.
+constexpr uint64_t kMaxPixels = uint64_t(1) << 28;
+
+// Exception texts from OpenEXR may span lines; errors here are one line.
+std::string oneLine(std::string s) {
+    std::replace(s.begin(), s.end(), '\n', ' ');
+    std::replace(s.begin(), s.end(), '\r', ' ');
+    return s;
+}
+
+Error fileError(const fs::path& path, const std::string& what) {
+    return makeError(path.string() + ": " + oneLine(what));
+}
+
+// A unique sibling of `path`: same folder (so rename() is atomic, never a cross-device copy).
+fs::path tempSibling(const fs::path& path) {
+    static std::atomic<uint64_t> counter{0};
+    fs::path tmp = path;
+    tmp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
+    return tmp;
+}
+
+void removeQuietly(const fs::path& p) {
+    std::error_code ec;
+    fs::remove(p, ec);
+}
+
+// Moves a complete temporary file over the target; removes the temporary on failure.
+Result<void> commitTemp(const fs::path& tmp, const fs::path& path) {
+    std::error_code ec;
+    fs::rename(tmp, path, ec);
+    if (ec) {
+        removeQuietly(tmp);
+        return fileError(path, "cannot rename temporary file into place: " + ec.message());
+    }
+    return {};
+}
+
+Result<void> checkWritable(const fs::path& path, const HdrImage& image) {
+    if (image.empty() || image.width == 0 || image.height == 0)
+        return fileError(path, "cannot write an empty image");
+    if (uint64_t(image.width) * image.height > kMaxPixels)
+        return fileError(path, "image too large to write");
+    if (image.pixels.size() != size_t(image.width) * image.height)
+        return fileError(path, "image pixel count does not match its width x height");
+    if (path.filename().empty())
+        return fileError(path, "not a file name");
+    return {};
+}
+
+Result<void> writeBytesAtomic(const fs::path& path, const std::vector<uint8_t>& bytes) {
+    fs::path tmp = tempSibling(path);
+    std::FILE* f = std::fopen(tmp.c_str(), "wb");
+    if (!f)
+        return fileError(path, std::string("cannot create file: ") + std::strerror(errno));
+    bool good = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+    good = (std::fflush(f) == 0) && good;
+    int err = errno;
+    good = (std::fclose(f) == 0) && good;
+    if (!good) {
+        removeQuietly(tmp);
+        return fileError(path, std::string("write failed: ") + std::strerror(err));
+    }
+    return commitTemp(tmp, path);
+}
+
+float srgbOetf(float v) {
+    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+float acesFit(float v) {
+    // Narkowicz 2015 fit of the ACES RRT+ODT; constants belong to the published fit.
+    return (v * (2.51f * v + 0.03f)) / (v * (2.43f * v + 0.59f) + 0.14f);
+}
+
+} // namespace
+
+glm::u8vec3 toneMapPixel(const glm::vec3& linear, const ToneMap& toneMap) {
+    if (!std::isfinite(linear.x) || !std::isfinite(linear.y) || !std::isfinite(linear.z))
+        return {255, 0, 255};
+    glm::u8vec3 out;
+    for (int c = 0; c < 3; ++c) {
+        // Both curves are saturated long before 1e6; the cap keeps v*v in the ACES fit from
+        // overflowing to inf/inf = NaN and maps an overflowing exposure product to white.
+        float v = linear[c] * toneMap.exposure;
+        v = std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1e6f); // NaN only from a NaN/0*inf exposure
+        float f = toneMap.curve == ToneMap::Curve::Aces ? acesFit(v) : v;
+        f = std::clamp(f, 0.0f, 1.0f);
+        out[c] = uint8_t(std::lround(srgbOetf(f) * 255.0f));
+    }
+    return out;
+}
+
+Result<void> writeExr(const fs::path& path, const HdrImage& image) {
+    if (auto ok = checkWritable(path, image); !ok)
+        return ok;
+    fs::path tmp = tempSibling(path);
+    try {
+        Imf::Header header(int(image.width), int(image.height));
+        header.compression() = Imf::ZIP_COMPRESSION;
+        for (const char* name : {"R", "G", "B"})
+            header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+        Imf::FrameBuffer fb;
+        // OpenEXR's slice API takes mutable pointers even for writing; the data is only read.
+        char* base = reinterpret_cast<char*>(const_cast<glm::vec3*>(image.pixels.data()));
+        const size_t xs = sizeof(glm::vec3), ys = xs * image.width;
+        fb.insert("R", Imf::Slice(Imf::FLOAT, base + 0 * sizeof(float), xs, ys));
+        fb.insert("G", Imf::Slice(Imf::FLOAT, base + 1 * sizeof(float), xs, ys));
+        fb.insert("B", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), xs, ys));
+        {
+            Imf::OutputFile file(tmp.c_str(), header); // closed (and flushed) at scope end
+            file.setFrameBuffer(fb);
+            file.writePixels(int(image.height));
+        }
+    } catch (const std::exception& e) {
+        removeQuietly(tmp);
+        return fileError(path, std::string("cannot write EXR: ") + e.what());
+    }
+    return commitTemp(tmp, path);
+}
+
+Result<HdrImage> readExr(const fs::path& path) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec))
+        return fileError(path, "cannot read EXR: no such file");
+    try {
+        Imf::InputFile file(path.c_str());
+        const Imath::Box2i dw = file.header().dataWindow();
+        const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
+        if (w <= 0 || h <= 0 || uint64_t(w) * uint64_t(h) > kMaxPixels)
+            return fileError(path, "EXR data window has an unsupported size");
+        for (const char* name : {"R", "G", "B"})
+            if (!file.header().channels().findChannel(name))
+                return fileError(path, std::string("EXR has no '") + name + "' channel");
+        HdrImage image{uint32_t(w), uint32_t(h)};
+        char* base = reinterpret_cast<char*>(image.pixels.data());
+        const size_t xs = sizeof(glm::vec3), ys = xs * size_t(w);
+        Imf::FrameBuffer fb;
+        fb.insert("R", Imf::Slice::Make(Imf::FLOAT, base + 0 * sizeof(float), dw, xs, ys));
+        fb.insert("G", Imf::Slice::Make(Imf::FLOAT, base + 1 * sizeof(float), dw, xs, ys));
+        fb.insert("B", Imf::Slice::Make(Imf::FLOAT, base + 2 * sizeof(float), dw, xs, ys));
+        file.setFrameBuffer(fb);
+        file.readPixels(dw.min.y, dw.max.y);
+        return image;
+    } catch (const std::exception& e) {
+        return fileError(path, std::string("cannot read EXR: ") + e.what());
+    }
+}
+
+Result<void> writePng(const fs::path& path, const HdrImage& image, const ToneMap& toneMap, uint64_t* nonFinite) {
+    if (auto ok = checkWritable(path, image); !ok)
+        return ok;
+    std::vector<uint8_t> rgb(image.pixels.size() * 3);
+    uint64_t bad = 0;
+    for (size_t i = 0; i < image.pixels.size(); ++i) {
+        const glm::vec3& p = image.pixels[i];
+        bad += (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) ? 0 : 1;
+        glm::u8vec3 v = toneMapPixel(p, toneMap);
+        rgb[3 * i + 0] = v.x;
+        rgb[3 * i + 1] = v.y;
+        rgb[3 * i + 2] = v.z;
+    }
+    if (nonFinite)
+        *nonFinite = bad;
+    std::vector<uint8_t> encoded;
+    auto append = [](void* ctx, void* data, int size) {
+        auto* out = static_cast<std::vector<uint8_t>*>(ctx);
+        const auto* bytes = static_cast<const uint8_t*>(data);
+        out->insert(out->end(), bytes, bytes + size);
+    };
+    if (!stbi_write_png_to_func(append, &encoded, int(image.width), int(image.height), 3, rgb.data(),
+                                int(image.width) * 3))
+        return fileError(path, "PNG encoding failed");
+    return writeBytesAtomic(path, encoded);
+}
+
+} // namespace vkgi

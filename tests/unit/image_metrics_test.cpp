@@ -1,0 +1,89 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "engine/image_metrics.hpp"
+
+using namespace vkgi;
+
+TEST(ImageMetrics, HandComputedExample) {
+    // 2x1 images; per channel differences and reference values:
+    //   pixel 0: t = (1, 2, 3),  r = (1, 1, 1)   -> d = (0, 1, 2)
+    //   pixel 1: t = (0, 0, 0),  r = (0, 2, 0.5) -> d = (0, -2, -0.5)
+    // sum d^2 = 0 + 1 + 4 + 0 + 4 + 0.25 = 9.25 -> RMSE = sqrt(9.25 / 6)
+    // relMSE (eps 0.01) = [0 + 1/1.01 + 4/1.01 + 0 + 4/4.01 + 0.25/0.26] / 6
+    HdrImage t(2, 1), r(2, 1);
+    t.at(0, 0) = {1, 2, 3};
+    r.at(0, 0) = {1, 1, 1};
+    t.at(1, 0) = {0, 0, 0};
+    r.at(1, 0) = {0, 2, 0.5f};
+    Result<ErrorMetrics> m = compareImages(t, r);
+    ASSERT_TRUE(m.ok()) << m.error().message;
+    EXPECT_DOUBLE_EQ(m->rmse, std::sqrt(9.25 / 6.0));
+    const double eps = double(0.01f); // the float default, widened exactly as the code does
+    EXPECT_NEAR(m->relMse, (1.0 / (1 + eps) + 4.0 / (1 + eps) + 4.0 / (4 + eps) + 0.25 / (0.25 + eps)) / 6.0, 1e-15);
+    EXPECT_EQ(m->nonFinite, 0u);
+
+    EXPECT_FALSE(compareImages(t, r, 0.0f).ok()); // 0/0 on the black reference channel
+}
+
+TEST(ImageMetrics, IdenticalImagesHaveZeroError) {
+    HdrImage a(3, 3);
+    for (size_t i = 0; i < a.pixels.size(); ++i)
+        a.pixels[i] = glm::vec3(float(i), 0.5f * float(i), 1e6f);
+    Result<ErrorMetrics> m = compareImages(a, a);
+    ASSERT_TRUE(m.ok());
+    EXPECT_EQ(m->relMse, 0.0);
+    EXPECT_EQ(m->rmse, 0.0);
+}
+
+TEST(ImageMetrics, RelativeErrorIsScaleInvariantWhereEpsilonIsNegligible) {
+    // 10% error everywhere on a bright reference: relMSE ~= 0.01 whatever the brightness.
+    HdrImage r(4, 4), t(4, 4);
+    for (auto& p : r.pixels)
+        p = glm::vec3(1000.0f);
+    for (auto& p : t.pixels)
+        p = glm::vec3(1100.0f);
+    Result<ErrorMetrics> m = compareImages(t, r);
+    ASSERT_TRUE(m.ok());
+    EXPECT_NEAR(m->relMse, 0.01, 1e-8); // eps/r^2 = 1e-8 relative change
+    EXPECT_NEAR(m->rmse, 100.0, 1e-9);
+}
+
+TEST(ImageMetrics, NonFiniteTestPixelsAreCountedAndPoisonTheMetrics) {
+    HdrImage r(3, 2), t(3, 2);
+    t.at(0, 0).x = std::numeric_limits<float>::quiet_NaN();
+    t.at(2, 1).z = std::numeric_limits<float>::infinity();
+    t.at(1, 1) = {std::numeric_limits<float>::quiet_NaN(), -std::numeric_limits<float>::infinity(), 0};
+    Result<ErrorMetrics> m = compareImages(t, r);
+    ASSERT_TRUE(m.ok()) << m.error().message;
+    EXPECT_EQ(m->nonFinite, 3u);
+    EXPECT_TRUE(std::isinf(m->relMse) && m->relMse > 0);
+    EXPECT_TRUE(std::isinf(m->rmse) && m->rmse > 0);
+    EXPECT_EQ(countNonFinite(t), 3u);
+}
+
+TEST(ImageMetrics, BadInputsAreErrors) {
+    HdrImage a(2, 2), b(2, 3);
+    EXPECT_FALSE(compareImages(a, b).ok());
+    EXPECT_FALSE(compareImages(HdrImage{}, HdrImage{}).ok());
+    HdrImage badRef(2, 2);
+    badRef.at(1, 1).y = std::numeric_limits<float>::quiet_NaN();
+    Result<ErrorMetrics> m = compareImages(a, badRef);
+    ASSERT_FALSE(m.ok());
+    EXPECT_NE(m.error().message.find("reference"), std::string::npos);
+    EXPECT_FALSE(subtract(a, b).ok());
+}
+
+TEST(ImageMetrics, SubtractIsPerPixel) {
+    HdrImage a(2, 1), b(2, 1);
+    a.at(0, 0) = {5, 6, 7};
+    b.at(0, 0) = {1, 2, 3};
+    a.at(1, 0) = {0.5f, 0, -1};
+    b.at(1, 0) = {0.25f, 1, -1};
+    Result<HdrImage> d = subtract(a, b);
+    ASSERT_TRUE(d.ok());
+    EXPECT_EQ(d->at(0, 0), glm::vec3(4, 4, 4));
+    EXPECT_EQ(d->at(1, 0), glm::vec3(0.25f, -1, 0));
+}
