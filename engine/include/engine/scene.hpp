@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/camera.hpp"
+#include "engine/result.hpp"
 
 namespace vkgi {
 
@@ -94,5 +95,11 @@ struct Scene {
     // The scene camera, or a default that frames the bounds.
     Camera cameraOrDefault() const;
 };
+
+// Checks the invariants every consumer relies on: indices and material/mesh/texture indices in
+// range, attribute arrays sized to match, finite positions/normals/transforms, non-zero normals,
+// finite non-negative colours/emission/intensities, sane spot cones (0 <= inner <= outer <= pi/2)
+// and a usable camera. The error names the scene and the offending object.
+Result<void> validateScene(const Scene& scene);
 
 } // namespace vkgi
