@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "engine/frame_constants.h"
 #include "engine/resources.hpp"
 #include "engine/vk_check.hpp"
 
@@ -105,6 +106,8 @@ Context::~Context() {
         m_allocator.reset();
         if (m_fence)
             vkDestroyFence(m_device, m_fence, nullptr);
+        if (m_frameSetLayout)
+            vkDestroyDescriptorSetLayout(m_device, m_frameSetLayout, nullptr);
         if (m_commandPool)
             vkDestroyCommandPool(m_device, m_commandPool, nullptr);
     }
@@ -150,6 +153,11 @@ Result<void> Context::initCommon() {
     VK_CHECK(vkCreateCommandPool(m_device, &pool, nullptr, &m_commandPool));
     VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     VK_CHECK(vkCreateFence(m_device, &fence, nullptr, &m_fence));
+    VkDescriptorSetLayoutBinding frame{GI_FRAME_BINDING, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_ALL, nullptr};
+    VkDescriptorSetLayoutCreateInfo layout{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    layout.bindingCount = 1;
+    layout.pBindings = &frame;
+    VK_CHECK(vkCreateDescriptorSetLayout(m_device, &layout, nullptr, &m_frameSetLayout));
     m_allocator = std::make_unique<Allocator>(*this);
     return {};
 }

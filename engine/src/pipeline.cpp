@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "engine/context.hpp"
+#include "engine/frame_constants.h"
 #include "engine/vk_check.hpp"
 
 namespace vkgi {
@@ -82,17 +83,22 @@ Result<void> buildLayout(Context& ctx, Pipeline& p, std::vector<Stage>& stages) 
     if (p.pushConstantSize > ctx.properties().limits.maxPushConstantsSize)
         return makeError(p.name + ": push constants of " + std::to_string(p.pushConstantSize) +
                          " bytes exceed the device limit");
-    for (uint32_t set = 0; set < 2; ++set) {
-        std::vector<VkDescriptorSetLayoutBinding> lb;
-        for (const auto& b : p.bindings)
-            if (b.set == set)
-                lb.push_back({b.binding, b.type, b.count, p.stages, nullptr});
-        VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-        info.flags = set == 1 ? VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR : 0;
-        info.bindingCount = uint32_t(lb.size());
-        info.pBindings = lb.data();
-        VK_CHECK(vkCreateDescriptorSetLayout(ctx.device(), &info, nullptr, &p.setLayouts[set]));
-    }
+    // Set 0 is the engine's one frame-constants layout (so one descriptor set serves every
+    // pipeline); a shader that declares set 0 must declare exactly that block.
+    for (const auto& b : p.bindings)
+        if (b.set == GI_FRAME_SET && (b.binding != GI_FRAME_BINDING || b.type != VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER))
+            return makeError(p.name + ": set 0 is reserved for FrameConstants (engine/frame_constants.h); binding " +
+                             std::to_string(b.binding) + " does not match it");
+    p.setLayouts[0] = ctx.frameSetLayout();
+    std::vector<VkDescriptorSetLayoutBinding> lb;
+    for (const auto& b : p.bindings)
+        if (b.set == 1)
+            lb.push_back({b.binding, b.type, b.count, p.stages, nullptr});
+    VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    setInfo.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+    setInfo.bindingCount = uint32_t(lb.size());
+    setInfo.pBindings = lb.data();
+    VK_CHECK(vkCreateDescriptorSetLayout(ctx.device(), &setInfo, nullptr, &p.setLayouts[1]));
     VkPushConstantRange range{p.stages, 0, p.pushConstantSize};
     VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     info.setLayoutCount = 2;
@@ -252,9 +258,9 @@ void destroyPipeline(Context& ctx, Pipeline& p) {
         vkDestroyPipeline(ctx.device(), p.pipeline, nullptr);
     if (p.layout)
         vkDestroyPipelineLayout(ctx.device(), p.layout, nullptr);
-    for (VkDescriptorSetLayout& l : p.setLayouts)
-        if (l)
-            vkDestroyDescriptorSetLayout(ctx.device(), l, nullptr);
+    // setLayouts[0] is the context's shared frame layout; only set 1 belongs to the pipeline.
+    if (p.setLayouts[1])
+        vkDestroyDescriptorSetLayout(ctx.device(), p.setLayouts[1], nullptr);
     p = Pipeline{};
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "engine/frame_constants.hpp"
 #include "engine/pipeline.hpp"
 #include "engine/resources.hpp"
 #include "engine/vk_check.hpp"
@@ -222,4 +223,40 @@ TEST_F(ComputeSmoke, ValidationLayerReportsMisuse) {
     if (buffer)
         vkDestroyBuffer(ctx().device(), buffer, nullptr);
     validation().clear();
+}
+
+// Set 0: the per-frame constants reach a shader through the shared frame layout, and the
+// ring hands out a different set per frame in flight.
+TEST_F(ComputeSmoke, FrameConstantsReachTheShader) {
+    auto pipeline = createComputePipeline(ctx(), {"engine/frame_smoke.comp", {}});
+    ASSERT_TRUE(pipeline) << pipeline.error().message;
+    EXPECT_EQ(pipeline->setLayouts[0], ctx().frameSetLayout());
+    FrameConstantsRing ring(ctx(), 2);
+    gpu::FrameConstants fc{};
+    fc.viewProj = glm::mat4(1.0f);
+    fc.viewProj[3] = glm::vec4(1.5f, -2.0f, 3.25f, 1.0f);
+    fc.cameraPosition = glm::vec4(0.278f, 0.273f, -0.8f, 0.686f);
+    fc.resolution = glm::uvec4(256, 128, 7, 3);
+    fc.sceneMax = glm::vec4(0.5592f, 0.5488f, 0.5592f, 0.0f);
+    VkDescriptorSet first = ring.next(gpu::FrameConstants{});
+    VkDescriptorSet set = ring.next(fc);
+    EXPECT_NE(first, set);
+    Buffer out = createBuffer(ctx(), {4 * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT}, "frame.out");
+    ctx().submitAndWait([&](VkCommandBuffer cmd) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline->pipeline);
+        bindFrameSet(cmd, *pipeline, set);
+        DescriptorItem item;
+        item.binding = 0;
+        item.buffer = {out.buffer, 0, VK_WHOLE_SIZE};
+        pushDescriptors(ctx(), cmd, *pipeline, {&item, 1});
+        vkCmdDispatch(cmd, 1, 1, 1);
+    });
+    auto bytes = readbackBuffer(ctx(), out);
+    const auto* v = reinterpret_cast<const glm::vec4*>(bytes.data());
+    EXPECT_EQ(v[0], fc.viewProj[3]);
+    EXPECT_EQ(v[1], fc.cameraPosition);
+    EXPECT_EQ(v[2], glm::vec4(256, 128, 7, 3));
+    EXPECT_EQ(v[3], fc.sceneMax);
+    destroyBuffer(ctx(), out);
+    destroyPipeline(ctx(), *pipeline);
 }

@@ -67,6 +67,8 @@ public:
     // readbacks, tests). Not for per-frame work.
     void submitAndWait(const std::function<void(VkCommandBuffer)>& record);
     VkCommandPool commandPool() const { return m_commandPool; }
+    // Set 0 of every pipeline layout: the per-frame constants (engine/frame_constants.h).
+    VkDescriptorSetLayout frameSetLayout() const { return m_frameSetLayout; }
 
 private:
     friend class DeviceBuilder;
@@ -84,6 +86,7 @@ private:
     VkPhysicalDeviceProperties m_properties{};
     VkCommandPool m_commandPool = VK_NULL_HANDLE;
     VkFence m_fence = VK_NULL_HANDLE;
+    VkDescriptorSetLayout m_frameSetLayout = VK_NULL_HANDLE;
     DeviceFunctions m_fn;
     std::unique_ptr<Allocator> m_allocator;
     ValidationLog m_validation;
