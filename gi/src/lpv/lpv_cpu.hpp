@@ -1,0 +1,41 @@
+#pragma once
+// CPU reference of LPV propagation: the same shared formulas (gi/lpv.h) as lpv/propagate.comp,
+// evaluated on the host. Tests use it as the expected result of the GPU passes and to check the
+// energy bookkeeping; it is not used at run time.
+#include <cstddef>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace vkgi::gi::lpv {
+
+// One 2-band SH (vec4) per cell and colour channel; x varies fastest, then y, then z.
+struct ShVolume {
+    glm::ivec3 size{0};
+    std::vector<glm::vec4> channel[3];
+
+    ShVolume() = default;
+    explicit ShVolume(glm::ivec3 cells);
+    size_t index(glm::ivec3 p) const { return size_t(p.x) + size_t(size.x) * (size_t(p.y) + size_t(size.y) * size_t(p.z)); }
+    bool contains(glm::ivec3 p) const;
+    size_t cellCount() const { return size_t(size.x) * size_t(size.y) * size_t(size.z); }
+};
+
+// Geometry volume: blocking-potential SH on the (size + 1)^3 cell corners; empty = no occlusion.
+struct GeometryVolume {
+    glm::ivec3 size{0}; // = LPV size + 1
+    std::vector<glm::vec4> blocking;
+    bool empty() const { return blocking.empty(); }
+};
+
+// One gather step: dst = propagate(src); acc += dst when acc is given.
+void propagateStep(const ShVolume& src, ShVolume& dst, ShVolume* acc, const GeometryVolume& gv);
+
+// Sum over cells of the integral of the intensity SH (total flux in flight) of one channel.
+double totalFlux(const ShVolume& v, int channel);
+
+// Flux of one channel that the next propagation step sends out of the grid (through its
+// boundary faces), which is all it loses in empty space.
+double boundaryOutflow(const ShVolume& v, int channel, const GeometryVolume& gv);
+
+} // namespace vkgi::gi::lpv

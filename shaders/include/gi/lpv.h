@@ -1,0 +1,111 @@
+// Light propagation volume geometry shared by the C++ reference/tests and the GLSL passes:
+// the 6 gather directions, the 5 faces each contribution is split over, their exact solid
+// angles and direction integrals, and the reprojection lobe. Derivation: docs/lpv.md.
+//
+// Units: a cell stores the radiant intensity I(w) (W/sr, or the scene's luminous equivalent)
+// leaving its centre in propagation direction w, as 2-band SH per colour channel (gi/sh.h).
+// Lengths are in cells. Radiance in a cell is I / cellArea (cellArea = cell size squared).
+#ifndef VKGI_GI_LPV_H
+#define VKGI_GI_LPV_H
+
+#include "gi/sh.h"
+
+// Push-descriptor bindings (set 1) of lpv/propagate.comp: one image per colour channel.
+#define LPV_BINDING_SRC_R 0
+#define LPV_BINDING_SRC_G 1
+#define LPV_BINDING_SRC_B 2
+#define LPV_BINDING_DST_R 3
+#define LPV_BINDING_DST_G 4
+#define LPV_BINDING_DST_B 5
+#define LPV_BINDING_ACC_R 6
+#define LPV_BINDING_ACC_G 7
+#define LPV_BINDING_ACC_B 8
+#define LPV_BINDING_GV 9
+
+// LpvPropagatePush.gridSize.w bits.
+#define LPV_FLAG_OCCLUSION 1
+
+#define LPV_LOCAL_SIZE_X 8 // 8x8x4 measured 2x faster than 4x4x4 on lavapipe (../shared/LAVAPIPE.md)
+#define LPV_LOCAL_SIZE_Y 8
+#define LPV_LOCAL_SIZE_Z 4
+
+GI_NAMESPACE_BEGIN
+
+GI_GPU_STRUCT(LpvPropagatePush) {
+    ivec4 gridSize; // xyz: cells per axis; w: LPV_FLAG_* bits
+    vec4 params;    // reserved (multi-bounce reflection), zero
+};
+GI_CHECK_SIZE(LpvPropagatePush, 32);
+
+// Geometry of one gather direction d, in cell units with the source cell centred at the origin
+// and the destination cell centred at d. Light leaving the source through their shared face
+// (the "near" face, solid angle 2 pi / 3) leaves the destination through exactly one of its 5
+// other faces: the front face (normal d) or one of 4 side faces (normal s, perpendicular to d).
+// Omega = solid angle of the face seen from the source centre, V = integral of w dw over it.
+const float kLpvFrontSolidAngle = 0.40066968f; // 4 asin(1/10)
+const float kLpvSideSolidAngle = 0.42343135f;  // (2 pi / 3 - front) / 4
+const float kLpvFrontAxial = 0.38741363f;      // V_front = 0.38741363 d
+const float kLpvSideAxial = 0.33835647f;       // V_side = 0.33835647 d + 0.21937313 s
+const float kLpvSideLateral = 0.21937313f;
+
+// Offset from the destination to its source for gather direction i in [0, 6):
+// +x, -x, +y, -y, +z, -z (the propagation direction is lpvAxisStep(i)).
+GI_INLINE ivec3 lpvAxisStep(int i) {
+    ivec3 s = ivec3(0);
+    s[i >> 1] = (i & 1) != 0 ? -1 : 1;
+    return s;
+}
+
+// Outward normal of face f of the destination cell for gather direction i: f = 0 is the
+// front face (normal = propagation direction), f = 1..4 the side faces.
+GI_INLINE vec3 lpvFaceNormal(int i, int f) {
+    if (f == 0)
+        return vec3(lpvAxisStep(i));
+    vec3 n = vec3(0.0f);
+    n[((i >> 1) + 1 + ((f - 1) >> 1)) % 3] = ((f - 1) & 1) != 0 ? -1.0f : 1.0f;
+    return n;
+}
+
+// Integral of the 4 basis functions over face f's solid angle: the flux through the face of
+// a source with intensity SH c is exactly dot(c, lpvFaceWeight(i, f)) (no point sampling).
+GI_INLINE vec4 lpvFaceWeight(int i, int f) {
+    vec3 d = vec3(lpvAxisStep(i));
+    if (f == 0)
+        return vec4(kShY00 * kLpvFrontSolidAngle, (kShY1 * kLpvFrontAxial) * d);
+    vec3 v = kLpvSideAxial * d + kLpvSideLateral * lpvFaceNormal(i, f);
+    return vec4(kShY00 * kLpvSideSolidAngle, kShY1 * v);
+}
+
+// Mean direction of light crossing face f (where the geometry volume is evaluated).
+GI_INLINE vec3 lpvFaceDirection(int i, int f) {
+    vec3 d = vec3(lpvAxisStep(i));
+    if (f == 0)
+        return d;
+    return normalize(kLpvSideAxial * d + kLpvSideLateral * lpvFaceNormal(i, f));
+}
+
+// Intensity SH of a flux of 1 re-emitted from the destination centre as a Lambertian lobe
+// around face normal n: shCosineLobe(n) / pi, whose integral is exactly 1, so the flux a face
+// receives is the flux it passes on (no amplification factor; docs/lpv.md).
+GI_INLINE vec4 lpvReprojection(vec3 n) {
+    return vec4(kShY00, ((2.0f / 3.0f) * kShY1) * n);
+}
+
+// The geometry volume has (gridSize + 1)^3 cells centred on the LPV cell corners (offset half a
+// cell). The face a destination p shares with its source for gather direction i has its lowest
+// corner at this GV index; its other corners add the unit steps of the two other axes.
+GI_INLINE ivec3 lpvSharedFaceCorner(ivec3 p, int i) {
+    ivec3 c = p;
+    c[i >> 1] += i & 1;
+    return c;
+}
+
+// Fraction of light in direction `w` that passes a face whose interpolated geometry-volume
+// blocking potential is `blocking` (SH of the fraction of light travelling in w that is stopped).
+GI_INLINE float lpvTransmittance(vec4 blocking, vec3 w) {
+    return 1.0f - clamp(shEvaluate(blocking, w), 0.0f, 1.0f);
+}
+
+GI_NAMESPACE_END
+
+#endif

@@ -1,0 +1,60 @@
+// Spherical harmonics with 2 bands (4 coefficients per colour channel), one definition for
+// C++ (namespace vkgi::gpu, GLM types) and GLSL. Used by LPV injection, propagation and lookup.
+//
+// Basis: real, orthonormal over the unit sphere (integral of Yi*Yj over all directions = delta_ij),
+// WITHOUT the Condon-Shortley phase, so band 1 is just the direction vector scaled. A vec4 holds
+//   .x  Y00 = 1 / (2 sqrt(pi))          = 0.2820948
+//   .y  Y1x = sqrt(3 / (4 pi)) * w.x    = 0.4886025 * w.x
+//   .z  Y1y = sqrt(3 / (4 pi)) * w.y
+//   .w  Y1z = sqrt(3 / (4 pi)) * w.z
+// for a unit direction w in world space (right-handed, +Y up). Sloan-style code that stores
+// (c0, Y1,-1 = -k y, Y10 = k z, Y11 = -k x) converts to this order as (c0, -c3, -c1, c2).
+// A function f(w) is represented by its projection c_i = integral of f * Y_i and reconstructed
+// as f(w) ~ dot(c, shBasis(w)); for 2 bands this is exact for every f = a + b.w.
+#ifndef VKGI_GI_SH_H
+#define VKGI_GI_SH_H
+
+#include "shared/bridge.h"
+
+GI_NAMESPACE_BEGIN
+
+const float kShPi = 3.14159265f;
+const float kShY00 = 0.28209479f;        // 1 / (2 sqrt(pi))
+const float kShY1 = 0.48860251f;         // sqrt(3 / (4 pi))
+const float kShSphereIntegral = 3.5449077f; // 2 sqrt(pi) = integral of f over the sphere per unit c0
+// Projection of the clamped cosine max(0, n.w): band 0 = pi * Y00 = sqrt(pi) / 2,
+// band 1 = (2 pi / 3) * Y1 = sqrt(pi / 3) (Ramamoorthi & Hanrahan's A0 = pi, A1 = 2 pi / 3).
+const float kShCosineBand0 = 0.88622693f;
+const float kShCosineBand1 = 1.02332671f;
+
+// The four basis functions at unit direction `w`.
+GI_INLINE vec4 shBasis(vec3 w) {
+    return vec4(kShY00, kShY1 * w.x, kShY1 * w.y, kShY1 * w.z);
+}
+
+// Reconstructs the represented function in direction `w` (unit).
+GI_INLINE float shEvaluate(vec4 sh, vec3 w) {
+    return dot(sh, shBasis(w));
+}
+
+// Integral of the represented function over all directions (band 1 integrates to zero).
+GI_INLINE float shIntegral(vec4 sh) {
+    return kShSphereIntegral * sh.x;
+}
+
+// Projection of the clamped cosine lobe max(0, n.w) around unit normal `n`. Its integral is pi,
+// so a Lambertian emitter of flux F has radiant intensity (F / pi) * shCosineLobe(n).
+GI_INLINE vec4 shCosineLobe(vec3 n) {
+    return vec4(kShCosineBand0, kShCosineBand1 * n.x, kShCosineBand1 * n.y, kShCosineBand1 * n.z);
+}
+
+// Integral of f(w) * max(0, n.w) over all w, where f is the represented function (e.g. incident
+// radiance indexed by the direction it comes FROM gives irradiance at a surface with normal n).
+// By orthonormality this is the dot product of the two projections; exact for 2-band f.
+GI_INLINE float shClampedCosineIntegral(vec4 sh, vec3 n) {
+    return dot(sh, shCosineLobe(n));
+}
+
+GI_NAMESPACE_END
+
+#endif
