@@ -1,0 +1,37 @@
+#pragma once
+// Error-against-run-time records and what vkgi-bench makes of them: the Pareto front per
+// scene, the best configuration within a time budget, and CSV/JSON/SVG files.
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/result.hpp"
+
+namespace vkgi::gi {
+
+struct BenchRecord {
+    std::string scene;
+    std::string technique;
+    std::string knobs;                                  // "grid=64 cones=6", as given to --set
+    std::vector<std::pair<std::string, double>> passMs; // median GPU ms per pass
+    double totalMs = 0.0;                               // median GPU ms of the whole frame
+    double relMse = 0.0, rmse = 0.0;                    // full image vs reference
+    double relMseIndirect = 0.0, rmseIndirect = 0.0;    // indirect-only vs reference indirect
+    double deviceMiB = 0.0;                             // device memory of the module
+};
+
+// Indices of the records of `scene` on the (total ms, relMSE) Pareto front, fastest first:
+// no other record of the scene is both faster (or equal) and more accurate (or equal).
+std::vector<size_t> paretoFront(const std::vector<BenchRecord>& records, const std::string& scene);
+
+// The record of `scene` with the least relMSE among those with totalMs <= budgetMs; -1 if none fits.
+long bestWithinBudget(const std::vector<BenchRecord>& records, const std::string& scene, double budgetMs);
+
+std::string toCsv(const std::vector<BenchRecord>& records);
+std::string toJson(const std::vector<BenchRecord>& records);
+// Log-log plot of relMSE against total ms for one scene, one colour per technique, the Pareto
+// front drawn as a line. Self-contained SVG (no external fonts or scripts).
+std::string toSvgPlot(const std::vector<BenchRecord>& records, const std::string& scene);
+
+} // namespace vkgi::gi

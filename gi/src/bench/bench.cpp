@@ -1,0 +1,194 @@
+#include "gi/bench.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace vkgi::gi {
+
+std::vector<size_t> paretoFront(const std::vector<BenchRecord>& records, const std::string& scene) {
+    std::vector<size_t> idx;
+    for (size_t i = 0; i < records.size(); ++i)
+        if (records[i].scene == scene && std::isfinite(records[i].totalMs) && std::isfinite(records[i].relMse))
+            idx.push_back(i);
+    std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) {
+        const BenchRecord &ra = records[a], &rb = records[b];
+        return ra.totalMs != rb.totalMs ? ra.totalMs < rb.totalMs : ra.relMse < rb.relMse;
+    });
+    // Sweep by time: a record is on the front when it is more accurate than everything faster.
+    std::vector<size_t> front;
+    double best = INFINITY;
+    for (size_t i : idx)
+        if (records[i].relMse < best) {
+            front.push_back(i);
+            best = records[i].relMse;
+        }
+    return front;
+}
+
+long bestWithinBudget(const std::vector<BenchRecord>& records, const std::string& scene, double budgetMs) {
+    long best = -1;
+    for (size_t i = 0; i < records.size(); ++i) {
+        const BenchRecord& r = records[i];
+        if (r.scene != scene || !(r.totalMs <= budgetMs) || !std::isfinite(r.relMse))
+            continue;
+        if (best < 0 || r.relMse < records[size_t(best)].relMse)
+            best = long(i);
+    }
+    return best;
+}
+
+namespace {
+std::string csvField(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos)
+        return s;
+    std::string out = "\"";
+    for (char c : s)
+        out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
+}
+std::string num(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+} // namespace
+
+std::string toCsv(const std::vector<BenchRecord>& records) {
+    // Pass columns are the union of pass names over all records, in first-seen order.
+    std::vector<std::string> passes;
+    for (const auto& r : records)
+        for (const auto& [name, ms] : r.passMs)
+            if (std::find(passes.begin(), passes.end(), name) == passes.end())
+                passes.push_back(name);
+    std::ostringstream out;
+    out << "scene,technique,knobs,total_ms,relmse,rmse,relmse_indirect,rmse_indirect,device_mib";
+    for (const auto& p : passes)
+        out << "," << csvField(p + " ms");
+    out << "\n";
+    for (const auto& r : records) {
+        out << csvField(r.scene) << "," << csvField(r.technique) << "," << csvField(r.knobs) << "," << num(r.totalMs)
+            << "," << num(r.relMse) << "," << num(r.rmse) << "," << num(r.relMseIndirect) << ","
+            << num(r.rmseIndirect) << "," << num(r.deviceMiB);
+        for (const auto& p : passes) {
+            auto it = std::find_if(r.passMs.begin(), r.passMs.end(), [&](const auto& e) { return e.first == p; });
+            out << "," << (it == r.passMs.end() ? std::string() : num(it->second));
+        }
+        out << "\n";
+    }
+    return out.str();
+}
+
+std::string toJson(const std::vector<BenchRecord>& records) {
+    nlohmann::json arr = nlohmann::json::array();
+    for (const auto& r : records) {
+        nlohmann::json passes = nlohmann::json::array();
+        for (const auto& [name, ms] : r.passMs)
+            passes.push_back({{"name", name}, {"ms", ms}});
+        arr.push_back({{"scene", r.scene},
+                       {"technique", r.technique},
+                       {"knobs", r.knobs},
+                       {"passes", passes},
+                       {"total_ms", r.totalMs},
+                       {"device_mib", r.deviceMiB},
+                       {"error",
+                        {{"relmse", r.relMse},
+                         {"rmse", r.rmse},
+                         {"relmse_indirect", r.relMseIndirect},
+                         {"rmse_indirect", r.rmseIndirect}}}});
+    }
+    return arr.dump(2) + "\n";
+}
+
+namespace {
+
+struct Axis {
+    double lo, hi; // log10 range
+    double map(double v, double p0, double p1) const { return p0 + (std::log10(v) - lo) / (hi - lo) * (p1 - p0); }
+};
+
+Axis logAxis(double mn, double mx) {
+    double lo = std::floor(std::log10(mn)), hi = std::ceil(std::log10(mx));
+    if (hi <= lo)
+        hi = lo + 1;
+    return {lo, hi};
+}
+
+std::string escapeXml(const std::string& s) {
+    std::string o;
+    for (char c : s)
+        o += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : std::string(1, c);
+    return o;
+}
+
+} // namespace
+
+std::string toSvgPlot(const std::vector<BenchRecord>& records, const std::string& scene) {
+    constexpr double W = 640, H = 420, L = 70, R = 170, T = 40, B = 50; // canvas and margins (legend on the right)
+    std::vector<size_t> pts;
+    double tMin = INFINITY, tMax = 0, eMin = INFINITY, eMax = 0;
+    for (size_t i = 0; i < records.size(); ++i) {
+        const auto& r = records[i];
+        if (r.scene != scene || !(r.totalMs > 0) || !(r.relMse > 0) || !std::isfinite(r.relMse))
+            continue;
+        pts.push_back(i);
+        tMin = std::min(tMin, r.totalMs), tMax = std::max(tMax, r.totalMs);
+        eMin = std::min(eMin, r.relMse), eMax = std::max(eMax, r.relMse);
+    }
+    std::ostringstream s;
+    s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+      << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+    s << "<text x=\"" << L << "\" y=\"24\" font-size=\"15\">" << escapeXml(scene)
+      << ": error against GPU time (log-log)</text>\n";
+    if (pts.empty())
+        return s.str() + "<text x=\"" + num(L) + "\" y=\"80\">no finite measurements</text>\n</svg>\n";
+    Axis ax = logAxis(tMin, tMax), ay = logAxis(eMin, eMax);
+    auto X = [&](double v) { return ax.map(v, L, W - R); };
+    auto Y = [&](double v) { return ay.map(v, H - B, T); };
+    for (double d = ax.lo; d <= ax.hi; ++d)
+        s << "<line x1=\"" << X(std::pow(10, d)) << "\" y1=\"" << T << "\" x2=\"" << X(std::pow(10, d)) << "\" y2=\""
+          << H - B << "\" stroke=\"#ddd\"/><text x=\"" << X(std::pow(10, d)) << "\" y=\"" << H - B + 16
+          << "\" text-anchor=\"middle\">" << num(std::pow(10, d)) << "</text>\n";
+    for (double d = ay.lo; d <= ay.hi; ++d)
+        s << "<line x1=\"" << L << "\" y1=\"" << Y(std::pow(10, d)) << "\" x2=\"" << W - R << "\" y2=\""
+          << Y(std::pow(10, d)) << "\" stroke=\"#ddd\"/><text x=\"" << L - 6 << "\" y=\"" << Y(std::pow(10, d)) + 4
+          << "\" text-anchor=\"end\">1e" << int(d) << "</text>\n";
+    s << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 12 << "\" text-anchor=\"middle\">total GPU ms</text>\n";
+    s << "<text x=\"16\" y=\"" << (T + H - B) / 2 << "\" transform=\"rotate(-90 16 " << (T + H - B) / 2
+      << ")\" text-anchor=\"middle\">relMSE</text>\n";
+    static const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
+    std::map<std::string, const char*> colourOf;
+    for (size_t i : pts)
+        if (!colourOf.count(records[i].technique))
+            colourOf[records[i].technique] = colours[colourOf.size() % 6];
+    auto front = paretoFront(records, scene);
+    s << "<polyline fill=\"none\" stroke=\"black\" stroke-width=\"1.5\" stroke-dasharray=\"4 3\" points=\"";
+    for (size_t i : front)
+        s << X(records[i].totalMs) << "," << Y(records[i].relMse) << " ";
+    s << "\"/>\n";
+    std::set<size_t> onFront(front.begin(), front.end());
+    for (size_t i : pts) {
+        const auto& r = records[i];
+        s << "<circle cx=\"" << X(r.totalMs) << "\" cy=\"" << Y(r.relMse) << "\" r=\"" << (onFront.count(i) ? 5 : 3.5)
+          << "\" fill=\"" << colourOf[r.technique] << "\"" << (onFront.count(i) ? " stroke=\"black\"" : "")
+          << "><title>" << escapeXml(r.technique + " " + r.knobs) << ": " << num(r.totalMs) << " ms, relMSE "
+          << num(r.relMse) << "</title></circle>\n";
+    }
+    double ly = T + 10;
+    for (const auto& [tech, colour] : colourOf) {
+        s << "<circle cx=\"" << W - R + 20 << "\" cy=\"" << ly << "\" r=\"5\" fill=\"" << colour << "\"/><text x=\""
+          << W - R + 32 << "\" y=\"" << ly + 4 << "\">" << escapeXml(tech) << "</text>\n";
+        ly += 20;
+    }
+    s << "<line x1=\"" << W - R + 12 << "\" y1=\"" << ly << "\" x2=\"" << W - R + 28 << "\" y2=\"" << ly
+      << "\" stroke=\"black\" stroke-dasharray=\"4 3\"/><text x=\"" << W - R + 32 << "\" y=\"" << ly + 4
+      << "\">Pareto front</text>\n</svg>\n";
+    return s.str();
+}
+
+} // namespace vkgi::gi

@@ -1,0 +1,116 @@
+// Pareto front, budget choice and file formats of vkgi-bench's records.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/file_util.hpp"
+#include "engine/progress.hpp"
+#include "gi/bench.hpp"
+#include "support/test_env.hpp"
+
+#include <fstream>
+
+using namespace vkgi;
+using namespace vkgi::gi;
+
+namespace {
+BenchRecord rec(const char* scene, const char* tech, double ms, double err) {
+    BenchRecord r;
+    r.scene = scene;
+    r.technique = tech;
+    r.knobs = std::string("k=") + std::to_string(ms);
+    r.totalMs = ms;
+    r.relMse = err;
+    r.passMs = {{"gi.a", ms * 0.25}, {"gi.b", ms * 0.75}};
+    return r;
+}
+} // namespace
+
+TEST(Bench, ParetoFrontKeepsOnlyUndominatedPoints) {
+    std::vector<BenchRecord> r = {
+        rec("cornell", "vct", 10, 0.5),  // 0 front
+        rec("cornell", "vct", 20, 0.2),  // 1 front
+        rec("cornell", "lpv", 15, 0.6),  // 2 dominated by 0 (slower and worse)
+        rec("cornell", "lpv", 40, 0.2),  // 3 dominated by 1 (equal error, slower)
+        rec("cornell", "vpl", 50, 0.05), // 4 front
+        rec("room", "vct", 1, 0.01),     // other scene: ignored
+        rec("cornell", "vpl", 5, NAN),   // non-finite error: never on the front
+    };
+    EXPECT_EQ(paretoFront(r, "cornell"), (std::vector<size_t>{0, 1, 4}));
+    EXPECT_EQ(paretoFront(r, "room"), (std::vector<size_t>{5}));
+    EXPECT_TRUE(paretoFront(r, "atrium").empty());
+}
+
+TEST(Bench, BudgetPicksTheMostAccurateConfigurationThatFits) {
+    std::vector<BenchRecord> r = {rec("cornell", "vct", 10, 0.5), rec("cornell", "vct", 20, 0.2),
+                                  rec("cornell", "vpl", 50, 0.05), rec("room", "vct", 1, 0.01)};
+    EXPECT_EQ(bestWithinBudget(r, "cornell", 9.9), -1);
+    EXPECT_EQ(bestWithinBudget(r, "cornell", 10.0), 0);
+    EXPECT_EQ(bestWithinBudget(r, "cornell", 49.0), 1);
+    EXPECT_EQ(bestWithinBudget(r, "cornell", 1e9), 2);
+}
+
+TEST(Bench, CsvHasOneRowPerRecordAndOneColumnPerPass) {
+    std::vector<BenchRecord> r = {rec("cornell", "vct", 10, 0.5), rec("room", "lpv", 8, 0.25)};
+    r[1].passMs.push_back({"gi.c", 1.0});
+    r[1].knobs = "grid=32,steps=8"; // a comma must be quoted
+    std::string csv = toCsv(r);
+    std::istringstream in(csv);
+    std::string header, row1, row2;
+    std::getline(in, header);
+    std::getline(in, row1);
+    std::getline(in, row2);
+    EXPECT_EQ(header, "scene,technique,knobs,total_ms,relmse,rmse,relmse_indirect,rmse_indirect,device_mib,"
+                      "gi.a ms,gi.b ms,gi.c ms");
+    EXPECT_EQ(row1.substr(0, 22), "cornell,vct,k=10.00000");
+    EXPECT_NE(row2.find("\"grid=32,steps=8\""), std::string::npos);
+    EXPECT_EQ(row1.back(), ','); // record 0 has no gi.c pass: empty last field
+}
+
+TEST(Bench, JsonRoundTripsTheNumbers) {
+    std::vector<BenchRecord> r = {rec("cornell", "vct", 12.5, 0.125)};
+    r[0].rmseIndirect = 0.0625;
+    auto j = nlohmann::json::parse(toJson(r));
+    ASSERT_EQ(j.size(), 1u);
+    EXPECT_EQ(j[0]["total_ms"].get<double>(), 12.5);
+    EXPECT_EQ(j[0]["error"]["relmse"].get<double>(), 0.125);
+    EXPECT_EQ(j[0]["error"]["rmse_indirect"].get<double>(), 0.0625);
+    EXPECT_EQ(j[0]["passes"][1]["name"].get<std::string>(), "gi.b");
+}
+
+TEST(Bench, SvgMarksEveryPointAndTheFront) {
+    std::vector<BenchRecord> r = {rec("cornell", "vct", 10, 0.5), rec("cornell", "vct", 20, 0.2),
+                                  rec("cornell", "lpv", 15, 0.6)};
+    std::string svg = toSvgPlot(r, "cornell");
+    size_t circles = 0;
+    for (size_t p = svg.find("<circle"); p != std::string::npos; p = svg.find("<circle", p + 1))
+        ++circles;
+    EXPECT_EQ(circles, 3u + 2u); // 3 points + 2 legend markers
+    EXPECT_NE(svg.find("Pareto front"), std::string::npos);
+    EXPECT_EQ(svg.rfind("</svg>\n"), svg.size() - 7);
+}
+
+TEST(FileUtil, AtomicWriteReplacesOrFailsCleanly) {
+    auto dir = test::outputDir() / "atomic";
+    std::filesystem::create_directories(dir);
+    auto file = dir / "a.txt";
+    ASSERT_TRUE(writeFileAtomic(file, "first"));
+    ASSERT_TRUE(writeFileAtomic(file, "second"));
+    std::ifstream in(file);
+    std::string s;
+    in >> s;
+    EXPECT_EQ(s, "second");
+    auto bad = writeFileAtomic(dir / "missing" / "b.txt", "x");
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("b.txt"), std::string::npos);
+    EXPECT_FALSE(std::filesystem::exists(dir / "missing"));
+}
+
+TEST(Progress, FormatsDurations) {
+    EXPECT_EQ(formatDuration(42.4), "42 s");
+    EXPECT_EQ(formatDuration(185), "3 min 05 s");
+    EXPECT_EQ(formatDuration(3725), "1 h 02 min");
+    Progress quiet("test", 10, false);
+    quiet.add(5);
+    EXPECT_FALSE(quiet.visible());
+}
