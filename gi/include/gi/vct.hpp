@@ -1,0 +1,45 @@
+#pragma once
+// Voxel cone tracing (Crassin et al. 2011, with the deferred voxel shading of Villegas &
+// Ramirez): the knobs a caller or vkgi-bench may turn, and their validation.
+#include <cstdint>
+#include <optional>
+
+#include <glm/glm.hpp>
+
+#include "engine/result.hpp"
+#include "engine/scene.hpp"
+
+namespace vkgi::gi {
+
+// How voxel direct lighting decides whether a light reaches a voxel.
+enum class VctOcclusion : uint32_t {
+    RayMarchHard = 0, // one ray through the occupancy volume
+    RayMarchSoft = 1, // a cone through the occupancy volume (penumbra from the aperture)
+    ShadowMap = 2,    // the light's shadow map (from the shared shadow pass)
+};
+
+struct VctSettings {
+    // Voxels per axis, a power of two in [16, 256].
+    uint32_t gridResolution = 64;
+    // Grid box; empty = fitted to the scene bounds (cubic voxels, half a voxel of margin).
+    std::optional<Aabb> gridBox;
+    // Diffuse cones per pixel over the normal hemisphere (1..32) and their half-angle (radians).
+    uint32_t diffuseCones = 6;
+    float diffuseAperture = 0.5236f;
+    // Distance between cone samples in units of the current cone diameter (0 < f <= 4).
+    float stepFactor = 1.0f;
+    // Light bounces carried by the voxels: 1 = direct light only, 2 = plus a per-voxel gather.
+    uint32_t bounces = 2;
+    bool glossy = true;          // glossy cone whose aperture follows the roughness
+    bool ambientOcclusion = true;
+    float aoDistance = 0.0f;     // Villegas' AO decay distance in metres; 0 = 1/8 of the grid
+    bool softShadows = false;    // cone-traced shadows of punctual lights
+    float shadowAperture = 0.05f; // half-angle of the shadow cone (radians)
+    VctOcclusion occlusion = VctOcclusion::RayMarchHard;
+};
+
+// Readable error for settings the passes cannot run with (grid not a power of two, no cones,
+// non-finite or out-of-range apertures and step factors).
+Result<void> validateVctSettings(const VctSettings& settings);
+
+} // namespace vkgi::gi

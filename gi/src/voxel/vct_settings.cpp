@@ -1,0 +1,37 @@
+#include <cmath>
+#include <string>
+
+#include "gi/vct.hpp"
+#include "gi/voxel_grid.h"
+
+namespace vkgi::gi {
+
+namespace {
+bool isPowerOfTwo(uint32_t v) { return v != 0 && (v & (v - 1)) == 0; }
+} // namespace
+
+Result<void> validateVctSettings(const VctSettings& s) {
+    if (!isPowerOfTwo(s.gridResolution) || s.gridResolution < GI_VOXEL_MIN_RESOLUTION ||
+        s.gridResolution > GI_VOXEL_MAX_RESOLUTION)
+        return makeError("vct: gridResolution " + std::to_string(s.gridResolution) +
+                         " must be a power of two in [16, 256]");
+    if (s.diffuseCones == 0 || s.diffuseCones > 32)
+        return makeError("vct: diffuseCones " + std::to_string(s.diffuseCones) + " must be in [1, 32]");
+    // Half-angles up to 80 degrees: beyond that a cone no longer has a useful axis.
+    if (!std::isfinite(s.diffuseAperture) || s.diffuseAperture <= 0.0f || s.diffuseAperture > 1.4f)
+        return makeError("vct: diffuseAperture must be a finite half-angle in (0, 1.4] radians");
+    if (!std::isfinite(s.stepFactor) || s.stepFactor <= 0.0f || s.stepFactor > 4.0f)
+        return makeError("vct: stepFactor must be finite and in (0, 4]");
+    if (s.bounces < 1 || s.bounces > 2)
+        return makeError("vct: bounces " + std::to_string(s.bounces) + " must be 1 or 2");
+    if (!std::isfinite(s.aoDistance) || s.aoDistance < 0.0f)
+        return makeError("vct: aoDistance must be finite and >= 0");
+    if (!std::isfinite(s.shadowAperture) || s.shadowAperture <= 0.0f || s.shadowAperture > 1.0f)
+        return makeError("vct: shadowAperture must be a finite half-angle in (0, 1] radians");
+    if (s.gridBox && (!s.gridBox->valid() || !std::isfinite(s.gridBox->min.x + s.gridBox->min.y + s.gridBox->min.z +
+                                                             s.gridBox->max.x + s.gridBox->max.y + s.gridBox->max.z)))
+        return makeError("vct: gridBox must be a finite, non-empty box");
+    return {};
+}
+
+} // namespace vkgi::gi

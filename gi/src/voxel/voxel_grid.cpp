@@ -1,0 +1,176 @@
+#include "voxel/voxel_grid.hpp"
+
+#include <bit>
+#include <cmath>
+#include <string>
+
+#include "engine/context.hpp"
+
+namespace vkgi::gi {
+
+namespace {
+
+constexpr VkImageUsageFlags kVolumeUsage =
+    VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+
+Image createVolume(Context& ctx, uint32_t n, uint32_t depth, VkFormat format, const char* name) {
+    ImageDesc d;
+    d.type = VK_IMAGE_TYPE_3D;
+    d.format = format;
+    d.width = n;
+    d.height = n;
+    d.depth = depth;
+    d.usage = kVolumeUsage;
+    return createImage(ctx, d, name);
+}
+
+VoxelVolumes createVolumes(Context& ctx, uint32_t n, const char* prefix) {
+    std::string p = prefix;
+    return {createVolume(ctx, n, n, VK_FORMAT_R8G8B8A8_UNORM, (p + ".albedo").c_str()),
+            createVolume(ctx, n, n, VK_FORMAT_R8G8B8A8_UNORM, (p + ".normal").c_str()),
+            createVolume(ctx, n, n, VK_FORMAT_R16G16B16A16_SFLOAT, (p + ".emission").c_str())};
+}
+
+void destroyVolumes(Context& ctx, VoxelVolumes& v) {
+    destroyImage(ctx, v.albedo);
+    destroyImage(ctx, v.normal);
+    destroyImage(ctx, v.emission);
+}
+
+DescriptorItem storageImage(uint32_t binding, const Image& image) {
+    DescriptorItem item;
+    item.binding = binding;
+    item.image = {VK_NULL_HANDLE, image.view, VK_IMAGE_LAYOUT_GENERAL};
+    return item;
+}
+
+DescriptorItem storageBuffer(uint32_t binding, VkBuffer buffer) {
+    DescriptorItem item;
+    item.binding = binding;
+    item.buffer = {buffer, 0, VK_WHOLE_SIZE};
+    return item;
+}
+
+} // namespace
+
+Result<gpu::VoxelGridParams> fitVoxelGrid(const Aabb& box, uint32_t resolution, float radianceScale) {
+    glm::vec3 extent = box.extent();
+    float longest = std::max(extent.x, std::max(extent.y, extent.z));
+    if (!box.valid() || !std::isfinite(longest) || !std::isfinite(box.min.x + box.min.y + box.min.z))
+        return makeError("voxel grid: the box to fit is empty or not finite");
+    if (resolution < 2 || (resolution & (resolution - 1)) != 0)
+        return makeError("voxel grid: resolution " + std::to_string(resolution) + " is not a power of two >= 2");
+    if (!(radianceScale > 0.0f) || !std::isfinite(radianceScale))
+        return makeError("voxel grid: radianceScale must be positive and finite");
+    // A flat or point-like box still needs a positive voxel: take a 1e-6 relative floor.
+    float floorSize = 1e-6f * std::max(1.0f, glm::length(box.centre()));
+    float voxel = std::max(longest, floorSize) / float(resolution - 1);
+    gpu::VoxelGridParams p{};
+    p.originSize = glm::vec4(box.centre() - 0.5f * voxel * float(resolution), voxel);
+    p.scales = glm::vec4(1.0f / voxel, radianceScale, 1.0f / radianceScale, 0.0f);
+    p.dims = glm::uvec4(resolution, uint32_t(std::countr_zero(resolution)), 0u, 0u);
+    return p;
+}
+
+float chooseRadianceScale(float maxRadiance) {
+    if (!(maxRadiance > 0.0f) || !std::isfinite(maxRadiance))
+        return 1.0f;
+    // exp2(-ceil(log2(L))): exact power of two, so scaling and unscaling lose no bits.
+    return std::ldexp(1.0f, -int(std::ceil(std::log2(maxRadiance))));
+}
+
+Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::VoxelGridParams& params) {
+    uint32_t n = params.dims.x;
+    if (n < GI_VOXEL_MIN_RESOLUTION || n > GI_VOXEL_MAX_RESOLUTION || (n & (n - 1)) != 0)
+        return makeError("voxel grid: resolution " + std::to_string(n) + " must be a power of two in [16, 256]");
+    std::unique_ptr<VoxelGrid> g(new VoxelGrid(ctx));
+    g->m_params = params;
+    struct Named {
+        Pipeline* pipeline;
+        const char* shader;
+    } shaders[] = {{&g->m_clear, "gi/voxel/voxel_clear.comp"},
+                   {&g->m_voxelize, "gi/voxel/voxelize.comp"},
+                   {&g->m_resolve, "gi/voxel/voxel_resolve.comp"},
+                   {&g->m_resolveMerge, "gi/voxel/voxel_resolve_merge.comp"}};
+    for (const Named& s : shaders) {
+        auto p = createComputePipeline(ctx, {s.shader, {}});
+        if (!p)
+            return p.error();
+        *s.pipeline = std::move(*p);
+    }
+    g->m_volumes = createVolumes(ctx, n, "voxel.grid");
+    g->m_static = createVolumes(ctx, n, "voxel.static");
+    g->m_accum = createVolume(ctx, n, n * GI_VOXEL_ACC_CHANNELS, VK_FORMAT_R32_UINT, "voxel.accumulation");
+    return g;
+}
+
+VoxelGrid::~VoxelGrid() {
+    for (Pipeline* p : {&m_clear, &m_voxelize, &m_resolve, &m_resolveMerge})
+        destroyPipeline(m_ctx, *p);
+    destroyVolumes(m_ctx, m_volumes);
+    destroyVolumes(m_ctx, m_static);
+    destroyImage(m_ctx, m_accum);
+}
+
+VkDeviceSize VoxelGrid::bytes() const {
+    VkDeviceSize total = imageBytes(m_accum.desc);
+    for (const VoxelVolumes* v : {&m_volumes, &m_static})
+        total += imageBytes(v->albedo.desc) + imageBytes(v->normal.desc) + imageBytes(v->emission.desc);
+    return total;
+}
+
+void VoxelGrid::recordClear(VkCommandBuffer cmd) const {
+    uint32_t n = resolution();
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_clear.pipeline);
+    gpu::VoxelGridPush push{m_params};
+    pushConstants(cmd, m_clear, &push, sizeof(push));
+    DescriptorItem items[] = {storageImage(0, m_accum)};
+    pushDescriptors(m_ctx, cmd, m_clear, items);
+    vkCmdDispatch(cmd, groupCount(n, m_clear.localSize[0]), groupCount(n, m_clear.localSize[1]),
+                  groupCount(n * GI_VOXEL_ACC_CHANNELS, m_clear.localSize[2]));
+}
+
+void VoxelGrid::recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set) const {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_voxelize.pipeline);
+    DescriptorItem items[] = {storageBuffer(0, scene.vertices), storageBuffer(1, scene.indices),
+                              storageBuffer(2, scene.instances), storageBuffer(3, scene.materials),
+                              storageImage(4, m_accum)};
+    pushDescriptors(m_ctx, cmd, m_voxelize, items);
+    for (const VoxelDraw& d : scene.draws) {
+        if (d.triangleCount == 0 || (set == VoxelDrawSet::Static && d.dynamic) ||
+            (set == VoxelDrawSet::Dynamic && !d.dynamic))
+            continue;
+        gpu::VoxelizePush push{m_params, glm::uvec4(d.instance, d.firstIndex, d.triangleCount,
+                                                    std::bit_cast<uint32_t>(d.vertexOffset))};
+        pushConstants(cmd, m_voxelize, &push, sizeof(push));
+        vkCmdDispatch(cmd, groupCount(d.triangleCount, m_voxelize.localSize[0]), 1, 1);
+    }
+}
+
+void VoxelGrid::recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target) const {
+    uint32_t n = resolution();
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_resolve.pipeline);
+    gpu::VoxelGridPush push{m_params};
+    pushConstants(cmd, m_resolve, &push, sizeof(push));
+    DescriptorItem items[] = {storageImage(0, m_accum), storageImage(1, target.albedo), storageImage(2, target.normal),
+                              storageImage(3, target.emission)};
+    pushDescriptors(m_ctx, cmd, m_resolve, items);
+    vkCmdDispatch(cmd, groupCount(n, m_resolve.localSize[0]), groupCount(n, m_resolve.localSize[1]),
+                  groupCount(n, m_resolve.localSize[2]));
+}
+
+void VoxelGrid::recordResolveMerge(VkCommandBuffer cmd) const {
+    uint32_t n = resolution();
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_resolveMerge.pipeline);
+    gpu::VoxelGridPush push{m_params};
+    pushConstants(cmd, m_resolveMerge, &push, sizeof(push));
+    DescriptorItem items[] = {storageImage(0, m_accum),           storageImage(1, m_volumes.albedo),
+                              storageImage(2, m_volumes.normal),  storageImage(3, m_volumes.emission),
+                              storageImage(4, m_static.albedo),   storageImage(5, m_static.normal),
+                              storageImage(6, m_static.emission)};
+    pushDescriptors(m_ctx, cmd, m_resolveMerge, items);
+    vkCmdDispatch(cmd, groupCount(n, m_resolveMerge.localSize[0]), groupCount(n, m_resolveMerge.localSize[1]),
+                  groupCount(n, m_resolveMerge.localSize[2]));
+}
+
+} // namespace vkgi::gi

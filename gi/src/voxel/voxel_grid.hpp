@@ -1,0 +1,89 @@
+#pragma once
+// The shared voxel grid: fitting, persistent volumes and the voxelization passes (clear,
+// voxelize, resolve). Pass bodies only record dispatches; ordering and barriers come from the
+// caller (the render graph). Layouts and encodings: shaders/include/gi/voxel_grid.h.
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "engine/pipeline.hpp"
+#include "engine/resources.hpp"
+#include "engine/result.hpp"
+#include "engine/scene.hpp"
+#include "gi/voxel_passes.h"
+
+namespace vkgi::gi {
+
+// Fits a cubic-voxel grid of `resolution`^3 around `box`: the box's longest side spans
+// resolution - 1 voxels and is centred, so geometry on the box faces lies on voxel centres
+// (a wall on the boundary is one voxel thick, not two). Errors on an empty or non-finite box.
+Result<gpu::VoxelGridParams> fitVoxelGrid(const Aabb& box, uint32_t resolution, float radianceScale);
+
+// Power of two that maps the brightest radiance the grid will hold to about 1, so that stored
+// values stay within half-float range for any scene brightness (1e-6 .. 1e9 nits).
+float chooseRadianceScale(float maxRadiance);
+
+// One draw of the GPU scene as the voxelizer sees it (mirrors GpuDraw of engine/gpu_scene.hpp).
+struct VoxelDraw {
+    uint32_t instance = 0;
+    uint32_t firstIndex = 0;
+    uint32_t triangleCount = 0;
+    int32_t vertexOffset = 0;
+    bool dynamic = false;
+};
+
+// GPU scene buffers in the engine/scene_types.h layouts.
+struct VoxelSceneBuffers {
+    VkBuffer vertices = VK_NULL_HANDLE;
+    VkBuffer indices = VK_NULL_HANDLE;
+    VkBuffer instances = VK_NULL_HANDLE;
+    VkBuffer materials = VK_NULL_HANDLE;
+    std::vector<VoxelDraw> draws;
+};
+
+struct VoxelVolumes {
+    Image albedo;   // RGBA8: mean albedo, a = occupancy
+    Image normal;   // RGBA8: voxelNormalEncode(mean normal), a = occupancy
+    Image emission; // RGBA16F: emission * radianceScale
+};
+
+// Which draws a voxelize pass takes.
+enum class VoxelDrawSet { All, Static, Dynamic };
+
+class VoxelGrid {
+public:
+    static Result<std::unique_ptr<VoxelGrid>> create(Context& ctx, const gpu::VoxelGridParams& params);
+    ~VoxelGrid();
+    VoxelGrid(const VoxelGrid&) = delete;
+    VoxelGrid& operator=(const VoxelGrid&) = delete;
+
+    const gpu::VoxelGridParams& params() const { return m_params; }
+    uint32_t resolution() const { return m_params.dims.x; }
+    // The grid every consumer reads (static and dynamic geometry merged).
+    const VoxelVolumes& volumes() const { return m_volumes; }
+    // Static geometry only, voxelized once (the flag volume is staticVolumes().albedo.a).
+    const VoxelVolumes& staticVolumes() const { return m_static; }
+    // Fixed-point scratch: N x N x (N * GI_VOXEL_ACC_CHANNELS) R32UI.
+    const Image& accumulation() const { return m_accum; }
+    VkDeviceSize bytes() const;
+
+    // Pass bodies (all images in GENERAL layout). clear: accumulation := 0 (storage write).
+    void recordClear(VkCommandBuffer cmd) const;
+    // Adds the chosen draws to the accumulation (storage read-write, scene buffers read).
+    void recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set) const;
+    // accumulation -> `target` (storage write).
+    void recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target) const;
+    // accumulation merged under the static volumes -> volumes() (static voxels win).
+    void recordResolveMerge(VkCommandBuffer cmd) const;
+
+private:
+    VoxelGrid(Context& ctx) : m_ctx(ctx) {}
+    Context& m_ctx;
+    gpu::VoxelGridParams m_params{};
+    VoxelVolumes m_volumes, m_static;
+    Image m_accum;
+    Pipeline m_clear, m_voxelize, m_resolve, m_resolveMerge;
+};
+
+} // namespace vkgi::gi

@@ -1,0 +1,130 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Conservative compute voxelization, one invocation per triangle: every voxel whose closed box
+// the triangle touches (separating-axis test, so slivers, sub-voxel and zero-area triangles
+// count too) receives the triangle's albedo, face normal and emission as fixed-point integer
+// sums. Integer atomics make the result independent of the execution order.
+#include "gi/voxel_passes.h"
+
+layout(local_size_x = 32) in;
+layout(push_constant) uniform Push { VoxelizePush pc; };
+
+// GPU scene layouts of engine/scene_types.h (GpuVertex 32 B, GpuInstance 144 B, GpuMaterial 48 B).
+struct SceneVertex { vec4 positionU; vec4 normalV; };
+struct SceneInstance { mat4 model; mat4 normalModel; uvec4 info; };
+struct SceneMaterial { vec4 baseColor; vec4 emission; vec4 params; };
+layout(set = 1, binding = 0, std430) readonly buffer Vertices { SceneVertex vertices[]; };
+layout(set = 1, binding = 1, std430) readonly buffer Indices { uint indices[]; };
+layout(set = 1, binding = 2, std430) readonly buffer Instances { SceneInstance instances[]; };
+layout(set = 1, binding = 3, std430) readonly buffer Materials { SceneMaterial materials[]; };
+layout(set = 1, binding = 4, r32ui) uniform coherent uimage3D accum;
+
+// Slack added to every separating-axis radius, in voxel units: rounding may then only add a
+// voxel that the triangle grazes within 1e-5 voxels, never drop one it touches.
+const float kSatSlack = 1e-5;
+
+// Projection of the three vertices on `axis` against the projected half-extent of the box.
+bool separatedOn(vec3 axis, vec3 v0, vec3 v1, vec3 v2) {
+    float p0 = dot(axis, v0), p1 = dot(axis, v1), p2 = dot(axis, v2);
+    float r = 0.5 * (abs(axis.x) + abs(axis.y) + abs(axis.z));
+    r += kSatSlack * (1.0 + r);
+    return min(p0, min(p1, p2)) > r || max(p0, max(p1, p2)) < -r;
+}
+
+// Triangle (vertices relative to the voxel centre, voxel units) against the unit box: the box
+// axes are covered by the caller's loop bounds; here the 9 edge cross products and the normal.
+bool overlapsUnitBox(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
+    vec3 e[3] = vec3[3](v1 - v0, v2 - v1, v0 - v2);
+    for (int i = 0; i < 3; ++i) {
+        if (separatedOn(vec3(0.0, -e[i].z, e[i].y), v0, v1, v2) ||
+            separatedOn(vec3(e[i].z, 0.0, -e[i].x), v0, v1, v2) ||
+            separatedOn(vec3(-e[i].y, e[i].x, 0.0), v0, v1, v2))
+            return false;
+    }
+    float r = 0.5 * (abs(n.x) + abs(n.y) + abs(n.z));
+    return abs(dot(n, v0)) <= r + kSatSlack * (1.0 + r);
+}
+
+uint toFixed(float v) { return uint(clamp(v, 0.0, 1.0) * GI_VOXEL_FIXED_ONE + 0.5); }
+uint toFixedSigned(float v) { return uint(int(round(clamp(v, -1.0, 1.0) * GI_VOXEL_FIXED_ONE))); }
+
+void splat(ivec3 c, int n, vec3 albedo, vec3 normal, vec3 emission, bool emissive) {
+    uint old = imageAtomicAdd(accum, c, 1u);
+    if (old >= GI_VOXEL_MAX_CONTRIBUTIONS)
+        return;
+    for (int k = 0; k < 3; ++k) {
+        imageAtomicAdd(accum, c + ivec3(0, 0, n * (GI_VOXEL_ACC_ALBEDO + k)), toFixed(albedo[k]));
+        imageAtomicAdd(accum, c + ivec3(0, 0, n * (GI_VOXEL_ACC_NORMAL + k)), toFixedSigned(normal[k]));
+        if (emissive)
+            imageAtomicAdd(accum, c + ivec3(0, 0, n * (GI_VOXEL_ACC_EMISSION + k)), toFixed(emission[k]));
+    }
+}
+
+void main() {
+    uint tri = gl_GlobalInvocationID.x;
+    if (tri >= pc.draw.z)
+        return;
+    SceneInstance inst = instances[pc.draw.x];
+    uint base = pc.draw.y + 3u * tri;
+    vec3 p[3];
+    vec3 shadingSum = vec3(0.0);
+    for (int i = 0; i < 3; ++i) {
+        SceneVertex v = vertices[indices[base + uint(i)] + pc.draw.w];
+        p[i] = ((inst.model * vec4(v.positionU.xyz, 1.0)).xyz - pc.grid.originSize.xyz) * pc.grid.scales.x;
+        shadingSum += v.normalV.xyz;
+    }
+    SceneMaterial mat = materials[inst.info.x];
+    vec3 albedo = mat.baseColor.rgb;
+    vec3 emission = mat.emission.rgb * pc.grid.scales.y;
+    bool emissive = any(greaterThan(emission, vec3(0.0)));
+
+    // Face normal, oriented like the authored vertex normals (which carry the facing of
+    // double-sided or mirrored geometry); zero-area triangles fall back to those normals.
+    // Cross the shortest edge with the next one: for slivers this keeps the normal accurate to
+    // a few ulps (crossing the two long edges would cancel catastrophically).
+    vec3 e0 = p[1] - p[0], e1 = p[2] - p[1], e2 = p[0] - p[2];
+    float l0 = dot(e0, e0), l1 = dot(e1, e1), l2 = dot(e2, e2);
+    vec3 n = (l0 <= l1 && l0 <= l2) ? cross(e0, e1) : (l1 <= l2 ? cross(e1, e2) : cross(e2, e0));
+    vec3 shading = mat3(inst.normalModel) * shadingSum;
+    float len = length(n);
+    vec3 faceNormal = len > 0.0 ? n / len : (length(shading) > 0.0 ? normalize(shading) : vec3(0.0));
+    if (dot(faceNormal, shading) < 0.0)
+        faceNormal = -faceNormal;
+
+    int res = int(pc.grid.dims.x);
+    vec3 lo = min(p[0], min(p[1], p[2])), hi = max(p[0], max(p[1], p[2]));
+    if (any(greaterThan(lo, vec3(res))) || any(lessThan(hi, vec3(0.0))) || any(isnan(lo + hi)))
+        return;
+    ivec3 vlo = clamp(ivec3(floor(lo - kSatSlack)), ivec3(0), ivec3(res - 1));
+    ivec3 vhi = clamp(ivec3(floor(hi + kSatSlack)), ivec3(0), ivec3(res - 1));
+
+    // Walk the two axes in which the triangle is widest; along the third (the dominant normal
+    // axis) only the voxels between the plane's heights at the column corners can overlap.
+    vec3 an = abs(n);
+    int k = (an.x >= an.y && an.x >= an.z) ? 0 : (an.y >= an.z ? 1 : 2);
+    int u = (k + 1) % 3, w = (k + 2) % 3;
+    float planeD = dot(n, p[0]);
+    for (int cu = vlo[u]; cu <= vhi[u]; ++cu) {
+        for (int cw = vlo[w]; cw <= vhi[w]; ++cw) {
+            int k0 = vlo[k], k1 = vhi[k];
+            if (len > 0.0) {
+                // Plane height along k at the four column corners: k = (d - n_u*u - n_w*w) / n_k.
+                float h00 = (planeD - n[u] * float(cu) - n[w] * float(cw)) / n[k];
+                float du = -n[u] / n[k], dw = -n[w] / n[k];
+                float hmin = h00 + min(du, 0.0) + min(dw, 0.0);
+                float hmax = h00 + max(du, 0.0) + max(dw, 0.0);
+                k0 = max(k0, int(floor(hmin - 1e-3)));
+                k1 = min(k1, int(floor(hmax + 1e-3)));
+            }
+            for (int ck = k0; ck <= k1; ++ck) {
+                ivec3 c;
+                c[k] = ck;
+                c[u] = cu;
+                c[w] = cw;
+                vec3 centre = vec3(c) + 0.5;
+                if (overlapsUnitBox(p[0] - centre, p[1] - centre, p[2] - centre, n))
+                    splat(c, res, albedo, faceNormal, emission, emissive);
+            }
+        }
+    }
+}
