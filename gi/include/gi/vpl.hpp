@@ -1,0 +1,53 @@
+#pragma once
+// Image-space instant radiosity after Cochran & Steele, "Second-Order Illumination in
+// Real-Time": VPLs placed by Halton points inside each spot cone and projected into the
+// shared RSM, deferred VPL shading over the G-buffer without visibility, negative VPLs for the
+// missing occlusion, and a low-resolution gather refined at discontinuities. See docs/vpl.md.
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/result.hpp"
+
+namespace vkgi::gi {
+
+// Most VPLs per spotlight, negative VPLs and spotlights (mirror GI_VPL_MAX_* in gi/vpl.h).
+constexpr uint32_t kMaxVplsPerLight = 4096;
+constexpr uint32_t kMaxNegativeVpls = 4096;
+constexpr uint32_t kMaxVplLights = 8;
+// Halton indices searched for the points of one cone before giving up: 2^22 keeps the CPU
+// search under ~0.5 s and still serves 4096 VPLs in a cone of half-angle >= ~3.6 degrees.
+constexpr uint32_t kMaxHaltonSearch = 1u << 22;
+
+// The knobs of the VPL technique (what vkgi-bench sweeps).
+struct VplSettings {
+    uint32_t vplCount = 200;         // positive VPLs per spotlight, 1..kMaxVplsPerLight
+    uint32_t negativeVplCount = 0;   // negative VPLs (0 = off), 0..kMaxNegativeVpls
+    uint32_t lowResFactor = 1;       // indirect light at 1/factor resolution per axis: 1 (off), 2 or 4
+    float refineThreshold = 0.1f;    // discontinuity test: 1 - dot(normals) or |dp| / depth above it refines
+    // Clamp of the 1/d^2 term near a VPL, as a fraction of the scene's bounding-box diagonal:
+    // d^2 is replaced by max(d^2, (clampDistance * diagonal)^2). It removes the bright splotches
+    // next to VPLs at the cost of darkening contact regions (bias measured in docs/vpl.md).
+    float clampDistance = 0.1f;
+};
+
+// Checks every knob; the error names the knob, its value and the allowed range.
+Result<void> validateVplSettings(const VplSettings& settings);
+
+// The `count` first Halton points (bases 2 and 3, index 1, 2, ...) on the unit sphere whose
+// angle to +Z is within the cone of cosine `cosOuter`, in order: exactly the paper's
+// placement, in the light's local frame. Deterministic; a cone too narrow to find `count`
+// points within kMaxHaltonSearch indices is an error.
+Result<std::vector<glm::vec3>> spotSampleDirections(uint32_t count, float cosOuter);
+
+// Orthonormal right-handed frame (columns x, y, z) whose z is the unit spot `direction`: the
+// smallest rotation taking -Y to `direction`, applied to the frame (X, +Z, -Y). It turns
+// smoothly with the light everywhere except at direction = +Y (a spot pointing straight up),
+// where the twist about the axis is undefined and jumps.
+glm::mat3 spotFrame(const glm::vec3& direction);
+
+// Solid angle of a cone of half-angle acos(cosOuter): 2 pi (1 - cosOuter).
+inline float coneSolidAngle(float cosOuter) { return 6.28318530718f * (1.0f - cosOuter); }
+
+} // namespace vkgi::gi

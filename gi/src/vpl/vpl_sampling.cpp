@@ -1,0 +1,66 @@
+// CPU side of the VPL placement: the Halton directions inside a spot cone and the spot frame.
+#include <cmath>
+#include <string>
+
+#include "gi/vpl.h"
+#include "gi/vpl.hpp"
+
+namespace vkgi::gi {
+
+static_assert(kMaxVplsPerLight == GI_VPL_MAX_PER_LIGHT && kMaxNegativeVpls == GI_VPL_MAX_NEGATIVE &&
+              kMaxVplLights == GI_VPL_MAX_LIGHTS, "C++ limits must mirror gi/vpl.h");
+
+Result<void> validateVplSettings(const VplSettings& s) {
+    auto bad = [](const std::string& what) { return makeError("VplSettings: " + what); };
+    if (s.vplCount == 0 || s.vplCount > kMaxVplsPerLight)
+        return bad("vplCount " + std::to_string(s.vplCount) + " is outside 1.." + std::to_string(kMaxVplsPerLight));
+    if (s.negativeVplCount > kMaxNegativeVpls)
+        return bad("negativeVplCount " + std::to_string(s.negativeVplCount) + " is outside 0.." +
+                   std::to_string(kMaxNegativeVpls));
+    if (s.lowResFactor != 1 && s.lowResFactor != 2 && s.lowResFactor != 4)
+        return bad("lowResFactor " + std::to_string(s.lowResFactor) + " must be 1, 2 or 4");
+    if (!std::isfinite(s.refineThreshold) || s.refineThreshold < 0.0f)
+        return bad("refineThreshold " + std::to_string(s.refineThreshold) + " must be finite and >= 0");
+    if (!std::isfinite(s.clampDistance) || s.clampDistance <= 0.0f || s.clampDistance > 1.0f)
+        return bad("clampDistance " + std::to_string(s.clampDistance) + " must be in (0, 1]");
+    return {};
+}
+
+Result<std::vector<glm::vec3>> spotSampleDirections(uint32_t count, float cosOuter) {
+    if (count > kMaxVplsPerLight)
+        return makeError("spotSampleDirections: " + std::to_string(count) + " VPLs exceed the maximum " +
+                         std::to_string(kMaxVplsPerLight));
+    if (!(cosOuter >= -1.0f && cosOuter < 1.0f))
+        return makeError("spotSampleDirections: cone cosine " + std::to_string(cosOuter) + " is outside [-1, 1)");
+    std::vector<glm::vec3> dirs;
+    dirs.reserve(count);
+    for (uint32_t i = 1; dirs.size() < count; ++i) {
+        if (i > kMaxHaltonSearch)
+            return makeError("spotSampleDirections: cone of cosine " + std::to_string(cosOuter) +
+                             " too narrow: only " + std::to_string(dirs.size()) + " of " + std::to_string(count) +
+                             " Halton points inside after " + std::to_string(kMaxHaltonSearch) + " indices");
+        glm::vec3 d = gpu::vplHaltonSphere(i);
+        if (d.z >= cosOuter)
+            dirs.push_back(d);
+    }
+    return dirs;
+}
+
+glm::mat3 spotFrame(const glm::vec3& direction) {
+    // Double precision: the rotation loses ~1/(1 + c) of its accuracy as d approaches +Y.
+    const glm::dvec3 a(0.0, -1.0, 0.0);
+    glm::dvec3 d = glm::normalize(glm::dvec3(direction));
+    glm::dvec3 v = glm::cross(a, d);
+    double c = glm::dot(a, d);
+    // Rodrigues' rotation a -> d: R = I + [v]x + [v]x^2 / (1 + c); singular only at d = -a.
+    glm::dmat3 vx(0.0, v.z, -v.y, -v.z, 0.0, v.x, v.y, -v.x, 0.0); // columns of the cross-product matrix
+    glm::dmat3 r = c > -1.0 + 1e-12 ? glm::dmat3(1.0) + vx + vx * vx * (1.0 / (1.0 + c))
+                                    : glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, -1, 0), glm::dvec3(0, 0, -1));
+    glm::dvec3 x = r * glm::dvec3(1.0, 0.0, 0.0);
+    // Re-orthonormalise against the exact axis so the frame is orthonormal to float precision.
+    x = glm::normalize(x - glm::dot(x, d) * d);
+    glm::dvec3 y = glm::cross(d, x);
+    return glm::mat3(glm::vec3(x), glm::vec3(y), glm::vec3(d));
+}
+
+} // namespace vkgi::gi

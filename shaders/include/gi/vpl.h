@@ -1,0 +1,93 @@
+// Image-space instant radiosity (Cochran & Steele): the VPL records, per-light parameters and
+// the Halton sampling math, shared by C++ (gi/src/vpl) and the compute shaders (shaders/gi/vpl).
+// Conventions: a VPL's flux is in cd*sr (the light's candela times the solid angle it stands
+// for, times the surface albedo), so a VPL adds radiance
+//     L = albedo/pi * flux/pi * cosVpl * cosReceiver / max(d^2, clampDistance^2)
+// in the same nits as the direct light. Spot frames use +Z as the cone axis.
+#ifndef VKGI_GI_VPL_H
+#define VKGI_GI_VPL_H
+#include "../shared/bridge.h"
+
+// Most positive VPLs one spotlight may own: the gather is O(pixels * VPLs) and 4096 VPLs at
+// 256^2 already cost seconds per frame on lavapipe, far past any useful setting.
+#define GI_VPL_MAX_PER_LIGHT 4096u
+// Most spotlights that get VPLs in one frame (the per-light parameter table is sized by it).
+#define GI_VPL_MAX_LIGHTS 8u
+// Most negative VPLs (paper section 3.3); same cost argument as above.
+#define GI_VPL_MAX_NEGATIVE 4096u
+// Work-group width of the 1D passes (VPL generation): 64 = 8 lavapipe SIMD lanes x 8.
+#define GI_VPL_LOCAL_SIZE_1D 64
+// Work-group side of the 2D passes.
+#define GI_VPL_LOCAL_SIZE_2D 8
+
+#define GI_VPL_PI 3.14159265358979f
+
+GI_NAMESPACE_BEGIN
+
+// One positive VPL (a surface point seen by the light) or one negative VPL (a camera-visible
+// point that passes the indirect light it receives on, with negative sign).
+GI_GPU_STRUCT(VplRecord) {
+    vec4 position;  // xyz world position, w = 1 valid / 0 empty (the sample hit nothing)
+    vec4 direction; // xyz: surface normal (positive VPL) or lobe axis = mean travel direction (negative)
+    vec4 flux;      // rgb flux in cd*sr, w = 0
+};
+GI_CHECK_SIZE(VplRecord, 48);
+
+// Per-spotlight parameters of the generation pass, one table entry per light.
+GI_GPU_STRUCT(VplLight) {
+    mat4 rsmViewProj; // world -> RSM clip space (Vulkan conventions, y down)
+    vec4 position;    // xyz light position, w = tan(half field of view) of the RSM projection
+    vec4 axisX;       // spot frame: world-space images of the local x, y, z axes (z = spot axis)
+    vec4 axisY;
+    vec4 axisZ;
+    vec4 params;      // x RSM width, y RSM height, z solid angle per VPL (cone solid angle / N), w 0
+    uvec4 info;       // x first sample direction, y VPL count, z first output record, w RSM layer
+};
+GI_CHECK_SIZE(VplLight, 160);
+GI_CHECK_OFFSET(VplLight, info, 144);
+
+// Push constants of the per-pixel passes (gather, negative VPLs, upsample, refine).
+GI_GPU_STRUCT(VplShadePush) {
+    uvec4 size;   // x width, y height of the image being written, z lowResFactor, w 0
+    uvec4 counts; // x positive VPLs, y negative VPLs, z full-res width, w full-res height
+    vec4 camera;  // xyz camera position, w tan(half vertical field of view)
+    vec4 params;  // x clamp distance^2, y refine threshold, z negative-VPL area scale, w 0
+};
+GI_CHECK_SIZE(VplShadePush, 64);
+
+// Radical inverse of `i` in `base`: the i-th element of the van der Corput sequence, the
+// coordinates of the Halton sequence (bases 2 and 3 here, as in the paper).
+GI_INLINE float vplRadicalInverse(uint i, uint base) {
+    float invBase = 1.0f / float(base);
+    float scale = invBase;
+    float result = 0.0f;
+    while (i > 0u) {
+        result += scale * float(i % base);
+        i /= base;
+        scale *= invBase;
+    }
+    return result;
+}
+
+// Halton point `i` (bases 2, 3) mapped to the unit sphere by the area-preserving cylinder
+// projection (z = 1 - 2u, phi = 2 pi v), so equal areas of the unit square give equal solid
+// angles and the points stay uniformly distributed on the sphere.
+GI_INLINE vec3 vplHaltonSphere(uint i) {
+    float z = 1.0f - 2.0f * vplRadicalInverse(i, 2u);
+    float phi = 2.0f * GI_VPL_PI * vplRadicalInverse(i, 3u);
+    float r = sqrt(max(0.0f, 1.0f - z * z));
+    return vec3(r * cos(phi), r * sin(phi), z);
+}
+
+// Solid angle of texel (x, y) of a square-pixel perspective image of `width` x `height` whose
+// vertical half-angle has tangent `tanHalfY`: (texel side at unit distance)^2 / (1 + u^2 + v^2)^1.5.
+GI_INLINE float vplTexelSolidAngle(float x, float y, float width, float height, float tanHalfY) {
+    float side = 2.0f * tanHalfY / height;
+    float u = (x + 0.5f - 0.5f * width) * side;
+    float v = (y + 0.5f - 0.5f * height) * side;
+    float q = 1.0f + u * u + v * v;
+    return side * side / (q * sqrt(q));
+}
+
+GI_NAMESPACE_END
+#endif

@@ -1,0 +1,191 @@
+// VPL placement math (gi/vpl.h, gi/vpl.hpp): Halton values, uniformity on the sphere, the
+// paper's "first N inside the cone" rule, determinism, the spot frame and its smoothness.
+#include <cmath>
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "gi/vpl.h"
+#include "gi/vpl.hpp"
+
+using namespace vkgi;
+using namespace vkgi::gi;
+
+TEST(VplSampling, RadicalInverseHasExactValues) {
+    EXPECT_EQ(gpu::vplRadicalInverse(0, 2), 0.0f);
+    EXPECT_EQ(gpu::vplRadicalInverse(1, 2), 0.5f);
+    EXPECT_EQ(gpu::vplRadicalInverse(2, 2), 0.25f);
+    EXPECT_EQ(gpu::vplRadicalInverse(3, 2), 0.75f);
+    EXPECT_EQ(gpu::vplRadicalInverse(5, 2), 0.625f);
+    EXPECT_EQ(gpu::vplRadicalInverse(6, 2), 0.375f);
+    // Base 3: 1/3, 2/3, 1/9, 4/9, 7/9 are not binary fractions; within float rounding (4 ULP).
+    EXPECT_FLOAT_EQ(gpu::vplRadicalInverse(1, 3), 1.0f / 3.0f);
+    EXPECT_FLOAT_EQ(gpu::vplRadicalInverse(2, 3), 2.0f / 3.0f);
+    EXPECT_FLOAT_EQ(gpu::vplRadicalInverse(3, 3), 1.0f / 9.0f);
+    EXPECT_FLOAT_EQ(gpu::vplRadicalInverse(4, 3), 4.0f / 9.0f);
+    EXPECT_FLOAT_EQ(gpu::vplRadicalInverse(5, 3), 7.0f / 9.0f);
+    EXPECT_FLOAT_EQ(gpu::vplRadicalInverse(13, 3), 1.0f / 3.0f + 1.0f / 9.0f + 1.0f / 27.0f); // 111 in base 3
+    // Every value of the first 3^8 base-3 indices is a distinct multiple of 3^-8 in [0, 1).
+    std::vector<int> hits(6561, 0);
+    for (uint32_t i = 0; i < 6561; ++i) {
+        float x = gpu::vplRadicalInverse(i, 3) * 6561.0f;
+        int k = int(std::lround(x));
+        ASSERT_NEAR(x, float(k), 1e-2f) << i;
+        ASSERT_GE(k, 0);
+        ASSERT_LT(k, 6561);
+        ++hits[size_t(k)];
+    }
+    for (int h : hits)
+        EXPECT_EQ(h, 1);
+}
+
+TEST(VplSampling, HaltonSpherePointsAreUnitAndUniform) {
+    constexpr uint32_t kN = 4096;
+    uint32_t caps[4] = {};
+    const float capCos[4] = {0.9f, 0.5f, 0.0f, -0.5f};
+    uint32_t octants[8] = {};
+    for (uint32_t i = 1; i <= kN; ++i) {
+        glm::vec3 p = gpu::vplHaltonSphere(i);
+        ASSERT_NEAR(glm::length(p), 1.0f, 1e-6f) << i;
+        for (int c = 0; c < 4; ++c)
+            caps[c] += p.z >= capCos[c];
+        octants[(p.x > 0) + 2 * (p.y > 0) + 4 * (p.z > 0)]++;
+    }
+    // A cap z >= c has area fraction (1 - c) / 2 (Archimedes) and is an interval of the base-2
+    // coordinate; the van der Corput discrepancy is below (log2 N + 1) / N = 13 / 4096.
+    for (int c = 0; c < 4; ++c)
+        EXPECT_NEAR(double(caps[c]) / kN, (1.0 - capCos[c]) / 2.0, 13.0 / kN) << "cap " << capCos[c];
+    // An octant is a rectangle [u0, u0 + 1/2) x [v0, v0 + 1/4) of the Halton square; the error of
+    // such a box is at most (#base-2 digits) * (#base-3 digits) / N = 13 * 8 / 4096.
+    for (int o = 0; o < 8; ++o)
+        EXPECT_NEAR(double(octants[o]) / kN, 0.125, 104.0 / kN) << "octant " << o;
+}
+
+TEST(VplSampling, KeepsTheFirstNHaltonPointsInsideTheCone) {
+    const float cosOuter = std::cos(0.5f); // ~28.6 degrees half-angle
+    auto dirs = spotSampleDirections(100, cosOuter);
+    ASSERT_TRUE(dirs) << dirs.error().message;
+    ASSERT_EQ(dirs->size(), 100u);
+    // Rebuild the list independently: walk the indices, keep what is inside, stop at 100.
+    std::vector<glm::vec3> expected;
+    uint32_t lastIndex = 0;
+    for (uint32_t i = 1; expected.size() < 100; ++i) {
+        glm::vec3 p = gpu::vplHaltonSphere(i);
+        if (p.z >= cosOuter) {
+            expected.push_back(p);
+            lastIndex = i;
+        }
+    }
+    for (size_t k = 0; k < 100; ++k) {
+        EXPECT_GE((*dirs)[k].z, cosOuter);
+        EXPECT_EQ((*dirs)[k], expected[k]) << k;
+    }
+    // The cone holds (1 - cos) / 2 of the sphere, so ~100 / that indices were walked.
+    double expectedIndices = 100.0 / ((1.0 - cosOuter) / 2.0);
+    EXPECT_NEAR(double(lastIndex), expectedIndices, 0.1 * expectedIndices);
+}
+
+TEST(VplSampling, IsDeterministic) {
+    auto a = spotSampleDirections(400, 0.7f);
+    auto b = spotSampleDirections(400, 0.7f);
+    ASSERT_TRUE(a && b);
+    ASSERT_EQ(a->size(), b->size());
+    EXPECT_EQ(std::memcmp(a->data(), b->data(), a->size() * sizeof(glm::vec3)), 0);
+    // Asking for fewer VPLs gives a prefix: raising the count adds VPLs, never moves them.
+    auto c = spotSampleDirections(50, 0.7f);
+    ASSERT_TRUE(c);
+    EXPECT_EQ(std::memcmp(a->data(), c->data(), c->size() * sizeof(glm::vec3)), 0);
+}
+
+TEST(VplSampling, BadRequestsAreErrors) {
+    auto tooMany = spotSampleDirections(kMaxVplsPerLight + 1, 0.5f);
+    ASSERT_FALSE(tooMany);
+    EXPECT_NE(tooMany.error().message.find("maximum"), std::string::npos) << tooMany.error().message;
+    // Half-angle 0.5 degrees: (1 - cos) / 2 ~ 1.9e-5, so 4096 points need ~2e8 indices.
+    auto narrow = spotSampleDirections(kMaxVplsPerLight, std::cos(0.5f * 3.14159265f / 180.0f));
+    ASSERT_FALSE(narrow);
+    EXPECT_NE(narrow.error().message.find("too narrow"), std::string::npos) << narrow.error().message;
+    EXPECT_FALSE(spotSampleDirections(10, 1.0f));
+    EXPECT_FALSE(spotSampleDirections(10, std::nanf("")));
+    auto none = spotSampleDirections(0, 0.5f);
+    ASSERT_TRUE(none);
+    EXPECT_TRUE(none->empty());
+}
+
+TEST(VplSampling, SettingsValidation) {
+    EXPECT_TRUE(validateVplSettings({}));
+    VplSettings s;
+    s.vplCount = 0;
+    auto r = validateVplSettings(s);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("vplCount 0"), std::string::npos) << r.error().message;
+    s = {};
+    s.vplCount = kMaxVplsPerLight + 1;
+    EXPECT_FALSE(validateVplSettings(s));
+    s = {};
+    s.negativeVplCount = kMaxNegativeVpls + 1;
+    EXPECT_FALSE(validateVplSettings(s));
+    s = {};
+    s.lowResFactor = 3;
+    EXPECT_FALSE(validateVplSettings(s));
+    s = {};
+    s.clampDistance = 0.0f;
+    EXPECT_FALSE(validateVplSettings(s));
+    s = {};
+    s.refineThreshold = std::nanf("");
+    EXPECT_FALSE(validateVplSettings(s));
+    s = {};
+    s.vplCount = kMaxVplsPerLight;
+    s.negativeVplCount = kMaxNegativeVpls;
+    s.lowResFactor = 4;
+    EXPECT_TRUE(validateVplSettings(s));
+}
+
+namespace {
+float maxColumnDiff(const glm::mat3& a, const glm::mat3& b) {
+    float m = 0.0f;
+    for (int c = 0; c < 3; ++c)
+        m = std::max(m, glm::length(a[c] - b[c]));
+    return m;
+}
+} // namespace
+
+TEST(VplSampling, SpotFrameIsOrthonormalAndFollowsTheAxis) {
+    glm::mat3 down = spotFrame({0.0f, -1.0f, 0.0f});
+    EXPECT_EQ(maxColumnDiff(down, glm::mat3(glm::vec3(1, 0, 0), glm::vec3(0, 0, 1), glm::vec3(0, -1, 0))), 0.0f);
+    for (uint32_t i = 1; i <= 500; ++i) {
+        glm::vec3 d = gpu::vplHaltonSphere(i);
+        glm::mat3 f = spotFrame(d);
+        EXPECT_NEAR(glm::length(f[2] - d), 0.0f, 1e-6f);
+        EXPECT_NEAR(glm::dot(f[0], f[1]), 0.0f, 1e-5f);
+        EXPECT_NEAR(glm::dot(f[0], f[2]), 0.0f, 1e-5f);
+        EXPECT_NEAR(glm::dot(f[1], f[2]), 0.0f, 1e-5f);
+        EXPECT_NEAR(glm::length(f[0]), 1.0f, 1e-5f);
+        EXPECT_NEAR(glm::length(f[1]), 1.0f, 1e-5f);
+        EXPECT_NEAR(glm::determinant(f), 1.0f, 1e-5f); // right-handed
+    }
+    glm::mat3 up = spotFrame({0.0f, 1.0f, 0.0f}); // the documented singular direction still gives a frame
+    EXPECT_NEAR(glm::determinant(up), 1.0f, 1e-6f);
+    EXPECT_NEAR(up[2].y, 1.0f, 1e-6f);
+}
+
+// Moving the light moves its VPL directions smoothly: turning the spot axis by a small angle
+// delta moves every frame axis (hence every VPL direction frame * local) by at most
+// delta * (1 + tan(theta / 2)), theta = angle between -Y and the axis (the twist rate of the
+// smallest rotation). Checked for axes at least 30 degrees away from the singular +Y.
+TEST(VplSampling, SpotFrameTurnsSmoothlyWithTheLight) {
+    const float delta = 1e-3f;
+    uint32_t checked = 0;
+    for (uint32_t i = 1; i <= 2000; ++i) {
+        glm::vec3 d = gpu::vplHaltonSphere(i);
+        float theta = std::acos(glm::clamp(-d.y, -1.0f, 1.0f));
+        if (theta > glm::radians(150.0f))
+            continue;
+        glm::vec3 t = glm::normalize(glm::cross(d, gpu::vplHaltonSphere(i + 7919))); // some perpendicular
+        glm::vec3 d2 = glm::normalize(d * std::cos(delta) + t * std::sin(delta));
+        float bound = delta * (1.0f + std::tan(0.5f * theta)) * 1.01f + 2e-6f; // + float rounding
+        EXPECT_LE(maxColumnDiff(spotFrame(d), spotFrame(d2)), bound) << "axis " << i;
+        ++checked;
+    }
+    EXPECT_GT(checked, 1500u);
+}
