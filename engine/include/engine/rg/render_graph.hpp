@@ -196,7 +196,9 @@ private:
 };
 
 // What execute callbacks see: the command buffer, physical resources of declared handles, and
-// descriptor helpers whose image layouts follow from the accesses this pass declared.
+// descriptor helpers whose image layouts follow from the accesses this pass declared. Lookups
+// use the resource, not the version, so an execute lambda may capture a handle by value before
+// setup() renamed it (the usual `[=]` capture of a handle that setup overwrites).
 class PassContext {
 public:
     VkCommandBuffer cmd() const { return m_cmd; }

@@ -1,0 +1,83 @@
+// PassContext: physical resources and descriptor helpers for execute callbacks. Layouts come
+// from the accesses the pass declared, so a descriptor can never disagree with the barriers.
+#include <span>
+
+#include "engine/context.hpp"
+#include "engine/rg/render_graph.hpp"
+#include "engine/vk_check.hpp"
+
+namespace vkgi::rg {
+
+// The pass's declared use of `resource` covering `mip` (layer 0); kAll accepts any use.
+const detail::Use* PassContext::findUse(uint32_t resource, uint32_t mip) const {
+    for (const detail::Use& u : m_graph.m_passes[m_pass].uses) {
+        if (u.resource != resource)
+            continue;
+        uint32_t end = u.range.mipCount == kAll ? kAll : u.range.baseMip + u.range.mipCount;
+        if (mip == kAll || (mip >= u.range.baseMip && mip < end))
+            return &u;
+    }
+    return nullptr;
+}
+
+const Image& PassContext::image(ImageHandle h) const {
+    GI_ASSERT(findUse(h.index, kAll) != nullptr, "PassContext::image: the pass did not declare this image");
+    GI_ASSERT(m_graph.m_physImages[h.index] != nullptr, "PassContext::image: image has no physical resource");
+    return *m_graph.m_physImages[h.index];
+}
+
+const Buffer& PassContext::buffer(BufferHandle h) const {
+    GI_ASSERT(findUse(h.index, kAll) != nullptr, "PassContext::buffer: the pass did not declare this buffer");
+    GI_ASSERT(m_graph.m_physBuffers[h.index] != nullptr, "PassContext::buffer: buffer has no physical resource");
+    return *m_graph.m_physBuffers[h.index];
+}
+
+VkImageView PassContext::mipView(ImageHandle h, uint32_t mip) const {
+    const Image& img = image(h);
+    GI_ASSERT(mip < img.mipViews.size(), "PassContext::mipView: mip level out of range");
+    return img.mipViews[mip];
+}
+
+VkImageLayout PassContext::layout(ImageHandle h, uint32_t mip) const {
+    const detail::Use* use = findUse(h.index, mip);
+    GI_ASSERT(use != nullptr, "PassContext::layout: the pass did not declare this mip of the image");
+    return accessInfo(use->access).layout;
+}
+
+DescriptorItem PassContext::storage(uint32_t binding, ImageHandle h, uint32_t mip) const {
+    DescriptorItem item;
+    item.binding = binding;
+    item.image = {VK_NULL_HANDLE, mip == kAll ? view(h) : mipView(h, mip), layout(h, mip)};
+    return item;
+}
+
+DescriptorItem PassContext::sampled(uint32_t binding, ImageHandle h, VkSampler sampler, uint32_t mip) const {
+    DescriptorItem item;
+    item.binding = binding;
+    item.image = {sampler, mip == kAll ? view(h) : mipView(h, mip), layout(h, mip)};
+    return item;
+}
+
+DescriptorItem PassContext::buffer(uint32_t binding, BufferHandle h) const {
+    DescriptorItem item;
+    item.binding = binding;
+    item.buffer = {buffer(h).buffer, 0, VK_WHOLE_SIZE};
+    return item;
+}
+
+void PassContext::dispatchRaw(const Pipeline& pipeline, glm::uvec3 groups, const void* push, uint32_t pushSize,
+                              std::initializer_list<DescriptorItem> items) const {
+    vkCmdBindPipeline(m_cmd, pipeline.bindPoint, pipeline.pipeline);
+    if (items.size() > 0)
+        pushDescriptors(m_ctx, m_cmd, pipeline, std::span<const DescriptorItem>(items.begin(), items.size()));
+    if (pushSize > 0 || pipeline.pushConstantSize > 0)
+        pushConstants(m_cmd, pipeline, push, pushSize);
+    vkCmdDispatch(m_cmd, groups.x, groups.y, groups.z);
+}
+
+glm::uvec3 PassContext::groupsFor(const Pipeline& pipeline, glm::uvec3 threads) {
+    return {groupCount(threads.x, pipeline.localSize[0]), groupCount(threads.y, pipeline.localSize[1]),
+            groupCount(threads.z, pipeline.localSize[2])};
+}
+
+} // namespace vkgi::rg

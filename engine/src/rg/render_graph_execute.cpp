@@ -1,0 +1,175 @@
+// execute(): binds physical resources (imports, pool entries), records passes with their
+// batched barriers inside debug labels and timestamp scopes, then stores final states.
+#include <algorithm>
+
+#include "engine/context.hpp"
+#include "engine/rg/render_graph.hpp"
+#include "engine/rg/transient_pool.hpp"
+#include "engine/vk_check.hpp"
+
+namespace vkgi::rg {
+
+using detail::Origin;
+using detail::ResourceNode;
+
+namespace {
+
+// The union of what earlier users of a pool entry did to `range`: the first use in this graph
+// must wait on it, since the same memory may still be in use by the previous graph.
+void addPreviousUse(const std::vector<AccessState>& state, uint32_t mips, const SubresourceRange& range,
+                    VkPipelineStageFlags2& stages, VkAccessFlags2& access) {
+    for (uint32_t l = range.baseLayer; l < range.baseLayer + range.layerCount; ++l)
+        for (uint32_t m = range.baseMip; m < range.baseMip + range.mipCount; ++m) {
+            size_t i = size_t(l) * mips + m;
+            if (i >= state.size())
+                continue;
+            stages |= state[i].writeStages | state[i].readStages;
+            access |= state[i].writeAccess;
+        }
+}
+
+} // namespace
+
+void RenderGraph::execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool, TimestampPool* timestamps) {
+    GI_ASSERT(m_isCompiled, "RenderGraph::execute: the graph was not compiled successfully");
+    acquireTransients(ctx, pool);
+    m_timestamps = timestamps;
+    m_timedPasses.clear();
+    if (timestamps)
+        timestamps->reset(cmd);
+    for (const CompiledPass& compiled : m_compiled.passes) {
+        const detail::PassNode& node = m_passes[compiled.pass];
+        ctx.beginLabel(cmd, node.name.c_str());
+        recordBarriers(cmd, compiled.barriers);
+        // Passes beyond the pool's capacity run untimed rather than failing the frame.
+        bool timed = timestamps && m_timedPasses.size() < timestamps->capacity();
+        uint32_t scope = timed ? timestamps->begin(cmd) : 0;
+        if (node.execute) {
+            PassContext passCtx(*this, compiled.pass, cmd, ctx);
+            node.execute(passCtx);
+        }
+        if (timed) {
+            timestamps->end(cmd, scope);
+            m_timedPasses.push_back(compiled.pass);
+        }
+        ctx.endLabel(cmd);
+    }
+    recordBarriers(cmd, m_compiled.finalBarriers);
+    buildMemoryReport();
+    storeFinalStates();
+}
+
+// Only transients of live passes are created; everything else binds to what was imported.
+void RenderGraph::acquireTransients(Context& ctx, TransientPool& pool) {
+    (void)ctx;
+    pool.beginGraph();
+    size_t n = m_resources.size();
+    m_boundImages.assign(n, nullptr);
+    m_boundBuffers.assign(n, nullptr);
+    m_physImages.assign(n, nullptr);
+    m_physBuffers.assign(n, nullptr);
+    for (uint32_t r = 0; r < n; ++r) {
+        ResourceNode& res = m_resources[r];
+        if (res.origin == Origin::Persistent) {
+            m_physImages[r] = res.persistentImage ? &res.persistentImage->image : nullptr;
+            m_physBuffers[r] = res.persistentBuffer ? &res.persistentBuffer->buffer : nullptr;
+        } else if (res.origin == Origin::External) {
+            m_physImages[r] = res.image ? &res.externalImage : nullptr;
+            m_physBuffers[r] = res.image ? nullptr : &res.externalBuffer;
+        } else if (m_firstUser[r] != kNone && res.image) {
+            m_boundImages[r] = &pool.acquireImage(res.imageDesc, res.name.c_str());
+            m_physImages[r] = &m_boundImages[r]->image;
+        } else if (m_firstUser[r] != kNone) {
+            m_boundBuffers[r] = &pool.acquireBuffer(res.bufferDesc, res.name.c_str());
+            m_physBuffers[r] = &m_boundBuffers[r]->buffer;
+        }
+    }
+}
+
+void RenderGraph::recordBarriers(VkCommandBuffer cmd, const std::vector<BarrierInfo>& barriers) const {
+    std::vector<VkImageMemoryBarrier2> images;
+    std::vector<VkBufferMemoryBarrier2> buffers;
+    for (const BarrierInfo& b : barriers) {
+        VkPipelineStageFlags2 srcStages = b.srcStages;
+        VkAccessFlags2 srcAccess = b.srcAccess;
+        const ResourceNode& res = m_resources[b.resource];
+        if (b.firstUse && b.image && m_boundImages[b.resource])
+            addPreviousUse(m_boundImages[b.resource]->state, res.mips(), b.range, srcStages, srcAccess);
+        if (b.firstUse && !b.image && m_boundBuffers[b.resource])
+            addPreviousUse({m_boundBuffers[b.resource]->state}, 1, {0, 1, 0, 1}, srcStages, srcAccess);
+        if (srcStages == 0 && b.oldLayout == b.newLayout)
+            continue; // a first use with nothing before it
+        if (b.image) {
+            const Image* image = m_physImages[b.resource];
+            VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+            ib.srcStageMask = srcStages;
+            ib.srcAccessMask = srcAccess;
+            ib.dstStageMask = b.dstStages;
+            ib.dstAccessMask = b.dstAccess;
+            ib.oldLayout = b.oldLayout;
+            ib.newLayout = b.newLayout;
+            ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+            ib.image = image->image;
+            ib.subresourceRange = {aspectOf(image->desc.format), b.range.baseMip, b.range.mipCount, b.range.baseLayer,
+                                   b.range.layerCount};
+            images.push_back(ib);
+        } else {
+            VkBufferMemoryBarrier2 bb{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
+            bb.srcStageMask = srcStages;
+            bb.srcAccessMask = srcAccess;
+            bb.dstStageMask = b.dstStages;
+            bb.dstAccessMask = b.dstAccess;
+            bb.srcQueueFamilyIndex = bb.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+            bb.buffer = m_physBuffers[b.resource]->buffer;
+            bb.size = VK_WHOLE_SIZE;
+            buffers.push_back(bb);
+        }
+    }
+    if (images.empty() && buffers.empty())
+        return;
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.imageMemoryBarrierCount = uint32_t(images.size());
+    dep.pImageMemoryBarriers = images.data();
+    dep.bufferMemoryBarrierCount = uint32_t(buffers.size());
+    dep.pBufferMemoryBarriers = buffers.data();
+    vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+void RenderGraph::buildMemoryReport() {
+    m_memory = {};
+    auto bytesOf = [&](uint32_t r) -> VkDeviceSize {
+        if (m_boundImages[r])
+            return m_boundImages[r]->image.alloc.size;
+        return m_boundBuffers[r] ? m_boundBuffers[r]->buffer.alloc.size : 0;
+    };
+    for (uint32_t r = 0; r < m_resources.size(); ++r)
+        if (m_boundImages[r] || m_boundBuffers[r]) {
+            m_memory.transientBytes += bytesOf(r);
+            m_memory.transientCount++;
+        }
+    for (const CompiledPass& compiled : m_compiled.passes) {
+        PassMemory pm{compiled.name, 0, 0};
+        std::vector<uint32_t> seen;
+        for (const detail::Use& u : m_passes[compiled.pass].uses) {
+            if (std::find(seen.begin(), seen.end(), u.resource) != seen.end())
+                continue;
+            seen.push_back(u.resource);
+            pm.touchedBytes += bytesOf(u.resource);
+            if (m_firstUser[u.resource] == compiled.pass)
+                pm.createdBytes += bytesOf(u.resource);
+        }
+        m_memory.passes.push_back(pm);
+    }
+}
+
+std::vector<PassTiming> RenderGraph::timings() const {
+    std::vector<PassTiming> out;
+    if (!m_timestamps)
+        return out;
+    std::vector<double> ms = m_timestamps->resolveMs();
+    for (size_t i = 0; i < m_timedPasses.size() && i < ms.size(); ++i)
+        out.push_back({m_passes[m_timedPasses[i]].name, ms[i]});
+    return out;
+}
+
+} // namespace vkgi::rg
