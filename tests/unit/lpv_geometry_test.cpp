@@ -108,6 +108,19 @@ TEST(LpvGeometry, ReprojectionPassesOnExactlyTheFluxReceived) {
     }
 }
 
+TEST(LpvGeometry, FreeSpaceClosedFormEqualsTheFaceSum) {
+    const vec4 c(0.8f, -0.3f, 0.45f, 0.1f);
+    for (int i = 0; i < 6; ++i) {
+        vec4 sum(0.0f);
+        for (int f = 0; f < 5; ++f)
+            sum += glm::dot(c, lpvFaceWeight(i, f)) * lpvReprojection(lpvFaceNormal(i, f));
+        vec4 closed = lpvPropagateFree(c, vec3(lpvAxisStep(i)));
+        for (int k = 0; k < 4; ++k)
+            EXPECT_NEAR(closed[k], sum[k], 1e-6) << "direction " << i << " coefficient " << k;
+    }
+    EXPECT_NEAR(kLpvFreeB, 0.23994378, 1e-6); // Y00 Y1 * 1.7408395 (|V_near|, derived in docs/lpv.md)
+}
+
 namespace {
 
 // A Lambertian emitter of flux (1, 2, 0.5) facing +x+y in the given cell.

@@ -21,10 +21,7 @@ namespace {
 // for gather direction i: the mean of the GV values at the face's 4 corners.
 glm::vec4 faceBlocking(const GeometryVolume& gv, glm::ivec3 p, int i) {
     glm::ivec3 c = gpu::lpvSharedFaceCorner(p, i);
-    int a = i >> 1;
-    glm::ivec3 eb(0), ec(0);
-    eb[(a + 1) % 3] = 1;
-    ec[(a + 2) % 3] = 1;
+    glm::ivec3 eb = gpu::lpvUnitAxis(((i >> 1) + 1) % 3), ec = gpu::lpvUnitAxis(((i >> 1) + 2) % 3);
     glm::vec4 sum(0.0f);
     for (glm::ivec3 q : {c, c + eb, c + ec, c + eb + ec})
         sum += gv.blocking[size_t(q.x) + size_t(gv.size.x) * (size_t(q.y) + size_t(gv.size.y) * size_t(q.z))];

@@ -1,0 +1,83 @@
+#include "lpv/lpv_volume.hpp"
+
+#include <string>
+
+#include "engine/vk_check.hpp"
+#include "gi/lpv.h"
+
+namespace vkgi::gi::lpv {
+
+bool isSupportedShFormat(VkFormat format) {
+    return format == VK_FORMAT_R16G16B16A16_SFLOAT || format == VK_FORMAT_R32G32B32A32_SFLOAT;
+}
+
+ShImages createShImages(Context& ctx, glm::ivec3 cells, VkFormat format, const char* name) {
+    ShImages images;
+    ImageDesc desc;
+    desc.type = VK_IMAGE_TYPE_3D;
+    desc.format = format;
+    desc.width = uint32_t(cells.x);
+    desc.height = uint32_t(cells.y);
+    desc.depth = uint32_t(cells.z);
+    desc.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    const char* suffix[3] = {".r", ".g", ".b"};
+    for (int c = 0; c < 3; ++c)
+        images.channel[c] = createImage(ctx, desc, (std::string(name) + suffix[c]).c_str());
+    return images;
+}
+
+void destroyShImages(Context& ctx, ShImages& images) {
+    for (Image& image : images.channel)
+        destroyImage(ctx, image);
+}
+
+Result<Propagator> Propagator::create(Context& ctx) {
+    Propagator p;
+    const char* shaders[2] = {"gi/lpv/propagate_rgba16f.comp", "gi/lpv/propagate_rgba32f.comp"};
+    for (int f = 0; f < 2; ++f)
+        for (uint32_t occlusion = 0; occlusion < 2; ++occlusion) {
+            auto pipeline = createComputePipeline(ctx, {shaders[f], {{LPV_SPEC_OCCLUSION, occlusion}}});
+            if (!pipeline) {
+                p.destroy(ctx);
+                return pipeline.error();
+            }
+            p.m_pipelines[f][occlusion] = *pipeline;
+        }
+    return p;
+}
+
+void Propagator::destroy(Context& ctx) {
+    for (auto& byFormat : m_pipelines)
+        for (Pipeline& pipeline : byFormat)
+            if (pipeline.pipeline != VK_NULL_HANDLE)
+                destroyPipeline(ctx, pipeline);
+}
+
+void Propagator::record(const Context& ctx, VkCommandBuffer cmd, VkFormat format, glm::ivec3 cells,
+                        const ShViews& src, const ShViews& dst, const ShViews& acc, VkImageView geometryVolume,
+                        bool occlusion) const {
+    GI_ASSERT(isSupportedShFormat(format), "lpv::Propagator::record: SH format must be RGBA16F or RGBA32F");
+    const Pipeline& pipeline = m_pipelines[format == VK_FORMAT_R32G32B32A32_SFLOAT][occlusion];
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline);
+    gpu::LpvPropagatePush push{};
+    push.gridSize = glm::ivec4(cells, 0);
+    pushConstants(cmd, pipeline, &push, sizeof(push));
+    DescriptorItem items[10];
+    auto storage = [](uint32_t binding, VkImageView view) {
+        DescriptorItem item;
+        item.binding = binding;
+        item.image = {VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL};
+        return item;
+    };
+    for (uint32_t c = 0; c < 3; ++c) {
+        items[c] = storage(LPV_BINDING_SRC_R + c, src.channel[c]);
+        items[3 + c] = storage(LPV_BINDING_DST_R + c, dst.channel[c]);
+        items[6 + c] = storage(LPV_BINDING_ACC_R + c, acc.channel[c]);
+    }
+    items[9] = storage(LPV_BINDING_GV, geometryVolume);
+    pushDescriptors(ctx, cmd, pipeline, items);
+    vkCmdDispatch(cmd, groupCount(uint32_t(cells.x), LPV_LOCAL_SIZE_X), groupCount(uint32_t(cells.y), LPV_LOCAL_SIZE_Y),
+                  groupCount(uint32_t(cells.z), LPV_LOCAL_SIZE_Z));
+}
+
+} // namespace vkgi::gi::lpv
