@@ -43,6 +43,13 @@ Result<Propagator> Propagator::create(Context& ctx) {
             }
             p.m_pipelines[f][occlusion] = *pipeline;
         }
+    ImageDesc desc;
+    desc.type = VK_IMAGE_TYPE_3D;
+    desc.format = kGeometryVolumeFormat;
+    desc.usage = VK_IMAGE_USAGE_STORAGE_BIT;
+    p.m_noGeometry = createImage(ctx, desc, "gi.lpv.gv.none");
+    const uint64_t zero = 0;
+    uploadImage(ctx, p.m_noGeometry, &zero, sizeof(zero), VK_IMAGE_LAYOUT_GENERAL);
     return p;
 }
 
@@ -51,6 +58,8 @@ void Propagator::destroy(Context& ctx) {
         for (Pipeline& pipeline : byFormat)
             if (pipeline.pipeline != VK_NULL_HANDLE)
                 destroyPipeline(ctx, pipeline);
+    if (m_noGeometry)
+        destroyImage(ctx, m_noGeometry);
 }
 
 void Propagator::record(const Context& ctx, VkCommandBuffer cmd, VkFormat format, glm::ivec3 cells,

@@ -46,8 +46,13 @@ public:
     void record(const Context& ctx, VkCommandBuffer cmd, VkFormat format, glm::ivec3 cells, const ShViews& src,
                 const ShViews& dst, const ShViews& acc, VkImageView geometryVolume, bool occlusion) const;
 
+    // 1^3 RGBA16F image in GENERAL layout, bound as the geometry volume when occlusion is off
+    // (the binding exists in both specializations); never read.
+    const Image& noGeometry() const { return m_noGeometry; }
+
 private:
     Pipeline m_pipelines[2][2]; // [RGBA32F?][occlusion?]
+    Image m_noGeometry;
 };
 
 } // namespace vkgi::gi::lpv

@@ -1,0 +1,20 @@
+#pragma once
+// Public knobs of the light propagation volume technique (Kaplanyan's LPV as described in
+// Elvek's thesis). Each field is a sweepable vkgi-bench knob; docs/lpv.md has the derivation.
+#include <cstdint>
+
+#include "engine/result.hpp"
+
+namespace vkgi::gi {
+
+struct LpvSettings {
+    uint32_t gridSize = 32;   // cells per axis, 1..128; memory and time grow as gridSize^3
+    uint32_t iterations = 8;  // propagation steps = how many cells light travels, 0..4096
+    bool occlusion = true;    // attenuate by the geometry volume (fuzzy blocking) while propagating
+    bool halfFloat = true;    // RGBA16F SH storage (half the bandwidth); false = RGBA32F reference
+};
+
+// Checks ranges; the error names the field and the accepted range.
+Result<void> validate(const LpvSettings& settings);
+
+} // namespace vkgi::gi

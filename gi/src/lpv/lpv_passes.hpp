@@ -1,0 +1,38 @@
+#pragma once
+// LPV work as render-graph passes: one pass per propagation iteration ("gi.lpv.propagate[k]"),
+// ping-ponging two wavefront volumes and adding each new wavefront to the accumulation volume.
+// The graph derives every barrier; nothing here records one.
+#include <array>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "engine/rg/render_graph.hpp"
+#include "lpv/lpv_volume.hpp"
+
+namespace vkgi::gi::lpv {
+
+// Graph handles of one SH volume (R, G, B channel images).
+struct ShHandles {
+    std::array<rg::ImageHandle, 3> channel;
+};
+
+// Description of one channel image of an SH volume.
+ImageDesc shImageDesc(glm::ivec3 cells, VkFormat format);
+
+// Transient SH volume (e.g. the second ping-pong wavefront) named "<name>.r/g/b".
+ShHandles createShVolume(rg::RenderGraph& graph, const char* name, glm::ivec3 cells, VkFormat format);
+
+struct PropagationVolumes {
+    ShHandles wavefront;    // in: the injected light; out: the last wavefront
+    ShHandles scratch;      // second ping-pong volume, fully overwritten (may be transient)
+    ShHandles accumulation; // in: holds the injected light; out: plus every propagated wavefront
+};
+
+// Adds `iterations` propagation passes. `geometryVolume` (cells + 1 texels per axis, RGBA16F)
+// enables occlusion when valid. Returns the updated handles.
+PropagationVolumes addPropagationPasses(rg::RenderGraph& graph, const Propagator& propagator, glm::ivec3 cells,
+                                        VkFormat format, PropagationVolumes volumes, rg::ImageHandle geometryVolume,
+                                        uint32_t iterations);
+
+} // namespace vkgi::gi::lpv

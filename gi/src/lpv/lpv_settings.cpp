@@ -1,0 +1,22 @@
+#include "gi/lpv.hpp"
+
+#include <string>
+
+namespace vkgi::gi {
+
+namespace {
+constexpr uint32_t kMaxGrid = 128;        // 128^3 x 3 volumes x 3 channels of RGBA16F = 144 MiB: the largest we support
+constexpr uint32_t kMaxIterations = 4096; // far beyond any grid diagonal (128 * sqrt(3) = 222 cells)
+} // namespace
+
+Result<void> validate(const LpvSettings& s) {
+    if (s.gridSize < 1 || s.gridSize > kMaxGrid)
+        return makeError("LpvSettings.gridSize = " + std::to_string(s.gridSize) + ": must be in [1, " +
+                         std::to_string(kMaxGrid) + "]");
+    if (s.iterations > kMaxIterations)
+        return makeError("LpvSettings.iterations = " + std::to_string(s.iterations) + ": must be in [0, " +
+                         std::to_string(kMaxIterations) + "]");
+    return {};
+}
+
+} // namespace vkgi::gi

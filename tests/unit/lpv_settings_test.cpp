@@ -1,0 +1,35 @@
+// LpvSettings validation: defaults are valid, out-of-range knobs are readable errors.
+#include <gtest/gtest.h>
+
+#include "gi/lpv.hpp"
+
+using vkgi::gi::LpvSettings;
+
+TEST(LpvSettings, DefaultsAndLimitsAreValid) {
+    EXPECT_TRUE(validate(LpvSettings{}));
+    for (uint32_t grid : {1u, 16u, 32u, 64u, 128u}) {
+        LpvSettings s;
+        s.gridSize = grid;
+        EXPECT_TRUE(validate(s)) << grid;
+    }
+    LpvSettings s;
+    s.iterations = 0;
+    EXPECT_TRUE(validate(s));
+    s.iterations = 1000;
+    EXPECT_TRUE(validate(s));
+}
+
+TEST(LpvSettings, OutOfRangeNamesTheField) {
+    LpvSettings s;
+    s.gridSize = 0;
+    auto r = validate(s);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("gridSize = 0"), std::string::npos) << r.error().message;
+    s.gridSize = 129;
+    EXPECT_FALSE(validate(s));
+    s = LpvSettings{};
+    s.iterations = 5000;
+    r = validate(s);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("iterations"), std::string::npos) << r.error().message;
+}
