@@ -38,7 +38,9 @@ void RenderGraph::writeDot(std::ostream& out) const {
     for (uint32_t r = 0; r < m_resources.size(); ++r) {
         const detail::ResourceNode& res = m_resources[r];
         const char* colour = res.origin == detail::Origin::Transient ? "palegreen" : "khaki";
-        for (uint32_t v = 0; v < res.producers.size(); ++v)
+        // Version 0 of a transient has no contents and no edges (reading it is an error).
+        uint32_t first = res.origin == detail::Origin::Transient ? 1 : 0;
+        for (uint32_t v = first; v < res.producers.size(); ++v)
             out << "  " << versionId(r, v) << " [shape=ellipse, style=filled, fillcolor=" << colour << ", label=\""
                 << escaped(res.name) << "\\nv" << v << "\"];\n";
     }

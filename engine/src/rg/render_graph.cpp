@@ -21,21 +21,6 @@ std::string quoted(const std::string& name) {
     return "'" + name + "'";
 }
 
-// Local copy of the depth-format test so compile() links without the Vulkan resource code.
-bool isDepth(VkFormat format) {
-    switch (format) {
-    case VK_FORMAT_D16_UNORM:
-    case VK_FORMAT_X8_D24_UNORM_PACK32:
-    case VK_FORMAT_D32_SFLOAT:
-    case VK_FORMAT_D16_UNORM_S8_UINT:
-    case VK_FORMAT_D24_UNORM_S8_UINT:
-    case VK_FORMAT_D32_SFLOAT_S8_UINT:
-        return true;
-    default:
-        return false;
-    }
-}
-
 } // namespace
 
 AccessState stateAfter(Access access) {
@@ -195,7 +180,7 @@ bool RenderGraph::checkHandle(uint32_t pass, uint32_t index, bool image, Access 
         addError(passLabel(pass) + ": subresource range outside image " + quoted(res.name));
         return false;
     }
-    bool depth = image && isDepth(res.imageDesc.format);
+    bool depth = image && isDepthFormat(res.imageDesc.format);
     if (image && (access == Access::ColorAttachmentWrite || access == Access::ColorAttachmentReadWrite) && depth)
         addError(passLabel(pass) + ": colour attachment access on depth image " + quoted(res.name));
     if (image && (access == Access::DepthAttachmentWrite || access == Access::DepthAttachmentRead) && !depth)

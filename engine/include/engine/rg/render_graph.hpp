@@ -177,6 +177,7 @@ struct ResourceNode {
 // so compile() reports the first problem with the pass and resource names.
 class PassBuilder {
 public:
+    // A transient (version 0, no contents yet); usage flags are added from the declared accesses.
     ImageHandle create(std::string name, const ImageDesc& desc);
     BufferHandle create(std::string name, const BufferDesc& desc);
     // Reads `h` (mips/layers of `range`); read-only accesses only.
