@@ -1,0 +1,167 @@
+#include "lpv/lpv_inject.hpp"
+
+#include <string>
+
+#include "engine/context.hpp"
+
+namespace vkgi::gi::lpv {
+
+using rg::Access;
+
+Result<Injector> Injector::create(Context& ctx) {
+    Injector inj;
+    struct Item {
+        Pipeline* pipeline;
+        const char* shader;
+    } items[] = {{&inj.range, "gi/lpv/inject_range.comp"},
+                 {&inj.inject, "gi/lpv/inject.comp"},
+                 {&inj.lookup, "gi/lpv/lookup.comp"},
+                 {&inj.resolve[0], "gi/lpv/inject_resolve_rgba16f.comp"},
+                 {&inj.resolve[1], "gi/lpv/inject_resolve_rgba32f.comp"}};
+    for (const Item& item : items) {
+        auto p = createComputePipeline(ctx, {item.shader, {}});
+        if (!p) {
+            inj.destroy(ctx);
+            return p.error();
+        }
+        *item.pipeline = *p;
+    }
+    SamplerDesc nearest;
+    nearest.filter = VK_FILTER_NEAREST;
+    nearest.mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    inj.nearest = createSampler(ctx, nearest);
+    SamplerDesc linear;
+    linear.mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    inj.linear = createSampler(ctx, linear);
+    return inj;
+}
+
+void Injector::destroy(Context& ctx) {
+    for (Pipeline* p : {&range, &inject, &lookup, &resolve[0], &resolve[1]})
+        if (p->pipeline != VK_NULL_HANDLE)
+            destroyPipeline(ctx, *p);
+    for (VkSampler* s : {&nearest, &linear})
+        if (*s != VK_NULL_HANDLE) {
+            vkDestroySampler(ctx.device(), *s, nullptr);
+            *s = VK_NULL_HANDLE;
+        }
+}
+
+VkDeviceSize injectionBufferBytes(glm::ivec3 cells) {
+    return VkDeviceSize(LPV_INJECT_HEADER_INTS + LPV_INJECT_CELL_INTS * size_t(cells.x) * cells.y * cells.z) * 4;
+}
+
+InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
+                                   VkFormat format, const RsmInput& rsm, ShHandles wavefront, ShHandles accumulation,
+                                   rg::BufferHandle buffer) {
+    const glm::ivec3 cells(grid.size);
+    if (!buffer.valid())
+        buffer = graph.createBuffer("gi.lpv.injection", {injectionBufferBytes(cells), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
+    gpu::LpvInjectPush push{};
+    push.grid = grid;
+    push.rsm = glm::ivec4(int(rsm.resolution), int(rsm.layers), 0, 0);
+    push.params = glm::vec4(gpu::lpvFixedPointScale(float(rsm.resolution) * float(rsm.resolution) * float(rsm.layers)),
+                            0.0f, 0.0f, 0.0f);
+    const Injector* inj = &injector;
+    rg::BufferHandle buf = buffer;
+    graph.addPass(
+        "gi.lpv.inject.clear", [&](rg::PassBuilder& b) { buf = b.write(buf, Access::TransferWrite); },
+        [=](rg::PassContext& ctx) { vkCmdFillBuffer(ctx.cmd(), ctx.buffer(buf).buffer, 0, VK_WHOLE_SIZE, 0); });
+    graph.addPass(
+        "gi.lpv.inject.range",
+        [&](rg::PassBuilder& b) {
+            b.read(rsm.position, Access::ComputeSampledRead);
+            b.read(rsm.flux, Access::ComputeSampledRead);
+            buf = b.write(buf, Access::ComputeStorageReadWrite);
+        },
+        [=](rg::PassContext& ctx) {
+            ctx.dispatch(inj->range, rg::PassContext::groupsFor(inj->range, {rsm.resolution, rsm.resolution, rsm.layers}),
+                         push,
+                         {ctx.sampled(LPV_INJECT_BINDING_POSITION, rsm.position, inj->nearest),
+                          ctx.sampled(LPV_INJECT_BINDING_FLUX, rsm.flux, inj->nearest),
+                          ctx.buffer(LPV_INJECT_BINDING_BUFFER, buf)});
+        });
+    graph.addPass(
+        "gi.lpv.inject",
+        [&](rg::PassBuilder& b) {
+            b.read(rsm.position, Access::ComputeSampledRead);
+            b.read(rsm.normal, Access::ComputeSampledRead);
+            b.read(rsm.flux, Access::ComputeSampledRead);
+            buf = b.write(buf, Access::ComputeStorageReadWrite);
+        },
+        [=](rg::PassContext& ctx) {
+            uint32_t runs = (rsm.resolution + LPV_INJECT_RUN - 1) / LPV_INJECT_RUN;
+            ctx.dispatch(inj->inject, rg::PassContext::groupsFor(inj->inject, {runs, rsm.resolution, rsm.layers}), push,
+                         {ctx.sampled(LPV_INJECT_BINDING_POSITION, rsm.position, inj->nearest),
+                          ctx.sampled(LPV_INJECT_BINDING_NORMAL, rsm.normal, inj->nearest),
+                          ctx.sampled(LPV_INJECT_BINDING_FLUX, rsm.flux, inj->nearest),
+                          ctx.buffer(LPV_INJECT_BINDING_BUFFER, buf)});
+        });
+    const Pipeline* resolve = &injector.resolve[format == VK_FORMAT_R32G32B32A32_SFLOAT];
+    ShHandles wave = wavefront, acc = accumulation;
+    graph.addPass(
+        "gi.lpv.inject.resolve",
+        [&](rg::PassBuilder& b) {
+            b.read(buf, Access::ComputeStorageRead);
+            for (int c = 0; c < 3; ++c) {
+                wave.channel[c] = b.write(wave.channel[c], Access::ComputeStorageWriteDiscard);
+                acc.channel[c] = b.write(acc.channel[c], Access::ComputeStorageWriteDiscard);
+            }
+        },
+        [=](rg::PassContext& ctx) {
+            ctx.dispatch(*resolve, rg::PassContext::groupsFor(*resolve, glm::uvec3(cells)), push,
+                         {ctx.buffer(LPV_RESOLVE_BINDING_BUFFER, buf),
+                          ctx.storage(LPV_RESOLVE_BINDING_WAVE_R + 0, wave.channel[0]),
+                          ctx.storage(LPV_RESOLVE_BINDING_WAVE_R + 1, wave.channel[1]),
+                          ctx.storage(LPV_RESOLVE_BINDING_WAVE_R + 2, wave.channel[2]),
+                          ctx.storage(LPV_RESOLVE_BINDING_ACC_R + 0, acc.channel[0]),
+                          ctx.storage(LPV_RESOLVE_BINDING_ACC_R + 1, acc.channel[1]),
+                          ctx.storage(LPV_RESOLVE_BINDING_ACC_R + 2, acc.channel[2])});
+        });
+    return {wave, acc, buf};
+}
+
+rg::ImageHandle addLookupPass(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
+                              const ShHandles& accumulation, rg::BufferHandle buffer, const GBufferInput& gbuffer,
+                              float damping, rg::ImageHandle output) {
+    if (!output.valid()) {
+        ImageDesc desc;
+        desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+        desc.width = gbuffer.width;
+        desc.height = gbuffer.height;
+        desc.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+        output = graph.createImage("gi.lpv.indirect", desc);
+    }
+    gpu::LpvLookupPush push{};
+    push.grid = grid;
+    push.image = glm::ivec4(int(gbuffer.width), int(gbuffer.height), 0, 0);
+    push.params = glm::vec4(damping, 0.0f, 0.0f, 0.0f);
+    const Injector* inj = &injector;
+    rg::ImageHandle out = output;
+    ShHandles acc = accumulation;
+    graph.addPass(
+        "gi.lpv.lookup",
+        [&](rg::PassBuilder& b) {
+            b.read(gbuffer.position, Access::ComputeSampledRead);
+            b.read(gbuffer.normal, Access::ComputeSampledRead);
+            b.read(gbuffer.albedo, Access::ComputeSampledRead);
+            for (int c = 0; c < 3; ++c)
+                b.read(acc.channel[c], Access::ComputeSampledRead);
+            b.read(buffer, Access::ComputeStorageRead);
+            out = b.write(out, Access::ComputeStorageWriteDiscard);
+        },
+        [=](rg::PassContext& ctx) {
+            ctx.dispatch(inj->lookup, rg::PassContext::groupsFor(inj->lookup, {gbuffer.width, gbuffer.height, 1}), push,
+                         {ctx.sampled(LPV_LOOKUP_BINDING_POSITION, gbuffer.position, inj->nearest),
+                          ctx.sampled(LPV_LOOKUP_BINDING_NORMAL, gbuffer.normal, inj->nearest),
+                          ctx.sampled(LPV_LOOKUP_BINDING_ALBEDO, gbuffer.albedo, inj->nearest),
+                          ctx.sampled(LPV_LOOKUP_BINDING_ACC_R + 0, acc.channel[0], inj->linear),
+                          ctx.sampled(LPV_LOOKUP_BINDING_ACC_R + 1, acc.channel[1], inj->linear),
+                          ctx.sampled(LPV_LOOKUP_BINDING_ACC_R + 2, acc.channel[2], inj->linear),
+                          ctx.buffer(LPV_LOOKUP_BINDING_BUFFER, buffer),
+                          ctx.storage(LPV_LOOKUP_BINDING_OUTPUT, out)});
+        });
+    return out;
+}
+
+} // namespace vkgi::gi::lpv

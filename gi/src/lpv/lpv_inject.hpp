@@ -1,0 +1,61 @@
+#pragma once
+// LPV injection from the shared RSM and the per-pixel lookup, as render-graph passes:
+//   gi.lpv.inject.clear    zero the injection buffer
+//   gi.lpv.inject.range    M = largest RSM texel flux (the unit of every stored SH value)
+//   gi.lpv.inject          surfels -> fixed-point SH sums per cell (integer atomics)
+//   gi.lpv.inject.resolve  sums -> first wavefront and accumulation volumes
+//   gi.lpv.lookup          accumulated SH -> indirect radiance per G-buffer pixel
+#include <glm/glm.hpp>
+
+#include "engine/rg/render_graph.hpp"
+#include "gi/lpv_passes.h"
+#include "lpv/lpv_passes.hpp"
+
+namespace vkgi::gi::lpv {
+
+class Injector {
+public:
+    static Result<Injector> create(Context& ctx);
+    void destroy(Context& ctx);
+
+    Pipeline range, inject, lookup;
+    Pipeline resolve[2]; // [RGBA32F?]
+    VkSampler nearest = VK_NULL_HANDLE; // texelFetch-only images still need a sampler
+    VkSampler linear = VK_NULL_HANDLE;  // trilinear SH lookup, clamp to edge
+};
+
+// The reflective shadow map as the direct-lighting module publishes it (gi/frame_data.hpp):
+// 2D arrays, position RGBA32F (w = 1 valid), normal RGBA16F, flux RGBA32F.
+struct RsmInput {
+    rg::ImageHandle position, normal, flux;
+    uint32_t resolution = 0;
+    uint32_t layers = 0;
+};
+
+struct InjectionResult {
+    ShHandles wavefront;
+    ShHandles accumulation;
+    rg::BufferHandle buffer; // header holds M, read by the lookup
+};
+
+// Injects every RSM texel into `grid`, writing (fully) the given wavefront and accumulation
+// volumes. `buffer` may be a transient (invalid handle: one is created).
+InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
+                                   VkFormat format, const RsmInput& rsm, ShHandles wavefront, ShHandles accumulation,
+                                   rg::BufferHandle buffer = {});
+
+// Size in bytes of the injection buffer of a grid.
+VkDeviceSize injectionBufferBytes(glm::ivec3 cells);
+
+struct GBufferInput {
+    rg::ImageHandle position, normal, albedo;
+    uint32_t width = 0, height = 0;
+};
+
+// Indirect radiance (RGBA32F, G-buffer size) written into `output` (invalid: a transient is
+// created). `damping` is the light-bleeding damping strength (0 = off).
+rg::ImageHandle addLookupPass(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
+                              const ShHandles& accumulation, rg::BufferHandle buffer, const GBufferInput& gbuffer,
+                              float damping, rg::ImageHandle output = {});
+
+} // namespace vkgi::gi::lpv

@@ -1,0 +1,59 @@
+#version 460
+// LPV lookup: indirect radiance per G-buffer pixel from the accumulated SH volume, sampled
+// trilinearly. Radiance in a cell is intensity / cellSize^2 (docs/lpv.md); the irradiance on a
+// surface with normal n is the clamped-cosine integral of the light travelling towards it
+// (direction -n), and a Lambertian surface sends albedo / pi of it back.
+// Light bleeding (Elvek's thesis section 3.3.1, directional-derivative damping, as we read it):
+// light that legitimately reaches the front of a surface cannot grow when we step behind it, so
+// the irradiance half a cell behind (Eb) and in front (Ef) of the surface are compared, and
+// the result is scaled by 1 - strength * max(0, Eb - Ef) / (Eb + Ef).
+#extension GL_GOOGLE_include_directive : require
+#include "gi/lpv_passes.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(push_constant) uniform PushBlock { LpvLookupPush pc; };
+layout(set = 1, binding = LPV_LOOKUP_BINDING_POSITION) uniform sampler2D gPosition;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_NORMAL) uniform sampler2D gNormal;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_ALBEDO) uniform sampler2D gAlbedo;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_ACC_R + 0) uniform sampler3D accR;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_ACC_R + 1) uniform sampler3D accG;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_ACC_R + 2) uniform sampler3D accB;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_BUFFER, std430) readonly buffer Injection { uint header[LPV_INJECT_HEADER_INTS]; } injection;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_OUTPUT, rgba32f) uniform writeonly image2D outIndirect;
+
+// Normalised irradiance (R, G, B) at world position p for normal n; zero outside the grid.
+vec3 irradiance(vec3 p, vec3 n) {
+    vec3 uvw = (p - pc.grid.origin.xyz) / (pc.grid.origin.w * vec3(pc.grid.size.xyz));
+    if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0))))
+        return vec3(0.0);
+    vec4 lobe = shCosineLobe(-n);
+    return max(vec3(dot(texture(accR, uvw), lobe), dot(texture(accG, uvw), lobe), dot(texture(accB, uvw), lobe)),
+               vec3(0.0));
+}
+
+void main() {
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(px, pc.image.xy)))
+        return;
+    vec4 position = texelFetch(gPosition, px, 0);
+    vec3 n = texelFetch(gNormal, px, 0).xyz;
+    float nn = dot(n, n);
+    vec3 radiance = vec3(0.0);
+    if (position.w > 0.0 && nn > 1e-12 && nn < 1e30) {
+        n *= inversesqrt(nn);
+        float cell = pc.grid.origin.w;
+        vec3 e = irradiance(position.xyz, n);
+        if (pc.params.x > 0.0) {
+            vec3 ef = irradiance(position.xyz + 0.5 * cell * n, n);
+            vec3 eb = irradiance(position.xyz - 0.5 * cell * n, n);
+            float f = ef.r + ef.g + ef.b, b = eb.r + eb.g + eb.b;
+            e *= clamp(1.0 - pc.params.x * max(b - f, 0.0) / max(b + f, 1e-30), 0.0, 1.0);
+        }
+        float m = uintBitsToFloat(injection.header[0]);
+        vec3 albedo = clamp(texelFetch(gAlbedo, px, 0).rgb, 0.0, 1.0);
+        radiance = albedo * (1.0 / kShPi) * e * (m / (cell * cell));
+        if (any(isnan(radiance)) || any(isinf(radiance)))
+            radiance = vec3(0.0);
+    }
+    imageStore(outIndirect, px, vec4(radiance, 1.0));
+}

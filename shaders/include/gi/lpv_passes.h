@@ -1,0 +1,84 @@
+// Shader interface of the LPV passes around propagation (injection from the RSM, resolve,
+// lookup), shared by C++ and GLSL: grid placement, push constants, bindings, the layout of the
+// injection buffer and its fixed-point scale.
+//
+// Stored SH volumes are normalised: every value is divided by the frame's largest RSM texel
+// flux M (max over colour channels), which the range pass finds on the GPU. Lights from 1e-6 to
+// 1e9 therefore store the same numbers (no float16 overflow or underflow); the lookup
+// multiplies M back in.
+#ifndef VKGI_GI_LPV_PASSES_H
+#define VKGI_GI_LPV_PASSES_H
+
+#include "gi/lpv.h"
+
+// Injection buffer (int32): [0] = M as float bits (atomicMax of positive floats as uint),
+// [1..3] unused, then LPV_INJECT_CELL_INTS ints per cell: (R, G, B) x 4 SH coefficients in
+// fixed point (value * scale), summed with integer atomics: exact and order-independent.
+#define LPV_INJECT_HEADER_INTS 4
+#define LPV_INJECT_CELL_INTS 12
+
+// Bindings (set 1).
+#define LPV_INJECT_BINDING_POSITION 0 // RSM world position (RGBA32F 2D array, w = 1 where valid)
+#define LPV_INJECT_BINDING_NORMAL 1   // RSM normal (RGBA16F 2D array)
+#define LPV_INJECT_BINDING_FLUX 2     // RSM reflected flux (RGBA32F 2D array)
+#define LPV_INJECT_BINDING_BUFFER 3   // injection buffer
+#define LPV_RESOLVE_BINDING_BUFFER 0
+#define LPV_RESOLVE_BINDING_WAVE_R 1  // wavefront 0 (R, G, B at 1, 2, 3)
+#define LPV_RESOLVE_BINDING_ACC_R 4   // accumulation (R, G, B at 4, 5, 6)
+#define LPV_LOOKUP_BINDING_POSITION 0 // G-buffer world position (RGBA32F, w = 1 where geometry)
+#define LPV_LOOKUP_BINDING_NORMAL 1   // G-buffer normal (RGBA16F)
+#define LPV_LOOKUP_BINDING_ALBEDO 2   // G-buffer albedo (RGBA16F)
+#define LPV_LOOKUP_BINDING_ACC_R 3    // accumulated SH, sampled trilinearly (R, G, B at 3, 4, 5)
+#define LPV_LOOKUP_BINDING_BUFFER 6   // injection buffer (for M)
+#define LPV_LOOKUP_BINDING_OUTPUT 7   // indirect radiance (RGBA32F)
+
+// Texels of one RSM row each inject invocation walks, merging runs that land in the same cell
+// before its atomics: neighbouring texels nearly always share a cell, so this divides the
+// atomics (~35 M/s on lavapipe) by about this factor.
+#define LPV_INJECT_RUN 8
+
+GI_NAMESPACE_BEGIN
+
+// Where an LPV sits in the world.
+GI_GPU_STRUCT(LpvGrid) {
+    vec4 origin; // xyz: world position of the min corner of cell (0, 0, 0); w: cell size (world units)
+    ivec4 size;  // xyz: cells per axis; w: zero
+};
+GI_CHECK_SIZE(LpvGrid, 32);
+
+GI_GPU_STRUCT(LpvInjectPush) {
+    LpvGrid grid;
+    ivec4 rsm;    // x: RSM texels per side, y: layers
+    vec4 params;  // x: fixed-point scale (ints per unit of normalised SH)
+};
+GI_CHECK_SIZE(LpvInjectPush, 64);
+
+GI_GPU_STRUCT(LpvLookupPush) {
+    LpvGrid grid;
+    ivec4 image;  // xy: output size
+    vec4 params;  // x: damping strength (0 = off)
+};
+GI_CHECK_SIZE(LpvLookupPush, 64);
+
+// Cell a surfel at world position `p` with unit normal `n` is injected into: the cell containing
+// p moved half a cell along n (so a wall's light starts in front of it, not inside it).
+GI_INLINE ivec3 lpvInjectionCell(LpvGrid grid, vec3 p, vec3 n) {
+    vec3 g = (p - vec3(grid.origin)) / grid.origin.w + 0.5f * n;
+    return ivec3(floor(g));
+}
+
+// Continuous grid coordinate of world position p, in cells, with cell centres at integers
+// (the coordinate trilinear interpolation between cell centres uses).
+GI_INLINE vec3 lpvGridCoordinate(LpvGrid grid, vec3 p) {
+    return (p - vec3(grid.origin)) / grid.origin.w - 0.5f;
+}
+
+// Fixed-point scale for an injection of `texels` RSM texels: one texel's normalised SH is at
+// most 1/pi * 1.0233 = 0.3258 per coefficient, so even all texels in one cell stay below 2^31.
+GI_INLINE float lpvFixedPointScale(float texels) {
+    return 2.0e9f / (0.3258f * max(texels, 1.0f));
+}
+
+GI_NAMESPACE_END
+
+#endif

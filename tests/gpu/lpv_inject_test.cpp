@@ -1,0 +1,324 @@
+// LPV injection from a synthetic RSM and the per-pixel lookup, through the render graph:
+// cell choice with the half-cell normal offset, run merging across invocations, bad texels
+// ignored, the normalisation by the largest texel flux M (scale invariance from 1e-6 to 1e9),
+// and the lookup's irradiance and damping against closed forms.
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include <glm/gtc/packing.hpp>
+
+#include "engine/rg/transient_pool.hpp"
+#include "gi/lpv_passes.h"
+#include "lpv/lpv_inject.hpp"
+#include "support/gpu_fixture.hpp"
+
+using namespace vkgi;
+using namespace vkgi::gi::lpv;
+using gpu::vec3;
+using gpu::vec4;
+
+namespace {
+
+constexpr float kPi = 3.14159265f;
+constexpr int kRsm = 16;
+constexpr int kGrid = 8;
+
+struct Surfel {
+    glm::ivec2 texel;
+    glm::vec4 position; // w = valid
+    glm::vec3 normal;
+    glm::vec3 flux;
+};
+
+std::vector<uint8_t> bytesOf(const std::vector<glm::vec4>& texels, VkFormat format) {
+    std::vector<uint8_t> out;
+    if (format == VK_FORMAT_R32G32B32A32_SFLOAT) {
+        out.resize(texels.size() * 16);
+        std::memcpy(out.data(), texels.data(), out.size());
+    } else {
+        out.resize(texels.size() * 8);
+        for (size_t i = 0; i < texels.size(); ++i) {
+            glm::uint64 h = glm::packHalf4x16(texels[i]);
+            std::memcpy(out.data() + 8 * i, &h, 8);
+        }
+    }
+    return out;
+}
+
+std::vector<glm::vec4> texelsOf(const std::vector<uint8_t>& bytes, VkFormat format) {
+    bool full = format == VK_FORMAT_R32G32B32A32_SFLOAT;
+    std::vector<glm::vec4> out(bytes.size() / (full ? 16 : 8));
+    for (size_t i = 0; i < out.size(); ++i) {
+        if (full) {
+            std::memcpy(&out[i], bytes.data() + 16 * i, 16);
+        } else {
+            glm::uint64 h;
+            std::memcpy(&h, bytes.data() + 8 * i, 8);
+            out[i] = glm::unpackHalf4x16(h);
+        }
+    }
+    return out;
+}
+
+class LpvInject : public test::GpuTest {
+protected:
+    void SetUp() override {
+        GpuTest::SetUp();
+        if (IsSkipped())
+            return;
+        auto inj = Injector::create(ctx());
+        ASSERT_TRUE(inj) << inj.error().message;
+        m_injector = *inj;
+        m_pool = std::make_unique<rg::TransientPool>(ctx());
+        m_ready = true;
+    }
+    void TearDown() override {
+        for (Image* img : m_images)
+            destroyImage(ctx(), *img);
+        for (auto& v : m_volumes)
+            for (rg::PersistentImage& c : v)
+                if (c.image)
+                    destroyImage(ctx(), c.image);
+        if (m_buffer.buffer)
+            destroyBuffer(ctx(), m_buffer.buffer);
+        if (m_output.image)
+            destroyImage(ctx(), m_output.image);
+        if (m_ready) {
+            m_pool.reset();
+            m_injector.destroy(ctx());
+        }
+        GpuTest::TearDown();
+    }
+
+    // A 2D (array) image filled with `texels`, left in TRANSFER_DST for import as TransferWrite.
+    Image* uploaded(const std::vector<glm::vec4>& texels, VkFormat format, uint32_t w, uint32_t h, bool array) {
+        ImageDesc desc;
+        desc.format = format;
+        desc.width = w;
+        desc.height = h;
+        desc.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
+        auto* img = new Image(createImage(ctx(), desc, array ? "lpv.test.rsm" : "lpv.test.gbuffer"));
+        if (array) { // a 1-layer array view is what sampler2DArray needs
+            vkDestroyImageView(ctx().device(), img->view, nullptr);
+            VkImageViewCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+            info.image = img->image;
+            info.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
+            info.format = format;
+            info.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+            vkCreateImageView(ctx().device(), &info, nullptr, &img->view);
+        }
+        auto bytes = bytesOf(texels, format);
+        uploadImage(ctx(), *img, bytes.data(), bytes.size(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+        m_images.push_back(img);
+        m_owned.emplace_back(img);
+        return img;
+    }
+
+    // Runs clear/range/inject/resolve (and the lookup when `gbuffer` is given) in one graph.
+    void run(const std::vector<Surfel>& surfels, VkFormat format, float fluxScale, const Image* gbuffer = nullptr,
+             uint32_t gbufferWidth = 0, float damping = 0.0f) {
+        std::vector<glm::vec4> pos(kRsm * kRsm, glm::vec4(0.0f)), nrm(kRsm * kRsm, glm::vec4(0.0f)),
+            flux(kRsm * kRsm, glm::vec4(0.0f));
+        for (const Surfel& s : surfels) {
+            size_t i = size_t(s.texel.y * kRsm + s.texel.x);
+            pos[i] = s.position;
+            nrm[i] = glm::vec4(s.normal, 0.0f);
+            flux[i] = glm::vec4(s.flux * fluxScale, 0.0f);
+        }
+        Image* rsmPos = uploaded(pos, VK_FORMAT_R32G32B32A32_SFLOAT, kRsm, kRsm, true);
+        Image* rsmNrm = uploaded(nrm, VK_FORMAT_R16G16B16A16_SFLOAT, kRsm, kRsm, true);
+        Image* rsmFlux = uploaded(flux, VK_FORMAT_R32G32B32A32_SFLOAT, kRsm, kRsm, true);
+        m_format = format;
+        for (auto& v : m_volumes)
+            for (rg::PersistentImage& c : v) {
+                if (c.image)
+                    destroyImage(ctx(), c.image);
+                c.image = createImage(ctx(), shImageDesc(glm::ivec3(kGrid), format), "lpv.test.volume");
+                c.state.clear();
+            }
+        if (!m_buffer.buffer.buffer)
+            m_buffer.buffer = createBuffer(ctx(),
+                                           {injectionBufferBytes(glm::ivec3(kGrid)),
+                                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUsage::GpuToCpu},
+                                           "lpv.test.injection");
+        rg::RenderGraph g;
+        RsmInput rsm{g.importImage("rsm.position", *rsmPos, rg::Access::TransferWrite),
+                     g.importImage("rsm.normal", *rsmNrm, rg::Access::TransferWrite),
+                     g.importImage("rsm.flux", *rsmFlux, rg::Access::TransferWrite), kRsm, 1};
+        ShHandles wave, acc;
+        for (int c = 0; c < 3; ++c) {
+            wave.channel[c] = g.importImage("wave", m_volumes[0][c]);
+            acc.channel[c] = g.importImage("acc", m_volumes[1][c]);
+        }
+        InjectionResult r = addInjectionPasses(g, m_injector, grid(), format, rsm, wave, acc,
+                                               g.importBuffer("injection", m_buffer));
+        g.exportBuffer(r.buffer, rg::Access::HostRead);
+        for (int c = 0; c < 3; ++c)
+            g.markOutput(r.accumulation.channel[c]);
+        if (gbuffer) {
+            if (!m_output.image) {
+                ImageDesc desc;
+                desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+                desc.width = gbufferWidth;
+                desc.usage = VK_IMAGE_USAGE_STORAGE_BIT;
+                m_output.image = createImage(ctx(), desc, "lpv.test.indirect");
+            }
+            GBufferInput gb{g.importImage("g.position", gbuffer[0], rg::Access::TransferWrite),
+                            g.importImage("g.normal", gbuffer[1], rg::Access::TransferWrite),
+                            g.importImage("g.albedo", gbuffer[2], rg::Access::TransferWrite), gbufferWidth, 1};
+            rg::ImageHandle out = addLookupPass(g, m_injector, grid(), r.accumulation, r.buffer, gb, damping,
+                                                g.importImage("indirect", m_output));
+            g.markOutput(out);
+        }
+        auto compiled = g.compile();
+        ASSERT_TRUE(compiled) << compiled.error().message;
+        ctx().submitAndWait([&](VkCommandBuffer cmd) { g.execute(cmd, ctx(), *m_pool); });
+    }
+
+    static gpu::LpvGrid grid() {
+        gpu::LpvGrid g{};
+        g.origin = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+        g.size = glm::ivec4(kGrid, kGrid, kGrid, 0);
+        return g;
+    }
+
+    float maxTexelFlux() const {
+        uint32_t bits;
+        std::memcpy(&bits, m_buffer.buffer.mapped(), 4);
+        float m;
+        std::memcpy(&m, &bits, 4);
+        return m;
+    }
+
+    // Accumulated (normalised) SH of channel c, per cell.
+    std::vector<glm::vec4> accumulated(int c) {
+        rg::PersistentImage& img = m_volumes[1][c];
+        return texelsOf(readbackImage(ctx(), img.image, img.state.at(0).layout), m_format);
+    }
+
+    std::vector<glm::vec4> indirect() {
+        return texelsOf(readbackImage(ctx(), m_output.image, m_output.state.at(0).layout),
+                        VK_FORMAT_R32G32B32A32_SFLOAT);
+    }
+
+    Injector m_injector;
+    std::unique_ptr<rg::TransientPool> m_pool;
+    bool m_ready = false;
+    VkFormat m_format = VK_FORMAT_R32G32B32A32_SFLOAT;
+    rg::PersistentImage m_volumes[2][3]; // wavefront, accumulation
+    rg::PersistentBuffer m_buffer;
+    rg::PersistentImage m_output;
+    std::vector<Image*> m_images;
+    std::vector<std::unique_ptr<Image>> m_owned;
+};
+
+size_t cellIndex(int x, int y, int z) { return size_t(x + kGrid * (y + kGrid * z)); }
+
+const float kNan = std::numeric_limits<float>::quiet_NaN();
+
+// Surfels exercising every rule; M = 4 (the NaN and w = 0 texels must not count).
+std::vector<Surfel> testSurfels() {
+    return {
+        {{0, 0}, {2.9f, 3.2f, 3.5f, 1.0f}, {1, 0, 0}, {1, 2, 3}},    // +x: 3.4 -> cell (3, 3, 3)
+        {{1, 0}, {2.9f, 3.2f, 3.5f, 1.0f}, {-1, 0, 0}, {0.5f, 0.5f, 0.5f}}, // -x: 2.4 -> cell (2, 3, 3)
+        {{2, 0}, {5.5f, 5.5f, 5.5f, 1.0f}, {0, 1, 0}, {4, 0, 0}},    // +y: 6.0 -> cell (5, 6, 5)
+        {{3, 0}, {5.5f, 5.5f, 5.5f, 1.0f}, {0, 1, 0}, {0, 4, 0}},    // same cell, same run
+        {{4, 0}, {-3.0f, 1.0f, 1.0f, 1.0f}, {0, 1, 0}, {1, 1, 1}},   // outside the grid
+        {{5, 0}, {1.0f, 1.0f, 1.0f, 0.0f}, {0, 1, 0}, {1e30f, 1e30f, 1e30f}}, // no geometry (w = 0)
+        {{6, 0}, {1.0f, 1.0f, 1.0f, 1.0f}, {0, 1, 0}, {kNan, 1, 1}}, // NaN flux
+        {{7, 0}, {1.0f, 1.0f, 1.0f, 1.0f}, {0, 0, 0}, {1, 1, 1}},    // zero normal
+        {{8, 0}, {5.5f, 5.5f, 5.5f, 1.0f}, {0, 1, 0}, {0, 0, 4}},    // same cell, next run (invocation)
+    };
+}
+
+} // namespace
+
+TEST_F(LpvInject, SurfelsLandInTheCellInFrontOfThem) {
+    run(testSurfels(), VK_FORMAT_R32G32B32A32_SFLOAT, 1.0f);
+    EXPECT_EQ(maxTexelFlux(), 4.0f);
+    // Expected normalised SH: sum of (flux / M / pi) * cosineLobe(n). Fixed-point rounding is
+    // 0.5 / scale = 2e-8 per run (scale = lpvFixedPointScale(256) = 2.4e7): tolerance 1e-6.
+    const float m = 4.0f;
+    std::vector<glm::vec4> expected[3];
+    for (auto& e : expected)
+        e.assign(kGrid * kGrid * kGrid, glm::vec4(0.0f));
+    auto add = [&](size_t cell, vec3 n, glm::vec3 flux) {
+        for (int c = 0; c < 3; ++c)
+            expected[c][cell] += (flux[c] / m / kPi) * gpu::shCosineLobe(n);
+    };
+    add(cellIndex(3, 3, 3), {1, 0, 0}, {1, 2, 3});
+    add(cellIndex(2, 3, 3), {-1, 0, 0}, {0.5f, 0.5f, 0.5f});
+    add(cellIndex(5, 6, 5), {0, 1, 0}, {4, 4, 4});
+    float worst = 0.0f;
+    for (int c = 0; c < 3; ++c) {
+        std::vector<glm::vec4> got = accumulated(c);
+        ASSERT_EQ(got.size(), expected[c].size());
+        for (size_t i = 0; i < got.size(); ++i)
+            worst = std::max(worst, glm::length(got[i] - expected[c][i]));
+    }
+    EXPECT_LE(worst, 1e-6f);
+    EXPECT_EQ(validation().count(), 0u);
+}
+
+TEST_F(LpvInject, StoredValuesAreIndependentOfTheLightScale) {
+    // The same RSM scaled by 1e-6 and by 1e9 stores the same normalised SH (float16, which would
+    // overflow at 65504 without the normalisation), and M carries the scale.
+    std::vector<glm::vec4> reference[3];
+    run(testSurfels(), VK_FORMAT_R16G16B16A16_SFLOAT, 1.0f);
+    for (int c = 0; c < 3; ++c)
+        reference[c] = accumulated(c);
+    for (float scale : {1e-6f, 1e9f}) {
+        run(testSurfels(), VK_FORMAT_R16G16B16A16_SFLOAT, scale);
+        EXPECT_NEAR(maxTexelFlux(), 4.0f * scale, 1e-6f * 4.0f * scale);
+        float worst = 0.0f;
+        for (int c = 0; c < 3; ++c) {
+            std::vector<glm::vec4> got = accumulated(c);
+            for (size_t i = 0; i < got.size(); ++i) {
+                ASSERT_TRUE(std::isfinite(got[i].x) && std::isfinite(got[i].w));
+                worst = std::max(worst, glm::length(got[i] - reference[c][i]));
+            }
+        }
+        // flux * scale / (M * scale) differs from flux / M by float rounding only, far below
+        // float16's 2^-11: identical halves expected, allow one half ulp at 0.33 (1.2e-4).
+        EXPECT_LE(worst, 2.5e-4f) << "scale " << scale;
+    }
+}
+
+TEST_F(LpvInject, LookupGivesTheClosedFormIrradianceAndDamping) {
+    // Pixels: (0) at the centre of cell (5, 6, 5), facing down into its upward light;
+    // (1) same, facing up (the light travels away from it: zero); (2) background; (3) outside
+    // the grid; (4) at y = 6.2 facing down, where trilinear weights are 0.7 of cell (5, 6, 5)
+    // here, 0.2 half a cell in front (y = 5.7) and 0.8 half a cell behind (y = 6.7).
+    std::vector<glm::vec4> pos = {{5.5f, 6.5f, 5.5f, 1.0f}, {5.5f, 6.5f, 5.5f, 1.0f}, {5.5f, 6.5f, 5.5f, 0.0f},
+                                  {20.0f, 6.5f, 5.5f, 1.0f}, {5.5f, 6.2f, 5.5f, 1.0f}};
+    std::vector<glm::vec4> nrm = {{0, -1, 0, 0}, {0, 1, 0, 0}, {0, -1, 0, 0}, {0, -1, 0, 0}, {0, -1, 0, 0}};
+    std::vector<glm::vec4> alb(5, glm::vec4(0.5f, 0.25f, 1.0f, 0.0f));
+    const uint32_t w = 5;
+    // One surfel: flux (4, 4, 4) facing +y into cell (5, 6, 5); M = 4, so the cell holds
+    // (1 / pi) cosineLobe(+y), and the irradiance facing down is
+    // dot((1 / pi) cosineLobe(+y), cosineLobe(+y)) * M / cell^2 = (pi/4 + pi/3) / pi * 4 = 4.6667 (cell = 1).
+    const float e = (0.78539816f + 1.04719755f) / kPi * 4.0f;
+    for (float damping : {0.0f, 0.5f, 1.0f}) {
+        // Fresh uploads each round: the graph imports them as just written by a transfer.
+        Image gbuffer[3] = {*uploaded(pos, VK_FORMAT_R32G32B32A32_SFLOAT, w, 1, false),
+                            *uploaded(nrm, VK_FORMAT_R16G16B16A16_SFLOAT, w, 1, false),
+                            *uploaded(alb, VK_FORMAT_R16G16B16A16_SFLOAT, w, 1, false)};
+        run({{{0, 0}, {5.5f, 5.5f, 5.5f, 1.0f}, {0, 1, 0}, {4, 4, 4}}}, VK_FORMAT_R32G32B32A32_SFLOAT, 1.0f, gbuffer,
+            w, damping);
+        std::vector<glm::vec4> out = indirect();
+        ASSERT_EQ(out.size(), 5u);
+        const glm::vec3 albedoOverPi = glm::vec3(alb[0]) / kPi;
+        // Pixel 0 sits on a cell centre (exact weights) with equal light half a cell in front and
+        // behind (0.5 each): no damping at any strength.
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(out[0][c], albedoOverPi[c] * e, 1e-5f * e) << "damping " << damping;
+        EXPECT_EQ(out[1], glm::vec4(0, 0, 0, 1));
+        EXPECT_EQ(out[2], glm::vec4(0, 0, 0, 1));
+        EXPECT_EQ(out[3], glm::vec4(0, 0, 0, 1));
+        // Pixel 4: 0.7 e, damped by 1 - damping * (0.8 - 0.2) / (0.8 + 0.2). lavapipe filters with
+        // 8-bit sub-texel weights: tolerance 1/256 of e.
+        float expected4 = 0.7f * e * (1.0f - damping * 0.6f);
+        EXPECT_NEAR(out[4].x, albedoOverPi.x * expected4, albedoOverPi.x * e / 256.0f) << "damping " << damping;
+    }
+}
