@@ -12,113 +12,13 @@
 #include "engine/context.hpp"
 #include "support/gpu_fixture.hpp"
 #include "voxel/voxel_grid.hpp"
+#include "vct_test_scene.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi;
+using namespace vkgi::test;
 
 namespace {
-
-// engine/scene_types.h layouts (GpuVertex, GpuInstance, GpuMaterial), written by hand here so
-// the test also pins the byte layout the voxelizer reads.
-struct Vertex {
-    glm::vec4 positionU;
-    glm::vec4 normalV;
-};
-struct InstanceRecord {
-    glm::mat4 model;
-    glm::mat4 normalModel;
-    glm::uvec4 info;
-};
-struct MaterialRecord {
-    glm::vec4 baseColor;
-    glm::vec4 emission;
-    glm::vec4 params;
-};
-static_assert(sizeof(Vertex) == 32 && sizeof(InstanceRecord) == 144 && sizeof(MaterialRecord) == 48);
-
-struct Tri {
-    glm::vec3 a, b, c;
-};
-
-// A tiny GPU scene: one draw (and one instance) per triangle list.
-struct TestScene {
-    std::vector<Vertex> vertices;
-    std::vector<uint32_t> indices;
-    std::vector<InstanceRecord> instances;
-    std::vector<MaterialRecord> materials;
-    std::vector<VoxelDraw> draws;
-
-    uint32_t addMaterial(glm::vec3 albedo, glm::vec3 emission = glm::vec3(0.0f)) {
-        materials.push_back({glm::vec4(albedo, 1.0f), glm::vec4(emission, 0.0f), glm::vec4(0.0f, 1.0f, -1.0f, 0.0f)});
-        return uint32_t(materials.size() - 1);
-    }
-    void addDraw(const std::vector<Tri>& tris, uint32_t material, bool dynamic = false,
-                 glm::mat4 model = glm::mat4(1.0f)) {
-        VoxelDraw d;
-        d.instance = uint32_t(instances.size());
-        d.firstIndex = uint32_t(indices.size());
-        d.triangleCount = uint32_t(tris.size());
-        d.vertexOffset = int32_t(vertices.size());
-        d.dynamic = dynamic;
-        uint32_t local = 0;
-        for (const Tri& t : tris) {
-            glm::vec3 n = glm::cross(t.b - t.a, t.c - t.a);
-            n = glm::length(n) > 0.0f ? glm::normalize(n) : glm::vec3(0.0f, 1.0f, 0.0f);
-            for (glm::vec3 p : {t.a, t.b, t.c}) {
-                vertices.push_back({glm::vec4(p, 0.0f), glm::vec4(n, 0.0f)});
-                indices.push_back(local++);
-            }
-        }
-        instances.push_back({model, glm::transpose(glm::inverse(model)), glm::uvec4(material, 0, 0, 0)});
-        draws.push_back(d);
-    }
-};
-
-struct GpuBuffers {
-    Buffer vertices, indices, instances, materials;
-};
-
-Buffer uploaded(Context& ctx, const void* data, size_t bytes, const char* name) {
-    Buffer b = createBuffer(ctx, {std::max<VkDeviceSize>(bytes, 16), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                                                       VK_BUFFER_USAGE_TRANSFER_DST_BIT},
-                            name);
-    uploadBuffer(ctx, b, data, bytes);
-    return b;
-}
-
-// A full pipeline barrier: tests record passes by hand (in the engine the render graph derives
-// these), so they serialise everything.
-void fullBarrier(VkCommandBuffer cmd) {
-    VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-    b.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-    b.srcAccessMask = VK_ACCESS_2_MEMORY_WRITE_BIT;
-    b.dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-    b.dstAccessMask = VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT;
-    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dep.memoryBarrierCount = 1;
-    dep.pMemoryBarriers = &b;
-    vkCmdPipelineBarrier2(cmd, &dep);
-}
-
-void toGeneral(VkCommandBuffer cmd, std::initializer_list<const Image*> images) {
-    std::vector<VkImageMemoryBarrier2> bs;
-    for (const Image* img : images) {
-        VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-        b.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-        b.dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-        b.dstAccessMask = VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT;
-        b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-        b.newLayout = VK_IMAGE_LAYOUT_GENERAL;
-        b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        b.image = img->image;
-        b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-        bs.push_back(b);
-    }
-    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dep.imageMemoryBarrierCount = uint32_t(bs.size());
-    dep.pImageMemoryBarriers = bs.data();
-    vkCmdPipelineBarrier2(cmd, &dep);
-}
 
 // --- CPU reference: does the triangle touch the closed box [lo, hi]? Clip the triangle
 // polygon against the six box planes (Sutherland-Hodgman); anything left means contact.
@@ -286,16 +186,6 @@ protected:
 };
 
 size_t voxelIndex(uint32_t n, glm::uvec3 c) { return (size_t(c.z) * n + c.y) * n + c.x; }
-
-float halfToFloat(uint16_t h) {
-    uint32_t sign = uint32_t(h >> 15) << 31, exp = (h >> 10) & 31u, man = h & 1023u;
-    if (exp == 0)
-        return (sign ? -1.0f : 1.0f) * std::ldexp(float(man), -24);
-    uint32_t bits = sign | ((exp == 31 ? 255u : exp + 112u) << 23) | (man << 13);
-    float f;
-    std::memcpy(&f, &bits, 4);
-    return f;
-}
 
 } // namespace
 

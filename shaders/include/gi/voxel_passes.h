@@ -19,5 +19,55 @@ GI_GPU_STRUCT(VoxelizePush) {
 };
 GI_CHECK_SIZE(VoxelizePush, 64);
 
+// Voxel radiance volumes written by the VCT passes:
+//   radiance  RGBA16F N^3: rgb = outgoing radiance * radianceScale (Lambertian, so the same in
+//             every direction), a = occupancy. Premultiplied: empty voxels are 0.
+//   aniso[6]  RGBA16F (N/2)^3 with log2(N) mips, one volume per viewing direction in the order
+//             +X, -X, +Y, -Y, +Z, -Z: level k holds the 2^(k+1)-voxel blocks as seen by a ray
+//             travelling along that direction (front-to-back composited, Crassin's pre-integration).
+#define GI_VOXEL_ANISO_DIRECTIONS 6
+
+// Occlusion of voxel direct light (VctOcclusion).
+#define GI_VCT_OCCLUSION_HARD 0u
+#define GI_VCT_OCCLUSION_SOFT 1u
+#define GI_VCT_OCCLUSION_SHADOW_MAP 2u
+
+// voxel_light.comp: direct light + emission per occupied voxel.
+GI_GPU_STRUCT(VoxelLightPush) {
+    VoxelGridParams grid;
+    uvec4 info; // x light count, y occlusion mode (GI_VCT_OCCLUSION_*), z, w 0
+};
+GI_CHECK_SIZE(VoxelLightPush, 64);
+
+// voxel_mip*.comp: builds level `info.x` (0 = first level of aniso, from the radiance volume).
+GI_GPU_STRUCT(VoxelMipPush) {
+    VoxelGridParams grid;
+    uvec4 info; // x destination level of the aniso chain, y its resolution, z, w 0
+};
+GI_CHECK_SIZE(VoxelMipPush, 64);
+
+// Cone parameters shared by the per-voxel bounce and the per-pixel trace.
+GI_GPU_STRUCT(ConeParams) {
+    vec4 cone;  // x tan(diffuse half-angle), y step factor, z AO decay (1/voxels), w tan(shadow half-angle)
+    uvec4 info; // x diffuse cone count, y flags (GI_VCT_FLAG_*), z width, w height
+};
+#define GI_VCT_FLAG_GLOSSY 1u
+#define GI_VCT_FLAG_AO 2u
+
+// voxel_bounce.comp: per-voxel diffuse gather added to the voxel's own radiance.
+GI_GPU_STRUCT(VoxelBouncePush) {
+    VoxelGridParams grid;
+    ConeParams cones;
+};
+GI_CHECK_SIZE(VoxelBouncePush, 80);
+
+// vct_trace.comp: per-pixel cones over the G-buffer.
+GI_GPU_STRUCT(VctTracePush) {
+    VoxelGridParams grid;
+    ConeParams cones;
+    vec4 eye; // xyz camera position (world), w 0
+};
+GI_CHECK_SIZE(VctTracePush, 96);
+
 GI_NAMESPACE_END
 #endif

@@ -1,0 +1,165 @@
+#include "voxel/vct_passes.hpp"
+
+#include <bit>
+#include <cmath>
+#include <initializer_list>
+#include <string>
+
+#include "engine/context.hpp"
+
+namespace vkgi::gi {
+
+namespace {
+
+const char* kAnisoNames[6] = {"vct.aniso.px", "vct.aniso.nx", "vct.aniso.py",
+                              "vct.aniso.ny", "vct.aniso.pz", "vct.aniso.nz"};
+
+Image createRadianceVolume(Context& ctx, uint32_t n, uint32_t mips, const char* name) {
+    ImageDesc d;
+    d.type = VK_IMAGE_TYPE_3D;
+    d.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    d.width = d.height = d.depth = n;
+    d.mipLevels = mips;
+    d.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    return createImage(ctx, d, name);
+}
+
+DescriptorItem storage(uint32_t binding, VkImageView view) {
+    DescriptorItem item;
+    item.binding = binding;
+    item.image = {VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL};
+    return item;
+}
+
+DescriptorItem sampled(uint32_t binding, const Image& image, VkSampler sampler, VkImageLayout layout) {
+    DescriptorItem item;
+    item.binding = binding;
+    item.image = {sampler, image.view, layout};
+    return item;
+}
+
+template <typename Push>
+void dispatch(const Context& ctx, VkCommandBuffer cmd, const Pipeline& p, const Push& push,
+              std::initializer_list<DescriptorItem> items, glm::uvec3 threads) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+    pushConstants(cmd, p, &push, sizeof(push));
+    pushDescriptors(ctx, cmd, p, std::span<const DescriptorItem>(items.begin(), items.size()));
+    vkCmdDispatch(cmd, groupCount(threads.x, p.localSize[0]), groupCount(threads.y, p.localSize[1]),
+                  groupCount(threads.z, p.localSize[2]));
+}
+
+} // namespace
+
+Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const VoxelGrid& grid) {
+    std::unique_ptr<VctVolumes> v(new VctVolumes(ctx, grid));
+    struct Named {
+        Pipeline* pipeline;
+        const char* shader;
+    } shaders[] = {{&v->m_light, "gi/voxel/voxel_light.comp"},
+                   {&v->m_mipBase, "gi/voxel/voxel_mip_base.comp"},
+                   {&v->m_mip, "gi/voxel/voxel_mip.comp"},
+                   {&v->m_bounce, "gi/voxel/voxel_bounce.comp"},
+                   {&v->m_trace, "gi/voxel/vct_trace.comp"}};
+    for (const Named& s : shaders) {
+        auto p = createComputePipeline(ctx, {s.shader, {}});
+        if (!p)
+            return p.error();
+        *s.pipeline = std::move(*p);
+    }
+    uint32_t n = grid.resolution();
+    v->m_levels = uint32_t(std::countr_zero(n)); // (N/2)^3 down to 1^3
+    v->m_radiance = createRadianceVolume(ctx, n, 1, "vct.radiance");
+    v->m_bounced = createRadianceVolume(ctx, n, 1, "vct.radiance.bounced");
+    for (uint32_t d = 0; d < 6; ++d)
+        v->m_aniso[d] = createRadianceVolume(ctx, n / 2, v->m_levels, kAnisoNames[d]);
+    SamplerDesc s;
+    s.address = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER; // outside the grid is empty space
+    s.border = VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK;
+    v->m_sampler = createSampler(ctx, s);
+    return v;
+}
+
+VctVolumes::~VctVolumes() {
+    for (Pipeline* p : {&m_light, &m_mipBase, &m_mip, &m_bounce, &m_trace})
+        destroyPipeline(m_ctx, *p);
+    destroyImage(m_ctx, m_radiance);
+    destroyImage(m_ctx, m_bounced);
+    for (Image& a : m_aniso)
+        destroyImage(m_ctx, a);
+    if (m_sampler)
+        vkDestroySampler(m_ctx.device(), m_sampler, nullptr);
+}
+
+VkDeviceSize VctVolumes::bytes() const {
+    VkDeviceSize total = imageBytes(m_radiance.desc) + imageBytes(m_bounced.desc);
+    for (const Image& a : m_aniso)
+        total += imageBytes(a.desc);
+    return total;
+}
+
+gpu::ConeParams VctVolumes::coneParams(const VctSettings& s, uint32_t width, uint32_t height) const {
+    gpu::ConeParams c{};
+    float voxel = m_grid.params().originSize.w;
+    uint32_t n = m_grid.resolution();
+    // Default AO distance: an eighth of the grid, Villegas' "nearby geometry" scale.
+    float aoDistance = s.aoDistance > 0.0f ? s.aoDistance / voxel : float(n) / 8.0f;
+    c.cone = glm::vec4(std::tan(s.diffuseAperture), s.stepFactor, 1.0f / aoDistance, std::tan(s.shadowAperture));
+    c.info = glm::uvec4(s.diffuseCones, (s.glossy ? GI_VCT_FLAG_GLOSSY : 0u) | (s.ambientOcclusion ? GI_VCT_FLAG_AO : 0u),
+                        width, height);
+    return c;
+}
+
+void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t lightCount, VctOcclusion occlusion,
+                             VkImageLayout sampledLayout) const {
+    const VoxelVolumes& g = m_grid.volumes();
+    uint32_t mode = occlusion == VctOcclusion::RayMarchSoft ? GI_VCT_OCCLUSION_SOFT : GI_VCT_OCCLUSION_HARD;
+    gpu::VoxelLightPush push{m_grid.params(), glm::uvec4(lightCount, mode, 0u, 0u)};
+    DescriptorItem lightItem;
+    lightItem.binding = 0;
+    lightItem.buffer = {lights, 0, VK_WHOLE_SIZE};
+    uint32_t n = m_grid.resolution();
+    dispatch(m_ctx, cmd, m_light, push,
+             {lightItem, storage(2, g.normal.view), storage(3, g.emission.view),
+              sampled(4, g.albedo, m_sampler, sampledLayout), storage(5, m_radiance.view)},
+             glm::uvec3(n));
+}
+
+void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level, const Image& source) const {
+    uint32_t size = std::max(1u, (m_grid.resolution() / 2) >> level);
+    gpu::VoxelMipPush push{m_grid.params(), glm::uvec4(level, size, 0u, 0u)};
+    auto dst = [&](uint32_t d) { return storage(6 + d, m_aniso[d].mipViews[level]); };
+    if (level == 0) {
+        dispatch(m_ctx, cmd, m_mipBase, push, {storage(0, source.view), dst(0), dst(1), dst(2), dst(3), dst(4), dst(5)},
+                 glm::uvec3(size));
+        return;
+    }
+    auto src = [&](uint32_t d) { return storage(d, m_aniso[d].mipViews[level - 1]); };
+    dispatch(m_ctx, cmd, m_mip, push,
+             {src(0), src(1), src(2), src(3), src(4), src(5), dst(0), dst(1), dst(2), dst(3), dst(4), dst(5)},
+             glm::uvec3(size));
+}
+
+void VctVolumes::recordBounce(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkImageLayout sampledLayout) const {
+    const VoxelVolumes& g = m_grid.volumes();
+    gpu::VoxelBouncePush push{m_grid.params(), cones};
+    auto a = [&](uint32_t d) { return sampled(1 + d, m_aniso[d], m_sampler, sampledLayout); };
+    dispatch(m_ctx, cmd, m_bounce, push,
+             {sampled(0, m_radiance, m_sampler, sampledLayout), a(0), a(1), a(2), a(3), a(4), a(5),
+              storage(7, g.albedo.view), storage(8, g.normal.view), storage(10, m_bounced.view)},
+             glm::uvec3(m_grid.resolution()));
+}
+
+void VctVolumes::recordTrace(VkCommandBuffer cmd, const Image& level0, const gpu::ConeParams& cones,
+                             const VctTraceTargets& t, VkImageLayout sampledLayout) const {
+    gpu::VctTracePush push{m_grid.params(), cones, glm::vec4(t.eye, 0.0f)};
+    push.cones.info.z = t.width;
+    push.cones.info.w = t.height;
+    auto a = [&](uint32_t d) { return sampled(1 + d, m_aniso[d], m_sampler, sampledLayout); };
+    dispatch(m_ctx, cmd, m_trace, push,
+             {sampled(0, level0, m_sampler, sampledLayout), a(0), a(1), a(2), a(3), a(4), a(5),
+              storage(7, t.position->view), storage(8, t.normal->view), storage(9, t.albedo->view),
+              storage(10, t.indirect->view), storage(11, t.glossy->view)},
+             glm::uvec3(t.width, t.height, 1u));
+}
+
+} // namespace vkgi::gi

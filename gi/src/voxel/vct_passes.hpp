@@ -1,0 +1,73 @@
+#pragma once
+// Voxel cone tracing passes on top of the shared VoxelGrid: voxel direct light, anisotropic
+// radiance mips (one pass per level), the per-voxel second bounce and the per-pixel trace.
+// Pass bodies only record dispatches; the render graph orders them and places the barriers.
+// Volume layouts: shaders/include/gi/voxel_passes.h.
+#include <array>
+#include <cstdint>
+#include <memory>
+
+#include "engine/pipeline.hpp"
+#include "engine/resources.hpp"
+#include "engine/result.hpp"
+#include "gi/vct.hpp"
+#include "voxel/voxel_grid.hpp"
+
+namespace vkgi::gi {
+
+// The G-buffer images the trace reads (frame_data.hpp layouts) and the images it writes.
+struct VctTraceTargets {
+    const Image* position = nullptr; // RGBA32F, w = 1 on geometry
+    const Image* normal = nullptr;   // RGBA16F, w = roughness
+    const Image* albedo = nullptr;   // RGBA16F, w = metallic
+    const Image* indirect = nullptr; // RGBA32F out: rgb indirect radiance (nits), a = AO
+    const Image* glossy = nullptr;   // RGBA32F out: glossy cone radiance (nits)
+    uint32_t width = 0;
+    uint32_t height = 0;
+    glm::vec3 eye{0.0f};
+};
+
+class VctVolumes {
+public:
+    static Result<std::unique_ptr<VctVolumes>> create(Context& ctx, const VoxelGrid& grid);
+    ~VctVolumes();
+    VctVolumes(const VctVolumes&) = delete;
+    VctVolumes& operator=(const VctVolumes&) = delete;
+
+    // Level 0: isotropic radiance after direct light (and after the bounce in bounced()).
+    const Image& radiance() const { return m_radiance; }
+    const Image& bounced() const { return m_bounced; }
+    // +X, -X, +Y, -Y, +Z, -Z chains of (N/2)^3 .. 1^3.
+    const std::array<Image, 6>& aniso() const { return m_aniso; }
+    uint32_t anisoLevels() const { return m_levels; }
+    VkSampler sampler() const { return m_sampler; }
+    VkDeviceSize bytes() const;
+
+    // The cone parameters of `settings` for this grid (AO decay in 1/voxels).
+    gpu::ConeParams coneParams(const VctSettings& settings, uint32_t width, uint32_t height) const;
+
+    // Storage layouts are GENERAL; `sampledLayout` is the layout of the images read through a
+    // sampler (GENERAL in hand-recorded tests, what the graph chose inside a pass).
+    // grid volumes + lights -> radiance().
+    void recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t lightCount, VctOcclusion occlusion,
+                     VkImageLayout sampledLayout) const;
+    // aniso level `level` from `source` (level 0) or from level - 1.
+    void recordMip(VkCommandBuffer cmd, uint32_t level, const Image& source) const;
+    // radiance() + gathered second bounce -> bounced(); reads the aniso chains built from radiance().
+    void recordBounce(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkImageLayout sampledLayout) const;
+    // Per-pixel trace; `level0` is radiance() or bounced(), whichever the mips were built from.
+    void recordTrace(VkCommandBuffer cmd, const Image& level0, const gpu::ConeParams& cones,
+                     const VctTraceTargets& targets, VkImageLayout sampledLayout) const;
+
+private:
+    VctVolumes(Context& ctx, const VoxelGrid& grid) : m_ctx(ctx), m_grid(grid) {}
+    Context& m_ctx;
+    const VoxelGrid& m_grid;
+    Image m_radiance, m_bounced;
+    std::array<Image, 6> m_aniso;
+    uint32_t m_levels = 0;
+    VkSampler m_sampler = VK_NULL_HANDLE;
+    Pipeline m_light, m_mipBase, m_mip, m_bounce, m_trace;
+};
+
+} // namespace vkgi::gi

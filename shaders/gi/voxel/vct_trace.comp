@@ -1,0 +1,48 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Per-pixel voxel cone tracing over the G-buffer: diffuse cones over the normal hemisphere,
+// a glossy cone along the mirror direction whose aperture follows the roughness, and
+// cone-traced AO. Output radiance is in nits (radianceScale undone).
+#include "gi/voxel_passes.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(push_constant) uniform Push { VctTracePush pc; };
+#include "voxel_cone.glsl"
+layout(set = 1, binding = 7, rgba32f) uniform readonly image2D gPosition;
+layout(set = 1, binding = 8, rgba16f) uniform readonly image2D gNormal;
+layout(set = 1, binding = 9, rgba16f) uniform readonly image2D gAlbedo;
+layout(set = 1, binding = 10, rgba32f) uniform writeonly image2D outIndirect; // rgb indirect, a = AO
+layout(set = 1, binding = 11, rgba32f) uniform writeonly image2D outGlossy;   // rgb glossy cone radiance
+
+void main() {
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(px, ivec2(pc.cones.info.zw))))
+        return;
+    vec4 position = imageLoad(gPosition, px);
+    if (position.w == 0.0) {
+        imageStore(outIndirect, px, vec4(0.0, 0.0, 0.0, 1.0));
+        imageStore(outGlossy, px, vec4(0.0));
+        return;
+    }
+    vec4 nr = imageLoad(gNormal, px);
+    vec4 am = imageLoad(gAlbedo, px);
+    vec3 normal = normalize(nr.xyz);
+    float n = float(pc.grid.dims.x);
+    vec3 p = (position.xyz - pc.grid.originSize.xyz) * pc.grid.scales.x + normal;
+    float occlusion;
+    vec3 diffuse = diffuseGather(p, normal, pc.cones, n, occlusion);
+    vec3 glossy = vec3(0.0);
+    if ((pc.cones.info.y & GI_VCT_FLAG_GLOSSY) != 0u) {
+        vec3 v = normalize(pc.eye.xyz - position.xyz);
+        // GGX-like lobe width alpha = roughness^2 as the cone's tan(half-angle), floored so a
+        // mirror still gets a finite footprint of about a voxel at 50 voxels.
+        float tanHalf = clamp(nr.w * nr.w, 0.01, 1.0);
+        float unused;
+        glossy = traceCone(p, reflect(-v, normal), tanHalf, pc.cones.cone.y, 0.0, n, unused).rgb;
+    }
+    float metallic = clamp(am.w, 0.0, 1.0);
+    vec3 indirect = am.rgb * mix(diffuse, glossy, metallic) * pc.grid.scales.z;
+    float ao = (pc.cones.info.y & GI_VCT_FLAG_AO) != 0u ? 1.0 - occlusion : 1.0;
+    imageStore(outIndirect, px, vec4(indirect, ao));
+    imageStore(outGlossy, px, vec4(glossy * pc.grid.scales.z, 1.0));
+}

@@ -1,0 +1,88 @@
+// Cone tracing through the voxel radiance (Crassin et al. 2011). The includer declares nothing
+// at bindings 0..6: they are the isotropic radiance volume and the six anisotropic chains.
+// Everything is in grid units (voxels); radiance stays scaled by radianceScale.
+layout(set = 1, binding = 0) uniform sampler3D radianceVol;
+layout(set = 1, binding = 1) uniform sampler3D anisoPX;
+layout(set = 1, binding = 2) uniform sampler3D anisoNX;
+layout(set = 1, binding = 3) uniform sampler3D anisoPY;
+layout(set = 1, binding = 4) uniform sampler3D anisoNY;
+layout(set = 1, binding = 5) uniform sampler3D anisoPZ;
+layout(set = 1, binding = 6) uniform sampler3D anisoNZ;
+
+// Cones start this far (voxels) from their origin, which callers already offset by one voxel
+// along the normal: together they clear the surface's own (conservatively thick) voxel.
+const float kConeStart = 1.0;
+// Accumulated opacity at which a cone stops (the rest would add under 1%).
+const float kConeOpaque = 0.99;
+
+// Directional sample: the three volumes facing `dir`, weighted by dir^2 (sums to 1).
+vec4 sampleAniso(vec3 uvw, vec3 dir, float lod) {
+    vec3 w = dir * dir;
+    return w.x * (dir.x >= 0.0 ? textureLod(anisoPX, uvw, lod) : textureLod(anisoNX, uvw, lod)) +
+           w.y * (dir.y >= 0.0 ? textureLod(anisoPY, uvw, lod) : textureLod(anisoNY, uvw, lod)) +
+           w.z * (dir.z >= 0.0 ? textureLod(anisoPZ, uvw, lod) : textureLod(anisoNZ, uvw, lod));
+}
+
+// Quadrilinear sample of a footprint 2^lod voxels wide: level 0 is the isotropic volume, level
+// 1 + k level k of the anisotropic chains (blended linearly between 0 and 1).
+vec4 sampleVoxels(vec3 p, vec3 dir, float lod, float n) {
+    vec3 uvw = p / n;
+    if (lod <= 0.0)
+        return textureLod(radianceVol, uvw, 0.0);
+    if (lod < 1.0)
+        return mix(textureLod(radianceVol, uvw, 0.0), sampleAniso(uvw, dir, 0.0), lod);
+    return sampleAniso(uvw, dir, lod - 1.0);
+}
+
+// Front-to-back accumulation along a cone of half-angle atan(tanHalf). Samples are spaced
+// stepFactor diameters apart; a pre-integrated sample stands for a slab one diameter thick, so
+// its opacity is corrected to the step length: a' = 1 - (1 - a)^stepFactor (colour likewise).
+// `occlusion` gets Villegas' AO: opacity weighted by 1 / (1 + decay * distance).
+vec4 traceCone(vec3 origin, vec3 dir, float tanHalf, float stepFactor, float decay, float n, out float occlusion) {
+    vec4 acc = vec4(0.0);
+    occlusion = 0.0;
+    float maxLod = log2(n);
+    float tMax = 1.7321 * n; // the grid diagonal
+    for (float t = kConeStart; t < tMax && acc.a < kConeOpaque;) {
+        float diameter = max(1.0, 2.0 * tanHalf * t);
+        vec3 p = origin + t * dir;
+        if (any(lessThan(p, vec3(-diameter))) || any(greaterThan(p, vec3(n + diameter))))
+            break;
+        vec4 s = sampleVoxels(p, dir, min(log2(diameter), maxLod), n);
+        float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepFactor);
+        s.rgb *= s.a > 1e-6 ? a / s.a : 0.0;
+        acc += (1.0 - acc.a) * vec4(s.rgb, a);
+        occlusion += (1.0 - occlusion) * a / (1.0 + decay * t);
+        t += stepFactor * diameter;
+    }
+    return acc;
+}
+
+// Direction i of n over the hemisphere around +z, cosine-distributed (Fibonacci spiral): each
+// cone then carries the same weight 1/n in the irradiance estimate E / pi = (1/n) sum L_i.
+vec3 hemisphereCone(uint i, uint count) {
+    float u = (float(i) + 0.5) / float(count);
+    float r = sqrt(u);
+    float phi = float(i) * 2.39996323; // golden angle: spreads the spiral evenly
+    return vec3(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u, 0.0)));
+}
+
+mat3 tangentFrame(vec3 n) {
+    vec3 t = abs(n.z) < 0.999 ? normalize(cross(vec3(0.0, 0.0, 1.0), n)) : vec3(1.0, 0.0, 0.0);
+    return mat3(t, cross(n, t), n);
+}
+
+// (1/n) sum over the diffuse cones of their radiance, and the mean AO occlusion.
+vec3 diffuseGather(vec3 origin, vec3 normal, ConeParams cp, float n, out float occlusion) {
+    mat3 frame = tangentFrame(normal);
+    vec3 sum = vec3(0.0);
+    occlusion = 0.0;
+    uint count = cp.info.x;
+    for (uint i = 0u; i < count; ++i) {
+        float occ;
+        sum += traceCone(origin, frame * hemisphereCone(i, count), cp.cone.x, cp.cone.y, cp.cone.z, n, occ).rgb;
+        occlusion += occ;
+    }
+    occlusion /= float(count);
+    return sum / float(count);
+}

@@ -1,0 +1,100 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Voxel direct light (Villegas & Ramirez's deferred voxel shading): every occupied voxel
+// reflects the punctual lights as a Lambertian surface with the voxel's mean normal,
+//   L = albedo / pi * sum_l E_l * max(n . l, 0) * V_l + Le,
+// with E_l the light's illuminance at the voxel centre (KHR_lights_punctual: I / d^2 for
+// point/spot, lux for directional) and V_l its visibility, marched through the occupancy.
+#include "engine/lights.h"
+#include "gi/voxel_passes.h"
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 4) in;
+layout(push_constant) uniform Push { VoxelLightPush pc; };
+
+// engine/scene_types.h GpuLight (64 B).
+struct SceneLight { vec4 positionType; vec4 directionRange; vec4 colorIntensity; vec4 cone; };
+layout(set = 1, binding = 0, std430) readonly buffer Lights { SceneLight lights[]; };
+layout(set = 1, binding = 2, rgba8) uniform readonly image3D normalVol;
+layout(set = 1, binding = 3, rgba16f) uniform readonly image3D emissionVol;
+layout(set = 1, binding = 4) uniform sampler3D albedoVol; // a = occupancy; linear filtering for soft shadows
+layout(set = 1, binding = 5, rgba16f) uniform writeonly image3D radianceOut;
+
+const float kPi = 3.14159265358979;
+// Mean |cos| between a fixed axis and uniformly distributed directions: the cosine factor of a
+// voxel whose normals cancel (a wall seen from both sides), where the facing is unknown.
+const float kMeanAbsCos = 0.5;
+// March step (voxels): half a voxel samples every voxel a ray crosses at least once.
+const float kShadowStep = 0.5;
+// The march starts this far (voxels) off the voxel centre along the normal, so that the voxel
+// itself and its neighbours in the same wall do not shadow it.
+const float kShadowStart = 1.0;
+
+// Visibility along p + t * dir, t in [start, tMax) (voxel units).
+float visibility(vec3 p, vec3 dir, float tMax, uint mode) {
+    float n = float(pc.grid.dims.x);
+    float transmit = 1.0;
+    for (float t = kShadowStart; t < tMax; t += kShadowStep) {
+        vec3 q = p + t * dir;
+        if (any(lessThan(q, vec3(0.0))) || any(greaterThanEqual(q, vec3(n))))
+            break;
+        if (mode == GI_VCT_OCCLUSION_HARD) {
+            if (texelFetch(albedoVol, ivec3(q), 0).a > 0.0)
+                return 0.0;
+        } else {
+            // Soft: trilinear occupancy as partial opacity, so edges get a one-voxel penumbra.
+            transmit *= 1.0 - textureLod(albedoVol, q / n, 0.0).a;
+            if (transmit < 1e-3)
+                return 0.0;
+        }
+    }
+    return transmit;
+}
+
+void main() {
+    ivec3 c = ivec3(gl_GlobalInvocationID);
+    if (any(greaterThanEqual(c, ivec3(pc.grid.dims.x))))
+        return;
+    vec4 albedo = texelFetch(albedoVol, c, 0);
+    if (albedo.a == 0.0) {
+        imageStore(radianceOut, c, vec4(0.0));
+        return;
+    }
+    vec4 nEnc = imageLoad(normalVol, c);
+    vec3 normal = voxelNormalDecode(nEnc.xyz);
+    bool hasNormal = dot(normal, normal) > 0.25; // encoded zero normals decode to |n| ~ 0
+    normal = hasNormal ? normalize(normal) : vec3(0.0);
+    vec3 pGrid = vec3(c) + 0.5;
+    vec3 pWorld = pc.grid.originSize.xyz + pGrid * pc.grid.originSize.w;
+    vec3 pMarch = pGrid + normal * kShadowStart;
+
+    vec3 irradiance = vec3(0.0);
+    for (uint i = 0u; i < pc.info.x; ++i) {
+        SceneLight light = lights[i];
+        uint type = uint(light.positionType.w);
+        vec3 toLight;
+        float dist, e;
+        if (type == GI_LIGHT_DIRECTIONAL) {
+            toLight = -light.directionRange.xyz;
+            dist = 1e30;
+            e = light.colorIntensity.w;
+        } else {
+            vec3 d = light.positionType.xyz - pWorld;
+            // Closer than half a voxel the voxel centre is not a good proxy for its surface.
+            float d2 = max(dot(d, d), 0.25 * pc.grid.originSize.w * pc.grid.originSize.w);
+            dist = sqrt(d2);
+            toLight = d / max(length(d), 1e-20);
+            e = light.colorIntensity.w / d2 * lightRangeWindow(dist, light.directionRange.w);
+            if (type == GI_LIGHT_SPOT)
+                e *= spotConeAttenuation(dot(light.directionRange.xyz, -toLight), light.cone.x, light.cone.y);
+        }
+        float cosine = hasNormal ? max(dot(normal, toLight), 0.0) : kMeanAbsCos;
+        if (e * cosine <= 0.0)
+            continue;
+        float v = visibility(pMarch, toLight, dist * pc.grid.scales.x, pc.info.y);
+        irradiance += light.colorIntensity.rgb * (e * cosine * v);
+    }
+    vec3 radiance = albedo.rgb / kPi * irradiance * pc.grid.scales.y + imageLoad(emissionVol, c).rgb;
+    // Half-float ceiling: radianceScale maps the brightest light to ~1, so only absurd
+    // concentrations of light reach this; clamping keeps the volume finite.
+    imageStore(radianceOut, c, vec4(min(radiance, vec3(65000.0)), 1.0));
+}
