@@ -252,6 +252,50 @@ TEST(Reference, EmissionSidedness) {
     }
 }
 
+// Albedo = baseColor factor x texture (sRGB-decoded unless the texture is linear), shading
+// normals from the mesh, and glTF's mirrored-transform winding rule, under a sun straight
+// down (E = lux): L = albedo E cos(n_shading, up) / pi.
+TEST(Reference, TextureShadingNormalsAndMirroring) {
+    const float lux = 100.0f;
+    for (bool srgb : {true, false}) {
+        Scene s;
+        addQuad(s, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1}, glm::vec3(0.5f, 0.5f, 1.0f));
+        s.meshes[0].uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+        const float tilt = 1.0471976f; // 60 degrees: cos = 0.5
+        s.meshes[0].normals.assign(4, glm::vec3(std::sin(tilt), std::cos(tilt), 0.0f));
+        Texture t;
+        t.width = t.height = 1;
+        t.srgb = srgb;
+        t.rgba8 = {128, 255, 0, 255};
+        s.textures.push_back(t);
+        s.materials[0].baseColorTexture = 0;
+        Light sun;
+        sun.type = LightType::Directional;
+        sun.direction = {0.0f, -1.0f, 0.0f};
+        sun.intensity = lux;
+        s.lights.push_back(sun);
+        ReferenceImages img = render(s, downCamera({0, 1, 0}, 0.5f), 4, 4, quiet(1));
+        // sRGB 128 -> ((128/255 + 0.055) / 1.055)^2.4 = 0.2158605
+        const double r = srgb ? 0.2158605 : 128.0 / 255.0;
+        const glm::vec3 want = glm::vec3(glm::dvec3(0.5 * r, 0.5, 0.0) * (lux * 0.5 / kPi));
+        for (const glm::vec3& px : img.full.pixels) {
+            EXPECT_NEAR(px.x, want.x, 1e-4f * want.x) << "srgb " << srgb;
+            EXPECT_NEAR(px.y, want.y, 1e-4f * want.y);
+            EXPECT_EQ(px.z, 0.0f);
+        }
+    }
+    // A one-sided emitter facing up in object space, mirrored in x: glTF flips the winding
+    // rule for negative determinants, so it must still emit upwards only.
+    Scene m;
+    addQuad(m, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1}, glm::vec3(0.0f), glm::vec3(2.0f));
+    m.instances[0].transform = glm::mat4(glm::vec4(-1, 0, 0, 0), glm::vec4(0, 1, 0, 0), glm::vec4(0, 0, 1, 0),
+                                         glm::vec4(0, 0, 0, 1));
+    Camera below = downCamera({0, -1, 0}, 0.5f);
+    below.forward = {0, 1, 0};
+    EXPECT_EQ(meanOf(render(m, downCamera({0, 1, 0}, 0.5f), 4, 4, quiet(1)).full), 2.0);
+    EXPECT_EQ(meanOf(render(m, below, 4, 4, quiet(1)).full), 0.0);
+}
+
 // A bounce image = the direct part of the unbounded one, to the bit: the same random streams,
 // the same path prefix, the same summation order.
 TEST(Reference, DirectMatchesOneBounceRenderAndFullIsTheSum) {

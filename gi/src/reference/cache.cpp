@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/file_util.hpp"
 #include "engine/image_io.hpp"
 #include "gi/reference.hpp"
 
@@ -44,26 +45,6 @@ fs::path siblingOf(const fs::path& fullFile, const char* suffix) {
     std::string s = fullFile.string();
     const std::string full = ".full.exr";
     return fs::path(s.substr(0, s.size() - full.size()) + suffix);
-}
-
-Result<void> writeTextAtomic(const fs::path& path, const std::string& text) {
-    fs::path tmp = path;
-    tmp += ".tmp";
-    {
-        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-        if (!f || !(f << text) || !f.flush()) {
-            std::error_code ec;
-            fs::remove(tmp, ec);
-            return makeError(path.string() + ": cannot write");
-        }
-    }
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        return makeError(path.string() + ": cannot rename into place: " + ec.message());
-    }
-    return {};
 }
 
 // A complete entry has its .json; anything else (missing, unreadable, wrong size) is a miss.
@@ -103,7 +84,7 @@ Result<void> storeEntry(const fs::path& fullFile, const ReferenceImages& img) {
     if (auto r = writeExr(siblingOf(fullFile, ".indirect.exr"), img.indirect); !r)
         return r;
     nlohmann::json j{{"seconds", img.seconds}, {"rays", img.rays}};
-    return writeTextAtomic(siblingOf(fullFile, ".json"), j.dump() + "\n"); // last: marks the entry complete
+    return writeFileAtomic(siblingOf(fullFile, ".json"), j.dump() + "\n"); // last: marks the entry complete
 }
 
 } // namespace

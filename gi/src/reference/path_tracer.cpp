@@ -5,11 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <mutex>
 #include <string>
 #include <vector>
-
-#include <unistd.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -22,6 +19,7 @@ inline float max(double a, float b) { return std::max(float(a), b); }
 inline float clamp(float v, double lo, double hi) { return std::clamp(v, float(lo), float(hi)); }
 } // namespace vkgi::gpu
 #include "engine/lights.h"
+#include "engine/progress.hpp"
 #include "gi/reference.hpp"
 #include "reference/rt_scene.hpp"
 #include "reference/sampling.hpp"
@@ -80,49 +78,6 @@ struct PunctualLight {
     glm::vec3 radiantIntensity; // colour x intensity (cd, or lux for directional)
     float range;
     float cosInner, cosOuter;
-};
-
-// Text progress bar on stderr; only drawn when stderr is a terminal.
-class Progress {
-public:
-    Progress(bool enabled, uint64_t total) : m_enabled(enabled && ::isatty(STDERR_FILENO)), m_total(total) {}
-    void add(uint64_t n) {
-        uint64_t done = m_done.fetch_add(n) + n;
-        if (!m_enabled)
-            return;
-        std::unique_lock lock(m_mutex, std::try_to_lock);
-        if (!lock.owns_lock())
-            return;
-        auto now = Clock::now();
-        if (done < m_total && now - m_lastDraw < std::chrono::milliseconds(200)) // ~5 redraws/s
-            return;
-        m_lastDraw = now;
-        draw(done, std::chrono::duration<double>(now - m_start).count());
-    }
-    void finish() {
-        if (m_enabled)
-            std::fputc('\n', stderr);
-    }
-
-private:
-    void draw(uint64_t done, double elapsed) {
-        constexpr int kWidth = 30;
-        double f = m_total ? double(done) / double(m_total) : 1.0;
-        int filled = int(f * kWidth);
-        char bar[kWidth + 1];
-        for (int i = 0; i < kWidth; ++i)
-            bar[i] = i < filled ? '#' : '.';
-        bar[kWidth] = 0;
-        double eta = f > 0.0 ? elapsed * (1.0 - f) / f : 0.0;
-        std::fprintf(stderr, "\rreference [%s] %5.1f%%  %6.1f s elapsed, ETA %6.1f s ", bar, 100.0 * f, elapsed, eta);
-        std::fflush(stderr);
-    }
-    bool m_enabled;
-    uint64_t m_total;
-    std::atomic<uint64_t> m_done{0};
-    std::mutex m_mutex;
-    Clock::time_point m_start = Clock::now();
-    Clock::time_point m_lastDraw{};
 };
 
 class Integrator {
@@ -322,7 +277,7 @@ Result<ReferenceImages> renderReference(const Scene& scene, const Camera& camera
     out.direct = HdrImage(width, height);
     out.indirect = HdrImage(width, height);
     std::atomic<uint64_t> rays{0};
-    Progress progress(settings.progress, uint64_t(width) * height);
+    Progress progress("reference", uint64_t(width) * height, settings.progress);
     const double invSpp = 1.0 / double(settings.spp);
 
     // Each pixel is owned by one task and sums its samples in order: thread-count independent.
