@@ -296,6 +296,54 @@ TEST(Reference, TextureShadingNormalsAndMirroring) {
     EXPECT_EQ(meanOf(render(m, below, 4, 4, quiet(1)).full), 0.0);
 }
 
+// DESIGN.md "Numerical stability": millimetre to kilometre scenes and extreme intensities.
+// A furnace scaled by 1e-3 or 1e3 keeps L = Le (1 - p^3) / (1 - p) at k = 2 (ray offsets scale
+// with the coordinates); radiance is linear in intensity from 1e-6 to 1e9 cd; degenerate
+// triangles and zero normals in a mesh leave the image finite and unchanged elsewhere.
+TEST(Reference, ScaleIntensityAndDegenerateGeometry) {
+    for (float scale : {1e-3f, 1e3f}) {
+        Scene s = furnace(0.5f);
+        s.instances[0].transform = glm::mat4(scale);
+        s.instances[0].transform[3][3] = 1.0f;
+        Camera cam = *s.camera;
+        cam.position *= scale;
+        ReferenceImages img = render(s, cam, 16, 16, quiet(32, 2));
+        EXPECT_NEAR(meanOf(img.full), 1.75, 0.005 * 1.75) << "scale " << scale;
+    }
+
+    Scene plane;
+    addQuad(plane, {-50, 0, 50}, {50, 0, 50}, {50, 0, -50}, {-50, 0, -50}, glm::vec3(0.5f));
+    Light l;
+    l.type = LightType::Point;
+    l.position = {0.0f, 1.0f, 0.0f};
+    l.intensity = 1.0f;
+    plane.lights.push_back(l);
+    Camera cam = downCamera({0.0f, 3.0f, 0.0f}, 1.0f);
+    const ReferenceImages unit = render(plane, cam, 8, 8, quiet(1));
+    for (float intensity : {1e-6f, 1e9f}) {
+        plane.lights[0].intensity = intensity;
+        ReferenceImages img = render(plane, cam, 8, 8, quiet(1));
+        for (size_t i = 0; i < img.full.pixels.size(); ++i)
+            EXPECT_NEAR(img.full.pixels[i].x / intensity, unit.full.pixels[i].x, 1e-5f * unit.full.pixels[i].x);
+    }
+
+    // Append a zero-area triangle, a sliver and zero-length normals to the plane's mesh.
+    plane.lights[0].intensity = 1.0f;
+    Mesh& m = plane.meshes[0];
+    m.normals.assign(4, glm::vec3(0.0f, 1.0f, 0.0f));
+    const uint32_t base = uint32_t(m.positions.size());
+    for (glm::vec3 p : {glm::vec3(0, 0.5f, 0), glm::vec3(0, 0.5f, 0), glm::vec3(1, 0.5f, 0), glm::vec3(2, 0.5f, 0),
+                        glm::vec3(2, 0.5f, 1e-9f), glm::vec3(3, 0.5f, 0)}) {
+        m.positions.push_back(p);
+        m.normals.push_back(glm::vec3(0.0f));
+    }
+    for (uint32_t i = 0; i < 6; ++i)
+        m.indices.push_back(base + i);
+    ReferenceImages img = render(plane, cam, 8, 8, quiet(2));
+    EXPECT_EQ(countNonFinite(img.full), 0u);
+    EXPECT_EQ(img.full.pixels, unit.full.pixels); // the degenerate triangles hide nothing here
+}
+
 // A bounce image = the direct part of the unbounded one, to the bit: the same random streams,
 // the same path prefix, the same summation order.
 TEST(Reference, DirectMatchesOneBounceRenderAndFullIsTheSum) {
