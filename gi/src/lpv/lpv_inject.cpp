@@ -17,7 +17,10 @@ Result<Injector> Injector::create(Context& ctx) {
                  {&inj.inject, "gi/lpv/inject.comp"},
                  {&inj.lookup, "gi/lpv/lookup.comp"},
                  {&inj.resolve[0], "gi/lpv/inject_resolve_rgba16f.comp"},
-                 {&inj.resolve[1], "gi/lpv/inject_resolve_rgba32f.comp"}};
+                 {&inj.resolve[1], "gi/lpv/inject_resolve_rgba32f.comp"},
+                 {&inj.gvRsm, "gi/lpv/gv_inject_rsm.comp"},
+                 {&inj.gvCamera, "gi/lpv/gv_inject_camera.comp"},
+                 {&inj.gvResolve, "gi/lpv/gv_resolve.comp"}};
     for (const Item& item : items) {
         auto p = createComputePipeline(ctx, {item.shader, {}});
         if (!p) {
@@ -37,7 +40,7 @@ Result<Injector> Injector::create(Context& ctx) {
 }
 
 void Injector::destroy(Context& ctx) {
-    for (Pipeline* p : {&range, &inject, &lookup, &resolve[0], &resolve[1]})
+    for (Pipeline* p : {&range, &inject, &lookup, &resolve[0], &resolve[1], &gvRsm, &gvCamera, &gvResolve})
         if (p->pipeline != VK_NULL_HANDLE)
             destroyPipeline(ctx, *p);
     for (VkSampler* s : {&nearest, &linear})
@@ -119,6 +122,68 @@ InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injec
                           ctx.storage(LPV_RESOLVE_BINDING_ACC_R + 2, acc.channel[2])});
         });
     return {wave, acc, buf};
+}
+
+rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
+                                        const RsmInput& rsm, const GBufferInput& gbuffer) {
+    const glm::ivec3 corners = glm::ivec3(grid.size) + 1;
+    const size_t cornerCount = size_t(corners.x) * corners.y * corners.z;
+    rg::BufferHandle buf = graph.createBuffer(
+        "gi.lpv.gv.sums", {VkDeviceSize(LPV_INJECT_HEADER_INTS + 2 * 4 * cornerCount) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
+    ImageDesc desc;
+    desc.type = VK_IMAGE_TYPE_3D;
+    desc.format = kGeometryVolumeFormat;
+    desc.width = uint32_t(corners.x);
+    desc.height = uint32_t(corners.y);
+    desc.depth = uint32_t(corners.z);
+    desc.usage = VK_IMAGE_USAGE_STORAGE_BIT;
+    rg::ImageHandle gv = graph.createImage("gi.lpv.gv", desc);
+    gpu::LpvInjectPush push{};
+    push.grid = grid;
+    push.params = glm::vec4(float(LPV_GV_FIXED_SCALE), 0.0f, 0.0f, 0.0f);
+    const Injector* inj = &injector;
+    graph.addPass(
+        "gi.lpv.gv.clear", [&](rg::PassBuilder& b) { buf = b.write(buf, Access::TransferWrite); },
+        [=](rg::PassContext& ctx) { vkCmdFillBuffer(ctx.cmd(), ctx.buffer(buf).buffer, 0, VK_WHOLE_SIZE, 0); });
+    struct Source {
+        const char* name;
+        rg::ImageHandle position, normal;
+        const Pipeline* pipeline;
+        glm::uvec3 texels;
+    } sources[2] = {{"gi.lpv.gv.rsm", rsm.position, rsm.normal, &injector.gvRsm,
+                     {rsm.resolution, rsm.resolution, rsm.layers}},
+                    {"gi.lpv.gv.camera", gbuffer.position, gbuffer.normal, &injector.gvCamera,
+                     {gbuffer.width, gbuffer.height, 1}}};
+    for (int slot = 0; slot < 2; ++slot) {
+        const Source src = sources[slot];
+        if (!src.position.valid())
+            continue;
+        push.rsm = glm::ivec4(int(src.texels.x), int(src.texels.z), slot, int(src.texels.y));
+        graph.addPass(
+            src.name,
+            [&](rg::PassBuilder& b) {
+                b.read(src.position, Access::ComputeSampledRead);
+                b.read(src.normal, Access::ComputeSampledRead);
+                buf = b.write(buf, Access::ComputeStorageReadWrite);
+            },
+            [=](rg::PassContext& ctx) {
+                ctx.dispatch(*src.pipeline, rg::PassContext::groupsFor(*src.pipeline, src.texels), push,
+                             {ctx.sampled(LPV_GV_BINDING_POSITION, src.position, inj->nearest),
+                              ctx.sampled(LPV_GV_BINDING_NORMAL, src.normal, inj->nearest),
+                              ctx.buffer(LPV_GV_BINDING_BUFFER, buf)});
+            });
+    }
+    graph.addPass(
+        "gi.lpv.gv.resolve",
+        [&](rg::PassBuilder& b) {
+            b.read(buf, Access::ComputeStorageRead);
+            gv = b.write(gv, Access::ComputeStorageWriteDiscard);
+        },
+        [=](rg::PassContext& ctx) {
+            ctx.dispatch(inj->gvResolve, rg::PassContext::groupsFor(inj->gvResolve, glm::uvec3(corners)), push,
+                         {ctx.buffer(LPV_GV_BINDING_BUFFER, buf), ctx.storage(LPV_GV_BINDING_OUTPUT, gv)});
+        });
+    return gv;
 }
 
 rg::ImageHandle addLookupPass(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,

@@ -4,6 +4,7 @@
 //   gi.lpv.inject.range    M = largest RSM texel flux (the unit of every stored SH value)
 //   gi.lpv.inject          surfels -> fixed-point SH sums per cell (integer atomics)
 //   gi.lpv.inject.resolve  sums -> first wavefront and accumulation volumes
+//   gi.lpv.gv.*            geometry volume from RSM and camera surfels, combined by max
 //   gi.lpv.lookup          accumulated SH -> indirect radiance per G-buffer pixel
 #include <glm/glm.hpp>
 
@@ -20,6 +21,7 @@ public:
 
     Pipeline range, inject, lookup;
     Pipeline resolve[2]; // [RGBA32F?]
+    Pipeline gvRsm, gvCamera, gvResolve;
     VkSampler nearest = VK_NULL_HANDLE; // texelFetch-only images still need a sampler
     VkSampler linear = VK_NULL_HANDLE;  // trilinear SH lookup, clamp to edge
 };
@@ -30,6 +32,11 @@ struct RsmInput {
     rg::ImageHandle position, normal, flux;
     uint32_t resolution = 0;
     uint32_t layers = 0;
+};
+
+struct GBufferInput {
+    rg::ImageHandle position, normal, albedo;
+    uint32_t width = 0, height = 0;
 };
 
 struct InjectionResult {
@@ -47,10 +54,11 @@ InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injec
 // Size in bytes of the injection buffer of a grid.
 VkDeviceSize injectionBufferBytes(glm::ivec3 cells);
 
-struct GBufferInput {
-    rg::ImageHandle position, normal, albedo;
-    uint32_t width = 0, height = 0;
-};
+// Geometry volume ((cells + 1)^3, RGBA16F, centred on the LPV cell corners) from the RSM
+// surfels and the camera's G-buffer surfels, in separate sums combined by max. Either source may
+// be absent (invalid position handle). Returns the (transient) GV image.
+rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
+                                        const RsmInput& rsm, const GBufferInput& gbuffer);
 
 // Indirect radiance (RGBA32F, G-buffer size) written into `output` (invalid: a transient is
 // created). `damping` is the light-bleeding damping strength (0 = off).

@@ -32,6 +32,14 @@
 #define LPV_LOOKUP_BINDING_BUFFER 6   // injection buffer (for M)
 #define LPV_LOOKUP_BINDING_OUTPUT 7   // indirect radiance (RGBA32F)
 
+#define LPV_GV_BINDING_POSITION 0   // surfel positions (RSM: 2D array; camera: 2D), w = 1 where valid
+#define LPV_GV_BINDING_NORMAL 1     // surfel normals
+#define LPV_GV_BINDING_BUFFER 2     // GV sums: header, then 2 slots (RSM, camera) of (N+1)^3 x 4 ints
+#define LPV_GV_BINDING_OUTPUT 3     // geometry volume (RGBA16F, (N+1)^3)
+// Fixed-point scale of the GV sums: a surfel adds at most 1.0233 per coefficient (full
+// coverage), so 2^16 keeps 1.5e-5 resolution and room for 32768 full-coverage surfels per cell.
+#define LPV_GV_FIXED_SCALE 65536.0
+
 // Texels of one RSM row each inject invocation walks, merging runs that land in the same cell
 // before its atomics: neighbouring texels nearly always share a cell, so this divides the
 // atomics (~35 M/s on lavapipe) by about this factor.
@@ -48,8 +56,8 @@ GI_CHECK_SIZE(LpvGrid, 32);
 
 GI_GPU_STRUCT(LpvInjectPush) {
     LpvGrid grid;
-    ivec4 rsm;    // x: RSM texels per side, y: layers
-    vec4 params;  // x: fixed-point scale (ints per unit of normalised SH)
+    ivec4 rsm;    // x: texels per row, y: layers, z: GV source slot (0 RSM, 1 camera), w: rows
+    vec4 params;  // x: fixed-point scale (ints per unit of normalised SH or of blocking potential)
 };
 GI_CHECK_SIZE(LpvInjectPush, 64);
 

@@ -1,0 +1,68 @@
+// Geometry volume injection: every valid surfel of a position/normal image adds its blocking
+// potential (A / s^2) * cosineLobe(-n) (the fraction of light travelling in direction w that
+// it stops, Kaplanyan's fuzzy occlusion) to the GV cell nearest to it (GV cells are centred on
+// LPV cell corners). A is the surfel's world area, estimated from the positions of its next
+// (or previous) neighbours in x and y and capped at one cell face (at depth discontinuities). Sums use integer
+// atomics in slot `pc.rsm.z` of the GV buffer, so the RSM and the camera's surfels fill separate
+// volumes that the resolve combines by max (a surface seen by both must not count twice).
+// Included by gv_inject_rsm.comp (2D-array RSM) and gv_inject_camera.comp (2D G-buffer).
+#extension GL_GOOGLE_include_directive : require
+#include "gi/lpv_passes.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(push_constant) uniform PushBlock { LpvInjectPush pc; };
+#if GV_ARRAY
+layout(set = 1, binding = LPV_GV_BINDING_POSITION) uniform sampler2DArray gvPosition;
+layout(set = 1, binding = LPV_GV_BINDING_NORMAL) uniform sampler2DArray gvNormal;
+#define GV_TEXEL(t) (t)
+#else
+layout(set = 1, binding = LPV_GV_BINDING_POSITION) uniform sampler2D gvPosition;
+layout(set = 1, binding = LPV_GV_BINDING_NORMAL) uniform sampler2D gvNormal;
+#define GV_TEXEL(t) (t).xy
+#endif
+layout(set = 1, binding = LPV_GV_BINDING_BUFFER, std430) buffer GeometryVolumeSums { int data[]; } sums;
+
+bool finite3(vec3 v) {
+    return abs(v.x) + abs(v.y) + abs(v.z) < 1e30;
+}
+
+// Edge vector to the next texel along `step` (or the previous one at the image border), or
+// zero when both are missing or across a discontinuity (more than a cell away).
+vec3 edge(ivec3 t, ivec3 step, vec3 p, float cell) {
+    for (int side = 0; side < 2; ++side) {
+        ivec3 u = side == 0 ? t + step : t - step;
+        if (u.x < 0 || u.y < 0 || u.x >= pc.rsm.x || u.y >= pc.rsm.w)
+            continue;
+        vec4 q = texelFetch(gvPosition, GV_TEXEL(u), 0);
+        vec3 e = q.xyz - p;
+        if (q.w > 0.0 && finite3(q.xyz) && dot(e, e) < cell * cell)
+            return e;
+    }
+    return vec3(0.0);
+}
+
+void main() {
+    ivec3 t = ivec3(gl_GlobalInvocationID);
+    if (t.x >= pc.rsm.x || t.y >= pc.rsm.w || t.z >= pc.rsm.y)
+        return;
+    vec4 position = texelFetch(gvPosition, GV_TEXEL(t), 0);
+    vec3 n = texelFetch(gvNormal, GV_TEXEL(t), 0).xyz;
+    float nn = dot(n, n);
+    if (position.w <= 0.0 || !finite3(position.xyz) || !(nn > 1e-12 && nn < 1e30))
+        return;
+    n *= inversesqrt(nn);
+    float cell = pc.grid.origin.w;
+    vec3 a = edge(t, ivec3(1, 0, 0), position.xyz, cell), b = edge(t, ivec3(0, 1, 0), position.xyz, cell);
+    float coverage = min(length(cross(a, b)) / (cell * cell), 1.0);
+    if (!(coverage > 0.0))
+        return;
+    ivec3 g = ivec3(round((position.xyz - pc.grid.origin.xyz) / cell));
+    ivec3 size = pc.grid.size.xyz + 1;
+    if (any(lessThan(g, ivec3(0))) || any(greaterThanEqual(g, size)))
+        return;
+    ivec4 q = ivec4(round(coverage * shCosineLobe(-n) * pc.params.x));
+    int base = LPV_INJECT_HEADER_INTS + 4 * (g.x + size.x * (g.y + size.y * (g.z + size.z * pc.rsm.z)));
+    for (int k = 0; k < 4; ++k)
+        if (q[k] != 0)
+            atomicAdd(sums.data[base + k], q[k]);
+}
