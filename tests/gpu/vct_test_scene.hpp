@@ -8,9 +8,14 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <gtest/gtest.h>
 
 #include "engine/context.hpp"
 #include "engine/resources.hpp"
+#include "engine/rg/render_graph.hpp"
+#include "engine/rg/transient_pool.hpp"
+#include "engine/scene_types.h"
+#include "voxel/voxel_graph.hpp"
 #include "voxel/voxel_grid.hpp"
 
 namespace vkgi::test {
@@ -33,7 +38,8 @@ struct MaterialRecord {
     glm::vec4 emission;
     glm::vec4 params;
 };
-static_assert(sizeof(Vertex) == 32 && sizeof(InstanceRecord) == 144 && sizeof(MaterialRecord) == 48);
+static_assert(sizeof(Vertex) == sizeof(gpu::GpuVertex) && sizeof(InstanceRecord) == sizeof(gpu::GpuInstance) &&
+              sizeof(MaterialRecord) == sizeof(gpu::GpuMaterial));
 
 struct Tri {
     glm::vec3 a, b, c;
@@ -85,6 +91,30 @@ inline Buffer uploaded(Context& ctx, const void* data, size_t bytes, const char*
     return b;
 }
 
+// Builds, compiles and executes one render graph (submit + wait); any graph error fails the test.
+template <typename Build> void runGraph(Context& ctx, rg::TransientPool& pool, Build&& build) {
+    rg::RenderGraph graph;
+    build(graph);
+    auto compiled = graph.compile();
+    ASSERT_TRUE(compiled.ok()) << compiled.error().message;
+    ctx.submitAndWait([&](VkCommandBuffer cmd) { graph.execute(cmd, ctx, pool, nullptr); });
+}
+
+// The test scene's buffers as graph imports (last written by an upload).
+inline gi::VoxelSceneHandles importScene(rg::RenderGraph& graph, const GpuBuffers& b,
+                                         const std::vector<VoxelDraw>& draws) {
+    return {graph.importBuffer("t.vertices", b.vertices, rg::Access::TransferWrite),
+            graph.importBuffer("t.indices", b.indices, rg::Access::TransferWrite),
+            graph.importBuffer("t.instances", b.instances, rg::Access::TransferWrite),
+            graph.importBuffer("t.materials", b.materials, rg::Access::TransferWrite), draws};
+}
+
+// Leaves the grid volumes in GENERAL layout for readbackImage.
+inline void exportGrid(rg::RenderGraph& graph, const gi::VoxelGridData& d) {
+    for (rg::ImageHandle h : {d.albedo, d.normal, d.emission})
+        graph.exportImage(h, rg::Access::ComputeStorageRead);
+}
+
 // A full pipeline barrier: tests record passes by hand (in the engine the render graph derives
 // these), so they serialise everything.
 inline void fullBarrier(VkCommandBuffer cmd) {
@@ -127,7 +157,7 @@ struct LightRecord {
     glm::vec4 colorIntensity;
     glm::vec4 cone;
 };
-static_assert(sizeof(LightRecord) == 64);
+static_assert(sizeof(LightRecord) == sizeof(gpu::GpuLight));
 
 inline float halfToFloat(uint16_t h) {
     uint32_t sign = uint32_t(h >> 15) << 31, exp = (h >> 10) & 31u, man = h & 1023u;

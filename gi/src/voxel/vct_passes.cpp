@@ -68,10 +68,10 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     }
     uint32_t n = grid.resolution();
     v->m_levels = uint32_t(std::countr_zero(n)); // (N/2)^3 down to 1^3
-    v->m_radiance = createRadianceVolume(ctx, n, 1, "vct.radiance");
-    v->m_bounced = createRadianceVolume(ctx, n, 1, "vct.radiance.bounced");
+    v->m_radiance.image = createRadianceVolume(ctx, n, 1, "vct.radiance");
+    v->m_bounced.image = createRadianceVolume(ctx, n, 1, "vct.radiance.bounced");
     for (uint32_t d = 0; d < 6; ++d)
-        v->m_aniso[d] = createRadianceVolume(ctx, n / 2, v->m_levels, kAnisoNames[d]);
+        v->m_aniso[d].image = createRadianceVolume(ctx, n / 2, v->m_levels, kAnisoNames[d]);
     SamplerDesc s;
     s.address = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER; // outside the grid is empty space
     s.border = VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK;
@@ -82,18 +82,18 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
 VctVolumes::~VctVolumes() {
     for (Pipeline* p : {&m_light, &m_mipBase, &m_mip, &m_bounce, &m_trace})
         destroyPipeline(m_ctx, *p);
-    destroyImage(m_ctx, m_radiance);
-    destroyImage(m_ctx, m_bounced);
-    for (Image& a : m_aniso)
-        destroyImage(m_ctx, a);
+    destroyImage(m_ctx, m_radiance.image);
+    destroyImage(m_ctx, m_bounced.image);
+    for (rg::PersistentImage& a : m_aniso)
+        destroyImage(m_ctx, a.image);
     if (m_sampler)
         vkDestroySampler(m_ctx.device(), m_sampler, nullptr);
 }
 
 VkDeviceSize VctVolumes::bytes() const {
-    VkDeviceSize total = imageBytes(m_radiance.desc) + imageBytes(m_bounced.desc);
-    for (const Image& a : m_aniso)
-        total += imageBytes(a.desc);
+    VkDeviceSize total = imageBytes(m_radiance.image.desc) + imageBytes(m_bounced.image.desc);
+    for (const rg::PersistentImage& a : m_aniso)
+        total += imageBytes(a.image.desc);
     return total;
 }
 
@@ -119,21 +119,21 @@ void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t ligh
     lightItem.buffer = {lights, 0, VK_WHOLE_SIZE};
     uint32_t n = m_grid.resolution();
     dispatch(m_ctx, cmd, m_light, push,
-             {lightItem, storage(2, g.normal.view), storage(3, g.emission.view),
-              sampled(4, g.albedo, m_sampler, sampledLayout), storage(5, m_radiance.view)},
+             {lightItem, storage(2, g.normal.image.view), storage(3, g.emission.image.view),
+              sampled(4, g.albedo.image, m_sampler, sampledLayout), storage(5, m_radiance.image.view)},
              glm::uvec3(n));
 }
 
 void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level, const Image& source) const {
     uint32_t size = std::max(1u, (m_grid.resolution() / 2) >> level);
     gpu::VoxelMipPush push{m_grid.params(), glm::uvec4(level, size, 0u, 0u)};
-    auto dst = [&](uint32_t d) { return storage(6 + d, m_aniso[d].mipViews[level]); };
+    auto dst = [&](uint32_t d) { return storage(6 + d, m_aniso[d].image.mipViews[level]); };
     if (level == 0) {
         dispatch(m_ctx, cmd, m_mipBase, push, {storage(0, source.view), dst(0), dst(1), dst(2), dst(3), dst(4), dst(5)},
                  glm::uvec3(size));
         return;
     }
-    auto src = [&](uint32_t d) { return storage(d, m_aniso[d].mipViews[level - 1]); };
+    auto src = [&](uint32_t d) { return storage(d, m_aniso[d].image.mipViews[level - 1]); };
     dispatch(m_ctx, cmd, m_mip, push,
              {src(0), src(1), src(2), src(3), src(4), src(5), dst(0), dst(1), dst(2), dst(3), dst(4), dst(5)},
              glm::uvec3(size));
@@ -142,10 +142,10 @@ void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level, const Image& sou
 void VctVolumes::recordBounce(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkImageLayout sampledLayout) const {
     const VoxelVolumes& g = m_grid.volumes();
     gpu::VoxelBouncePush push{m_grid.params(), cones};
-    auto a = [&](uint32_t d) { return sampled(1 + d, m_aniso[d], m_sampler, sampledLayout); };
+    auto a = [&](uint32_t d) { return sampled(1 + d, m_aniso[d].image, m_sampler, sampledLayout); };
     dispatch(m_ctx, cmd, m_bounce, push,
-             {sampled(0, m_radiance, m_sampler, sampledLayout), a(0), a(1), a(2), a(3), a(4), a(5),
-              storage(7, g.albedo.view), storage(8, g.normal.view), storage(10, m_bounced.view)},
+             {sampled(0, m_radiance.image, m_sampler, sampledLayout), a(0), a(1), a(2), a(3), a(4), a(5),
+              storage(7, g.albedo.image.view), storage(8, g.normal.image.view), storage(10, m_bounced.image.view)},
              glm::uvec3(m_grid.resolution()));
 }
 
@@ -154,7 +154,7 @@ void VctVolumes::recordTrace(VkCommandBuffer cmd, const Image& level0, const gpu
     gpu::VctTracePush push{m_grid.params(), cones, glm::vec4(t.eye, 0.0f)};
     push.cones.info.z = t.width;
     push.cones.info.w = t.height;
-    auto a = [&](uint32_t d) { return sampled(1 + d, m_aniso[d], m_sampler, sampledLayout); };
+    auto a = [&](uint32_t d) { return sampled(1 + d, m_aniso[d].image, m_sampler, sampledLayout); };
     dispatch(m_ctx, cmd, m_trace, push,
              {sampled(0, level0, m_sampler, sampledLayout), a(0), a(1), a(2), a(3), a(4), a(5),
               storage(7, t.position->view), storage(8, t.normal->view), storage(9, t.albedo->view),

@@ -35,10 +35,15 @@ public:
     VctVolumes& operator=(const VctVolumes&) = delete;
 
     // Level 0: isotropic radiance after direct light (and after the bounce in bounced()).
-    const Image& radiance() const { return m_radiance; }
-    const Image& bounced() const { return m_bounced; }
+    const Image& radiance() const { return m_radiance.image; }
+    const Image& bounced() const { return m_bounced.image; }
     // +X, -X, +Y, -Y, +Z, -Z chains of (N/2)^3 .. 1^3.
-    const std::array<Image, 6>& aniso() const { return m_aniso; }
+    const Image& aniso(uint32_t d) const { return m_aniso[d].image; }
+    // Persistent state for the graph imports.
+    rg::PersistentImage& radianceState() { return m_radiance; }
+    rg::PersistentImage& bouncedState() { return m_bounced; }
+    rg::PersistentImage& anisoState(uint32_t d) { return m_aniso[d]; }
+    const VoxelGrid& grid() const { return m_grid; }
     uint32_t anisoLevels() const { return m_levels; }
     VkSampler sampler() const { return m_sampler; }
     VkDeviceSize bytes() const;
@@ -63,8 +68,8 @@ private:
     VctVolumes(Context& ctx, const VoxelGrid& grid) : m_ctx(ctx), m_grid(grid) {}
     Context& m_ctx;
     const VoxelGrid& m_grid;
-    Image m_radiance, m_bounced;
-    std::array<Image, 6> m_aniso;
+    rg::PersistentImage m_radiance, m_bounced;
+    std::array<rg::PersistentImage, 6> m_aniso;
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;
     Pipeline m_light, m_mipBase, m_mip, m_bounce, m_trace;

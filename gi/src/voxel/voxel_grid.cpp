@@ -26,15 +26,17 @@ Image createVolume(Context& ctx, uint32_t n, uint32_t depth, VkFormat format, co
 
 VoxelVolumes createVolumes(Context& ctx, uint32_t n, const char* prefix) {
     std::string p = prefix;
-    return {createVolume(ctx, n, n, VK_FORMAT_R8G8B8A8_UNORM, (p + ".albedo").c_str()),
-            createVolume(ctx, n, n, VK_FORMAT_R8G8B8A8_UNORM, (p + ".normal").c_str()),
-            createVolume(ctx, n, n, VK_FORMAT_R16G16B16A16_SFLOAT, (p + ".emission").c_str())};
+    VoxelVolumes v;
+    v.albedo.image = createVolume(ctx, n, n, VK_FORMAT_R8G8B8A8_UNORM, (p + ".albedo").c_str());
+    v.normal.image = createVolume(ctx, n, n, VK_FORMAT_R8G8B8A8_UNORM, (p + ".normal").c_str());
+    v.emission.image = createVolume(ctx, n, n, VK_FORMAT_R16G16B16A16_SFLOAT, (p + ".emission").c_str());
+    return v;
 }
 
 void destroyVolumes(Context& ctx, VoxelVolumes& v) {
-    destroyImage(ctx, v.albedo);
-    destroyImage(ctx, v.normal);
-    destroyImage(ctx, v.emission);
+    destroyImage(ctx, v.albedo.image);
+    destroyImage(ctx, v.normal.image);
+    destroyImage(ctx, v.emission.image);
 }
 
 DescriptorItem storageImage(uint32_t binding, const Image& image) {
@@ -100,7 +102,7 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
     }
     g->m_volumes = createVolumes(ctx, n, "voxel.grid");
     g->m_static = createVolumes(ctx, n, "voxel.static");
-    g->m_accum = createVolume(ctx, n, n * GI_VOXEL_ACC_CHANNELS, VK_FORMAT_R32_UINT, "voxel.accumulation");
+    g->m_accum.image = createVolume(ctx, n, n * GI_VOXEL_ACC_CHANNELS, VK_FORMAT_R32_UINT, "voxel.accumulation");
     return g;
 }
 
@@ -109,13 +111,13 @@ VoxelGrid::~VoxelGrid() {
         destroyPipeline(m_ctx, *p);
     destroyVolumes(m_ctx, m_volumes);
     destroyVolumes(m_ctx, m_static);
-    destroyImage(m_ctx, m_accum);
+    destroyImage(m_ctx, m_accum.image);
 }
 
 VkDeviceSize VoxelGrid::bytes() const {
-    VkDeviceSize total = imageBytes(m_accum.desc);
+    VkDeviceSize total = imageBytes(m_accum.image.desc);
     for (const VoxelVolumes* v : {&m_volumes, &m_static})
-        total += imageBytes(v->albedo.desc) + imageBytes(v->normal.desc) + imageBytes(v->emission.desc);
+        total += imageBytes(v->albedo.image.desc) + imageBytes(v->normal.image.desc) + imageBytes(v->emission.image.desc);
     return total;
 }
 
@@ -124,7 +126,7 @@ void VoxelGrid::recordClear(VkCommandBuffer cmd) const {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_clear.pipeline);
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_clear, &push, sizeof(push));
-    DescriptorItem items[] = {storageImage(0, m_accum)};
+    DescriptorItem items[] = {storageImage(0, m_accum.image)};
     pushDescriptors(m_ctx, cmd, m_clear, items);
     vkCmdDispatch(cmd, groupCount(n, m_clear.localSize[0]), groupCount(n, m_clear.localSize[1]),
                   groupCount(n * GI_VOXEL_ACC_CHANNELS, m_clear.localSize[2]));
@@ -134,7 +136,7 @@ void VoxelGrid::recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& sce
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_voxelize.pipeline);
     DescriptorItem items[] = {storageBuffer(0, scene.vertices), storageBuffer(1, scene.indices),
                               storageBuffer(2, scene.instances), storageBuffer(3, scene.materials),
-                              storageImage(4, m_accum)};
+                              storageImage(4, m_accum.image)};
     pushDescriptors(m_ctx, cmd, m_voxelize, items);
     for (const VoxelDraw& d : scene.draws) {
         if (d.triangleCount == 0 || (set == VoxelDrawSet::Static && d.dynamic) ||
@@ -152,8 +154,8 @@ void VoxelGrid::recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target) c
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_resolve.pipeline);
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_resolve, &push, sizeof(push));
-    DescriptorItem items[] = {storageImage(0, m_accum), storageImage(1, target.albedo), storageImage(2, target.normal),
-                              storageImage(3, target.emission)};
+    DescriptorItem items[] = {storageImage(0, m_accum.image), storageImage(1, target.albedo.image),
+                              storageImage(2, target.normal.image), storageImage(3, target.emission.image)};
     pushDescriptors(m_ctx, cmd, m_resolve, items);
     vkCmdDispatch(cmd, groupCount(n, m_resolve.localSize[0]), groupCount(n, m_resolve.localSize[1]),
                   groupCount(n, m_resolve.localSize[2]));
@@ -164,10 +166,10 @@ void VoxelGrid::recordResolveMerge(VkCommandBuffer cmd) const {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_resolveMerge.pipeline);
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_resolveMerge, &push, sizeof(push));
-    DescriptorItem items[] = {storageImage(0, m_accum),           storageImage(1, m_volumes.albedo),
-                              storageImage(2, m_volumes.normal),  storageImage(3, m_volumes.emission),
-                              storageImage(4, m_static.albedo),   storageImage(5, m_static.normal),
-                              storageImage(6, m_static.emission)};
+    DescriptorItem items[] = {storageImage(0, m_accum.image),           storageImage(1, m_volumes.albedo.image),
+                              storageImage(2, m_volumes.normal.image),  storageImage(3, m_volumes.emission.image),
+                              storageImage(4, m_static.albedo.image),   storageImage(5, m_static.normal.image),
+                              storageImage(6, m_static.emission.image)};
     pushDescriptors(m_ctx, cmd, m_resolveMerge, items);
     vkCmdDispatch(cmd, groupCount(n, m_resolveMerge.localSize[0]), groupCount(n, m_resolveMerge.localSize[1]),
                   groupCount(n, m_resolveMerge.localSize[2]));

@@ -10,6 +10,7 @@
 #include "engine/pipeline.hpp"
 #include "engine/resources.hpp"
 #include "engine/result.hpp"
+#include "engine/rg/render_graph.hpp"
 #include "engine/scene.hpp"
 #include "gi/voxel_passes.h"
 
@@ -42,10 +43,11 @@ struct VoxelSceneBuffers {
     std::vector<VoxelDraw> draws;
 };
 
+// Persistent (imported into each frame's graph, which tracks their layouts across frames).
 struct VoxelVolumes {
-    Image albedo;   // RGBA8: mean albedo, a = occupancy
-    Image normal;   // RGBA8: voxelNormalEncode(mean normal), a = occupancy
-    Image emission; // RGBA16F: emission * radianceScale
+    rg::PersistentImage albedo;   // RGBA8: mean albedo, a = occupancy
+    rg::PersistentImage normal;   // RGBA8: voxelNormalEncode(mean normal), a = occupancy
+    rg::PersistentImage emission; // RGBA16F: emission * radianceScale
 };
 
 // Which draws a voxelize pass takes.
@@ -65,10 +67,14 @@ public:
     // Static geometry only, voxelized once (the flag volume is staticVolumes().albedo.a).
     const VoxelVolumes& staticVolumes() const { return m_static; }
     // Fixed-point scratch: N x N x (N * GI_VOXEL_ACC_CHANNELS) R32UI.
-    const Image& accumulation() const { return m_accum; }
+    const Image& accumulation() const { return m_accum.image; }
+    rg::PersistentImage& accumulationState() { return m_accum; }
+    VoxelVolumes& volumesState() { return m_volumes; }
+    VoxelVolumes& staticState() { return m_static; }
     VkDeviceSize bytes() const;
 
-    // Pass bodies (all images in GENERAL layout). clear: accumulation := 0 (storage write).
+    // Pass bodies (all images in GENERAL layout; the graph passes in voxel_graph.cpp declare
+    // the accesses). clear: accumulation := 0 (storage write).
     void recordClear(VkCommandBuffer cmd) const;
     // Adds the chosen draws to the accumulation (storage read-write, scene buffers read).
     void recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set) const;
@@ -82,7 +88,7 @@ private:
     Context& m_ctx;
     gpu::VoxelGridParams m_params{};
     VoxelVolumes m_volumes, m_static;
-    Image m_accum;
+    rg::PersistentImage m_accum;
     Pipeline m_clear, m_voxelize, m_resolve, m_resolveMerge;
 };
 

@@ -6,14 +6,13 @@
 // with E_l the light's illuminance at the voxel centre (KHR_lights_punctual: I / d^2 for
 // point/spot, lux for directional) and V_l its visibility, marched through the occupancy.
 #include "engine/lights.h"
+#include "engine/scene_types.h"
 #include "gi/voxel_passes.h"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 4) in;
 layout(push_constant) uniform Push { VoxelLightPush pc; };
 
-// engine/scene_types.h GpuLight (64 B).
-struct SceneLight { vec4 positionType; vec4 directionRange; vec4 colorIntensity; vec4 cone; };
-layout(set = 1, binding = 0, std430) readonly buffer Lights { SceneLight lights[]; };
+layout(set = 1, binding = 0, std430) readonly buffer Lights { GpuLight lights[]; };
 layout(set = 1, binding = 2, rgba8) uniform readonly image3D normalVol;
 layout(set = 1, binding = 3, rgba16f) uniform readonly image3D emissionVol;
 layout(set = 1, binding = 4) uniform sampler3D albedoVol; // a = occupancy; linear filtering for soft shadows
@@ -69,7 +68,7 @@ void main() {
 
     vec3 irradiance = vec3(0.0);
     for (uint i = 0u; i < pc.info.x; ++i) {
-        SceneLight light = lights[i];
+        GpuLight light = lights[i];
         uint type = uint(light.positionType.w);
         vec3 toLight;
         float dist, e;

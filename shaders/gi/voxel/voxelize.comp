@@ -4,19 +4,16 @@
 // the triangle touches (separating-axis test, so slivers, sub-voxel and zero-area triangles
 // count too) receives the triangle's albedo, face normal and emission as fixed-point integer
 // sums. Integer atomics make the result independent of the execution order.
+#include "engine/scene_types.h"
 #include "gi/voxel_passes.h"
 
 layout(local_size_x = 32) in;
 layout(push_constant) uniform Push { VoxelizePush pc; };
 
-// GPU scene layouts of engine/scene_types.h (GpuVertex 32 B, GpuInstance 144 B, GpuMaterial 48 B).
-struct SceneVertex { vec4 positionU; vec4 normalV; };
-struct SceneInstance { mat4 model; mat4 normalModel; uvec4 info; };
-struct SceneMaterial { vec4 baseColor; vec4 emission; vec4 params; };
-layout(set = 1, binding = 0, std430) readonly buffer Vertices { SceneVertex vertices[]; };
+layout(set = 1, binding = 0, std430) readonly buffer Vertices { GpuVertex vertices[]; };
 layout(set = 1, binding = 1, std430) readonly buffer Indices { uint indices[]; };
-layout(set = 1, binding = 2, std430) readonly buffer Instances { SceneInstance instances[]; };
-layout(set = 1, binding = 3, std430) readonly buffer Materials { SceneMaterial materials[]; };
+layout(set = 1, binding = 2, std430) readonly buffer Instances { GpuInstance instances[]; };
+layout(set = 1, binding = 3, std430) readonly buffer Materials { GpuMaterial materials[]; };
 layout(set = 1, binding = 4, r32ui) uniform coherent uimage3D accum;
 
 // Slack added to every separating-axis radius, in voxel units: rounding may then only add a
@@ -64,16 +61,16 @@ void main() {
     uint tri = gl_GlobalInvocationID.x;
     if (tri >= pc.draw.z)
         return;
-    SceneInstance inst = instances[pc.draw.x];
+    GpuInstance inst = instances[pc.draw.x];
     uint base = pc.draw.y + 3u * tri;
     vec3 p[3];
     vec3 shadingSum = vec3(0.0);
     for (int i = 0; i < 3; ++i) {
-        SceneVertex v = vertices[indices[base + uint(i)] + pc.draw.w];
+        GpuVertex v = vertices[indices[base + uint(i)] + pc.draw.w];
         p[i] = ((inst.model * vec4(v.positionU.xyz, 1.0)).xyz - pc.grid.originSize.xyz) * pc.grid.scales.x;
         shadingSum += v.normalV.xyz;
     }
-    SceneMaterial mat = materials[inst.info.x];
+    GpuMaterial mat = materials[inst.info.x];
     vec3 albedo = mat.baseColor.rgb;
     vec3 emission = mat.emission.rgb * pc.grid.scales.y;
     bool emissive = any(greaterThan(emission, vec3(0.0)));

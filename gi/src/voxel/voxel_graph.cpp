@@ -1,0 +1,188 @@
+#include "voxel/voxel_graph.hpp"
+
+#include <string>
+
+namespace vkgi::gi {
+
+using rg::Access;
+
+namespace {
+
+struct VolumeHandles {
+    rg::ImageHandle albedo, normal, emission;
+};
+
+VolumeHandles importVolumes(rg::RenderGraph& graph, VoxelVolumes& v, const char* prefix) {
+    std::string p = prefix;
+    return {graph.importImage(p + ".albedo", v.albedo), graph.importImage(p + ".normal", v.normal),
+            graph.importImage(p + ".emission", v.emission)};
+}
+
+rg::ImageHandle addClear(rg::RenderGraph& graph, const VoxelGrid* grid, rg::ImageHandle accum, const char* name) {
+    graph.addPass(
+        name, [&](rg::PassBuilder& b) { accum = b.write(accum, Access::ComputeStorageWriteDiscard); },
+        [grid](rg::PassContext& ctx) { grid->recordClear(ctx.cmd()); });
+    return accum;
+}
+
+rg::ImageHandle addVoxelize(rg::RenderGraph& graph, const VoxelGrid* grid, const VoxelSceneHandles& scene,
+                            rg::ImageHandle accum, VoxelDrawSet set, const char* name) {
+    VoxelSceneHandles s = scene;
+    graph.addPass(
+        name,
+        [&](rg::PassBuilder& b) {
+            for (rg::BufferHandle h : {s.vertices, s.indices, s.instances, s.materials})
+                b.read(h, Access::ComputeStorageRead);
+            accum = b.write(accum, Access::ComputeStorageReadWrite);
+        },
+        [grid, s, set](rg::PassContext& ctx) {
+            VoxelSceneBuffers buffers{ctx.buffer(s.vertices).buffer, ctx.buffer(s.indices).buffer,
+                                      ctx.buffer(s.instances).buffer, ctx.buffer(s.materials).buffer, s.draws};
+            grid->recordVoxelize(ctx.cmd(), buffers, set);
+        });
+    return accum;
+}
+
+} // namespace
+
+VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHandles& scene,
+                                 VoxelUpdate update) {
+    VolumeHandles out = importVolumes(graph, grid.volumesState(), "gi.voxel.grid");
+    VoxelGridData data{out.albedo, out.normal, out.emission, grid.params()};
+    if (update == VoxelUpdate::None)
+        return data;
+    const VoxelGrid* g = &grid;
+    rg::ImageHandle accum = graph.importImage("gi.voxel.accumulation", grid.accumulationState());
+    VolumeHandles st = importVolumes(graph, grid.staticState(), "gi.voxel.static");
+    if (update == VoxelUpdate::Full) {
+        accum = addClear(graph, g, accum, "gi.voxel.clear.static");
+        accum = addVoxelize(graph, g, scene, accum, VoxelDrawSet::Static, "gi.voxel.voxelize.static");
+        graph.addPass(
+            "gi.voxel.resolve.static",
+            [&](rg::PassBuilder& b) {
+                b.read(accum, Access::ComputeStorageRead);
+                st.albedo = b.write(st.albedo, Access::ComputeStorageWriteDiscard);
+                st.normal = b.write(st.normal, Access::ComputeStorageWriteDiscard);
+                st.emission = b.write(st.emission, Access::ComputeStorageWriteDiscard);
+            },
+            [g](rg::PassContext& ctx) { g->recordResolve(ctx.cmd(), g->staticVolumes()); });
+    }
+    accum = addClear(graph, g, accum, "gi.voxel.clear.dynamic");
+    accum = addVoxelize(graph, g, scene, accum, VoxelDrawSet::Dynamic, "gi.voxel.voxelize.dynamic");
+    graph.addPass(
+        "gi.voxel.merge",
+        [&](rg::PassBuilder& b) {
+            b.read(accum, Access::ComputeStorageRead);
+            b.read(st.albedo, Access::ComputeStorageRead);
+            b.read(st.normal, Access::ComputeStorageRead);
+            b.read(st.emission, Access::ComputeStorageRead);
+            data.albedo = b.write(data.albedo, Access::ComputeStorageWriteDiscard);
+            data.normal = b.write(data.normal, Access::ComputeStorageWriteDiscard);
+            data.emission = b.write(data.emission, Access::ComputeStorageWriteDiscard);
+        },
+        [g](rg::PassContext& ctx) { g->recordResolveMerge(ctx.cmd()); });
+    return data;
+}
+
+namespace {
+
+// Adds one pass per anisotropic level, built from `level0`.
+void addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::ImageHandle level0, rg::ImageHandle aniso[6],
+                  const char* prefix) {
+    for (uint32_t level = 0; level < v->anisoLevels(); ++level) {
+        bool fromRadiance = level == 0;
+        graph.addPass(
+            std::string(prefix) + "[" + std::to_string(level + 1) + "]",
+            [&](rg::PassBuilder& b) {
+                if (fromRadiance)
+                    b.read(level0, Access::ComputeStorageRead);
+                for (uint32_t d = 0; d < 6; ++d) {
+                    if (!fromRadiance)
+                        b.read(aniso[d], Access::ComputeStorageRead, rg::SubresourceRange::mip(level - 1));
+                    aniso[d] = b.write(aniso[d], Access::ComputeStorageWriteDiscard, rg::SubresourceRange::mip(level));
+                }
+            },
+            [v, level, l0 = level0](rg::PassContext& ctx) {
+                v->recordMip(ctx.cmd(), level, level == 0 ? ctx.image(l0) : v->radiance()); // source unused above 0
+            });
+    }
+}
+
+} // namespace
+
+VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
+                        rg::BufferHandle lights, uint32_t lightCount, const VctSettings& settings,
+                        const VctGBufferHandles* gbuffer) {
+    const VctVolumes* v = &volumes;
+    VctOutputs out;
+    rg::ImageHandle radiance = graph.importImage("gi.vct.radiance", volumes.radianceState());
+    for (uint32_t d = 0; d < 6; ++d)
+        out.aniso[d] = graph.importImage("gi.vct.aniso[" + std::to_string(d) + "]", volumes.anisoState(d));
+    VctOcclusion occlusion = settings.occlusion;
+    graph.addPass(
+        "gi.vct.light",
+        [&](rg::PassBuilder& b) {
+            b.read(lights, Access::ComputeStorageRead);
+            b.read(grid.albedo, Access::ComputeSampledRead);
+            b.read(grid.normal, Access::ComputeStorageRead);
+            b.read(grid.emission, Access::ComputeStorageRead);
+            radiance = b.write(radiance, Access::ComputeStorageWriteDiscard);
+        },
+        [v, lights, lightCount, occlusion, albedo = grid.albedo](rg::PassContext& ctx) {
+            v->recordLight(ctx.cmd(), ctx.buffer(lights).buffer, lightCount, occlusion, ctx.layout(albedo));
+        });
+    addMipPasses(graph, v, radiance, out.aniso, "gi.vct.mip");
+    gpu::ConeParams cones = volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
+    if (settings.bounces >= 2) {
+        rg::ImageHandle bounced = graph.importImage("gi.vct.radiance.bounced", volumes.bouncedState());
+        graph.addPass(
+            "gi.vct.bounce",
+            [&](rg::PassBuilder& b) {
+                b.read(radiance, Access::ComputeSampledRead);
+                for (uint32_t d = 0; d < 6; ++d)
+                    b.read(out.aniso[d], Access::ComputeSampledRead);
+                b.read(grid.albedo, Access::ComputeStorageRead);
+                b.read(grid.normal, Access::ComputeStorageRead);
+                bounced = b.write(bounced, Access::ComputeStorageWriteDiscard);
+            },
+            [v, cones, radiance](rg::PassContext& ctx) {
+                v->recordBounce(ctx.cmd(), cones, ctx.layout(radiance));
+            });
+        radiance = bounced;
+        addMipPasses(graph, v, radiance, out.aniso, "gi.vct.bounce.mip");
+    }
+    out.radiance = radiance;
+    if (!gbuffer)
+        return out;
+    ImageDesc desc;
+    desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+    desc.width = gbuffer->width;
+    desc.height = gbuffer->height;
+    struct TraceData {
+        rg::ImageHandle indirect, glossy;
+    };
+    VctGBufferHandles g = *gbuffer;
+    const TraceData& data = graph.addPass<TraceData>(
+        "gi.vct.trace",
+        [&](rg::PassBuilder& b, TraceData& d) {
+            b.read(radiance, Access::ComputeSampledRead);
+            for (uint32_t k = 0; k < 6; ++k)
+                b.read(out.aniso[k], Access::ComputeSampledRead);
+            b.read(g.position, Access::ComputeStorageRead);
+            b.read(g.normal, Access::ComputeStorageRead);
+            b.read(g.albedo, Access::ComputeStorageRead);
+            d.indirect = b.write(b.create("gi.vct.indirect", desc), Access::ComputeStorageWriteDiscard);
+            d.glossy = b.write(b.create("gi.vct.glossy", desc), Access::ComputeStorageWriteDiscard);
+        },
+        [v, cones, radiance, g](const TraceData& d, rg::PassContext& ctx) {
+            VctTraceTargets t{&ctx.image(g.position), &ctx.image(g.normal), &ctx.image(g.albedo),
+                              &ctx.image(d.indirect), &ctx.image(d.glossy), g.width,
+                              g.height,               g.eye};
+            v->recordTrace(ctx.cmd(), ctx.image(radiance), cones, t, ctx.layout(radiance));
+        });
+    out.indirect = data.indirect;
+    out.glossy = data.glossy;
+    return out;
+}
+
+} // namespace vkgi::gi

@@ -1,0 +1,67 @@
+#pragma once
+// The voxel grid and VCT passes as render-graph passes. The grid's volumes are persistent
+// resources imported into every frame's graph; passes only run when their content changes.
+// Other techniques (LPV multi-bounce) get the grid from the blackboard as VoxelGridData.
+#include <cstdint>
+#include <vector>
+
+#include "engine/rg/render_graph.hpp"
+#include "gi/vct.hpp"
+#include "voxel/vct_passes.hpp"
+#include "voxel/voxel_grid.hpp"
+
+namespace vkgi::gi {
+
+// Blackboard entry: the shared voxel grid of this frame (layouts in gi/voxel_grid.h). Read the
+// images with ComputeStorageRead or ComputeSampledRead; `params` maps world space to voxels.
+struct VoxelGridData {
+    rg::ImageHandle albedo;   // RGBA8: mean albedo, a = occupancy
+    rg::ImageHandle normal;   // RGBA8: voxelNormalEncode(mean normal), a = occupancy
+    rg::ImageHandle emission; // RGBA16F: emission * radianceScale
+    gpu::VoxelGridParams params{};
+};
+
+// The GPU scene as graph handles (engine/scene_types.h layouts) plus its draws.
+struct VoxelSceneHandles {
+    rg::BufferHandle vertices;
+    rg::BufferHandle indices;
+    rg::BufferHandle instances;
+    rg::BufferHandle materials;
+    std::vector<VoxelDraw> draws;
+};
+
+// What must be re-voxelized this frame.
+enum class VoxelUpdate {
+    None,    // nothing moved: the grid from the last frame is reused (no pass)
+    Dynamic, // dynamic draws moved: clear + re-voxelize them, merge under the static voxels
+    Full,    // first frame or new scene: bake the static draws once, then as Dynamic
+};
+
+// Imports the grid and adds "gi.voxel.*" passes for `update`.
+VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHandles& scene,
+                                 VoxelUpdate update);
+
+// Per-pixel inputs of the trace (frame_data.hpp G-buffer layouts).
+struct VctGBufferHandles {
+    rg::ImageHandle position; // RGBA32F
+    rg::ImageHandle normal;   // RGBA16F, w = roughness
+    rg::ImageHandle albedo;   // RGBA16F, w = metallic
+    uint32_t width = 0;
+    uint32_t height = 0;
+    glm::vec3 eye{0.0f};
+};
+
+struct VctOutputs {
+    rg::ImageHandle radiance; // level 0 the trace read (after the bounce when bounces = 2)
+    rg::ImageHandle aniso[6]; // the directional chains the trace read
+    rg::ImageHandle indirect; // RGBA32F: rgb indirect radiance (nits), a = AO (invalid without a G-buffer)
+    rg::ImageHandle glossy;   // RGBA32F: glossy cone radiance (nits)
+};
+
+// "gi.vct.light", "gi.vct.mip[k]", optionally "gi.vct.bounce" + "gi.vct.bounce.mip[k]", and
+// "gi.vct.trace" when `gbuffer` is given. `lights` holds `lightCount` GpuLight records.
+VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
+                        rg::BufferHandle lights, uint32_t lightCount, const VctSettings& settings,
+                        const VctGBufferHandles* gbuffer);
+
+} // namespace vkgi::gi
