@@ -11,13 +11,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-// lights.h mixes double literals with float arguments (max(0.001, f), clamp(f, 0.0, 1.0)), which
-// GLSL accepts but glm's single-type templates reject in C++. These overloads, declared in the
-// header's namespace before it, resolve those calls in float; they hide nothing else here.
-namespace vkgi::gpu {
-inline float max(double a, float b) { return std::max(float(a), b); }
-inline float clamp(float v, double lo, double hi) { return std::clamp(v, float(lo), float(hi)); }
-} // namespace vkgi::gpu
 #include "engine/lights.h"
 #include "engine/progress.hpp"
 #include "gi/reference.hpp"
