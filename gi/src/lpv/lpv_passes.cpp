@@ -28,10 +28,25 @@ ShHandles createShVolume(rg::RenderGraph& graph, const char* name, glm::ivec3 ce
 
 PropagationVolumes addPropagationPasses(rg::RenderGraph& graph, const Propagator& propagator, glm::ivec3 cells,
                                         VkFormat format, PropagationVolumes volumes, rg::ImageHandle geometryVolume,
-                                        uint32_t iterations) {
+                                        uint32_t iterations, const VoxelInput& voxels, glm::vec4 lpvOrigin) {
+    if (iterations == 0)
+        return volumes;
     const bool occlusion = geometryVolume.valid();
+    const bool bounce = voxels.albedo.valid();
     rg::ImageHandle gv = occlusion ? geometryVolume : graph.importImage("gi.lpv.gv.none", propagator.noGeometry(),
                                                                          Access::ComputeStorageRead);
+    rg::ImageHandle voxelAlbedo = voxels.albedo, voxelNormal = voxels.normal;
+    if (!bounce)
+        voxelAlbedo = voxelNormal =
+            graph.importImage("gi.lpv.voxels.none", propagator.noVoxels(), Access::ComputeSampledRead);
+    PropagateStep step;
+    step.cells = cells;
+    step.format = format;
+    step.occlusion = occlusion;
+    step.bounce = bounce;
+    step.lpvOrigin = lpvOrigin;
+    if (bounce)
+        step.voxelOrigin = glm::vec4(glm::vec3(voxels.originSize), 1.0f / (voxels.originSize.w * float(voxels.resolution)));
     const Propagator* prop = &propagator;
     for (uint32_t k = 0; k < iterations; ++k) {
         ShHandles src = volumes.wavefront, dst = volumes.scratch, acc = volumes.accumulation;
@@ -39,6 +54,9 @@ PropagationVolumes addPropagationPasses(rg::RenderGraph& graph, const Propagator
             "gi.lpv.propagate[" + std::to_string(k) + "]",
             [&](rg::PassBuilder& b) {
                 b.read(gv, Access::ComputeStorageRead);
+                b.read(voxelAlbedo, Access::ComputeSampledRead);
+                if (voxelNormal.index != voxelAlbedo.index)
+                    b.read(voxelNormal, Access::ComputeSampledRead);
                 for (int c = 0; c < 3; ++c) {
                     b.read(src.channel[c], Access::ComputeStorageRead);
                     dst.channel[c] = b.write(dst.channel[c], Access::ComputeStorageWriteDiscard);
@@ -52,7 +70,11 @@ PropagationVolumes addPropagationPasses(rg::RenderGraph& graph, const Propagator
                     d.channel[c] = ctx.view(dst.channel[c]);
                     a.channel[c] = ctx.view(acc.channel[c]);
                 }
-                prop->record(ctx.context(), ctx.cmd(), format, cells, s, d, a, ctx.view(gv), occlusion);
+                PropagateStep bound = step;
+                bound.geometryVolume = ctx.view(gv);
+                bound.voxelAlbedo = ctx.view(voxelAlbedo);
+                bound.voxelNormal = ctx.view(voxelNormal);
+                prop->record(ctx.context(), ctx.cmd(), bound, s, d, a);
             });
         volumes.scratch = src;
         volumes.wavefront = dst;

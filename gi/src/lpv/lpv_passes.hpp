@@ -29,10 +29,20 @@ struct PropagationVolumes {
     ShHandles accumulation; // in: holds the injected light; out: plus every propagated wavefront
 };
 
+// The shared voxel grid (gi/voxel_grid.h) for multi-bounce: albedo and normal volumes (RGBA8,
+// a = occupancy) and where they sit.
+struct VoxelInput {
+    rg::ImageHandle albedo, normal;
+    glm::vec4 originSize{0.0f}; // xyz world min corner, w voxel edge length
+    uint32_t resolution = 0;
+};
+
 // Adds `iterations` propagation passes. `geometryVolume` (cells + 1 texels per axis, RGBA16F)
-// enables occlusion when valid. Returns the updated handles.
+// enables occlusion when valid; `voxels` (valid albedo) enables reflection at occupied voxels,
+// which needs `lpvOrigin` (xyz world min corner, w cell size). Returns the updated handles.
 PropagationVolumes addPropagationPasses(rg::RenderGraph& graph, const Propagator& propagator, glm::ivec3 cells,
                                         VkFormat format, PropagationVolumes volumes, rg::ImageHandle geometryVolume,
-                                        uint32_t iterations);
+                                        uint32_t iterations, const VoxelInput& voxels = {},
+                                        glm::vec4 lpvOrigin = glm::vec4(0.0f));
 
 } // namespace vkgi::gi::lpv

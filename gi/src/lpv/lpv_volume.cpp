@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "engine/context.hpp"
 #include "engine/vk_check.hpp"
 #include "gi/lpv.h"
 
@@ -35,14 +36,16 @@ Result<Propagator> Propagator::create(Context& ctx) {
     Propagator p;
     const char* shaders[2] = {"gi/lpv/propagate_rgba16f.comp", "gi/lpv/propagate_rgba32f.comp"};
     for (int f = 0; f < 2; ++f)
-        for (uint32_t occlusion = 0; occlusion < 2; ++occlusion) {
-            auto pipeline = createComputePipeline(ctx, {shaders[f], {{LPV_SPEC_OCCLUSION, occlusion}}});
-            if (!pipeline) {
-                p.destroy(ctx);
-                return pipeline.error();
+        for (uint32_t occlusion = 0; occlusion < 2; ++occlusion)
+            for (uint32_t bounce = 0; bounce < 2; ++bounce) {
+                auto pipeline = createComputePipeline(
+                    ctx, {shaders[f], {{LPV_SPEC_OCCLUSION, occlusion}, {LPV_SPEC_BOUNCE, bounce}}});
+                if (!pipeline) {
+                    p.destroy(ctx);
+                    return pipeline.error();
+                }
+                p.m_pipelines[f][occlusion][bounce] = *pipeline;
             }
-            p.m_pipelines[f][occlusion] = *pipeline;
-        }
     ImageDesc desc;
     desc.type = VK_IMAGE_TYPE_3D;
     desc.format = kGeometryVolumeFormat;
@@ -50,28 +53,44 @@ Result<Propagator> Propagator::create(Context& ctx) {
     p.m_noGeometry = createImage(ctx, desc, "gi.lpv.gv.none");
     const uint64_t zero = 0;
     uploadImage(ctx, p.m_noGeometry, &zero, sizeof(zero), VK_IMAGE_LAYOUT_GENERAL);
+    desc.format = VK_FORMAT_R8G8B8A8_UNORM;
+    desc.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
+    p.m_noVoxels = createImage(ctx, desc, "gi.lpv.voxels.none");
+    uploadImage(ctx, p.m_noVoxels, &zero, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    SamplerDesc linear;
+    linear.mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    p.m_linear = createSampler(ctx, linear);
     return p;
 }
 
 void Propagator::destroy(Context& ctx) {
     for (auto& byFormat : m_pipelines)
-        for (Pipeline& pipeline : byFormat)
-            if (pipeline.pipeline != VK_NULL_HANDLE)
-                destroyPipeline(ctx, pipeline);
+        for (auto& byOcclusion : byFormat)
+            for (Pipeline& pipeline : byOcclusion)
+                if (pipeline.pipeline != VK_NULL_HANDLE)
+                    destroyPipeline(ctx, pipeline);
     if (m_noGeometry)
         destroyImage(ctx, m_noGeometry);
+    if (m_noVoxels)
+        destroyImage(ctx, m_noVoxels);
+    if (m_linear != VK_NULL_HANDLE) {
+        vkDestroySampler(ctx.device(), m_linear, nullptr);
+        m_linear = VK_NULL_HANDLE;
+    }
 }
 
-void Propagator::record(const Context& ctx, VkCommandBuffer cmd, VkFormat format, glm::ivec3 cells,
-                        const ShViews& src, const ShViews& dst, const ShViews& acc, VkImageView geometryVolume,
-                        bool occlusion) const {
-    GI_ASSERT(isSupportedShFormat(format), "lpv::Propagator::record: SH format must be RGBA16F or RGBA32F");
-    const Pipeline& pipeline = m_pipelines[format == VK_FORMAT_R32G32B32A32_SFLOAT][occlusion];
+void Propagator::record(const Context& ctx, VkCommandBuffer cmd, const PropagateStep& step, const ShViews& src,
+                        const ShViews& dst, const ShViews& acc) const {
+    GI_ASSERT(isSupportedShFormat(step.format), "lpv::Propagator::record: SH format must be RGBA16F or RGBA32F");
+    const Pipeline& pipeline =
+        m_pipelines[step.format == VK_FORMAT_R32G32B32A32_SFLOAT][step.occlusion][step.bounce];
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline);
     gpu::LpvPropagatePush push{};
-    push.gridSize = glm::ivec4(cells, 0);
+    push.gridSize = glm::ivec4(step.cells, 0);
+    push.lpvOrigin = step.lpvOrigin;
+    push.voxelOrigin = step.voxelOrigin;
     pushConstants(cmd, pipeline, &push, sizeof(push));
-    DescriptorItem items[10];
+    DescriptorItem items[12];
     auto storage = [](uint32_t binding, VkImageView view) {
         DescriptorItem item;
         item.binding = binding;
@@ -83,10 +102,15 @@ void Propagator::record(const Context& ctx, VkCommandBuffer cmd, VkFormat format
         items[3 + c] = storage(LPV_BINDING_DST_R + c, dst.channel[c]);
         items[6 + c] = storage(LPV_BINDING_ACC_R + c, acc.channel[c]);
     }
-    items[9] = storage(LPV_BINDING_GV, geometryVolume);
+    items[9] = storage(LPV_BINDING_GV, step.geometryVolume);
+    items[10].binding = LPV_BINDING_VOXEL_ALBEDO;
+    items[10].image = {m_linear, step.voxelAlbedo, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    items[11].binding = LPV_BINDING_VOXEL_NORMAL;
+    items[11].image = {m_linear, step.voxelNormal, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
     pushDescriptors(ctx, cmd, pipeline, items);
-    vkCmdDispatch(cmd, groupCount(uint32_t(cells.x), LPV_LOCAL_SIZE_X), groupCount(uint32_t(cells.y), LPV_LOCAL_SIZE_Y),
-                  groupCount(uint32_t(cells.z), LPV_LOCAL_SIZE_Z));
+    vkCmdDispatch(cmd, groupCount(uint32_t(step.cells.x), LPV_LOCAL_SIZE_X),
+                  groupCount(uint32_t(step.cells.y), LPV_LOCAL_SIZE_Y),
+                  groupCount(uint32_t(step.cells.z), LPV_LOCAL_SIZE_Z));
 }
 
 } // namespace vkgi::gi::lpv

@@ -34,25 +34,42 @@ inline ShViews viewsOf(const ShImages& images) {
 // Geometry-volume storage format (blocking potential SH in [0, 1] per coefficient magnitude).
 constexpr VkFormat kGeometryVolumeFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 
-// The compute pipelines of one propagation step, for both SH formats.
+// What one propagation step binds (views in GENERAL layout, voxel views in
+// SHADER_READ_ONLY_OPTIMAL) besides the three SH volumes.
+struct PropagateStep {
+    glm::ivec3 cells{0};
+    VkFormat format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    bool occlusion = false;  // read the geometry volume (cells + 1 texels per axis, RGBA16F)
+    bool bounce = false;     // reflect at occupied voxels of the shared voxel grid
+    glm::vec4 lpvOrigin{0};  // xyz world min corner, w cell size (bounce only)
+    glm::vec4 voxelOrigin{0}; // xyz world min corner, w 1 / (voxel size * N) (bounce only)
+    VkImageView geometryVolume = VK_NULL_HANDLE; // noGeometry() when !occlusion
+    VkImageView voxelAlbedo = VK_NULL_HANDLE;    // noVoxels() when !bounce
+    VkImageView voxelNormal = VK_NULL_HANDLE;
+};
+
+// The compute pipelines of one propagation step, for both SH formats and every combination of
+// occlusion and bounce (specialization constants, so the free-space step carries no dead code).
 class Propagator {
 public:
     static Result<Propagator> create(Context& ctx);
     void destroy(Context& ctx);
 
-    // One gather step dst = propagate(src), acc += dst, over a grid of `cells`. Every image
-    // must be in GENERAL layout with earlier writes visible. `geometryVolume` has cells + 1
-    // texels per axis and is only read when `occlusion` is set (any RGBA16F 3D view otherwise).
-    void record(const Context& ctx, VkCommandBuffer cmd, VkFormat format, glm::ivec3 cells, const ShViews& src,
-                const ShViews& dst, const ShViews& acc, VkImageView geometryVolume, bool occlusion) const;
+    // One gather step dst = propagate(src), acc += dst. Earlier writes must be visible.
+    void record(const Context& ctx, VkCommandBuffer cmd, const PropagateStep& step, const ShViews& src,
+                const ShViews& dst, const ShViews& acc) const;
 
     // 1^3 RGBA16F image in GENERAL layout, bound as the geometry volume when occlusion is off
-    // (the binding exists in both specializations); never read.
+    // (the binding exists in every specialization); never read.
     const Image& noGeometry() const { return m_noGeometry; }
+    // 1^3 RGBA8 image in SHADER_READ_ONLY_OPTIMAL layout standing in for the voxel grid.
+    const Image& noVoxels() const { return m_noVoxels; }
 
 private:
-    Pipeline m_pipelines[2][2]; // [RGBA32F?][occlusion?]
+    Pipeline m_pipelines[2][2][2]; // [RGBA32F?][occlusion?][bounce?]
     Image m_noGeometry;
+    Image m_noVoxels;
+    VkSampler m_linear = VK_NULL_HANDLE;
 };
 
 } // namespace vkgi::gi::lpv

@@ -3,6 +3,15 @@
 // leaves through (exact face integrals, gi/lpv.h), optionally attenuated by the geometry
 // volume at the shared face, and re-emitted from this cell's centre as a cosine lobe around
 // the face normal. Writes the new wavefront and adds it to the accumulation volume.
+// Multi-bounce (Gaitatzes et al.): where the gathered light enters a voxel occupied by
+// geometry (occupancy a, mean normal n, albedo rho from the shared voxel grid, sampled
+// trilinearly so a is the occupied fraction around the cell centre), that fraction of it does
+// not pass through but is reflected: the flux travelling into the surface's front,
+// Phi = integral over n.w < 0 of U(w) of the light U before GV attenuation (clamped to
+// [0, total flux of U], as 2-band ringing can exceed it), leaves as a Lambertian lobe
+// rho a Phi / pi cosineLobe(n) in the new wavefront and the accumulation; the rest,
+// (1 - a) times the GV-attenuated light, passes. Per step the flux out is at most
+// (1 - a) + a rho of the flux in, so any albedo < 1 keeps it bounded by the no-occlusion energy.
 // Included by propagate_<format>.comp, which defines LPV_FORMAT (storage images that are read
 // must declare their format on lavapipe).
 #extension GL_GOOGLE_include_directive : require
@@ -12,6 +21,7 @@ layout(local_size_x = LPV_LOCAL_SIZE_X, local_size_y = LPV_LOCAL_SIZE_Y, local_s
 layout(push_constant) uniform PushBlock { LpvPropagatePush pc; };
 // Specialised instead of branched on: with the occlusion loop present the free path was ~1.5x slower.
 layout(constant_id = LPV_SPEC_OCCLUSION) const bool kOcclusion = false;
+layout(constant_id = LPV_SPEC_BOUNCE) const bool kBounce = false;
 
 layout(set = 1, binding = LPV_BINDING_SRC_R, LPV_FORMAT) uniform readonly image3D srcR;
 layout(set = 1, binding = LPV_BINDING_SRC_G, LPV_FORMAT) uniform readonly image3D srcG;
@@ -23,6 +33,8 @@ layout(set = 1, binding = LPV_BINDING_ACC_R, LPV_FORMAT) uniform image3D accR;
 layout(set = 1, binding = LPV_BINDING_ACC_G, LPV_FORMAT) uniform image3D accG;
 layout(set = 1, binding = LPV_BINDING_ACC_B, LPV_FORMAT) uniform image3D accB;
 layout(set = 1, binding = LPV_BINDING_GV, rgba16f) uniform readonly image3D geometryVolume;
+layout(set = 1, binding = LPV_BINDING_VOXEL_ALBEDO) uniform sampler3D voxelAlbedo;
+layout(set = 1, binding = LPV_BINDING_VOXEL_NORMAL) uniform sampler3D voxelNormal;
 
 // Mean blocking SH over the 4 GV cells at the corners of the face shared with the source.
 vec4 sharedFaceBlocking(ivec3 p, int i) {
@@ -38,6 +50,7 @@ void main() {
     if (any(greaterThanEqual(p, size)))
         return;
     vec4 sumR = vec4(0.0), sumG = vec4(0.0), sumB = vec4(0.0);
+    vec4 inR = vec4(0.0), inG = vec4(0.0), inB = vec4(0.0); // before GV attenuation (bounce only)
     for (int i = 0; i < 6; ++i) {
         // Clamped load times a 0/1 weight rather than a branch: keeps the 8 lanes convergent.
         ivec3 q = p - lpvAxisStep(i);
@@ -53,11 +66,47 @@ void main() {
         }
         vec4 blocking = sharedFaceBlocking(p, i);
         for (int f = 0; f < 5; ++f) {
-            vec4 w = lpvFaceWeight(i, f) * lpvTransmittance(blocking, lpvFaceDirection(i, f));
+            vec4 open = lpvFaceWeight(i, f);
+            vec4 w = open * lpvTransmittance(blocking, lpvFaceDirection(i, f));
             vec4 lobe = lpvReprojection(lpvFaceNormal(i, f));
             sumR += dot(r, w) * lobe;
             sumG += dot(g, w) * lobe;
             sumB += dot(b, w) * lobe;
+            if (kBounce) {
+                inR += dot(r, open) * lobe;
+                inG += dot(g, open) * lobe;
+                inB += dot(b, open) * lobe;
+            }
+        }
+    }
+    if (kBounce) {
+        if (!kOcclusion) {
+            inR = sumR;
+            inG = sumG;
+            inB = sumB;
+        }
+        vec3 world = pc.lpvOrigin.xyz + (vec3(p) + 0.5) * pc.lpvOrigin.w;
+        vec3 uvw = (world - pc.voxelOrigin.xyz) * pc.voxelOrigin.w;
+        vec4 a = all(greaterThanEqual(uvw, vec3(0.0))) && all(lessThanEqual(uvw, vec3(1.0)))
+                     ? textureLod(voxelAlbedo, uvw, 0.0) : vec4(0.0);
+        if (a.a > 1e-3) {
+            // Filtered encoding n * 0.5 + 0.5 over occupied voxels (empty ones are 0): 2x - a is
+            // the sum of their normals. Where normals cancel (both sides of a thin wall) the
+            // surface faces the light: reflect back against the incoming direction.
+            vec3 n = 2.0 * textureLod(voxelNormal, uvw, 0.0).rgb - a.a;
+            if (dot(n, n) < 1e-4 * a.a * a.a)
+                n = -(inR.yzw + inG.yzw + inB.yzw);
+            if (dot(n, n) > 1e-30) {
+                n = normalize(n);
+                vec3 rho = clamp(a.rgb / a.a, 0.0, 1.0);
+                vec4 emit = shCosineLobe(n) * (a.a / kShPi);
+                vec3 phi = vec3(clamp(shHemisphereIntegral(inR, -n), 0.0, max(shIntegral(inR), 0.0)),
+                                clamp(shHemisphereIntegral(inG, -n), 0.0, max(shIntegral(inG), 0.0)),
+                                clamp(shHemisphereIntegral(inB, -n), 0.0, max(shIntegral(inB), 0.0)));
+                sumR = (1.0 - a.a) * sumR + (rho.r * phi.r) * emit;
+                sumG = (1.0 - a.a) * sumG + (rho.g * phi.g) * emit;
+                sumB = (1.0 - a.a) * sumB + (rho.b * phi.b) * emit;
+            }
         }
     }
     imageStore(dstR, p, sumR);

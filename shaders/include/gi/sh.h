@@ -55,6 +55,12 @@ GI_INLINE float shClampedCosineIntegral(vec4 sh, vec3 n) {
     return dot(sh, shCosineLobe(n));
 }
 
+// Integral of f over the hemisphere of directions w with n.w > 0: band 0 times 2 pi Y00,
+// band 1 times pi Y1 (the integral of w over a hemisphere is pi n). Exact for 2-band f.
+GI_INLINE float shHemisphereIntegral(vec4 sh, vec3 n) {
+    return dot(sh, vec4(2.0f * kShPi * kShY00, (kShPi * kShY1) * n));
+}
+
 GI_NAMESPACE_END
 
 #endif
