@@ -36,12 +36,19 @@ layout(set = 1, binding = LPV_BINDING_GV, rgba16f) uniform readonly image3D geom
 layout(set = 1, binding = LPV_BINDING_VOXEL_ALBEDO) uniform sampler3D voxelAlbedo;
 layout(set = 1, binding = LPV_BINDING_VOXEL_NORMAL) uniform sampler3D voxelNormal;
 
-// Mean blocking SH over the 4 GV cells at the corners of the face shared with the source.
-vec4 sharedFaceBlocking(ivec3 p, int i) {
-    ivec3 c = lpvSharedFaceCorner(p, i);
-    ivec3 eb = lpvUnitAxis(((i >> 1) + 1) % 3), ec = lpvUnitAxis(((i >> 1) + 2) % 3);
-    return 0.25 * (imageLoad(geometryVolume, c) + imageLoad(geometryVolume, c + eb) +
-                   imageLoad(geometryVolume, c + ec) + imageLoad(geometryVolume, c + eb + ec));
+// Mean blocking SH over the 4 GV cells at the corners of each of the cell's 6 faces (the face
+// shared with the source of gather direction i is faces[i]). The 8 corners are loaded once:
+// every corner belongs to 3 faces (3x fewer loads than per face).
+void faceBlocking(ivec3 p, out vec4 faces[6]) {
+    vec4 c[8];
+    for (int k = 0; k < 8; ++k)
+        c[k] = imageLoad(geometryVolume, p + ivec3(k & 1, (k >> 1) & 1, k >> 2));
+    faces[0] = 0.25 * (c[0] + c[2] + c[4] + c[6]); // lower x (source at -x, light travels +x)
+    faces[1] = 0.25 * (c[1] + c[3] + c[5] + c[7]);
+    faces[2] = 0.25 * (c[0] + c[1] + c[4] + c[5]);
+    faces[3] = 0.25 * (c[2] + c[3] + c[6] + c[7]);
+    faces[4] = 0.25 * (c[0] + c[1] + c[2] + c[3]);
+    faces[5] = 0.25 * (c[4] + c[5] + c[6] + c[7]);
 }
 
 void main() {
@@ -51,6 +58,9 @@ void main() {
         return;
     vec4 sumR = vec4(0.0), sumG = vec4(0.0), sumB = vec4(0.0);
     vec4 inR = vec4(0.0), inG = vec4(0.0), inB = vec4(0.0); // before GV attenuation (bounce only)
+    vec4 faces[6];
+    if (kOcclusion)
+        faceBlocking(p, faces);
     for (int i = 0; i < 6; ++i) {
         // Clamped load times a 0/1 weight rather than a branch: keeps the 8 lanes convergent.
         ivec3 q = p - lpvAxisStep(i);
@@ -64,7 +74,7 @@ void main() {
             sumB += lpvPropagateFree(b, d);
             continue;
         }
-        vec4 blocking = sharedFaceBlocking(p, i);
+        vec4 blocking = faces[i];
         for (int f = 0; f < 5; ++f) {
             vec4 open = lpvFaceWeight(i, f);
             vec4 w = open * lpvTransmittance(blocking, lpvFaceDirection(i, f));
