@@ -6,6 +6,8 @@
 
 #include "engine/frame_constants.hpp"
 #include "engine/pipeline.hpp"
+#include "engine/rg/render_graph.hpp"
+#include "engine/rg/transient_pool.hpp"
 #include "engine/resources.hpp"
 #include "engine/vk_check.hpp"
 #include "support/gpu_fixture.hpp"
@@ -257,6 +259,33 @@ TEST_F(ComputeSmoke, FrameConstantsReachTheShader) {
     EXPECT_EQ(v[1], fc.cameraPosition);
     EXPECT_EQ(v[2], glm::vec4(256, 128, 7, 3));
     EXPECT_EQ(v[3], fc.sceneMax);
+    destroyBuffer(ctx(), out);
+    destroyPipeline(ctx(), *pipeline);
+}
+
+// Inside the render graph, dispatch() binds the frame set by itself for shaders that read it.
+TEST_F(ComputeSmoke, GraphDispatchBindsTheFrameSet) {
+    auto pipeline = createComputePipeline(ctx(), {"engine/frame_smoke.comp", {}});
+    ASSERT_TRUE(pipeline) << pipeline.error().message;
+    FrameConstantsRing ring(ctx(), 1);
+    gpu::FrameConstants fc{};
+    fc.cameraPosition = glm::vec4(1.0f, 2.0f, 3.0f, 4.0f);
+    fc.resolution = glm::uvec4(64, 32, 1, 0);
+    rg::TransientPool pool(ctx());
+    rg::RenderGraph graph;
+    graph.setFrameSet(ring.next(fc));
+    Buffer out = createBuffer(ctx(), {4 * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT}, "frame.graph.out");
+    rg::BufferHandle h = graph.importBuffer("out", out, rg::Access::None);
+    graph.addPass(
+        "frame.copy", [&](rg::PassBuilder& b) { h = b.write(h, rg::Access::ComputeStorageWrite); },
+        [h, p = &*pipeline](rg::PassContext& pc) { pc.dispatch(*p, {1, 1, 1}, {pc.buffer(0, h)}); });
+    graph.exportBuffer(h, rg::Access::HostRead);
+    ASSERT_TRUE(graph.compile());
+    ctx().submitAndWait([&](VkCommandBuffer cmd) { graph.execute(cmd, ctx(), pool); });
+    auto bytes = readbackBuffer(ctx(), out);
+    const auto* v = reinterpret_cast<const glm::vec4*>(bytes.data());
+    EXPECT_EQ(v[1], fc.cameraPosition);
+    EXPECT_EQ(v[2], glm::vec4(64, 32, 1, 0));
     destroyBuffer(ctx(), out);
     destroyPipeline(ctx(), *pipeline);
 }

@@ -3,6 +3,7 @@
 #include <span>
 
 #include "engine/context.hpp"
+#include "engine/frame_constants.hpp"
 #include "engine/rg/render_graph.hpp"
 #include "engine/vk_check.hpp"
 
@@ -68,11 +69,19 @@ DescriptorItem PassContext::buffer(uint32_t binding, BufferHandle h) const {
 void PassContext::dispatchRaw(const Pipeline& pipeline, glm::uvec3 groups, const void* push, uint32_t pushSize,
                               std::initializer_list<DescriptorItem> items) const {
     vkCmdBindPipeline(m_cmd, pipeline.bindPoint, pipeline.pipeline);
+    if (pipeline.findBinding(GI_FRAME_SET, GI_FRAME_BINDING))
+        bindFrameSet(pipeline);
     if (items.size() > 0)
         pushDescriptors(m_ctx, m_cmd, pipeline, std::span<const DescriptorItem>(items.begin(), items.size()));
     if (pushSize > 0 || pipeline.pushConstantSize > 0)
         pushConstants(m_cmd, pipeline, push, pushSize);
     vkCmdDispatch(m_cmd, groups.x, groups.y, groups.z);
+}
+
+void PassContext::bindFrameSet(const Pipeline& pipeline) const {
+    GI_ASSERT(m_graph.frameSet() != VK_NULL_HANDLE,
+              "a pass uses FrameConstants but RenderGraph::setFrameSet was not called");
+    vkgi::bindFrameSet(m_cmd, pipeline, m_graph.frameSet());
 }
 
 glm::uvec3 PassContext::groupsFor(const Pipeline& pipeline, glm::uvec3 threads) {

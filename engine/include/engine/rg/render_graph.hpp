@@ -229,6 +229,8 @@ public:
     void dispatch(const Pipeline& pipeline, glm::uvec3 groups, std::initializer_list<DescriptorItem> items) const {
         dispatchRaw(pipeline, groups, nullptr, 0, items);
     }
+    // Binds the graph's frame set (RenderGraph::setFrameSet) as set 0 of `pipeline`.
+    void bindFrameSet(const Pipeline& pipeline) const;
     // Work groups covering `threads` invocations with the pipeline's local size.
     static glm::uvec3 groupsFor(const Pipeline& pipeline, glm::uvec3 threads);
 
@@ -305,6 +307,10 @@ public:
     void execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool, TimestampPool* timestamps = nullptr);
     // Per-pass GPU time of the last execute(); call after its submit has finished.
     std::vector<PassTiming> timings() const;
+    // Set 0 (FrameConstants) for this frame: PassContext::dispatch binds it for every pipeline
+    // whose shaders read the frame constants; graphics passes call PassContext::bindFrameSet.
+    void setFrameSet(VkDescriptorSet set) { m_frameSet = set; }
+    VkDescriptorSet frameSet() const { return m_frameSet; }
     // Transient bytes per pass of the last execute() (actual allocation sizes).
     const MemoryReport& memoryReport() const { return m_memory; }
 
@@ -371,6 +377,7 @@ private:
     TimestampPool* m_timestamps = nullptr;
     std::vector<uint32_t> m_timedPasses;
     MemoryReport m_memory;
+    VkDescriptorSet m_frameSet = VK_NULL_HANDLE;
 };
 
 } // namespace vkgi::rg
