@@ -1,0 +1,57 @@
+#include "lpv/lpv_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace vkgi::gi::lpv {
+
+Result<gpu::LpvGrid> fitLpvGrid(const Aabb& region, uint32_t cells) {
+    glm::vec3 extent = region.extent();
+    bool finite = std::isfinite(extent.x) && std::isfinite(extent.y) && std::isfinite(extent.z) &&
+                  std::isfinite(region.min.x) && std::isfinite(region.min.y) && std::isfinite(region.min.z);
+    if (!region.valid() || !finite)
+        return makeError("LPV grid: the region to cover is empty or not finite");
+    if (cells < 1)
+        return makeError("LPV grid: needs at least 1 cell per axis");
+    float longest = std::max({extent.x, extent.y, extent.z});
+    // A flat or point-like region still gets a usable cell (1 mm per cell at the least).
+    float span = cells > 2 ? float(cells - 2) : float(cells);
+    float cell = std::max(longest / span, 1e-3f);
+    gpu::LpvGrid grid{};
+    glm::vec3 origin = region.centre() - 0.5f * cell * float(cells);
+    grid.origin = glm::vec4(origin, cell);
+    grid.size = glm::ivec4(int(cells), int(cells), int(cells), 0);
+    return grid;
+}
+
+Aabb litRegion(const Aabb& bounds, const std::vector<Light>& lights) {
+    Aabb lit;
+    for (const Light& light : lights) {
+        if (light.type == LightType::Directional || !(light.range > 0.0f) || !std::isfinite(light.range))
+            return bounds;
+        lit.extend(light.position - glm::vec3(light.range));
+        lit.extend(light.position + glm::vec3(light.range));
+    }
+    if (!lit.valid() || !bounds.valid())
+        return Aabb{};
+    Aabb clipped;
+    clipped.min = glm::max(bounds.min, lit.min);
+    clipped.max = glm::min(bounds.max, lit.max);
+    return clipped.valid() ? clipped : Aabb{};
+}
+
+std::vector<gpu::LpvGrid> fitCascades(glm::vec3 eye, float finest, uint32_t cells, uint32_t count) {
+    std::vector<gpu::LpvGrid> grids;
+    float cell = finest;
+    for (uint32_t level = 0; level < count; ++level, cell *= 2.0f) {
+        glm::vec3 origin = glm::floor(eye / cell - 0.5f * float(cells)) * cell; // whole cells of this level
+        gpu::LpvGrid g{};
+        g.origin = glm::vec4(origin, cell);
+        g.size = glm::ivec4(int(cells), int(cells), int(cells), 0);
+        grids.push_back(g);
+    }
+    return grids;
+}
+
+} // namespace vkgi::gi::lpv

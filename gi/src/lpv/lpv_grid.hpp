@@ -1,0 +1,29 @@
+#pragma once
+// Where LPVs sit in the world: one volume fitted to the lit part of the scene (point and spot
+// lights with a finite range only light their range), or nested camera-centred cascades for
+// scenes lit by directional lights. Pure CPU.
+#include <cstdint>
+#include <vector>
+
+#include "engine/result.hpp"
+#include "engine/scene.hpp"
+#include "gi/lpv_passes.h"
+
+namespace vkgi::gi::lpv {
+
+// A cubic-cell grid of `cells`^3 around `region`: the longest side spans cells - 2 cells (one
+// cell of margin on every side, so the half-cell injection offset and the GV corners of surfaces
+// on the region's faces stay inside), centred. Errors on an empty or non-finite region.
+Result<gpu::LpvGrid> fitLpvGrid(const Aabb& region, uint32_t cells);
+
+// The part of `bounds` the scene's lights can reach: the whole bounds when any light is
+// directional or has an infinite range, else the bounds clipped to the union of the range
+// boxes of the point and spot lights. Invalid when nothing is lit.
+Aabb litRegion(const Aabb& bounds, const std::vector<Light>& lights);
+
+// `count` nested grids of `cells`^3 centred on `eye`, cell size doubling per level from
+// `finest`; origins snap to whole cells of their level so a moving camera does not make the
+// volumes shimmer. Level 0 is the finest.
+std::vector<gpu::LpvGrid> fitCascades(glm::vec3 eye, float finest, uint32_t cells, uint32_t count);
+
+} // namespace vkgi::gi::lpv

@@ -1,0 +1,83 @@
+// LPV placement: a grid fitted to the lit region with one cell of margin, the lit region of
+// ranged point/spot lights, and camera-following cascades snapped to whole cells.
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "lpv/lpv_grid.hpp"
+
+using namespace vkgi;
+using namespace vkgi::gi::lpv;
+
+namespace {
+Aabb box(glm::vec3 lo, glm::vec3 hi) {
+    Aabb b;
+    b.extend(lo);
+    b.extend(hi);
+    return b;
+}
+} // namespace
+
+TEST(LpvGrid, FitLeavesOneCellOfMarginAroundTheLongestSide) {
+    auto g = fitLpvGrid(box({-1, 0, -2}, {1, 3, 2}), 34); // longest side 4 m over 32 cells
+    ASSERT_TRUE(g) << g.error().message;
+    EXPECT_FLOAT_EQ(g->origin.w, 0.125f);
+    EXPECT_EQ(g->size, glm::ivec4(34, 34, 34, 0));
+    glm::vec3 lo(g->origin), hi = lo + 34.0f * g->origin.w;
+    EXPECT_FLOAT_EQ(lo.z, -2.0f - 0.125f); // exactly one cell of margin on the longest axis
+    EXPECT_FLOAT_EQ(hi.z, 2.0f + 0.125f);
+    EXPECT_FLOAT_EQ(0.5f * (lo.y + hi.y), 1.5f); // centred on the others
+}
+
+TEST(LpvGrid, DegenerateRegionsAreErrorsOrStillUsable) {
+    EXPECT_FALSE(fitLpvGrid(Aabb{}, 32));
+    EXPECT_FALSE(fitLpvGrid(box({0, 0, 0}, {std::numeric_limits<float>::infinity(), 1, 1}), 32));
+    auto point = fitLpvGrid(box({1, 1, 1}, {1, 1, 1}), 1); // a 1^3 grid around a point
+    ASSERT_TRUE(point);
+    EXPECT_GT(point->origin.w, 0.0f);
+    EXPECT_EQ(point->size.x, 1);
+}
+
+TEST(LpvGrid, RangedLightsOnlyLightTheirRange) {
+    Aabb scene = box({-10, -10, -10}, {10, 10, 10});
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.position = {8, 0, 0};
+    spot.range = 4.0f;
+    Aabb lit = litRegion(scene, {spot});
+    EXPECT_EQ(lit.min, glm::vec3(4, -4, -4));
+    EXPECT_EQ(lit.max, glm::vec3(10, 4, 4)); // clipped to the scene
+    Light sun;
+    sun.type = LightType::Directional;
+    EXPECT_EQ(litRegion(scene, {spot, sun}).min, scene.min); // a sun lights everything
+    Light unbounded;
+    unbounded.range = 0.0f; // glTF: 0 = infinite
+    EXPECT_EQ(litRegion(scene, {unbounded}).max, scene.max);
+    spot.position = {30, 0, 0};
+    EXPECT_FALSE(litRegion(scene, {spot}).valid()); // the light reaches no geometry
+}
+
+TEST(LpvGrid, CascadesNestAndSnapToWholeCells) {
+    auto c = fitCascades({0.3f, 1.7f, -2.2f}, 0.25f, 32, 3);
+    ASSERT_EQ(c.size(), 3u);
+    for (size_t k = 0; k < c.size(); ++k) {
+        float cell = c[k].origin.w;
+        EXPECT_FLOAT_EQ(cell, 0.25f * float(1 << k));
+        for (int a = 0; a < 3; ++a) {
+            float o = c[k].origin[a] / cell;
+            EXPECT_FLOAT_EQ(o, std::round(o)) << "level " << k << " axis " << a;
+            // the eye lies within one cell of the centre of every level
+            EXPECT_NEAR(c[k].origin[a] + 16.0f * cell, glm::vec3(0.3f, 1.7f, -2.2f)[a], cell);
+        }
+        if (k > 0) { // each level contains the finer one
+            for (int a = 0; a < 3; ++a) {
+                EXPECT_LE(c[k].origin[a], c[k - 1].origin[a]);
+                EXPECT_GE(c[k].origin[a] + 32.0f * c[k].origin.w, c[k - 1].origin[a] + 32.0f * c[k - 1].origin.w);
+            }
+        }
+    }
+    // Moving the eye by less than a cell keeps the finest grid where it was.
+    auto moved = fitCascades({0.31f, 1.7f, -2.2f}, 0.25f, 32, 1);
+    EXPECT_EQ(moved[0].origin, c[0].origin);
+}
