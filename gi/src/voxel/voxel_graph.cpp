@@ -49,10 +49,29 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
                                  VoxelUpdate update) {
     VolumeHandles out = importVolumes(graph, grid.volumesState(), "gi.voxel.grid");
     VoxelGridData data{out.albedo, out.normal, out.emission, grid.params()};
-    if (update == VoxelUpdate::None)
+    bool anyDynamic = false;
+    for (const VoxelDraw& d : scene.draws)
+        anyDynamic = anyDynamic || (d.dynamic && d.triangleCount > 0);
+    // Without dynamic draws the grid only changes with the scene: a Dynamic update has nothing to do.
+    if (update == VoxelUpdate::None || (update == VoxelUpdate::Dynamic && !anyDynamic))
         return data;
     const VoxelGrid* g = &grid;
     rg::ImageHandle accum = graph.importImage("gi.voxel.accumulation", grid.accumulationState());
+    if (!anyDynamic) {
+        // Static scene: one voxelization straight into the grid (no static copy, no merge).
+        accum = addClear(graph, g, accum, "gi.voxel.clear");
+        accum = addVoxelize(graph, g, scene, accum, VoxelDrawSet::All, "gi.voxel.voxelize");
+        graph.addPass(
+            "gi.voxel.resolve",
+            [&](rg::PassBuilder& b) {
+                b.read(accum, Access::ComputeStorageRead);
+                data.albedo = b.write(data.albedo, Access::ComputeStorageWriteDiscard);
+                data.normal = b.write(data.normal, Access::ComputeStorageWriteDiscard);
+                data.emission = b.write(data.emission, Access::ComputeStorageWriteDiscard);
+            },
+            [g](rg::PassContext& ctx) { g->recordResolve(ctx.cmd(), g->volumes()); });
+        return data;
+    }
     VolumeHandles st = importVolumes(graph, grid.staticState(), "gi.voxel.static");
     if (update == VoxelUpdate::Full) {
         accum = addClear(graph, g, accum, "gi.voxel.clear.static");

@@ -34,7 +34,9 @@ struct VoxelSceneHandles {
 enum class VoxelUpdate {
     None,    // nothing moved: the grid from the last frame is reused (no pass)
     Dynamic, // dynamic draws moved: clear + re-voxelize them, merge under the static voxels
-    Full,    // first frame or new scene: bake the static draws once, then as Dynamic
+             // (nothing to do in a scene without dynamic draws)
+    Full,    // first frame or new scene: bake the static draws once, then as Dynamic (a scene
+             // without dynamic draws is voxelized straight into the grid)
 };
 
 // Imports the grid and adds "gi.voxel.*" passes for `update`.

@@ -81,6 +81,20 @@ float chooseRadianceScale(float maxRadiance) {
     return std::ldexp(1.0f, -int(std::ceil(std::log2(maxRadiance))));
 }
 
+float sceneMaxRadiance(const Scene& scene, float voxelSize) {
+    constexpr float kInvPi = 0.318309886f;
+    float maxRadiance = 0.0f;
+    for (const Material& m : scene.materials)
+        maxRadiance = std::max(maxRadiance, std::max(m.emission.x, std::max(m.emission.y, m.emission.z)));
+    float halfVoxel2 = 0.25f * voxelSize * voxelSize;
+    for (const Light& l : scene.lights) {
+        float c = l.intensity * std::max(l.color.x, std::max(l.color.y, l.color.z));
+        float e = l.type == LightType::Directional ? c : c / halfVoxel2;
+        maxRadiance = std::max(maxRadiance, e * kInvPi);
+    }
+    return maxRadiance;
+}
+
 Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::VoxelGridParams& params) {
     uint32_t n = params.dims.x;
     if (n < GI_VOXEL_MIN_RESOLUTION || n > GI_VOXEL_MAX_RESOLUTION || (n & (n - 1)) != 0)

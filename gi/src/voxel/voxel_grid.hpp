@@ -25,6 +25,11 @@ Result<gpu::VoxelGridParams> fitVoxelGrid(const Aabb& box, uint32_t resolution, 
 // values stay within half-float range for any scene brightness (1e-6 .. 1e9 nits).
 float chooseRadianceScale(float maxRadiance);
 
+// Brightest radiance the voxel volumes can hold for `scene` with voxels of edge `voxelSize`:
+// the largest emission, and for each light the radiance of a white Lambertian surface at half a
+// voxel from it (the closest a voxel centre gets), I / (voxel/2)^2 / pi, or lux / pi.
+float sceneMaxRadiance(const Scene& scene, float voxelSize);
+
 // One draw of the GPU scene as the voxelizer sees it (mirrors GpuDraw of engine/gpu_scene.hpp).
 struct VoxelDraw {
     uint32_t instance = 0;
