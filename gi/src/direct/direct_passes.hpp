@@ -1,0 +1,101 @@
+#pragma once
+// The shared passes every technique builds on: G-buffer, per-light shadow map (+ RSM),
+// deferred direct lighting, composite and readback. One source file per pass; this header is
+// private to gi/.
+#include <vector>
+
+#include "engine/gpu_scene.hpp"
+#include "engine/pipeline.hpp"
+#include "engine/rg/render_graph.hpp"
+#include "gi/direct_types.h"
+#include "gi/frame_data.hpp"
+#include "gi/gi.hpp"
+
+namespace vkgi::gi {
+
+struct DirectPipelines {
+    Pipeline gbuffer;
+    Pipeline shadow;
+    Pipeline rsm;
+    Pipeline deferred;
+    Pipeline composite;
+    VkSampler pointSampler = VK_NULL_HANDLE;  // texelFetch-only images still need a sampler
+    VkSampler shadowSampler = VK_NULL_HANDLE; // depth compare, bilinear (PCF)
+};
+Result<DirectPipelines> createDirectPipelines(Context& ctx);
+void destroyDirectPipelines(Context& ctx, DirectPipelines& p);
+
+// G-buffer formats (documented in gi/frame_data.hpp).
+constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+constexpr VkFormat kPositionFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+constexpr VkFormat kNormalFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+constexpr VkFormat kAlbedoFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+constexpr VkFormat kEmissionFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+constexpr VkFormat kRadianceFormat = VK_FORMAT_R32G32B32A32_SFLOAT; // 32F: 1e9 cd stays finite
+constexpr VkFormat kRsmFluxFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // per-texel flux ~1e-5 I: below half's normals
+
+// Which lights get which atlas layers, and each layer's projection. Pure CPU.
+struct LightShadowPlan {
+    uint32_t light = 0;
+    uint32_t kind = GI_SHADOW_NONE;
+    uint32_t firstLayer = 0;
+    uint32_t layerCount = 0;
+    uint32_t faceMask = 0; // cube faces that can see the light's cone (others are only cleared)
+};
+struct ShadowLayout {
+    std::vector<LightShadowPlan> lights;    // one per scene light
+    std::vector<gpu::GpuShadowView> views;  // one per layer
+    std::vector<ShadowLayer> layers;        // one per layer
+    uint32_t resolution = 0;
+};
+ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers);
+
+// Persistent shadow atlas and RSM arrays (recreated when the layer count or size changes), with
+// one 2D view per layer for rendering and 2D-array views for sampling.
+struct ShadowTargets {
+    rg::PersistentImage atlas;
+    rg::PersistentImage rsmPosition;
+    rg::PersistentImage rsmNormal;
+    rg::PersistentImage rsmFlux;
+    std::vector<VkImageView> atlasLayers;
+    std::vector<VkImageView> rsmLayers[3]; // position, normal, flux
+    uint32_t layers = 0;
+    uint32_t resolution = 0;
+    bool rsm = false;
+    VkDeviceSize bytes() const;
+};
+void ensureShadowTargets(Context& ctx, ShadowTargets& t, uint32_t layers, uint32_t resolution, bool rsm);
+void destroyShadowTargets(Context& ctx, ShadowTargets& t);
+
+SceneHandles importScene(rg::RenderGraph& graph, const GpuScene& scene);
+
+GBufferData addGBufferPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame,
+                           const SceneHandles& scene);
+
+// One pass per shadowed light ("gi.light[i].spot|point|directional"), writing the atlas layers
+// of that light and, when `rsm`, the RSM arrays. Adds ShadowData (and RsmData) to `blackboard`.
+void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const DirectPipelines& p,
+                    const FrameData& frame, const SceneHandles& scene, const ShadowLayout& layout,
+                    ShadowTargets& targets, bool rsm);
+
+DirectData addDeferredPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame,
+                           const SceneHandles& scene, const GBufferData& gbuffer, const ShadowData& shadow);
+
+CompositeData addCompositePass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame,
+                               rg::ImageHandle direct, rg::ImageHandle indirect);
+
+// Copies an RGBA32F image into `dst` (host-visible, width*height*16 bytes) after the frame.
+void addReadbackPass(rg::RenderGraph& graph, const std::string& name, rg::ImageHandle image, const Buffer& dst);
+// Converts a readback buffer to an HdrImage (RGB of the RGBA32F texels).
+HdrImage readbackToImage(const Buffer& src, uint32_t width, uint32_t height);
+
+// One indexed draw per instance of `scene` with `push` (info.x set per draw); pipeline and set 1
+// must be bound.
+void drawScene(VkCommandBuffer cmd, const Pipeline& pipeline, const GpuScene& scene, VkBuffer indices,
+               gpu::RasterPush push);
+
+// Begins dynamic rendering of a full-extent area with cleared attachments (colour 0, depth 1).
+void beginRendering(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<VkImageView>& colors,
+                    VkImageView depth);
+
+} // namespace vkgi::gi

@@ -1,0 +1,208 @@
+// Per-light shadow map and (on request) reflective shadow map, in one pass per light: the
+// depth and the RSM targets of the light's atlas layers are written by the same draws.
+#include <memory>
+#include <string>
+
+#include "direct/direct_passes.hpp"
+
+namespace vkgi::gi {
+
+namespace {
+
+using rg::Access;
+
+const char* lightTypeName(LightType t) {
+    switch (t) {
+    case LightType::Directional: return "directional";
+    case LightType::Point: return "point";
+    case LightType::Spot: return "spot";
+    }
+    return "light";
+}
+
+struct ShadowTables {
+    std::vector<gpu::GpuShadowView> views;
+    std::vector<gpu::GpuLightShadow> lights;
+};
+
+// vkCmdUpdateBuffer takes at most 64 KiB per call.
+void updateBuffer(VkCommandBuffer cmd, VkBuffer buffer, const void* data, size_t bytes) {
+    constexpr size_t kChunk = 65536;
+    for (size_t offset = 0; offset < bytes; offset += kChunk)
+        vkCmdUpdateBuffer(cmd, buffer, offset, std::min(kChunk, bytes - offset),
+                          static_cast<const uint8_t*>(data) + offset);
+}
+
+struct AtlasHandles {
+    rg::ImageHandle atlas, position, normal, flux;
+};
+
+struct SetupPass {
+    ShadowTables tables;
+    AtlasHandles h;
+    rg::BufferHandle views, lightShadows;
+    bool clear = false;
+    bool rsm = false;
+};
+
+void recordSetup(const SetupPass& d, rg::PassContext& pc) {
+    VkCommandBuffer cmd = pc.cmd();
+    updateBuffer(cmd, pc.buffer(d.views).buffer, d.tables.views.data(),
+                 d.tables.views.size() * sizeof(gpu::GpuShadowView));
+    updateBuffer(cmd, pc.buffer(d.lightShadows).buffer, d.tables.lights.data(),
+                 d.tables.lights.size() * sizeof(gpu::GpuLightShadow));
+    if (!d.clear)
+        return;
+    VkImageSubresourceRange depthRange{VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, VK_REMAINING_ARRAY_LAYERS};
+    VkClearDepthStencilValue one{1.0f, 0};
+    vkCmdClearDepthStencilImage(cmd, pc.image(d.h.atlas).image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &one, 1,
+                                &depthRange);
+    if (!d.rsm)
+        return;
+    VkImageSubresourceRange colorRange{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, VK_REMAINING_ARRAY_LAYERS};
+    VkClearColorValue zero{};
+    for (rg::ImageHandle img : {d.h.position, d.h.normal, d.h.flux})
+        vkCmdClearColorImage(cmd, pc.image(img).image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &zero, 1, &colorRange);
+}
+
+// Writes the per-frame shadow tables; when no light has layers, also clears the atlas (and RSM)
+// so the deferred pass and RSM consumers read defined contents.
+void addSetupPass(rg::RenderGraph& graph, const ShadowLayout& layout, uint32_t lightCount, bool rsm,
+                  AtlasHandles& h, rg::BufferHandle& views, rg::BufferHandle& lightShadows) {
+    const SetupPass& pass = graph.addPass<SetupPass>(
+        "gi.shadow.setup",
+        [&](rg::PassBuilder& b, SetupPass& d) {
+            d.tables.views = layout.views;
+            if (d.tables.views.empty())
+                d.tables.views.push_back(gpu::GpuShadowView{});
+            for (const LightShadowPlan& plan : layout.lights)
+                d.tables.lights.push_back({glm::uvec4(plan.firstLayer, plan.layerCount, plan.kind, 0u)});
+            d.tables.lights.resize(std::max<size_t>(lightCount, 1));
+            d.clear = layout.views.empty();
+            d.rsm = rsm;
+            d.h = h;
+            d.views = b.write(b.create("gi.shadow.views", BufferDesc{d.tables.views.size() * sizeof(gpu::GpuShadowView)}),
+                              Access::TransferWrite);
+            d.lightShadows = b.write(
+                b.create("gi.shadow.lights", BufferDesc{d.tables.lights.size() * sizeof(gpu::GpuLightShadow)}),
+                Access::TransferWrite);
+            if (d.clear) {
+                d.h.atlas = b.write(h.atlas, Access::TransferWrite);
+                if (rsm) {
+                    d.h.position = b.write(h.position, Access::TransferWrite);
+                    d.h.normal = b.write(h.normal, Access::TransferWrite);
+                    d.h.flux = b.write(h.flux, Access::TransferWrite);
+                }
+            }
+        },
+        recordSetup);
+    h = pass.h;
+    views = pass.views;
+    lightShadows = pass.lightShadows;
+}
+
+struct LightPassInfo {
+    const Pipeline* pipeline = nullptr;
+    const GpuScene* scene = nullptr;
+    VkSampler textureSampler = VK_NULL_HANDLE;
+    SceneHandles sceneHandles;
+    std::vector<gpu::RasterPush> faces; // one per layer
+    std::vector<std::vector<VkImageView>> colors;
+    std::vector<VkImageView> depths;
+    uint32_t faceMask = 0;
+    uint32_t resolution = 0;
+    bool rsm = false;
+};
+
+void recordLightPass(const LightPassInfo& info, rg::PassContext& pc) {
+    VkCommandBuffer cmd = pc.cmd();
+    VkExtent2D extent{info.resolution, info.resolution};
+    for (size_t f = 0; f < info.faces.size(); ++f) {
+        beginRendering(cmd, extent, info.colors[f], info.depths[f]);
+        if (info.faceMask & (1u << f)) { // faces that cannot see the cone are only cleared
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, info.pipeline->pipeline);
+            const SceneHandles& s = info.sceneHandles;
+            if (info.rsm) {
+                DescriptorItem items[5] = {pc.buffer(0, s.vertices), pc.buffer(1, s.instances),
+                                           pc.buffer(2, s.materials), pc.sampled(3, s.textures, info.textureSampler),
+                                           pc.buffer(4, s.lights)};
+                pushDescriptors(pc.context(), cmd, *info.pipeline, items);
+            } else {
+                DescriptorItem items[2] = {pc.buffer(0, s.vertices), pc.buffer(1, s.instances)};
+                pushDescriptors(pc.context(), cmd, *info.pipeline, items);
+            }
+            drawScene(cmd, *info.pipeline, *info.scene, pc.buffer(s.indices).buffer, info.faces[f]);
+        }
+        vkCmdEndRendering(cmd);
+    }
+}
+
+void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame, const SceneHandles& scene,
+                  const ShadowLayout& layout, const LightShadowPlan& plan, const ShadowTargets& targets, bool rsm,
+                  AtlasHandles& h) {
+    auto info = std::make_shared<LightPassInfo>();
+    info->pipeline = rsm ? &p.rsm : &p.shadow;
+    info->scene = frame.gpuScene;
+    info->textureSampler = frame.gpuScene->textureSampler;
+    info->sceneHandles = scene;
+    info->faceMask = plan.faceMask;
+    info->resolution = layout.resolution;
+    info->rsm = rsm;
+    for (uint32_t f = 0; f < plan.layerCount; ++f) {
+        uint32_t layer = plan.firstLayer + f;
+        const gpu::GpuShadowView& v = layout.views[layer];
+        info->faces.push_back({v.viewProj, v.eye, v.axisArea, glm::uvec4(0u, plan.light, layer, 0u)});
+        info->depths.push_back(targets.atlasLayers[layer]);
+        info->colors.push_back(rsm ? std::vector<VkImageView>{targets.rsmLayers[0][layer], targets.rsmLayers[1][layer],
+                                                              targets.rsmLayers[2][layer]}
+                                   : std::vector<VkImageView>{});
+    }
+    const Light& light = frame.scene->lights[plan.light];
+    std::string name = "gi.light[" + std::to_string(plan.light) + "]." + lightTypeName(light.type);
+    graph.addPass(
+        std::move(name),
+        [&](rg::PassBuilder& b) {
+            rg::SubresourceRange layers{0, 1, plan.firstLayer, plan.layerCount};
+            h.atlas = b.write(h.atlas, Access::DepthAttachmentWrite, layers);
+            if (rsm) {
+                h.position = b.write(h.position, Access::ColorAttachmentWrite, layers);
+                h.normal = b.write(h.normal, Access::ColorAttachmentWrite, layers);
+                h.flux = b.write(h.flux, Access::ColorAttachmentWrite, layers);
+                b.read(scene.materials, Access::FragmentStorageRead);
+                b.read(scene.textures, Access::FragmentSampledRead);
+                b.read(scene.lights, Access::FragmentStorageRead);
+            }
+            b.read(scene.vertices, Access::VertexShaderStorageRead);
+            b.read(scene.instances, Access::VertexShaderStorageRead);
+            b.read(scene.indices, Access::IndexBufferRead);
+        },
+        [info](rg::PassContext& pc) { recordLightPass(*info, pc); });
+}
+
+} // namespace
+
+void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const DirectPipelines& p,
+                    const FrameData& frame, const SceneHandles& scene, const ShadowLayout& layout,
+                    ShadowTargets& targets, bool rsm) {
+    AtlasHandles h;
+    h.atlas = graph.importImage("gi.shadow.atlas", targets.atlas);
+    if (rsm) {
+        h.position = graph.importImage("gi.rsm.position", targets.rsmPosition);
+        h.normal = graph.importImage("gi.rsm.normal", targets.rsmNormal);
+        h.flux = graph.importImage("gi.rsm.flux", targets.rsmFlux);
+    }
+    ShadowData shadow;
+    addSetupPass(graph, layout, uint32_t(frame.scene->lights.size()), rsm, h, shadow.views, shadow.lightShadows);
+    for (const LightShadowPlan& plan : layout.lights)
+        if (plan.kind != GI_SHADOW_NONE)
+            addLightPass(graph, p, frame, scene, layout, plan, targets, rsm, h);
+    shadow.atlas = h.atlas;
+    shadow.resolution = layout.resolution;
+    shadow.layers = layout.layers;
+    shadow.compareSampler = p.shadowSampler;
+    blackboard.add(shadow);
+    if (rsm)
+        blackboard.add(RsmData{h.position, h.normal, h.flux, layout.resolution, layout.layers});
+}
+
+} // namespace vkgi::gi

@@ -1,0 +1,123 @@
+// Shadow-atlas planning: which layers each light gets and the projection of every layer.
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "direct/direct_passes.hpp"
+
+namespace vkgi::gi {
+
+namespace {
+
+// Perspective near plane as a fraction of far: depth is stored linearly, so near only clips;
+// 1e-4 keeps geometry 0.1 mm from a 1 m light range from leaking.
+constexpr float kNearFraction = 1e-4f;
+// Far plane margin so the farthest corner of the bounds is never clipped.
+constexpr float kFarMargin = 1.01f;
+// Angle between a cube face's axis and its corners: a face can see a cone only if the cone
+// comes within this angle of the face axis.
+const float kCubeCornerAngle = std::atan(std::sqrt(2.0f));
+
+const std::array<glm::vec3, 6> kCubeAxes = {glm::vec3(1, 0, 0),  glm::vec3(-1, 0, 0), glm::vec3(0, 1, 0),
+                                            glm::vec3(0, -1, 0), glm::vec3(0, 0, 1),  glm::vec3(0, 0, -1)};
+
+glm::vec3 upFor(const glm::vec3& axis) {
+    return std::abs(axis.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1);
+}
+
+std::array<glm::vec3, 8> corners(const Aabb& b) {
+    std::array<glm::vec3, 8> c;
+    for (int i = 0; i < 8; ++i)
+        c[i] = glm::vec3((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z);
+    return c;
+}
+
+float farDistance(const glm::vec3& eye, const Aabb& b) {
+    float far = 0.0f;
+    for (const glm::vec3& c : corners(b))
+        far = std::max(far, glm::distance(eye, c));
+    return std::max(far * kFarMargin, 1e-3f);
+}
+
+gpu::GpuShadowView perspectiveView(const glm::vec3& eye, const glm::vec3& axis, float halfFov, float far, uint32_t n) {
+    gpu::GpuShadowView v{};
+    glm::mat4 view = glm::lookAtRH(eye, eye + axis, upFor(axis));
+    v.viewProj = glm::perspectiveRH_ZO(2.0f * halfFov, 1.0f, far * kNearFraction, far) * view;
+    float texelPerMetre = 2.0f * std::tan(halfFov) / float(n);
+    v.eye = glm::vec4(eye, far);
+    v.axisArea = glm::vec4(axis, texelPerMetre * texelPerMetre);
+    v.texel = glm::vec4(texelPerMetre, far, float(n), 0.0f);
+    return v;
+}
+
+// Orthographic box around the bounds, looking along `dir`.
+gpu::GpuShadowView orthoView(const glm::vec3& dir, const Aabb& b, uint32_t n) {
+    float radius = std::max(0.5f * glm::length(b.extent()), 1e-3f);
+    glm::vec3 eye = b.centre() - dir * (2.0f * radius);
+    glm::mat4 view = glm::lookAtRH(eye, b.centre(), upFor(dir));
+    glm::vec3 lo(1e30f), hi(-1e30f);
+    for (const glm::vec3& c : corners(b)) {
+        glm::vec3 v = glm::vec3(view * glm::vec4(c, 1.0f));
+        lo = glm::min(lo, v);
+        hi = glm::max(hi, v);
+    }
+    // Half a texel of margin on each side so geometry on the bounds is not clipped.
+    glm::vec2 margin = 0.5f * glm::vec2(hi - lo) / float(n) + 1e-4f * radius;
+    lo -= glm::vec3(margin, 0.0f);
+    hi += glm::vec3(margin, 0.0f);
+    float zNear = std::max(-hi.z - 1e-3f * radius, 0.0f), zFar = -lo.z + 1e-3f * radius;
+    gpu::GpuShadowView v{};
+    v.viewProj = glm::orthoRH_ZO(lo.x, hi.x, lo.y, hi.y, zNear, zFar) * view;
+    glm::vec2 texel = glm::vec2(hi - lo) / float(n);
+    v.eye = glm::vec4(eye, 0.0f);
+    v.axisArea = glm::vec4(dir, texel.x * texel.y);
+    v.texel = glm::vec4(std::max(texel.x, texel.y), zFar - zNear, float(n), 0.0f);
+    return v;
+}
+
+} // namespace
+
+ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers) {
+    ShadowLayout layout;
+    layout.resolution = resolution;
+    for (uint32_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& l = scene.lights[i];
+        LightShadowPlan plan;
+        plan.light = i;
+        bool single = l.type == LightType::Directional ||
+                      (l.type == LightType::Spot && l.outerConeAngle <= kMaxSpotFrustumHalfAngle);
+        uint32_t count = single ? 1 : 6;
+        if (!bounds.valid() || layout.views.size() + count > maxLayers) {
+            layout.lights.push_back(plan); // unshadowed
+            continue;
+        }
+        plan.kind = single ? GI_SHADOW_SINGLE : GI_SHADOW_CUBE;
+        plan.firstLayer = uint32_t(layout.views.size());
+        plan.layerCount = count;
+        glm::vec3 dir = glm::normalize(l.direction);
+        if (l.type == LightType::Directional) {
+            layout.views.push_back(orthoView(dir, bounds, resolution));
+            plan.faceMask = 1;
+        } else if (single) {
+            layout.views.push_back(perspectiveView(l.position, dir, l.outerConeAngle, farDistance(l.position, bounds),
+                                                   resolution));
+            plan.faceMask = 1;
+        } else {
+            float far = farDistance(l.position, bounds);
+            for (uint32_t f = 0; f < 6; ++f) {
+                layout.views.push_back(perspectiveView(l.position, kCubeAxes[f], 0.25f * 3.14159265f, far, resolution));
+                float angle = std::acos(std::clamp(glm::dot(kCubeAxes[f], dir), -1.0f, 1.0f));
+                bool sees = l.type == LightType::Point || angle - kCubeCornerAngle < l.outerConeAngle;
+                plan.faceMask |= sees ? (1u << f) : 0u;
+            }
+        }
+        for (uint32_t k = 0; k < count; ++k)
+            layout.layers.push_back({i, single ? 0 : k, layout.views[plan.firstLayer + k].viewProj});
+        layout.lights.push_back(plan);
+    }
+    return layout;
+}
+
+} // namespace vkgi::gi

@@ -1,0 +1,310 @@
+// GiSystem: owns the GPU scene, the shared pass pipelines, the shadow/RSM atlases and the
+// technique module, and turns a camera into a frame graph (pipeline.cpp) it executes.
+#include <cmath>
+#include <optional>
+
+#include "direct/direct_passes.hpp"
+#include "engine/frame_constants.hpp"
+#include "engine/rg/transient_pool.hpp"
+#include "engine/vk_check.hpp"
+#include "gi/gi.hpp"
+#include "technique.hpp"
+
+namespace vkgi::gi {
+
+namespace {
+
+// Timestamp scopes per frame: far more passes than any technique adds (LPV: ~8 + steps).
+constexpr uint32_t kMaxTimedPasses = 512;
+// Largest frame side accepted (the path tracer's limit too).
+constexpr uint32_t kMaxFrameSide = 16384;
+// Frames of FrameConstants in flight: renderFrame waits, hosts may pipeline one frame.
+constexpr uint32_t kFrameRing = 2;
+
+Result<void> checkSettings(const GiSettings& s) {
+    if (s.shadowMapSize < 16 || s.shadowMapSize > 8192)
+        return makeError("GiSettings.shadowMapSize " + std::to_string(s.shadowMapSize) + " is outside 16..8192");
+    if (s.maxShadowLayers < 1 || s.maxShadowLayers > 2048)
+        return makeError("GiSettings.maxShadowLayers " + std::to_string(s.maxShadowLayers) + " is outside 1..2048");
+    if (s.pcfRadius > 8)
+        return makeError("GiSettings.pcfRadius " + std::to_string(s.pcfRadius) + " is above 8");
+    for (float b : {s.shadowNormalOffset, s.shadowSlopeBias, s.shadowConstantBias})
+        if (!std::isfinite(b) || b < 0.0f || b > 100.0f)
+            return makeError("GiSettings shadow biases must be finite and in 0..100 texels");
+    return {};
+}
+
+Result<void> checkCamera(const Camera& c, uint32_t width, uint32_t height) {
+    if (width == 0 || height == 0 || width > kMaxFrameSide || height > kMaxFrameSide)
+        return makeError("frame size " + std::to_string(width) + "x" + std::to_string(height) + " is outside 1..16384");
+    auto finite3 = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    bool finite = finite3(c.position) && finite3(c.forward) && finite3(c.up) && std::isfinite(c.znear) &&
+                  std::isfinite(c.zfar);
+    if (!finite || glm::length(c.forward) == 0.0f || !(c.yfov > 0.0f && c.yfov < 3.14159f) ||
+        !(c.znear > 0.0f && c.zfar > c.znear))
+        return makeError("camera: position/forward must be finite, yfov in (0, pi), 0 < znear < zfar");
+    return {};
+}
+
+} // namespace
+
+struct GiSystem::Impl {
+    std::unique_ptr<Context> ownedContext;
+    Context* ctx = nullptr;
+    GiSettings settings;
+    DirectPipelines pipelines;
+    std::unique_ptr<rg::TransientPool> pool;
+    std::unique_ptr<TimestampPool> timestamps;
+    std::unique_ptr<FrameConstantsRing> frameRing;
+    std::unique_ptr<TechniqueModule> technique;
+    Scene scene;
+    std::optional<GpuScene> gpu;
+    ShadowTargets shadows;
+    Buffer readback[3]; // composite, direct, indirect
+    VkCommandPool commandPool = VK_NULL_HANDLE;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    VkFence fence = VK_NULL_HANDLE;
+    uint32_t frameIndex = 0;
+
+    ~Impl();
+    Result<GiOutputs> addPasses(rg::RenderGraph& graph, rg::Blackboard& bb, const Camera& camera, uint32_t width,
+                                uint32_t height, const FrameRequest& request);
+    FrameData frameData(const Camera& camera, uint32_t width, uint32_t height);
+    const Buffer& readbackBuffer(uint32_t slot, uint32_t width, uint32_t height);
+    void submitAndWait(rg::RenderGraph& graph);
+};
+
+GiSystem::Impl::~Impl() {
+    if (!ctx)
+        return;
+    VK_CHECK(vkDeviceWaitIdle(ctx->device()));
+    technique.reset();
+    for (Buffer& b : readback)
+        if (b)
+            destroyBuffer(*ctx, b);
+    destroyShadowTargets(*ctx, shadows);
+    if (gpu)
+        destroyScene(*ctx, *gpu);
+    frameRing.reset();
+    timestamps.reset();
+    pool.reset();
+    destroyDirectPipelines(*ctx, pipelines);
+    if (fence)
+        vkDestroyFence(ctx->device(), fence, nullptr);
+    if (commandPool)
+        vkDestroyCommandPool(ctx->device(), commandPool, nullptr);
+}
+
+FrameData GiSystem::Impl::frameData(const Camera& camera, uint32_t width, uint32_t height) {
+    FrameData f;
+    f.camera = camera;
+    f.width = width;
+    f.height = height;
+    f.view = camera.view();
+    f.proj = camera.projection(float(width) / float(height));
+    f.viewProj = f.proj * f.view;
+    f.invViewProj = glm::inverse(f.viewProj);
+    f.scene = &scene;
+    f.gpuScene = &*gpu;
+    f.settings = &settings;
+    gpu::FrameConstants c{};
+    c.view = f.view;
+    c.proj = f.proj;
+    c.viewProj = f.viewProj;
+    c.invViewProj = f.invViewProj;
+    c.cameraPosition = glm::vec4(camera.position, camera.yfov);
+    c.resolution = glm::uvec4(width, height, frameIndex++, uint32_t(scene.lights.size()));
+    c.sceneMin = glm::vec4(gpu->bounds.valid() ? gpu->bounds.min : glm::vec3(0.0f), 0.0f);
+    c.sceneMax = glm::vec4(gpu->bounds.valid() ? gpu->bounds.max : glm::vec3(0.0f), 0.0f);
+    f.frameSet = frameRing->next(c);
+    return f;
+}
+
+Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboard& bb, const Camera& camera,
+                                            uint32_t width, uint32_t height, const FrameRequest& request) {
+    if (!gpu)
+        return makeError("GiSystem: no scene (call setScene before rendering)");
+    if (auto ok = checkCamera(camera, width, height); !ok)
+        return ok.error();
+    const FrameData& frame = bb.add(frameData(camera, width, height));
+    const SceneHandles& sceneHandles = bb.add(importScene(graph, *gpu));
+    const GBufferData& gbuffer = bb.add(addGBufferPass(graph, pipelines, frame, sceneHandles));
+
+    bool rsm = settings.forceRsm || (technique && technique->needsRsm());
+    ShadowLayout layout = planShadows(scene, gpu->bounds, settings.shadowMapSize, settings.maxShadowLayers);
+    ensureShadowTargets(*ctx, shadows, uint32_t(layout.views.size()), settings.shadowMapSize, rsm);
+    addLightPasses(graph, bb, pipelines, frame, sceneHandles, layout, shadows, rsm);
+    const DirectData& direct =
+        bb.add(addDeferredPass(graph, pipelines, frame, sceneHandles, gbuffer, bb.get<ShadowData>()));
+
+    GiOutputs out;
+    if (technique) {
+        technique->addPasses(graph, bb);
+        out.indirect = bb.get<IndirectData>().indirect;
+    }
+    out.direct = direct.direct;
+    out.composite = out.indirect.valid() ? addCompositePass(graph, pipelines, frame, direct.direct, out.indirect).final
+                                         : direct.direct;
+    bb.add(CompositeData{out.composite});
+    if (!request.composite)
+        out.composite = {};
+    if (!request.direct)
+        out.direct = {};
+    if (!request.indirect)
+        out.indirect = {};
+    for (rg::ImageHandle h : {out.composite, out.direct, out.indirect})
+        if (h.valid())
+            graph.markOutput(h);
+    return out;
+}
+
+const Buffer& GiSystem::Impl::readbackBuffer(uint32_t slot, uint32_t width, uint32_t height) {
+    VkDeviceSize size = VkDeviceSize(width) * height * sizeof(glm::vec4);
+    Buffer& b = readback[slot];
+    if (!b || b.desc.size != size) {
+        if (b)
+            destroyBuffer(*ctx, b);
+        b = createBuffer(*ctx, {size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::GpuToCpu}, "gi.readback");
+    }
+    return b;
+}
+
+void GiSystem::Impl::submitAndWait(rg::RenderGraph& graph) {
+    VK_CHECK(vkResetCommandBuffer(cmd, 0));
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
+    graph.execute(cmd, *ctx, *pool, ctx->timestampsSupported() ? timestamps.get() : nullptr);
+    VK_CHECK(vkEndCommandBuffer(cmd));
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &cmd;
+    VK_CHECK(vkResetFences(ctx->device(), 1, &fence));
+    VK_CHECK(vkQueueSubmit(ctx->queue(), 1, &submit, fence));
+    VK_CHECK(vkWaitForFences(ctx->device(), 1, &fence, VK_TRUE, UINT64_MAX));
+}
+
+GiSystem::GiSystem(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
+GiSystem::~GiSystem() = default;
+
+Result<std::unique_ptr<GiSystem>> GiSystem::create(Context& ctx, const GiSettings& settings) {
+    if (auto ok = checkSettings(settings); !ok)
+        return ok.error();
+    auto impl = std::make_unique<Impl>();
+    impl->ctx = &ctx;
+    impl->settings = settings;
+    auto pipelines = createDirectPipelines(ctx);
+    if (!pipelines)
+        return pipelines.error();
+    impl->pipelines = *pipelines;
+    auto technique = createTechnique(ctx, settings);
+    if (!technique)
+        return technique.error();
+    impl->technique = std::move(*technique);
+    impl->pool = std::make_unique<rg::TransientPool>(ctx);
+    impl->timestamps = std::make_unique<TimestampPool>(ctx, kMaxTimedPasses);
+    impl->frameRing = std::make_unique<FrameConstantsRing>(ctx, kFrameRing);
+    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    poolInfo.queueFamilyIndex = ctx.queueFamily();
+    VK_CHECK(vkCreateCommandPool(ctx.device(), &poolInfo, nullptr, &impl->commandPool));
+    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    alloc.commandPool = impl->commandPool;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    VK_CHECK(vkAllocateCommandBuffers(ctx.device(), &alloc, &impl->cmd));
+    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VK_CHECK(vkCreateFence(ctx.device(), &fenceInfo, nullptr, &impl->fence));
+    return std::unique_ptr<GiSystem>(new GiSystem(std::move(impl)));
+}
+
+Result<std::unique_ptr<GiSystem>> GiSystem::createHeadless(const GiSettings& settings) {
+    auto ctx = defaultDeviceBuilder().build();
+    if (!ctx)
+        return ctx.error();
+    std::unique_ptr<Context> owned = std::move(*ctx);
+    auto system = create(*owned, settings);
+    if (!system)
+        return system.error();
+    // The context must outlive everything the system created on it: Impl destroys it last.
+    (*system)->m->ownedContext = std::move(owned);
+    return system;
+}
+
+Context& GiSystem::context() { return *m->ctx; }
+const GiSettings& GiSystem::settings() const { return m->settings; }
+
+Result<void> GiSystem::setScene(const Scene& scene) {
+    auto uploaded = uploadScene(*m->ctx, scene);
+    if (!uploaded)
+        return uploaded.error();
+    if (m->gpu) {
+        VK_CHECK(vkDeviceWaitIdle(m->ctx->device()));
+        destroyScene(*m->ctx, *m->gpu);
+    }
+    m->gpu = std::move(*uploaded);
+    m->scene = scene;
+    if (m->technique)
+        return m->technique->sceneChanged(*m->ctx, m->scene, *m->gpu, true);
+    return {};
+}
+
+Result<void> GiSystem::updateScene(const Scene& scene) {
+    if (!m->gpu)
+        return makeError("GiSystem::updateScene: no scene (call setScene first)");
+    if (auto ok = updateSceneTransforms(*m->ctx, *m->gpu, scene); !ok)
+        return ok;
+    m->scene.instances = scene.instances;
+    m->scene.lights = scene.lights;
+    if (m->technique)
+        return m->technique->sceneChanged(*m->ctx, m->scene, *m->gpu, false);
+    return {};
+}
+
+Result<GiOutputs> GiSystem::addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
+                                      uint32_t width, uint32_t height, const FrameRequest& request) {
+    return m->addPasses(graph, blackboard, camera, width, height, request);
+}
+
+Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, uint32_t height,
+                                          const FrameRequest& request) {
+    rg::RenderGraph graph;
+    rg::Blackboard bb;
+    auto outputs = m->addPasses(graph, bb, camera, width, height, request);
+    if (!outputs)
+        return outputs.error();
+    rg::ImageHandle images[3] = {outputs->composite, outputs->direct, outputs->indirect};
+    const char* names[3] = {"gi.readback.composite", "gi.readback.direct", "gi.readback.indirect"};
+    for (uint32_t i = 0; i < 3; ++i)
+        if (images[i].valid())
+            addReadbackPass(graph, names[i], images[i], m->readbackBuffer(i, width, height));
+    if (auto ok = graph.compile(); !ok)
+        return makeError("frame graph: " + ok.error().message);
+    m->submitAndWait(graph);
+
+    FrameResult r;
+    HdrImage* targets[3] = {&r.composite, &r.direct, &r.indirect};
+    for (uint32_t i = 0; i < 3; ++i)
+        if (images[i].valid())
+            *targets[i] = readbackToImage(m->readback[i], width, height);
+    r.passes = graph.timings();
+    for (const rg::PassTiming& t : r.passes)
+        r.totalMs += t.ms;
+    r.culledPasses = graph.culledPassNames();
+    r.transientBytes = graph.memoryReport().transientBytes;
+    r.persistentBytes = persistentBytes();
+    return r;
+}
+
+uint64_t GiSystem::persistentBytes() const {
+    uint64_t n = m->shadows.bytes();
+    if (m->gpu)
+        n += m->gpu->bytes();
+    for (const Buffer& b : m->readback)
+        n += b ? b.desc.size : 0;
+    if (m->technique)
+        n += m->technique->persistentBytes();
+    return n;
+}
+
+} // namespace vkgi::gi

@@ -1,0 +1,48 @@
+// Technique names and module construction: the one place a new technique registers itself.
+#include <array>
+
+#include "technique.hpp"
+
+namespace vkgi::gi {
+
+namespace {
+struct TechniqueName {
+    Technique technique;
+    const char* name;
+};
+constexpr std::array kTechniques = {TechniqueName{Technique::None, "none"}};
+} // namespace
+
+const char* toString(Technique technique) {
+    for (const TechniqueName& t : kTechniques)
+        if (t.technique == technique)
+            return t.name;
+    return "unknown";
+}
+
+std::vector<std::string> techniqueNames() {
+    std::vector<std::string> names;
+    for (const TechniqueName& t : kTechniques)
+        names.emplace_back(t.name);
+    return names;
+}
+
+Result<Technique> parseTechnique(std::string_view name) {
+    std::string valid;
+    for (const TechniqueName& t : kTechniques) {
+        if (name == t.name)
+            return t.technique;
+        valid += (valid.empty() ? "" : ", ") + std::string(t.name);
+    }
+    return makeError("unknown technique '" + std::string(name) + "' (valid: " + valid + ")");
+}
+
+Result<std::unique_ptr<TechniqueModule>> createTechnique(Context& ctx, const GiSettings& settings) {
+    (void)ctx;
+    switch (settings.technique) {
+    case Technique::None: return std::unique_ptr<TechniqueModule>();
+    }
+    return makeError(std::string("technique ") + toString(settings.technique) + " is not built into this library");
+}
+
+} // namespace vkgi::gi

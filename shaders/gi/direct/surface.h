@@ -1,0 +1,31 @@
+// Fragment-side material lookup shared by the G-buffer and RSM shaders (GLSL only).
+#ifndef VKGI_GI_DIRECT_SURFACE_H
+#define VKGI_GI_DIRECT_SURFACE_H
+#include "engine/scene_types.h"
+
+layout(set = 1, binding = 2, std430) readonly buffer Materials { GpuMaterial materials[]; };
+layout(set = 1, binding = 3) uniform sampler2DArray baseColorTextures;
+
+layout(location = 0) in vec3 inPosition;
+layout(location = 1) in vec3 inNormal;
+layout(location = 2) in vec2 inUv;
+layout(location = 3) flat in uint inMaterial;
+
+// Lambertian albedo as the path tracer defines it: baseColor x texture, clamped to [0,1].
+vec3 surfaceAlbedo(GpuMaterial m) {
+    vec4 base = m.baseColor;
+    if (m.params.z >= 0.0)
+        base *= texture(baseColorTextures, vec3(inUv, m.params.z));
+    return clamp(base.rgb, 0.0, 1.0);
+}
+
+// Unit shading normal turned towards `viewer` (reflection is two-sided). A normal that
+// interpolates to ~zero falls back to the geometric normal from screen derivatives.
+vec3 surfaceNormal(vec3 viewer) {
+    vec3 n = inNormal;
+    if (dot(n, n) < 1e-12)
+        n = cross(dFdx(inPosition), dFdy(inPosition));
+    n = normalize(n);
+    return dot(n, viewer - inPosition) < 0.0 ? -n : n;
+}
+#endif

@@ -1,0 +1,173 @@
+// Raster direct lighting (G-buffer + shadow maps + deferred shading) against closed forms and
+// the path tracer's direct-only image.
+#include <algorithm>
+#include <cmath>
+
+#include "engine/builtin_scenes.hpp"
+#include "engine/image_io.hpp"
+#include "engine/image_metrics.hpp"
+#include "engine/vk_check.hpp"
+#include "gi/frame_data.hpp"
+#include "gi/gi.hpp"
+#include "support/gpu_fixture.hpp"
+#include "support/test_env.hpp"
+
+using namespace vkgi;
+
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+class DirectLighting : public test::GpuTest {
+protected:
+    std::unique_ptr<gi::GiSystem> system(const gi::GiSettings& s = {}) {
+        auto sys = gi::GiSystem::create(ctx(), s);
+        EXPECT_TRUE(sys) << (sys ? "" : sys.error().message);
+        return sys ? std::move(*sys) : nullptr;
+    }
+    // Direct image of `scene` from its own camera.
+    HdrImage renderDirect(const Scene& scene, uint32_t w, uint32_t h, const gi::GiSettings& s = {}) {
+        auto sys = system(s);
+        if (!sys)
+            return {};
+        auto ok = sys->setScene(scene);
+        EXPECT_TRUE(ok) << (ok ? "" : ok.error().message);
+        gi::FrameRequest req;
+        req.composite = false;
+        req.direct = true;
+        auto frame = sys->renderFrame(scene.cameraOrDefault(), w, h, req);
+        EXPECT_TRUE(frame) << (frame ? "" : frame.error().message);
+        return frame ? frame->direct : HdrImage{};
+    }
+};
+
+Scene builtin(const char* name) {
+    auto s = makeBuiltinScene(name);
+    GI_ASSERT(s.ok(), "built-in scene must build");
+    return std::move(s).value();
+}
+
+// A 20 m grey plane at y = 0 seen from 3 m above, lit by one light.
+Scene planeScene(float albedo, const Light& light) {
+    Scene s;
+    s.name = "plane";
+    Mesh m;
+    const float h = 10.0f;
+    m.positions = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
+    m.normals.assign(4, glm::vec3(0, 1, 0));
+    m.indices = {0, 2, 1, 0, 3, 2};
+    s.meshes.push_back(m);
+    Material mat;
+    mat.baseColor = glm::vec4(glm::vec3(albedo), 1.0f);
+    s.materials.push_back(mat);
+    s.instances.push_back({});
+    s.lights.push_back(light);
+    Camera c;
+    c.position = {0.0f, 3.0f, 0.0f};
+    c.forward = {0.0f, -1.0f, 0.0f};
+    c.up = {0.0f, 0.0f, -1.0f};
+    c.yfov = 60.0f * kPi / 180.0f;
+    c.znear = 0.01f;
+    c.zfar = 10.0f;
+    s.camera = c;
+    return s;
+}
+
+} // namespace
+
+TEST_F(DirectLighting, PointLightOnAPlaneMatchesTheClosedForm) {
+    Light light;
+    light.type = LightType::Point;
+    light.position = {0.3f, 1.0f, 0.2f};
+    light.intensity = 2.0f;
+    const float albedo = 0.5f;
+    Scene scene = planeScene(albedo, light);
+    const uint32_t n = 64;
+    HdrImage img = renderDirect(scene, n, n);
+    ASSERT_EQ(img.width, n);
+    const Camera& cam = *scene.camera;
+    double worst = 0.0;
+    for (uint32_t y = 0; y < n; ++y)
+        for (uint32_t x = 0; x < n; ++x) {
+            glm::vec3 d = cam.pixelRayDirection(x, y, n, n);
+            glm::vec3 p = cam.position + d * (cam.position.y / -d.y); // ray meets y = 0
+            glm::vec3 toLight = light.position - p;
+            float dist2 = glm::dot(toLight, toLight);
+            float cosTheta = toLight.y / std::sqrt(dist2);
+            float expected = albedo / kPi * light.intensity * cosTheta / dist2; // L = rho/pi * I cos / d^2
+            worst = std::max(worst, double(std::abs(img.at(x, y).g - expected) / expected));
+        }
+    // float32 shading; albedo 0.5 and the normal (0,1,0) are exact in the half-float G-buffer, so
+    // only rounding remains: 1e-4 relative is ~100 ulp of headroom. Shadows must not self-shadow.
+    EXPECT_LT(worst, 1e-4);
+}
+
+TEST_F(DirectLighting, SceneWithoutLightsShowsOnlyEmission) {
+    Scene scene = builtin("cornell_emissive");
+    ASSERT_TRUE(scene.lights.empty());
+    glm::vec3 emission(0.0f);
+    for (const Material& m : scene.materials)
+        emission = glm::max(emission, m.emission);
+    ASSERT_GT(emission.r, 0.0f);
+    HdrImage img = renderDirect(scene, 64, 64);
+    ASSERT_EQ(img.width, 64u);
+    uint32_t emissive = 0, other = 0;
+    for (const glm::vec3& p : img.pixels) {
+        if (p == glm::vec3(0.0f))
+            continue;
+        // Half-float G-buffer: 11-bit mantissa, relative rounding <= 2^-11.
+        if (glm::all(glm::lessThan(glm::abs(p - emission), emission * (1.0f / 2048.0f))))
+            ++emissive;
+        else
+            ++other;
+    }
+    EXPECT_GT(emissive, 0u) << "the light rectangle should be visible";
+    EXPECT_EQ(other, 0u) << "without lights, every pixel is black or the emission";
+}
+
+TEST_F(DirectLighting, ExtremeIntensitiesStayFiniteAndLinear) {
+    Scene scene = builtin("cornell_point");
+    HdrImage base = renderDirect(scene, 32, 32);
+    for (float intensity : {1e-6f, 1e9f}) {
+        Scene s = scene;
+        s.lights[0].intensity = intensity;
+        HdrImage img = renderDirect(s, 32, 32);
+        ASSERT_EQ(img.pixels.size(), base.pixels.size());
+        EXPECT_EQ(countNonFinite(img), 0u) << intensity;
+        double scale = intensity / scene.lights[0].intensity, worst = 0.0;
+        for (size_t i = 0; i < img.pixels.size(); ++i)
+            for (int c = 0; c < 3; ++c)
+                if (base.pixels[i][c] > 1e-3f) // radiance is linear in the intensity
+                    worst = std::max(worst, std::abs(img.pixels[i][c] / (base.pixels[i][c] * scale) - 1.0));
+        // float32 products with different exponents: a few ulp.
+        EXPECT_LT(worst, 1e-5) << intensity;
+    }
+}
+
+TEST_F(DirectLighting, DirectOnlyFrameCreatesNoRsm) {
+    Scene scene = builtin("cornell");
+    for (bool force : {false, true}) {
+        gi::GiSettings s;
+        s.forceRsm = force;
+        auto sys = system(s);
+        ASSERT_TRUE(sys);
+        ASSERT_TRUE(sys->setScene(scene));
+        rg::RenderGraph graph;
+        rg::Blackboard bb;
+        gi::FrameRequest req;
+        req.composite = false;
+        req.direct = true;
+        auto out = sys->addPasses(graph, bb, scene.cameraOrDefault(), 16, 16, req);
+        ASSERT_TRUE(out) << out.error().message;
+        EXPECT_EQ(bb.has<gi::RsmData>(), force);
+        ASSERT_TRUE(graph.compile());
+        // Atlas depth (4 B/texel) alone, or + RSM position/normal/flux (16 + 8 + 16 B/texel).
+        const gi::ShadowData& shadow = bb.get<gi::ShadowData>();
+        uint64_t texels = uint64_t(shadow.resolution) * shadow.resolution * shadow.layers.size();
+        uint64_t atlas = sys->persistentBytes();
+        EXPECT_GE(atlas, texels * (force ? 44u : 4u));
+        if (!force) {
+            EXPECT_LT(atlas, texels * 44u);
+        }
+    }
+}
