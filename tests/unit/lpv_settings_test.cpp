@@ -1,4 +1,6 @@
 // LpvSettings validation: defaults are valid, out-of-range knobs are readable errors.
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include "gi/lpv.hpp"
@@ -32,4 +34,9 @@ TEST(LpvSettings, OutOfRangeNamesTheField) {
     r = validate(s);
     ASSERT_FALSE(r);
     EXPECT_NE(r.error().message.find("iterations"), std::string::npos) << r.error().message;
+    s = LpvSettings{};
+    s.damping = -0.5f;
+    EXPECT_FALSE(validate(s));
+    s.damping = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_FALSE(validate(s));
 }
