@@ -1,6 +1,7 @@
 // Technique names and module construction: the one place a new technique registers itself.
 #include <array>
 
+#include "lpv/lpv_technique.hpp"
 #include "technique.hpp"
 
 namespace vkgi::gi {
@@ -10,7 +11,7 @@ struct TechniqueName {
     Technique technique;
     const char* name;
 };
-constexpr std::array kTechniques = {TechniqueName{Technique::None, "none"}};
+constexpr std::array kTechniques = {TechniqueName{Technique::None, "none"}, TechniqueName{Technique::Lpv, "lpv"}};
 } // namespace
 
 const char* toString(Technique technique) {
@@ -38,9 +39,9 @@ Result<Technique> parseTechnique(std::string_view name) {
 }
 
 Result<std::unique_ptr<TechniqueModule>> createTechnique(Context& ctx, const GiSettings& settings) {
-    (void)ctx;
     switch (settings.technique) {
     case Technique::None: return std::unique_ptr<TechniqueModule>();
+    case Technique::Lpv: return createLpvTechnique(ctx, settings);
     }
     return makeError(std::string("technique ") + toString(settings.technique) + " is not built into this library");
 }

@@ -17,11 +17,12 @@
 #include "engine/rg/blackboard.hpp"
 #include "engine/rg/render_graph.hpp"
 #include "engine/scene.hpp"
+#include "gi/lpv.hpp"
 
 namespace vkgi::gi {
 
 // The indirect-light technique. None = direct lighting (+ emission) only.
-enum class Technique : uint32_t { None = 0 };
+enum class Technique : uint32_t { None = 0, Lpv = 1 };
 
 // "none", ...; the names the CLI accepts.
 const char* toString(Technique technique);
@@ -46,6 +47,7 @@ struct GiSettings {
     float shadowConstantBias = 0.5f;
     // Render the reflective shadow map even when the technique does not read it (tests, tools).
     bool forceRsm = false;
+    LpvSettings lpv; // Technique::Lpv knobs (gi/lpv.hpp)
 };
 
 // Which images a frame must produce; everything else is culled by the graph.
