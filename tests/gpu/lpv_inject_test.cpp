@@ -288,12 +288,13 @@ TEST_F(LpvInject, StoredValuesAreIndependentOfTheLightScale) {
 }
 
 TEST_F(LpvInject, LookupGivesTheClosedFormIrradianceAndDamping) {
-    // Pixels: (0) at the centre of cell (5, 6, 5), facing down into its upward light;
+    // The lookup samples half a cell in front of the surface (x = p + 0.5 n). Pixels, by their
+    // sample point x: (0) the centre of cell (5, 6, 5), facing down into its upward light;
     // (1) same, facing up (the light travels away from it: zero); (2) background; (3) outside
-    // the grid; (4) at y = 6.2 facing down, where trilinear weights are 0.7 of cell (5, 6, 5)
-    // here, 0.2 half a cell in front (y = 5.7) and 0.8 half a cell behind (y = 6.7).
-    std::vector<glm::vec4> pos = {{5.5f, 6.5f, 5.5f, 1.0f}, {5.5f, 6.5f, 5.5f, 1.0f}, {5.5f, 6.5f, 5.5f, 0.0f},
-                                  {20.0f, 6.5f, 5.5f, 1.0f}, {5.5f, 6.2f, 5.5f, 1.0f}};
+    // the grid; (4) x at y = 6.2 facing down, where trilinear weights are 0.7 of cell (5, 6, 5)
+    // at x, 0.2 half a cell in front (y = 5.7) and 0.8 half a cell behind (y = 6.7).
+    std::vector<glm::vec4> pos = {{5.5f, 7.0f, 5.5f, 1.0f}, {5.5f, 6.0f, 5.5f, 1.0f}, {5.5f, 7.0f, 5.5f, 0.0f},
+                                  {20.0f, 7.0f, 5.5f, 1.0f}, {5.5f, 6.7f, 5.5f, 1.0f}};
     std::vector<glm::vec4> nrm = {{0, -1, 0, 0}, {0, 1, 0, 0}, {0, -1, 0, 0}, {0, -1, 0, 0}, {0, -1, 0, 0}};
     std::vector<glm::vec4> alb(5, glm::vec4(0.5f, 0.25f, 1.0f, 0.0f));
     const uint32_t w = 5;

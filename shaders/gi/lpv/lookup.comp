@@ -2,7 +2,10 @@
 // LPV lookup: indirect radiance per G-buffer pixel from the accumulated SH volume, sampled
 // trilinearly. Radiance in a cell is intensity / cellSize^2 (docs/lpv.md); the irradiance on a
 // surface with normal n is the clamped-cosine integral of the light travelling towards it
-// (direction -n), and a Lambertian surface sends albedo / pi of it back.
+// (direction -n), and a Lambertian surface sends albedo / pi of it back. The volume is sampled
+// half a cell in front of the surface: at the surface itself trilinear filtering mixes in the
+// cells behind it, which the geometry volume keeps dark (measured on the integrating sphere:
+// 0.48x of the closed-form second bounce at the surface, 0.93x half a cell in front).
 // Light bleeding (Elvek's thesis section 3.3.1, directional-derivative damping, as we read it):
 // light that legitimately reaches the front of a surface cannot grow when we step behind it, so
 // the irradiance half a cell behind (Eb) and in front (Ef) of the surface are compared, and
@@ -42,10 +45,11 @@ void main() {
     if (position.w > 0.0 && nn > 1e-12 && nn < 1e30) {
         n *= inversesqrt(nn);
         float cell = pc.grid.origin.w;
-        vec3 e = irradiance(position.xyz, n);
+        vec3 x = position.xyz + 0.5 * cell * n;
+        vec3 e = irradiance(x, n);
         if (pc.params.x > 0.0) {
-            vec3 ef = irradiance(position.xyz + 0.5 * cell * n, n);
-            vec3 eb = irradiance(position.xyz - 0.5 * cell * n, n);
+            vec3 ef = irradiance(x + 0.5 * cell * n, n);
+            vec3 eb = irradiance(x - 0.5 * cell * n, n);
             float f = ef.r + ef.g + ef.b, b = eb.r + eb.g + eb.b;
             e *= clamp(1.0 - pc.params.x * max(b - f, 0.0) / max(b + f, 1e-30), 0.0, 1.0);
         }
