@@ -150,3 +150,24 @@ TEST_F(LpvSystem, IntegratingSphereSecondBounceScale) {
         }
     }
 }
+
+TEST_F(LpvSystem, IndirectLightIsLinearInTheLightFrom1em6To1e9) {
+    // Stored SH are normalised by the frame's largest RSM texel flux, so float16 volumes hold
+    // the same numbers for any light scale; the output must scale linearly and stay finite.
+    // Tolerance 1e-3 relative on the image mean (float32 rounding of the scale in and out).
+    auto base = makeBuiltinScene("cornell");
+    ASSERT_TRUE(base) << base.error().message;
+    LpvSettings lpv;
+    lpv.gridSize = 16;
+    lpv.iterations = 8;
+    const double reference = mean(render(*base, lpv, 32).indirect);
+    ASSERT_GT(reference, 0.0);
+    for (float scale : {1e-6f, 1e9f}) {
+        Scene scene = *base;
+        for (Light& l : scene.lights)
+            l.intensity *= scale;
+        FrameResult frame = render(scene, lpv, 32);
+        EXPECT_EQ(countNonFinite(frame.indirect), 0u) << scale;
+        EXPECT_NEAR(mean(frame.indirect) / double(scale), reference, 1e-3 * reference) << scale;
+    }
+}
