@@ -126,7 +126,9 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
         return makeError("GiSystem: no scene (call setScene before rendering)");
     if (auto ok = checkCamera(camera, width, height); !ok)
         return ok.error();
-    const FrameData& frame = bb.add(frameData(camera, width, height));
+    FrameData frameValue = frameData(camera, width, height);
+    graph.setFrameSet(frameValue.frameSet); // set 0 for technique shaders that read FrameConstants
+    const FrameData& frame = bb.add(std::move(frameValue));
     const SceneHandles& sceneHandles = bb.add(importScene(graph, *gpu));
     const GBufferData& gbuffer = bb.add(addGBufferPass(graph, pipelines, frame, sceneHandles));
 

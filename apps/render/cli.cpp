@@ -1,0 +1,198 @@
+#include "cli.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace vkgi::render {
+
+namespace {
+
+// Largest image side: the path tracer's and GiSystem's limit.
+constexpr uint32_t kMaxSide = 16384;
+// More samples than this would run for days on the CPU path tracer.
+constexpr uint32_t kMaxSpp = 1u << 20;
+// Beyond this many reflections the path tracer's own cap (1024) applies anyway.
+constexpr int kMaxBounces = 1024;
+
+Result<uint64_t> parseWhole(const std::string& option, const std::string& text, uint64_t lo, uint64_t hi) {
+    uint64_t v = 0;
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
+        return makeError(option + ": '" + text + "' is not a whole number in " + std::to_string(lo) + ".." +
+                         std::to_string(hi));
+    return v;
+}
+
+Result<void> parseSize(const std::string& text, Options& o) {
+    size_t x = text.find('x');
+    if (x == std::string::npos)
+        return makeError("--size: '" + text + "' is not WIDTHxHEIGHT (e.g. 256x256)");
+    auto w = parseWhole("--size width", text.substr(0, x), 1, kMaxSide);
+    if (!w)
+        return w.error();
+    auto h = parseWhole("--size height", text.substr(x + 1), 1, kMaxSide);
+    if (!h)
+        return h.error();
+    o.width = uint32_t(*w);
+    o.height = uint32_t(*h);
+    return {};
+}
+
+Result<void> parseOutput(const std::string& text, Options& o) {
+    std::string ext = std::filesystem::path(text).extension().string();
+    if (ext != ".exr" && ext != ".png")
+        return makeError("--out: '" + text + "' must end in .exr or .png");
+    o.outputs.emplace_back(text);
+    return {};
+}
+
+// Applies one option that takes a value.
+Result<void> applyValue(const std::string& flag, const std::string& value, Options& o) {
+    if (flag == "--scene") {
+        o.scene = value;
+    } else if (flag == "--technique") {
+        o.technique = value;
+    } else if (flag == "--size") {
+        return parseSize(value, o);
+    } else if (flag == "--out") {
+        return parseOutput(value, o);
+    } else if (flag == "--spp") {
+        auto v = parseWhole("--spp", value, 1, kMaxSpp);
+        if (!v)
+            return v.error();
+        o.spp = uint32_t(*v);
+    } else if (flag == "--bounces") {
+        if (value == "-1") {
+            o.bounces = -1;
+            return {};
+        }
+        auto v = parseWhole("--bounces", value, 0, kMaxBounces);
+        if (!v)
+            return makeError(v.error().message + " (or -1 = unbounded)");
+        o.bounces = int(*v);
+    } else if (flag == "--json") {
+        if (value.empty())
+            return makeError("--json: empty file name");
+        o.json = value;
+    }
+    return {};
+}
+
+bool takesValue(const std::string& flag) {
+    for (const char* f : {"--scene", "--technique", "--size", "--out", "--spp", "--bounces", "--json"})
+        if (flag == f)
+            return true;
+    return false;
+}
+
+} // namespace
+
+Result<Options> parseArgs(int argc, const char* const* argv) {
+    Options o;
+    for (int i = 1; i < argc; ++i) {
+        std::string arg = argv[i];
+        std::string value;
+        bool inlineValue = false;
+        if (size_t eq = arg.find('='); arg.rfind("--", 0) == 0 && eq != std::string::npos) {
+            value = arg.substr(eq + 1);
+            arg = arg.substr(0, eq);
+            inlineValue = true;
+        }
+        if (arg == "--help" || arg == "-h") {
+            o.help = true;
+        } else if (arg == "--compare") {
+            o.compare = true;
+        } else if (takesValue(arg)) {
+            if (!inlineValue) {
+                if (i + 1 >= argc)
+                    return makeError(arg + " needs a value (see --help)");
+                value = argv[++i];
+            }
+            if (auto ok = applyValue(arg, value, o); !ok)
+                return ok.error();
+        } else {
+            return makeError("unknown option '" + arg + "' (see --help)");
+        }
+    }
+    if (o.outputs.empty())
+        o.outputs.push_back(std::filesystem::path("out") / (std::filesystem::path(o.scene).stem().string() + ".png"));
+    return o;
+}
+
+std::string helpText() {
+    return R"(vkgi-render: render a scene headless and report per-pass GPU times.
+
+Usage: vkgi-render [options]
+  --scene NAME|FILE   built-in scene name or a .gltf/.glb file (default: cornell)
+  --technique T       none (direct light + emission) or reference (CPU path tracer); default none
+  --size WxH          image size, each side 1..16384 (default: 256x256)
+  --out FILE          output image, .exr (linear float) or .png (tone mapped); may be repeated;
+                      default out/<scene>.png. Files are written atomically.
+  --spp N             path-tracer samples per pixel for --technique reference and --compare (default 64)
+  --bounces K         reflections: 1 = direct only, -1 = unbounded. Default: the technique's own
+                      count (none: 1), or -1 for --technique reference. --compare uses the same K.
+  --compare           print relMSE and RMSE (full image and indirect only) against the path-traced
+                      reference (cached by scene hash in $VKGI_CACHE_DIR or ~/.cache/vkgi)
+  --json FILE         write {scene, technique, width, height, passes[{name, ms}], total_ms,
+                      error{relmse, rmse, relmse_indirect, rmse_indirect} or null}
+  --help              this text
+
+Environment: VKGI_DEVICE=<substring> picks the Vulkan device by name; VKGI_VALIDATION=1 enables
+the validation layers.
+Exit codes: 0 success, 1 scene/render/output failure, 2 bad arguments.
+)";
+}
+
+std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalMs,
+                        const std::vector<std::string>& culled, uint64_t memoryBytes) {
+    std::ostringstream out;
+    char line[160];
+    std::snprintf(line, sizeof(line), "%-32s %10s\n", "pass", "GPU ms");
+    out << line;
+    for (const rg::PassTiming& p : passes) {
+        std::snprintf(line, sizeof(line), "%-32s %10.3f\n", p.name.c_str(), p.ms);
+        out << line;
+    }
+    std::snprintf(line, sizeof(line), "%-32s %10.3f\n", "total", totalMs);
+    out << line;
+    if (!culled.empty()) {
+        out << "culled:";
+        for (const std::string& c : culled)
+            out << ' ' << c;
+        out << '\n';
+    }
+    if (memoryBytes > 0) {
+        std::snprintf(line, sizeof(line), "device memory: %.2f MiB\n", double(memoryBytes) / (1024.0 * 1024.0));
+        out << line;
+    }
+    return out.str();
+}
+
+std::string jsonReport(const Options& o, const std::vector<rg::PassTiming>& passes, double totalMs,
+                       const std::optional<Errors>& errors) {
+    nlohmann::json j;
+    j["scene"] = o.scene;
+    j["technique"] = o.technique;
+    j["width"] = o.width;
+    j["height"] = o.height;
+    j["passes"] = nlohmann::json::array();
+    for (const rg::PassTiming& p : passes)
+        j["passes"].push_back({{"name", p.name}, {"ms", p.ms}});
+    j["total_ms"] = totalMs;
+    // JSON has no infinity: a non-finite error (broken pixels) is reported as null.
+    auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+    if (errors)
+        j["error"] = {{"relmse", num(errors->full.relMse)},
+                      {"rmse", num(errors->full.rmse)},
+                      {"relmse_indirect", num(errors->indirect.relMse)},
+                      {"rmse_indirect", num(errors->indirect.rmse)}};
+    else
+        j["error"] = nullptr;
+    return j.dump(2) + "\n";
+}
+
+} // namespace vkgi::render

@@ -1,0 +1,45 @@
+#pragma once
+// vkgi-render's command line: parsing with one-line errors, the help text, the timing table
+// and the --json report. Kept out of main.cpp so main reads as the render steps.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/image_metrics.hpp"
+#include "engine/result.hpp"
+#include "engine/rg/render_graph.hpp"
+
+namespace vkgi::render {
+
+struct Options {
+    std::string scene = "cornell";
+    std::string technique = "none"; // a gi::Technique name or "reference"
+    uint32_t width = 256;
+    uint32_t height = 256;
+    std::vector<std::filesystem::path> outputs; // default out/<scene>.png
+    uint32_t spp = 64;                          // path-tracer samples per pixel (reference, --compare)
+    std::optional<int> bounces;                 // reflections; default: the technique's own count
+    bool compare = false;
+    std::optional<std::filesystem::path> json;
+    bool help = false;
+};
+
+// Parses argv. Errors are one line naming the option and the problem (exit code 2).
+Result<Options> parseArgs(int argc, const char* const* argv);
+std::string helpText();
+
+struct Errors {
+    ErrorMetrics full;
+    ErrorMetrics indirect;
+};
+
+// The per-pass GPU time table (plus total, culled passes and memory) for stdout.
+std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalMs,
+                        const std::vector<std::string>& culled, uint64_t memoryBytes);
+// The --json report: scene, technique, size, passes, total_ms, error (null without --compare).
+std::string jsonReport(const Options& o, const std::vector<rg::PassTiming>& passes, double totalMs,
+                       const std::optional<Errors>& errors);
+
+} // namespace vkgi::render

@@ -1,0 +1,143 @@
+// vkgi-render: renders one frame of a scene headless with a GI technique (or the CPU path
+// tracer), prints per-pass GPU times, optionally compares against the cached path-traced
+// reference, and writes EXR/PNG images and a JSON report. `vkgi-render --help` lists options.
+#include <cstdio>
+#include <filesystem>
+
+#include "cli.hpp"
+#include "engine/file_util.hpp"
+#include "engine/gltf_loader.hpp"
+#include "engine/image_io.hpp"
+#include "gi/gi.hpp"
+#include "gi/reference.hpp"
+
+using namespace vkgi;
+
+namespace {
+
+// What one render produced: the final image, its direct part, and the timing report.
+struct Rendered {
+    HdrImage image;
+    HdrImage direct;
+    std::vector<rg::PassTiming> passes;
+    double totalMs = 0.0;
+    std::vector<std::string> culled;
+    uint64_t memoryBytes = 0;
+};
+
+int fail(int code, const std::string& message) {
+    std::fprintf(stderr, "vkgi-render: %s\n", message.c_str());
+    return code;
+}
+
+gi::ReferenceSettings referenceSettings(const render::Options& o, int bounces) {
+    gi::ReferenceSettings s;
+    s.spp = o.spp;
+    s.maxBounces = bounces;
+    return s;
+}
+
+Result<Rendered> renderGi(const Scene& scene, const Camera& camera, const render::Options& o, gi::Technique t) {
+    gi::GiSettings settings;
+    settings.technique = t;
+    auto system = gi::GiSystem::createHeadless(settings);
+    if (!system)
+        return system.error();
+    if (auto ok = (*system)->setScene(scene); !ok)
+        return ok.error();
+    gi::FrameRequest request;
+    request.direct = true;
+    auto frame = (*system)->renderFrame(camera, o.width, o.height, request);
+    if (!frame)
+        return frame.error();
+    return Rendered{std::move(frame->composite), std::move(frame->direct), frame->passes, frame->totalMs,
+                    frame->culledPasses, frame->transientBytes + frame->persistentBytes};
+}
+
+Result<Rendered> renderPathTraced(const Scene& scene, const Camera& camera, const render::Options& o, int bounces) {
+    auto ref = gi::renderReference(scene, camera, o.width, o.height, referenceSettings(o, bounces));
+    if (!ref)
+        return ref.error();
+    double ms = ref->seconds * 1000.0;
+    return Rendered{std::move(ref->full), std::move(ref->direct), {{"reference (CPU wall time)", ms}}, ms, {}, 0};
+}
+
+// Errors of the full image and of its indirect part (full - direct) against the reference.
+Result<render::Errors> compare(const Scene& scene, const Camera& camera, const render::Options& o, int bounces,
+                               const Rendered& r) {
+    auto ref = gi::renderReferenceCached(scene, camera, o.width, o.height, referenceSettings(o, bounces));
+    if (!ref)
+        return ref.error();
+    auto full = compareImages(r.image, ref->full);
+    auto indirect = subtract(r.image, r.direct);
+    if (!full || !indirect)
+        return full ? indirect.error() : full.error();
+    auto ind = compareImages(*indirect, ref->indirect);
+    if (!ind)
+        return ind.error();
+    return render::Errors{*full, *ind};
+}
+
+Result<void> writeImage(const std::filesystem::path& path, const HdrImage& image) {
+    std::error_code ec;
+    if (path.has_parent_path())
+        std::filesystem::create_directories(path.parent_path(), ec);
+    return path.extension() == ".exr" ? writeExr(path, image) : writePng(path, image);
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    auto options = render::parseArgs(argc, argv);
+    if (!options)
+        return fail(2, options.error().message);
+    const render::Options& o = *options;
+    if (o.help) {
+        std::fputs(render::helpText().c_str(), stdout);
+        return 0;
+    }
+    bool pathTraced = o.technique == "reference";
+    auto technique = gi::parseTechnique(pathTraced ? "none" : o.technique);
+    if (!technique) {
+        std::string valid;
+        for (const std::string& name : gi::techniqueNames())
+            valid += name + ", ";
+        return fail(2, "--technique: unknown technique '" + o.technique + "' (valid: " + valid + "reference)");
+    }
+
+    auto scene = loadScene(o.scene);
+    if (!scene)
+        return fail(1, scene.error().message);
+    Camera camera = scene->cameraOrDefault();
+    // Technique none renders direct light only: one reflection.
+    int bounces = o.bounces.value_or(pathTraced ? -1 : 1);
+
+    auto rendered = pathTraced ? renderPathTraced(*scene, camera, o, bounces) : renderGi(*scene, camera, o, *technique);
+    if (!rendered)
+        return fail(1, rendered.error().message);
+    std::printf("%s %ux%u, technique %s\n", o.scene.c_str(), o.width, o.height, o.technique.c_str());
+    std::fputs(render::timingTable(rendered->passes, rendered->totalMs, rendered->culled, rendered->memoryBytes).c_str(),
+               stdout);
+
+    std::optional<render::Errors> errors;
+    if (o.compare) {
+        auto e = compare(*scene, camera, o, bounces, *rendered);
+        if (!e)
+            return fail(1, "--compare: " + e.error().message);
+        errors = *e;
+        std::printf("error vs reference (%d bounces, %u spp): relMSE %.6g  RMSE %.6g nits  |  indirect: relMSE "
+                    "%.6g  RMSE %.6g nits\n",
+                    bounces, o.spp, e->full.relMse, e->full.rmse, e->indirect.relMse, e->indirect.rmse);
+    }
+    for (const std::filesystem::path& out : o.outputs) {
+        if (auto ok = writeImage(out, rendered->image); !ok)
+            return fail(1, ok.error().message);
+        std::printf("wrote %s\n", out.string().c_str());
+    }
+    if (o.json) {
+        if (auto ok = writeFileAtomic(*o.json, render::jsonReport(o, rendered->passes, rendered->totalMs, errors)); !ok)
+            return fail(1, ok.error().message);
+        std::printf("wrote %s\n", o.json->string().c_str());
+    }
+    return 0;
+}

@@ -1,0 +1,116 @@
+// vkgi-render as a user runs it: bad arguments give exit code 2 and one line naming the
+// problem, an unreadable scene exit code 1, and a small render writes a readable EXR and JSON.
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "engine/image_io.hpp"
+#include "support/gpu_fixture.hpp"
+#include "support/test_env.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The test executable lives in <build>/tests, the app in <build>/apps.
+fs::path renderBinary() { return fs::read_symlink("/proc/self/exe").parent_path().parent_path() / "apps" / "vkgi-render"; }
+
+struct CliRun {
+    int exitCode = -1;
+    std::string err; // stderr
+};
+
+CliRun run(const std::string& args) {
+    CliRun r;
+    std::string cmd = renderBinary().string() + " " + args + " 2>&1 1>/dev/null";
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p)
+        return r;
+    char buf[512];
+    while (fgets(buf, sizeof(buf), p))
+        r.err += buf;
+    int status = pclose(p);
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+size_t lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
+
+class Cli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (!fs::exists(renderBinary()))
+            GTEST_SKIP() << "vkgi-render not built (GI_BUILD_APPS=OFF)";
+    }
+};
+
+} // namespace
+
+TEST_F(Cli, BadArgumentsExitTwoWithOneLine) {
+    struct Case {
+        const char* args;
+        const char* mentions;
+    } cases[] = {{"--bogus", "--bogus"},          {"--size 0x64", "--size"},     {"--size 64", "--size"},
+                 {"--size 99999x64", "--size"},   {"--size", "needs a value"}, {"--spp nan", "--spp"},
+                 {"--spp -3", "--spp"},           {"--bounces 1.5", "--bounces"}, {"--technique magic", "magic"},
+                 {"--out image.jpg", "image.jpg"}, {"--json", "needs a value"}};
+    for (const Case& c : cases) {
+        CliRun r = run(c.args);
+        EXPECT_EQ(r.exitCode, 2) << c.args;
+        EXPECT_EQ(lines(r.err), 1u) << c.args << ": " << r.err;
+        EXPECT_NE(r.err.find(c.mentions), std::string::npos) << c.args << ": " << r.err;
+    }
+}
+
+TEST_F(Cli, HelpDocumentsEveryOption) {
+    std::string cmd = renderBinary().string() + " --help";
+    FILE* p = popen(cmd.c_str(), "r");
+    ASSERT_NE(p, nullptr);
+    std::string out;
+    char buf[512];
+    while (fgets(buf, sizeof(buf), p))
+        out += buf;
+    EXPECT_EQ(pclose(p), 0);
+    for (const char* opt : {"--scene", "--technique", "--size", "--out", "--spp", "--bounces", "--compare", "--json"})
+        EXPECT_NE(out.find(opt), std::string::npos) << opt;
+}
+
+TEST_F(Cli, UnreadableSceneExitsOneAndWritesNothing) {
+    fs::path dir = vkgi::test::outputDir() / "cli_missing";
+    fs::remove_all(dir);
+    CliRun r = run("--scene /nonexistent/box.gltf --out " + (dir / "x.png").string());
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(lines(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find("box.gltf"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "x.png"));
+}
+
+TEST_F(Cli, SmallRenderWritesImageAndJson) {
+    fs::path dir = vkgi::test::outputDir() / "cli_render";
+    fs::remove_all(dir);
+    CliRun r = run("--scene cornell_point --size 24x16 --out " + (dir / "img.exr").string() + " --json " +
+                (dir / "report.json").string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto img = vkgi::readExr(dir / "img.exr");
+    ASSERT_TRUE(img) << img.error().message;
+    EXPECT_EQ(img->width, 24u);
+    EXPECT_EQ(img->height, 16u);
+    std::ifstream in(dir / "report.json");
+    auto j = nlohmann::json::parse(in);
+    EXPECT_EQ(j["scene"], "cornell_point");
+    EXPECT_EQ(j["technique"], "none");
+    EXPECT_EQ(j["width"], 24);
+    EXPECT_TRUE(j["error"].is_null());
+    double sum = 0.0;
+    ASSERT_FALSE(j["passes"].empty());
+    for (const auto& p : j["passes"])
+        sum += p["ms"].get<double>();
+    EXPECT_NEAR(j["total_ms"].get<double>(), sum, 1e-6 * (1.0 + sum));
+}
