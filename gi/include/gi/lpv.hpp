@@ -11,8 +11,9 @@ struct LpvSettings {
     uint32_t gridSize = 32;   // cells per axis, 1..128; memory and time grow as gridSize^3
     uint32_t iterations = 8;  // propagation steps = how many cells light travels, 0..4096
     bool occlusion = true;    // attenuate by the geometry volume (fuzzy blocking) while propagating
-    bool bounces = false;     // reflect at occupied voxels of the shared voxel grid (Gaitatzes et al.);
-                              // off by default: it darkens the Cornell box so far (docs/lpv.md)
+    bool bounces = false;     // reflect the light the GV stops at occupied voxels of the shared voxel grid
+                              // (Gaitatzes et al.; needs occlusion); off by default: on the Cornell box
+                              // it lowers RMSE but raises relMSE so far (docs/lpv.md)
     float damping = 1.0f;     // light-bleeding damping strength at lookup (thesis 3.3.1), 0 = off, 0..1
     bool halfFloat = true;    // RGBA16F SH storage (half the bandwidth); false = RGBA32F reference
 };

@@ -3,15 +3,13 @@
 // leaves through (exact face integrals, gi/lpv.h), optionally attenuated by the geometry
 // volume at the shared face, and re-emitted from this cell's centre as a cosine lobe around
 // the face normal. Writes the new wavefront and adds it to the accumulation volume.
-// Multi-bounce (Gaitatzes et al.): where the gathered light enters a voxel occupied by
-// geometry (occupancy a, mean normal n, albedo rho from the shared voxel grid, sampled
-// trilinearly so a is the occupied fraction around the cell centre), that fraction of it does
-// not pass through but is reflected: the flux travelling into the surface's front,
-// Phi = integral over n.w < 0 of U(w) of the light U before GV attenuation (clamped to
-// [0, total flux of U], as 2-band ringing can exceed it), leaves as a Lambertian lobe
-// rho a Phi / pi cosineLobe(n) in the new wavefront and the accumulation; the rest,
-// (1 - a) times the GV-attenuated light, passes. Per step the flux out is at most
-// (1 - a) + a rho of the flux in, so any albedo < 1 keeps it bounded by the no-occlusion energy.
+// Multi-bounce (Gaitatzes et al.): light that enters occupied voxels is reflected instead of
+// passing through. Here "does not pass" is the geometry volume's job (its blocking at this
+// cell's faces), and the voxel grid (sampled trilinearly at the cell centre: occupancy a, mean
+// normal n, albedo rho) says what to do with the stopped flux S = flux(before GV) - flux(after
+// GV), clamped to [0, flux before]: it leaves as a Lambertian lobe rho S / pi cosineLobe(n) in
+// the new wavefront and the accumulation. Flux out <= flux in for rho <= 1, so it stays
+// bounded by the no-occlusion energy; bounces need the GV (without it nothing is stopped).
 // Included by propagate_<format>.comp, which defines LPV_FORMAT (storage images that are read
 // must declare their format on lavapipe).
 #extension GL_GOOGLE_include_directive : require
@@ -109,13 +107,14 @@ void main() {
             if (dot(n, n) > 1e-30) {
                 n = normalize(n);
                 vec3 rho = clamp(a.rgb / a.a, 0.0, 1.0);
-                vec4 emit = shCosineLobe(n) * (a.a / kShPi);
-                vec3 phi = vec3(clamp(shHemisphereIntegral(inR, -n), 0.0, max(shIntegral(inR), 0.0)),
-                                clamp(shHemisphereIntegral(inG, -n), 0.0, max(shIntegral(inG), 0.0)),
-                                clamp(shHemisphereIntegral(inB, -n), 0.0, max(shIntegral(inB), 0.0)));
-                sumR = (1.0 - a.a) * sumR + (rho.r * phi.r) * emit;
-                sumG = (1.0 - a.a) * sumG + (rho.g * phi.g) * emit;
-                sumB = (1.0 - a.a) * sumB + (rho.b * phi.b) * emit;
+                vec4 emit = shCosineLobe(n) * (1.0 / kShPi);
+                // Light the geometry volume stopped at this cell's faces is reflected.
+                vec3 blocked = vec3(clamp(shIntegral(inR - sumR), 0.0, max(shIntegral(inR), 0.0)),
+                                    clamp(shIntegral(inG - sumG), 0.0, max(shIntegral(inG), 0.0)),
+                                    clamp(shIntegral(inB - sumB), 0.0, max(shIntegral(inB), 0.0)));
+                sumR += (rho.r * blocked.r) * emit;
+                sumG += (rho.g * blocked.g) * emit;
+                sumB += (rho.b * blocked.b) * emit;
             }
         }
     }
