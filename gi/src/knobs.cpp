@@ -1,0 +1,154 @@
+#include "gi/knobs.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+namespace vkgi::gi {
+
+namespace {
+
+std::string fmt(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+// Accessor-based constructors: `field` returns a reference to the member inside GiSettings.
+template <typename Field>
+Knob uintKnob(const char* name, double lo, double hi, std::optional<Technique> t, const char* help, Field field) {
+    return {name, help, Knob::Kind::Uint, lo, hi, t,
+            [field](const GiSettings& s) { return std::to_string(field(const_cast<GiSettings&>(s))); },
+            [field](GiSettings& s, double v) { field(s) = uint32_t(v); }};
+}
+template <typename Field>
+Knob floatKnob(const char* name, double lo, double hi, std::optional<Technique> t, const char* help, Field field) {
+    return {name, help, Knob::Kind::Float, lo, hi, t,
+            [field](const GiSettings& s) { return fmt(field(const_cast<GiSettings&>(s))); },
+            [field](GiSettings& s, double v) { field(s) = float(v); }};
+}
+template <typename Field>
+Knob boolKnob(const char* name, std::optional<Technique> t, const char* help, Field field) {
+    return {name, help, Knob::Kind::Bool, 0, 1, t,
+            [field](const GiSettings& s) { return std::string(field(const_cast<GiSettings&>(s)) ? "on" : "off"); },
+            [field](GiSettings& s, double v) { field(s) = v != 0.0; }};
+}
+
+std::vector<Knob> makeKnobs() {
+    const std::optional<Technique> all;
+    const std::optional<Technique> lpv = Technique::Lpv;
+    return {
+        uintKnob("shadow.size", 16, 4096, all, "shadow-map / RSM texels per side",
+                 [](GiSettings& s) -> uint32_t& { return s.shadowMapSize; }),
+        uintKnob("shadow.layers", 1, 256, all, "shadow atlas layers (a point light takes 6)",
+                 [](GiSettings& s) -> uint32_t& { return s.maxShadowLayers; }),
+        uintKnob("shadow.pcf", 0, 4, all, "PCF radius r: (2r+1)^2 filtered compares",
+                 [](GiSettings& s) -> uint32_t& { return s.pcfRadius; }),
+        floatKnob("shadow.normal_offset", 0, 16, all, "normal-offset bias, in shadow texels",
+                  [](GiSettings& s) -> float& { return s.shadowNormalOffset; }),
+        floatKnob("shadow.slope_bias", 0, 16, all, "slope-scaled depth bias, in shadow texels",
+                  [](GiSettings& s) -> float& { return s.shadowSlopeBias; }),
+        floatKnob("shadow.constant_bias", 0, 16, all, "constant depth bias, in shadow texels",
+                  [](GiSettings& s) -> float& { return s.shadowConstantBias; }),
+        uintKnob("lpv.grid", 1, 128, lpv, "LPV cells per axis (memory and time grow as grid^3)",
+                 [](GiSettings& s) -> uint32_t& { return s.lpv.gridSize; }),
+        uintKnob("lpv.iterations", 0, 4096, lpv, "propagation steps (cells light travels)",
+                 [](GiSettings& s) -> uint32_t& { return s.lpv.iterations; }),
+        boolKnob("lpv.occlusion", lpv, "geometry-volume occlusion during propagation",
+                 [](GiSettings& s) -> bool& { return s.lpv.occlusion; }),
+        boolKnob("lpv.bounces", lpv, "reflect at occupied voxels (Gaitatzes et al. multi-bounce)",
+                 [](GiSettings& s) -> bool& { return s.lpv.bounces; }),
+        floatKnob("lpv.damping", 0, 1, lpv, "light-bleeding damping strength at lookup",
+                  [](GiSettings& s) -> float& { return s.lpv.damping; }),
+        boolKnob("lpv.half", lpv, "RGBA16F SH storage (off = RGBA32F)",
+                 [](GiSettings& s) -> bool& { return s.lpv.halfFloat; }),
+    };
+}
+
+Result<double> parseValue(const Knob& k, std::string_view text) {
+    std::string t(text);
+    if (k.kind == Knob::Kind::Bool) {
+        if (t == "on" || t == "true" || t == "1")
+            return 1.0;
+        if (t == "off" || t == "false" || t == "0")
+            return 0.0;
+        return makeError(k.name + ": '" + t + "' is not on/off/true/false/1/0");
+    }
+    double v = 0.0;
+    if (k.kind == Knob::Kind::Uint) {
+        uint64_t u = 0;
+        auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), u);
+        if (t.empty() || ec != std::errc() || end != t.data() + t.size())
+            return makeError(k.name + ": '" + t + "' is not a whole number");
+        v = double(u);
+    } else {
+        char* end = nullptr;
+        v = std::strtod(t.c_str(), &end);
+        if (t.empty() || end != t.c_str() + t.size())
+            return makeError(k.name + ": '" + t + "' is not a number");
+        if (!std::isfinite(v))
+            return makeError(k.name + ": '" + t + "' is not finite");
+    }
+    if (v < k.min || v > k.max)
+        return makeError(k.name + ": " + t + " is out of range [" + fmt(k.min) + ", " + fmt(k.max) + "]");
+    return v;
+}
+
+} // namespace
+
+const std::vector<Knob>& knobs() {
+    static const std::vector<Knob> table = makeKnobs();
+    return table;
+}
+
+const Knob* findKnob(std::string_view name) {
+    for (const Knob& k : knobs())
+        if (k.name == name)
+            return &k;
+    return nullptr;
+}
+
+Result<void> setKnob(GiSettings& settings, std::string_view name, std::string_view value) {
+    const Knob* k = findKnob(name);
+    if (!k)
+        return makeError("unknown setting '" + std::string(name) + "' (see --help for the list)");
+    auto v = parseValue(*k, value);
+    if (!v)
+        return v.error();
+    k->set(settings, *v);
+    return {};
+}
+
+Result<void> applyKnob(GiSettings& settings, std::string_view assignment) {
+    size_t eq = assignment.find('=');
+    if (eq == std::string_view::npos)
+        return makeError("'" + std::string(assignment) + "' is not of the form name=value");
+    return setKnob(settings, assignment.substr(0, eq), assignment.substr(eq + 1));
+}
+
+std::string describeKnobs(const GiSettings& settings) {
+    std::string out;
+    for (const Knob& k : knobs()) {
+        if (!k.technique || *k.technique != settings.technique)
+            continue;
+        size_t dot = k.name.find('.');
+        out += (out.empty() ? "" : " ") + k.name.substr(dot + 1) + "=" + k.get(settings);
+    }
+    return out;
+}
+
+std::string knobHelp() {
+    GiSettings defaults;
+    std::string out;
+    for (const Knob& k : knobs()) {
+        std::string range = k.kind == Knob::Kind::Bool ? "on|off" : "[" + fmt(k.min) + ", " + fmt(k.max) + "]";
+        char line[256];
+        std::snprintf(line, sizeof line, "  --%-22s %-14s %s (default %s)\n", k.name.c_str(), range.c_str(),
+                      k.help.c_str(), k.get(defaults).c_str());
+        out += line;
+    }
+    return out;
+}
+
+} // namespace vkgi::gi
