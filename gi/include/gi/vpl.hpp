@@ -4,11 +4,18 @@
 // shared RSM, deferred VPL shading over the G-buffer without visibility, negative VPLs for the
 // missing occlusion, and a low-resolution gather refined at discontinuities. See docs/vpl.md.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "engine/camera.hpp"
 #include "engine/result.hpp"
+#include "engine/rg/render_graph.hpp"
+
+namespace vkgi {
+class Context;
+}
 
 namespace vkgi::gi {
 
@@ -49,5 +56,58 @@ glm::mat3 spotFrame(const glm::vec3& direction);
 
 // Solid angle of a cone of half-angle acos(cosOuter): 2 pi (1 - cosOuter).
 inline float coneSolidAngle(float cosOuter) { return 6.28318530718f * (1.0f - cosOuter); }
+
+// One spotlight that owns RSM layers.
+struct VplSpot {
+    glm::vec3 position{0.0f};
+    glm::vec3 direction{0.0f, -1.0f, 0.0f}; // unit spot axis
+    float cosOuter = 0.7071068f;            // cosine of the outer cone half-angle
+    uint32_t firstLayer = 0;                // its layers in the RSM arrays and the shadow views table
+    uint32_t layerCount = 1;                // 1 (perspective layer) or 6 (cube, wide spots)
+};
+
+// What the VPL passes read. Image layouts as documented in gi/frame_data.hpp.
+struct VplInputs {
+    rg::ImageHandle gPosition; // RGBA32F world position, w = 1 where geometry was drawn
+    rg::ImageHandle gNormal;   // unit normal
+    rg::ImageHandle gAlbedo;   // Lambertian albedo
+    uint32_t width = 0;        // G-buffer size
+    uint32_t height = 0;
+    Camera camera;
+    rg::ImageHandle rsmPosition; // RSM 2D arrays (position, normal, flux per texel)
+    rg::ImageHandle rsmNormal;
+    rg::ImageHandle rsmFlux;
+    rg::BufferHandle shadowViews; // GpuShadowView per layer (gi/direct_types.h)
+    std::vector<VplSpot> spots;   // at most kMaxVplLights
+    float sceneDiagonal = 1.0f;   // metres; scales VplSettings::clampDistance
+};
+
+struct VplOutputs {
+    rg::ImageHandle indirect;     // RGBA32F indirect radiance (nits) at the G-buffer size
+    rg::BufferHandle vpls;        // VplRecord per positive VPL, spot after spot
+    rg::BufferHandle negativeVpls; // VplRecord per negative VPL (invalid when off)
+    rg::BufferHandle refineList;  // uint count, 3 pad, packed pixels (invalid when lowResFactor = 1)
+    uint32_t vplCount = 0;        // records in `vpls`
+};
+
+// The VPL technique's pipelines and cached Halton directions. Passes are added per frame.
+class VplRenderer {
+public:
+    static Result<std::unique_ptr<VplRenderer>> create(Context& ctx);
+    ~VplRenderer();
+    VplRenderer(const VplRenderer&) = delete;
+    VplRenderer& operator=(const VplRenderer&) = delete;
+
+    // Adds the VPL passes (upload, generate, gather, [negative VPLs], [upsample + refine]).
+    // Without spots it adds one pass that clears `indirect` (documented fall-back: a scene
+    // with no spotlight has no VPL light). Errors: bad settings, too many spots, a cone too
+    // narrow for the requested VPL count.
+    Result<VplOutputs> addPasses(rg::RenderGraph& graph, const VplInputs& inputs, const VplSettings& settings);
+
+private:
+    struct Impl;
+    explicit VplRenderer(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> m;
+};
 
 } // namespace vkgi::gi

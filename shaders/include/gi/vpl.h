@@ -33,25 +33,33 @@ GI_GPU_STRUCT(VplRecord) {
 };
 GI_CHECK_SIZE(VplRecord, 48);
 
-// Per-spotlight parameters of the generation pass, one table entry per light.
+// Per-spotlight parameters of the generation pass, one table entry per light. The RSM layer
+// projections come from the shadow views table (GpuShadowView, gi/direct_types.h).
 GI_GPU_STRUCT(VplLight) {
-    mat4 rsmViewProj; // world -> RSM clip space (Vulkan conventions, y down)
-    vec4 position;    // xyz light position, w = tan(half field of view) of the RSM projection
-    vec4 axisX;       // spot frame: world-space images of the local x, y, z axes (z = spot axis)
+    vec4 position; // xyz light position, w = solid angle each VPL stands for (cone solid angle / N)
+    vec4 axisX;    // spot frame: world-space images of the local x, y, z axes (z = spot axis)
     vec4 axisY;
     vec4 axisZ;
-    vec4 params;      // x RSM width, y RSM height, z solid angle per VPL (cone solid angle / N), w 0
-    uvec4 info;       // x first sample direction, y VPL count, z first output record, w RSM layer
+    uvec4 info;    // x first sample direction = first output record, y VPL count,
+                   // z first RSM layer, w RSM layer count (1 = one perspective layer, 6 = cube)
 };
-GI_CHECK_SIZE(VplLight, 160);
-GI_CHECK_OFFSET(VplLight, info, 144);
+GI_CHECK_SIZE(VplLight, 80);
+GI_CHECK_OFFSET(VplLight, info, 64);
 
-// Push constants of the per-pixel passes (gather, negative VPLs, upsample, refine).
-GI_GPU_STRUCT(VplShadePush) {
-    uvec4 size;   // x width, y height of the image being written, z lowResFactor, w 0
-    uvec4 counts; // x positive VPLs, y negative VPLs, z full-res width, w full-res height
+// Push constants of the 1D passes (VPL and negative-VPL generation).
+GI_GPU_STRUCT(VplGeneratePush) {
+    uvec4 info;   // x light count (generation) / negative VPL count, y total records, z low-res factor, w 0
+    uvec4 size;   // x, y low-res size; z, w full-res size (negative generation)
     vec4 camera;  // xyz camera position, w tan(half vertical field of view)
-    vec4 params;  // x clamp distance^2, y refine threshold, z negative-VPL area scale, w 0
+};
+GI_CHECK_SIZE(VplGeneratePush, 48);
+
+// Push constants of the per-pixel passes (gather, negative gather, upsample, refine).
+GI_GPU_STRUCT(VplShadePush) {
+    uvec4 size;   // x width, y height of the image being written, z low-res factor, w refine capacity
+    uvec4 counts; // x positive VPLs, y negative VPLs, z full-res width, w full-res height
+    vec4 camera;  // xyz camera position, w 0
+    vec4 params;  // x clamp distance^2, y refine threshold, z, w 0
 };
 GI_CHECK_SIZE(VplShadePush, 64);
 

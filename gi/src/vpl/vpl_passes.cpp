@@ -1,0 +1,419 @@
+// The VPL technique as render-graph passes: upload of the per-light tables, VPL generation
+// from the RSM, the deferred gather over the G-buffer, negative VPLs, and the low-resolution
+// gather with discontinuity refinement. All synchronisation comes from the declared accesses.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <string>
+#include <utility>
+
+#include "engine/context.hpp"
+#include "engine/pipeline.hpp"
+#include "engine/resources.hpp"
+#include "gi/vpl.h"
+#include "gi/vpl.hpp"
+
+namespace vkgi::gi {
+
+namespace {
+
+constexpr VkFormat kRadianceFormat = VK_FORMAT_R32G32B32A32_SFLOAT; // 32F: 1e9 cd stays finite
+// vkCmdUpdateBuffer moves at most 65536 bytes per call.
+constexpr VkDeviceSize kUpdateChunk = 65536;
+
+ImageDesc image2D(uint32_t w, uint32_t h) {
+    ImageDesc d;
+    d.format = kRadianceFormat;
+    d.width = w;
+    d.height = h;
+    d.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    return d;
+}
+
+BufferDesc storageBuffer(VkDeviceSize bytes) {
+    return {bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::GpuOnly};
+}
+
+void updateBuffer(VkCommandBuffer cmd, VkBuffer buffer, const void* data, VkDeviceSize bytes) {
+    const auto* p = static_cast<const uint8_t*>(data);
+    for (VkDeviceSize off = 0; off < bytes; off += kUpdateChunk)
+        vkCmdUpdateBuffer(cmd, buffer, off, std::min(kUpdateChunk, bytes - off), p + off);
+}
+
+} // namespace
+
+struct VplRenderer::Impl {
+    Context& ctx;
+    Pipeline generate, gather, negativeGenerate, negativeGather, upsample, refine;
+    VkSampler pointSampler = VK_NULL_HANDLE; // texelFetch-only, but sampled bindings need one
+    // Halton directions per (count, cosOuter bits): the CPU search is the only costly CPU step.
+    std::map<std::pair<uint32_t, uint32_t>, std::vector<glm::vec3>> directionCache;
+
+    explicit Impl(Context& c) : ctx(c) {}
+    Result<const std::vector<glm::vec3>*> directions(uint32_t count, float cosOuter) {
+        uint32_t bits;
+        std::memcpy(&bits, &cosOuter, sizeof(bits));
+        auto key = std::make_pair(count, bits);
+        auto it = directionCache.find(key);
+        if (it == directionCache.end()) {
+            auto dirs = spotSampleDirections(count, cosOuter);
+            if (!dirs)
+                return dirs.error();
+            if (directionCache.size() > 64) // settings sweeps: keep the cache bounded
+                directionCache.clear();
+            it = directionCache.emplace(key, std::move(dirs.value())).first;
+        }
+        return &it->second;
+    }
+};
+
+VplRenderer::VplRenderer(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
+
+VplRenderer::~VplRenderer() {
+    Context& ctx = m->ctx;
+    for (Pipeline* p : {&m->generate, &m->gather, &m->negativeGenerate, &m->negativeGather, &m->upsample, &m->refine})
+        destroyPipeline(ctx, *p);
+    if (m->pointSampler)
+        vkDestroySampler(ctx.device(), m->pointSampler, nullptr);
+}
+
+Result<std::unique_ptr<VplRenderer>> VplRenderer::create(Context& ctx) {
+    auto impl = std::make_unique<Impl>(ctx);
+    std::unique_ptr<VplRenderer> r(new VplRenderer(std::move(impl)));
+    const std::pair<Pipeline*, const char*> shaders[] = {
+        {&r->m->generate, "gi/vpl/vpl_generate.comp"},
+        {&r->m->gather, "gi/vpl/vpl_shade.comp"},
+        {&r->m->negativeGenerate, "gi/vpl/vpl_negative_generate.comp"},
+        {&r->m->negativeGather, "gi/vpl/vpl_negative_shade.comp"},
+        {&r->m->upsample, "gi/vpl/vpl_upsample.comp"},
+        {&r->m->refine, "gi/vpl/vpl_refine.comp"},
+    };
+    for (const auto& [pipeline, name] : shaders) {
+        auto p = createComputePipeline(ctx, {name, {}});
+        if (!p)
+            return p.error();
+        *pipeline = std::move(p.value());
+    }
+    SamplerDesc point;
+    point.filter = VK_FILTER_NEAREST;
+    point.mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    r->m->pointSampler = createSampler(ctx, point);
+    return r;
+}
+
+Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& s) {
+    if (auto ok = validateVplSettings(s); !ok)
+        return ok.error();
+    if (in.width == 0 || in.height == 0 || in.width > 65535 || in.height > 65535)
+        return makeError("VplRenderer: image size " + std::to_string(in.width) + "x" + std::to_string(in.height) +
+                         " is outside 1..65535 (refine list packs 16-bit coordinates)");
+    if (in.spots.size() > kMaxVplLights)
+        return makeError("VplRenderer: " + std::to_string(in.spots.size()) + " spotlights exceed the maximum " +
+                         std::to_string(kMaxVplLights));
+    VplOutputs out;
+    const ImageDesc fullDesc = image2D(in.width, in.height);
+
+    if (in.spots.empty()) {
+        // Documented fall-back: no spotlight, no VPL light. One clear keeps the output defined.
+        struct ClearData {
+            rg::ImageHandle indirect;
+        };
+        const auto& d = graph.addPass<ClearData>(
+            "vpl.no_spot_clear",
+            [&](rg::PassBuilder& b, ClearData& data) {
+                data.indirect = b.write(b.create("vpl.indirect", fullDesc), rg::Access::TransferWrite);
+            },
+            [](const ClearData& data, rg::PassContext& pc) {
+                VkClearColorValue zero{};
+                VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+                vkCmdClearColorImage(pc.cmd(), pc.image(data.indirect).image, pc.layout(data.indirect), &zero, 1,
+                                     &range);
+            });
+        out.indirect = d.indirect;
+        return out;
+    }
+
+    // Per-light table and the concatenated local Halton directions.
+    std::vector<gpu::VplLight> lights;
+    std::vector<glm::vec4> dirs;
+    for (const VplSpot& spot : in.spots) {
+        if (spot.layerCount != 1 && spot.layerCount != 6)
+            return makeError("VplRenderer: a spot's RSM layer count must be 1 or 6, got " +
+                             std::to_string(spot.layerCount));
+        auto local = m->directions(s.vplCount, spot.cosOuter);
+        if (!local)
+            return local.error();
+        glm::mat3 frame = spotFrame(spot.direction);
+        gpu::VplLight l{};
+        l.position = glm::vec4(spot.position, coneSolidAngle(spot.cosOuter) / float(s.vplCount));
+        l.axisX = glm::vec4(frame[0], 0.0f);
+        l.axisY = glm::vec4(frame[1], 0.0f);
+        l.axisZ = glm::vec4(frame[2], 0.0f);
+        l.info = glm::uvec4(uint32_t(dirs.size()), s.vplCount, spot.firstLayer, spot.layerCount);
+        lights.push_back(l);
+        for (const glm::vec3& d : **local)
+            dirs.emplace_back(d, 0.0f);
+    }
+    const uint32_t vplTotal = uint32_t(dirs.size());
+    out.vplCount = vplTotal;
+
+    struct UploadData {
+        rg::BufferHandle lights, directions;
+        std::vector<gpu::VplLight> lightData;
+        std::vector<glm::vec4> directionData;
+    };
+    const auto& up = graph.addPass<UploadData>(
+        "vpl.upload",
+        [&](rg::PassBuilder& b, UploadData& d) {
+            d.lightData = lights;
+            d.directionData = dirs;
+            d.lights = b.write(b.create("vpl.lights", storageBuffer(lights.size() * sizeof(gpu::VplLight))),
+                               rg::Access::TransferWrite);
+            d.directions = b.write(b.create("vpl.directions", storageBuffer(dirs.size() * sizeof(glm::vec4))),
+                                   rg::Access::TransferWrite);
+        },
+        [](const UploadData& d, rg::PassContext& pc) {
+            updateBuffer(pc.cmd(), pc.buffer(d.lights).buffer, d.lightData.data(),
+                         d.lightData.size() * sizeof(gpu::VplLight));
+            updateBuffer(pc.cmd(), pc.buffer(d.directions).buffer, d.directionData.data(),
+                         d.directionData.size() * sizeof(glm::vec4));
+        });
+
+    struct GenerateData {
+        rg::ImageHandle rsmPosition, rsmNormal, rsmFlux;
+        rg::BufferHandle views, lights, directions, vpls;
+        gpu::VplGeneratePush push;
+        const Pipeline* pipeline;
+        VkSampler sampler;
+    };
+    const auto& gen = graph.addPass<GenerateData>(
+        "vpl.generate",
+        [&](rg::PassBuilder& b, GenerateData& d) {
+            d.rsmPosition = in.rsmPosition;
+            d.rsmNormal = in.rsmNormal;
+            d.rsmFlux = in.rsmFlux;
+            d.views = in.shadowViews;
+            d.lights = up.lights;
+            d.directions = up.directions;
+            for (rg::ImageHandle h : {d.rsmPosition, d.rsmNormal, d.rsmFlux})
+                b.read(h, rg::Access::ComputeSampledRead);
+            for (rg::BufferHandle h : {d.views, d.lights, d.directions})
+                b.read(h, rg::Access::ComputeStorageRead);
+            d.vpls = b.write(b.create("vpl.vpls", storageBuffer(VkDeviceSize(vplTotal) * sizeof(gpu::VplRecord))),
+                             rg::Access::ComputeStorageWriteDiscard);
+            d.push = {};
+            d.push.info = glm::uvec4(uint32_t(lights.size()), vplTotal, 0, 0);
+            d.pipeline = &m->generate;
+            d.sampler = m->pointSampler;
+        },
+        [](const GenerateData& d, rg::PassContext& pc) {
+            pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.info.y, 1, 1}), d.push,
+                        {pc.sampled(0, d.rsmPosition, d.sampler), pc.sampled(1, d.rsmNormal, d.sampler),
+                         pc.sampled(2, d.rsmFlux, d.sampler), pc.buffer(3, d.views), pc.buffer(4, d.lights),
+                         pc.buffer(5, d.directions), pc.buffer(6, d.vpls)});
+        });
+    out.vpls = gen.vpls;
+
+    // Gather resolution and the shared push constants of the per-pixel passes.
+    const uint32_t f = s.lowResFactor;
+    const uint32_t lowW = (in.width + f - 1) / f, lowH = (in.height + f - 1) / f;
+    const float clampDist = s.clampDistance * std::max(in.sceneDiagonal, 1e-6f);
+    const float tanHalf = std::tan(0.5f * in.camera.yfov);
+    gpu::VplShadePush shade{};
+    shade.size = glm::uvec4(lowW, lowH, f, in.width * in.height);
+    shade.counts = glm::uvec4(vplTotal, s.negativeVplCount, in.width, in.height);
+    shade.camera = glm::vec4(in.camera.position, 0.0f);
+    shade.params = glm::vec4(clampDist * clampDist, s.refineThreshold, 0.0f, 0.0f);
+
+    struct GatherData {
+        rg::ImageHandle pos, nrm, alb, indirect, incident, travel;
+        rg::BufferHandle vpls;
+        gpu::VplShadePush push;
+        const Pipeline* pipeline;
+        VkSampler sampler;
+    };
+    const auto& gat = graph.addPass<GatherData>(
+        "vpl.gather",
+        [&](rg::PassBuilder& b, GatherData& d) {
+            d.pos = in.gPosition;
+            d.nrm = in.gNormal;
+            d.alb = in.gAlbedo;
+            d.vpls = gen.vpls;
+            for (rg::ImageHandle h : {d.pos, d.nrm, d.alb})
+                b.read(h, rg::Access::ComputeSampledRead);
+            b.read(d.vpls, rg::Access::ComputeStorageRead);
+            auto w = rg::Access::ComputeStorageWriteDiscard;
+            d.indirect = b.write(b.create(f == 1 && s.negativeVplCount == 0 ? "vpl.indirect" : "vpl.gather_indirect",
+                                          image2D(lowW, lowH)), w);
+            d.incident = b.write(b.create("vpl.incident", image2D(lowW, lowH)), w);
+            d.travel = b.write(b.create("vpl.travel", image2D(lowW, lowH)), w);
+            d.push = shade;
+            d.pipeline = &m->gather;
+            d.sampler = m->pointSampler;
+        },
+        [](const GatherData& d, rg::PassContext& pc) {
+            pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.size.x, d.push.size.y, 1}),
+                        d.push,
+                        {pc.sampled(0, d.pos, d.sampler), pc.sampled(1, d.nrm, d.sampler),
+                         pc.sampled(2, d.alb, d.sampler), pc.buffer(3, d.vpls), pc.storage(4, d.indirect),
+                         pc.storage(5, d.incident), pc.storage(6, d.travel)});
+        });
+    rg::ImageHandle lowIndirect = gat.indirect;
+    rg::BufferHandle negVpls = gen.vpls; // bound (with count 0) when negative VPLs are off
+
+    if (s.negativeVplCount > 0) {
+        struct NegGenData {
+            rg::ImageHandle pos, nrm, incident, travel;
+            rg::BufferHandle neg;
+            gpu::VplGeneratePush push;
+            const Pipeline* pipeline;
+            VkSampler sampler;
+        };
+        const auto& ng = graph.addPass<NegGenData>(
+            "vpl.negative_generate",
+            [&](rg::PassBuilder& b, NegGenData& d) {
+                d.pos = in.gPosition;
+                d.nrm = in.gNormal;
+                d.incident = gat.incident;
+                d.travel = gat.travel;
+                for (rg::ImageHandle h : {d.pos, d.nrm, d.incident, d.travel})
+                    b.read(h, rg::Access::ComputeSampledRead);
+                d.neg = b.write(b.create("vpl.negative_vpls",
+                                         storageBuffer(VkDeviceSize(s.negativeVplCount) * sizeof(gpu::VplRecord))),
+                                rg::Access::ComputeStorageWriteDiscard);
+                d.push = {};
+                d.push.info = glm::uvec4(s.negativeVplCount, s.negativeVplCount, f, 0);
+                d.push.size = glm::uvec4(lowW, lowH, in.width, in.height);
+                d.push.camera = glm::vec4(in.camera.position, tanHalf);
+                d.pipeline = &m->negativeGenerate;
+                d.sampler = m->pointSampler;
+            },
+            [](const NegGenData& d, rg::PassContext& pc) {
+                pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.info.x, 1, 1}), d.push,
+                            {pc.sampled(0, d.pos, d.sampler), pc.sampled(1, d.nrm, d.sampler),
+                             pc.sampled(2, d.incident, d.sampler), pc.sampled(3, d.travel, d.sampler),
+                             pc.buffer(4, d.neg)});
+            });
+        negVpls = ng.neg;
+        out.negativeVpls = ng.neg;
+
+        struct NegShadeData {
+            rg::ImageHandle pos, nrm, alb, positive, indirect;
+            rg::BufferHandle neg;
+            gpu::VplShadePush push;
+            const Pipeline* pipeline;
+            VkSampler sampler;
+        };
+        const auto& ns = graph.addPass<NegShadeData>(
+            "vpl.negative_gather",
+            [&](rg::PassBuilder& b, NegShadeData& d) {
+                d.pos = in.gPosition;
+                d.nrm = in.gNormal;
+                d.alb = in.gAlbedo;
+                d.positive = gat.indirect;
+                d.neg = ng.neg;
+                for (rg::ImageHandle h : {d.pos, d.nrm, d.alb, d.positive})
+                    b.read(h, rg::Access::ComputeSampledRead);
+                b.read(d.neg, rg::Access::ComputeStorageRead);
+                d.indirect = b.write(b.create(f == 1 ? "vpl.indirect" : "vpl.negative_indirect", image2D(lowW, lowH)),
+                                     rg::Access::ComputeStorageWriteDiscard);
+                d.push = shade;
+                d.pipeline = &m->negativeGather;
+                d.sampler = m->pointSampler;
+            },
+            [](const NegShadeData& d, rg::PassContext& pc) {
+                pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.size.x, d.push.size.y, 1}),
+                            d.push,
+                            {pc.sampled(0, d.pos, d.sampler), pc.sampled(1, d.nrm, d.sampler),
+                             pc.sampled(2, d.alb, d.sampler), pc.buffer(3, d.neg),
+                             pc.sampled(4, d.positive, d.sampler), pc.storage(5, d.indirect)});
+            });
+        lowIndirect = ns.indirect;
+    }
+
+    if (f == 1) {
+        out.indirect = lowIndirect;
+        return out;
+    }
+
+    struct ClearListData {
+        rg::BufferHandle list;
+    };
+    const auto& cl = graph.addPass<ClearListData>(
+        "vpl.refine_clear",
+        [&](rg::PassBuilder& b, ClearListData& d) {
+            VkDeviceSize bytes = 16 + VkDeviceSize(in.width) * in.height * 4;
+            d.list = b.write(b.create("vpl.refine_list", storageBuffer(bytes)), rg::Access::TransferWrite);
+        },
+        [](const ClearListData& d, rg::PassContext& pc) {
+            vkCmdFillBuffer(pc.cmd(), pc.buffer(d.list).buffer, 0, 16, 0);
+        });
+
+    struct UpsampleData {
+        rg::ImageHandle pos, nrm, low, indirect;
+        rg::BufferHandle list;
+        gpu::VplShadePush push;
+        const Pipeline* pipeline;
+        VkSampler sampler;
+    };
+    const auto& us = graph.addPass<UpsampleData>(
+        "vpl.upsample",
+        [&](rg::PassBuilder& b, UpsampleData& d) {
+            d.pos = in.gPosition;
+            d.nrm = in.gNormal;
+            d.low = lowIndirect;
+            for (rg::ImageHandle h : {d.pos, d.nrm, d.low})
+                b.read(h, rg::Access::ComputeSampledRead);
+            d.list = b.write(cl.list, rg::Access::ComputeStorageReadWrite);
+            d.indirect = b.write(b.create("vpl.indirect", fullDesc), rg::Access::ComputeStorageWriteDiscard);
+            d.push = shade;
+            d.pipeline = &m->upsample;
+            d.sampler = m->pointSampler;
+        },
+        [](const UpsampleData& d, rg::PassContext& pc) {
+            pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.counts.z, d.push.counts.w, 1}),
+                        d.push,
+                        {pc.sampled(0, d.pos, d.sampler), pc.sampled(1, d.nrm, d.sampler),
+                         pc.sampled(2, d.low, d.sampler), pc.storage(3, d.indirect), pc.buffer(4, d.list)});
+        });
+
+    struct RefineData {
+        rg::ImageHandle pos, nrm, alb, indirect;
+        rg::BufferHandle vpls, neg, list;
+        gpu::VplShadePush push;
+        const Pipeline* pipeline;
+        VkSampler sampler;
+    };
+    const auto& rf = graph.addPass<RefineData>(
+        "vpl.refine",
+        [&](rg::PassBuilder& b, RefineData& d) {
+            d.pos = in.gPosition;
+            d.nrm = in.gNormal;
+            d.alb = in.gAlbedo;
+            d.vpls = gen.vpls;
+            d.neg = negVpls;
+            d.list = us.list;
+            for (rg::ImageHandle h : {d.pos, d.nrm, d.alb})
+                b.read(h, rg::Access::ComputeSampledRead);
+            b.read(d.vpls, rg::Access::ComputeStorageRead);
+            if (d.neg != d.vpls)
+                b.read(d.neg, rg::Access::ComputeStorageRead);
+            b.read(d.list, rg::Access::ComputeStorageRead);
+            d.indirect = b.write(us.indirect, rg::Access::ComputeStorageWrite);
+            d.push = shade;
+            d.pipeline = &m->refine;
+            d.sampler = m->pointSampler;
+        },
+        [](const RefineData& d, rg::PassContext& pc) {
+            pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.size.w, 1, 1}), d.push,
+                        {pc.sampled(0, d.pos, d.sampler), pc.sampled(1, d.nrm, d.sampler),
+                         pc.sampled(2, d.alb, d.sampler), pc.buffer(3, d.vpls), pc.buffer(4, d.neg),
+                         pc.buffer(5, d.list), pc.storage(6, d.indirect)});
+        });
+    out.indirect = rf.indirect;
+    out.refineList = us.list;
+    return out;
+}
+
+} // namespace vkgi::gi

@@ -1,0 +1,63 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// One thread per VPL: the light's i-th Halton direction (local frame, precomputed on the CPU)
+// is turned into world space, projected into the light's RSM layer, and the surface found there
+// becomes the VPL: position on that surface's plane along the exact Halton ray (so it moves
+// continuously with the light), its normal, and the flux of the solid angle it stands for,
+//     flux = rsmFlux / texelSolidAngle * (coneSolidAngle / N) = albedo * I(w) * coneSolidAngle / N.
+#include "gi/direct_types.h"
+#include "gi/vpl.h"
+
+layout(local_size_x = GI_VPL_LOCAL_SIZE_1D) in;
+layout(push_constant) uniform PushBlock { VplGeneratePush pc; };
+
+layout(set = 1, binding = 0) uniform sampler2DArray rsmPosition;
+layout(set = 1, binding = 1) uniform sampler2DArray rsmNormal;
+layout(set = 1, binding = 2) uniform sampler2DArray rsmFlux;
+layout(set = 1, binding = 3, std430) readonly buffer ShadowViews { GpuShadowView shadowViews[]; };
+layout(set = 1, binding = 4, std430) readonly buffer Lights { VplLight lights[]; };
+layout(set = 1, binding = 5, std430) readonly buffer Directions { vec4 directions[]; };
+layout(set = 1, binding = 6, std430) writeonly buffer Vpls { VplRecord vpls[]; };
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= pc.info.y)
+        return;
+    uint l = 0u;
+    while (l + 1u < pc.info.x && i >= lights[l + 1u].info.x)
+        ++l;
+    VplLight light = lights[l];
+    vec3 local = directions[i].xyz;
+    vec3 dir = normalize(light.axisX.xyz * local.x + light.axisY.xyz * local.y + light.axisZ.xyz * local.z);
+    uint layer = light.info.z + (light.info.w == 6u ? cubeFace(dir) : 0u);
+    GpuShadowView view = shadowViews[layer];
+    vec3 origin = light.position.xyz;
+    vec4 clip = view.viewProj * vec4(origin + dir, 1.0);
+    VplRecord vpl;
+    vpl.position = vec4(origin, 0.0);
+    vpl.direction = vec4(0.0, 0.0, 1.0, 0.0);
+    vpl.flux = vec4(0.0);
+    if (clip.w > 0.0) {
+        float res = view.texel.z;
+        vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
+        ivec2 texel = clamp(ivec2(floor(uv * res)), ivec2(0), ivec2(int(res) - 1));
+        vec4 p = texelFetch(rsmPosition, ivec3(texel, layer), 0);
+        if (p.w > 0.0) {
+            vec3 n = normalize(texelFetch(rsmNormal, ivec3(texel, layer), 0).xyz);
+            vec3 flux = texelFetch(rsmFlux, ivec3(texel, layer), 0).rgb;
+            // The texel's surface plane along the exact ray; fall back to the texel centre when
+            // the ray grazes the plane or lands more than ~2 texels away from it.
+            float texelDist = distance(p.xyz, origin);
+            float denom = dot(dir, n);
+            float t = abs(denom) > 1e-4 ? dot(p.xyz - origin, n) / denom : -1.0;
+            float tolerance = 2.0 * view.texel.x * texelDist + 1e-6;
+            vec3 hit = (t > 0.0 && distance(origin + t * dir, p.xyz) < tolerance) ? origin + t * dir : p.xyz;
+            float cosAxis = max(dot(normalize(p.xyz - origin), view.axisArea.xyz), 1e-3);
+            float texelOmega = rsmTexelSolidAngle(view.axisArea.w, cosAxis);
+            vpl.position = vec4(hit, 1.0);
+            vpl.direction = vec4(n, 0.0);
+            vpl.flux = vec4(flux * (light.position.w / texelOmega), 0.0);
+        }
+    }
+    vpls[i] = vpl;
+}

@@ -1,0 +1,39 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Low-resolution optimisation, second half: the full positive and negative gather for each
+// pixel of the refine list, written over the interpolated value.
+#include "gi/vpl.h"
+
+layout(local_size_x = GI_VPL_LOCAL_SIZE_1D) in;
+layout(push_constant) uniform PushBlock { VplShadePush pc; };
+
+layout(set = 1, binding = 0) uniform sampler2D gPosition;
+layout(set = 1, binding = 1) uniform sampler2D gNormal;
+layout(set = 1, binding = 2) uniform sampler2D gAlbedo;
+layout(set = 1, binding = 3, std430) readonly buffer Vpls { VplRecord vpls[]; };
+layout(set = 1, binding = 4, std430) readonly buffer NegVpls { VplRecord negVpls[]; };
+layout(set = 1, binding = 5, std430) readonly buffer RefineList {
+    uint refineCount;
+    uint refinePad[3];
+    uint refinePixels[];
+};
+layout(set = 1, binding = 6, rgba32f) uniform writeonly image2D outIndirect;
+
+#include "gi/vpl_gather.h"
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= min(refineCount, pc.size.w))
+        return;
+    uint packed = refinePixels[i];
+    ivec2 px = ivec2(packed & 0xffffu, packed >> 16);
+    vec4 position = texelFetch(gPosition, px, 0);
+    vec3 n = texelFetch(gNormal, px, 0).xyz;
+    vec3 travel;
+    vec3 e = vplGatherPositive(position.xyz, n, pc.counts.x, pc.params.x, travel);
+    vec3 albedo = texelFetch(gAlbedo, px, 0).rgb * (1.0 / GI_VPL_PI);
+    vec3 radiance = albedo * e;
+    if (pc.counts.y > 0u)
+        radiance = max(radiance - albedo * vplGatherNegative(position.xyz, n, pc.counts.y, pc.params.x), vec3(0.0));
+    imageStore(outIndirect, px, vec4(radiance, 1.0));
+}

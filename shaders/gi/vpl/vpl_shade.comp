@@ -1,0 +1,42 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Deferred VPL shading over the G-buffer (paper section 3.2), at the gather resolution: pixel
+// (i, j) of a 1/f-resolution image shades the G-buffer sample at (i f + f/2, j f + f/2).
+// Writes the indirect radiance albedo/pi * E, and for the negative VPLs the VPL irradiance E
+// and the luminance-weighted sum of the directions that light travels in.
+#include "gi/vpl.h"
+
+layout(local_size_x = GI_VPL_LOCAL_SIZE_2D, local_size_y = GI_VPL_LOCAL_SIZE_2D) in;
+layout(push_constant) uniform PushBlock { VplShadePush pc; };
+
+layout(set = 1, binding = 0) uniform sampler2D gPosition;
+layout(set = 1, binding = 1) uniform sampler2D gNormal;
+layout(set = 1, binding = 2) uniform sampler2D gAlbedo;
+layout(set = 1, binding = 3, std430) readonly buffer Vpls { VplRecord vpls[]; };
+layout(set = 1, binding = 4, rgba32f) uniform writeonly image2D outIndirect;
+layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D outIncident;
+layout(set = 1, binding = 6, rgba32f) uniform writeonly image2D outTravel;
+
+// No negative VPLs are read here; the shared gather header still needs the name.
+#define negVpls vpls
+#include "gi/vpl_gather.h"
+
+void main() {
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(uvec2(px), pc.size.xy)))
+        return;
+    int f = int(pc.size.z);
+    ivec2 sample_ = min(px * f + f / 2, ivec2(pc.counts.zw) - 1);
+    vec4 position = texelFetch(gPosition, sample_, 0);
+    vec3 e = vec3(0.0);
+    vec3 travel = vec3(0.0);
+    vec3 radiance = vec3(0.0);
+    if (position.w > 0.0) {
+        vec3 n = texelFetch(gNormal, sample_, 0).xyz;
+        e = vplGatherPositive(position.xyz, n, pc.counts.x, pc.params.x, travel);
+        radiance = texelFetch(gAlbedo, sample_, 0).rgb * e * (1.0 / GI_VPL_PI);
+    }
+    imageStore(outIndirect, px, vec4(radiance, 1.0));
+    imageStore(outIncident, px, vec4(e, 0.0));
+    imageStore(outTravel, px, vec4(travel, 0.0));
+}

@@ -1,0 +1,45 @@
+// GLSL only: the VPL gathers shared by the gather, negative and refine passes. The includer
+// declares `VplRecord vpls[]` and `VplRecord negVpls[]` storage buffers before including this.
+// No visibility term (as in the paper); the loops have run-time trip counts so lavapipe's JIT
+// never unrolls them.
+#ifndef VKGI_GI_VPL_GATHER_H
+#define VKGI_GI_VPL_GATHER_H
+#include "vpl.h"
+
+float vplLuminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+// Irradiance (lux) at x (normal n) from the first `count` positive VPLs: each is a cosine
+// emitter, E = flux/pi * cosVpl * cosX / max(d^2, clamp2). `travel` receives the sum of the
+// unit directions the light travels in, weighted by the luminance of each contribution.
+vec3 vplGatherPositive(vec3 x, vec3 n, uint count, float clamp2, out vec3 travel) {
+    vec3 e = vec3(0.0);
+    travel = vec3(0.0);
+    for (uint k = 0u; k < count; ++k) {
+        VplRecord v = vpls[k];
+        vec3 d = v.position.xyz - x;
+        float d2 = dot(d, d);
+        vec3 w = d * inversesqrt(max(d2, 1e-30));
+        float g = max(dot(n, w), 0.0) * max(-dot(v.direction.xyz, w), 0.0) / max(d2, clamp2);
+        vec3 c = v.flux.rgb * (g * v.position.w);
+        e += c;
+        travel -= w * vplLuminance(c);
+    }
+    return e * (1.0 / GI_VPL_PI);
+}
+
+// Irradiance the first `count` negative VPLs remove at x: each re-emits the light that crossed
+// its surface in a cosine lobe around its travel direction, E = flux/pi * cosLobe * cosX / max(d^2, clamp2).
+vec3 vplGatherNegative(vec3 x, vec3 n, uint count, float clamp2) {
+    vec3 e = vec3(0.0);
+    for (uint k = 0u; k < count; ++k) {
+        VplRecord v = negVpls[k];
+        vec3 d = x - v.position.xyz;
+        float d2 = dot(d, d);
+        vec3 w = d * inversesqrt(max(d2, 1e-30));
+        float g = max(dot(v.direction.xyz, w), 0.0) * max(-dot(n, w), 0.0) / max(d2, clamp2);
+        e += v.flux.rgb * (g * v.position.w);
+    }
+    return e * (1.0 / GI_VPL_PI);
+}
+
+#endif
