@@ -3,6 +3,7 @@
 
 #include "lpv/lpv_technique.hpp"
 #include "technique.hpp"
+#include "vpl/vpl_module.hpp"
 
 namespace vkgi::gi {
 
@@ -11,7 +12,8 @@ struct TechniqueName {
     Technique technique;
     const char* name;
 };
-constexpr std::array kTechniques = {TechniqueName{Technique::None, "none"}, TechniqueName{Technique::Lpv, "lpv"}};
+constexpr std::array kTechniques = {TechniqueName{Technique::None, "none"}, TechniqueName{Technique::Lpv, "lpv"},
+                                    TechniqueName{Technique::Vpl, "vpl"}};
 } // namespace
 
 const char* toString(Technique technique) {
@@ -42,6 +44,7 @@ Result<std::unique_ptr<TechniqueModule>> createTechnique(Context& ctx, const GiS
     switch (settings.technique) {
     case Technique::None: return std::unique_ptr<TechniqueModule>();
     case Technique::Lpv: return createLpvTechnique(ctx, settings);
+    case Technique::Vpl: return createVplModule(ctx, settings);
     }
     return makeError(std::string("technique ") + toString(settings.technique) + " is not built into this library");
 }

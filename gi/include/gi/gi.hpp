@@ -18,11 +18,12 @@
 #include "engine/rg/render_graph.hpp"
 #include "engine/scene.hpp"
 #include "gi/lpv.hpp"
+#include "gi/vpl.hpp"
 
 namespace vkgi::gi {
 
 // The indirect-light technique. None = direct lighting (+ emission) only.
-enum class Technique : uint32_t { None = 0, Lpv = 1 };
+enum class Technique : uint32_t { None = 0, Lpv = 1, Vpl = 3 };
 
 // "none", ...; the names the CLI accepts.
 const char* toString(Technique technique);
@@ -48,6 +49,8 @@ struct GiSettings {
     // Render the reflective shadow map even when the technique does not read it (tests, tools).
     bool forceRsm = false;
     LpvSettings lpv; // Technique::Lpv knobs (gi/lpv.hpp)
+    // Technique::Vpl (image-space instant radiosity, docs/vpl.md).
+    VplSettings vpl;
 };
 
 // Which images a frame must produce; everything else is culled by the graph.

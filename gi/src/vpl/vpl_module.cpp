@@ -1,0 +1,95 @@
+// Technique::Vpl inside GiSystem: the spotlights of the scene with RSM layers become VplSpots.
+#include "vpl/vpl_module.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "engine/vk_check.hpp"
+#include "gi/vpl.hpp"
+
+namespace vkgi::gi {
+
+namespace {
+
+class VplModule final : public TechniqueModule {
+public:
+    VplModule(std::unique_ptr<VplRenderer> renderer, const VplSettings& settings)
+        : m_renderer(std::move(renderer)), m_settings(settings) {}
+
+    bool needsRsm() const override { return true; }
+
+    // Everything addPasses could reject is checked here, where errors can still be returned.
+    Result<void> sceneChanged(Context&, const Scene& scene, const GpuScene&, bool) override {
+        uint32_t spots = 0;
+        for (const Light& l : scene.lights) {
+            if (l.type != LightType::Spot)
+                continue;
+            ++spots;
+            auto dirs = spotSampleDirections(m_settings.vplCount, std::cos(l.outerConeAngle));
+            if (!dirs)
+                return makeError("scene '" + scene.name + "', spot '" + l.name + "': " + dirs.error().message);
+        }
+        if (spots > kMaxVplLights)
+            return makeError("scene '" + scene.name + "': " + std::to_string(spots) +
+                             " spotlights exceed the VPL technique's maximum of " + std::to_string(kMaxVplLights));
+        return {};
+    }
+
+    void addPasses(rg::RenderGraph& graph, rg::Blackboard& bb) override {
+        const FrameData& frame = bb.get<FrameData>();
+        const GBufferData& gbuffer = bb.get<GBufferData>();
+        const ShadowData& shadow = bb.get<ShadowData>();
+        const RsmData& rsm = bb.get<RsmData>();
+        VplInputs in;
+        in.gPosition = gbuffer.position;
+        in.gNormal = gbuffer.normal;
+        in.gAlbedo = gbuffer.albedo;
+        in.width = frame.width;
+        in.height = frame.height;
+        in.camera = frame.camera;
+        in.rsmPosition = rsm.position;
+        in.rsmNormal = rsm.normal;
+        in.rsmFlux = rsm.flux;
+        in.shadowViews = shadow.views;
+        const Scene& scene = *frame.scene;
+        Aabb bounds = scene.bounds();
+        in.sceneDiagonal = bounds.valid() ? glm::length(bounds.extent()) : 1.0f;
+        for (uint32_t i = 0; i < scene.lights.size(); ++i) {
+            const Light& l = scene.lights[i];
+            if (l.type != LightType::Spot)
+                continue;
+            // The light's layers in the atlas (a spot past the atlas's layer limit has none and
+            // gets no VPLs, as it gets no shadow).
+            uint32_t first = ~0u, count = 0;
+            for (uint32_t k = 0; k < rsm.layers.size(); ++k)
+                if (rsm.layers[k].light == i) {
+                    first = std::min(first, k);
+                    ++count;
+                }
+            if (count == 0)
+                continue;
+            in.spots.push_back({l.position, glm::normalize(l.direction), std::cos(l.outerConeAngle), first, count});
+        }
+        auto out = m_renderer->addPasses(graph, in, m_settings);
+        GI_ASSERT(out.ok(), "VplModule::addPasses: inputs were validated in sceneChanged");
+        bb.add(IndirectData{out->indirect, {}});
+        bb.add(*out);
+    }
+
+private:
+    std::unique_ptr<VplRenderer> m_renderer;
+    VplSettings m_settings;
+};
+
+} // namespace
+
+Result<std::unique_ptr<TechniqueModule>> createVplModule(Context& ctx, const GiSettings& settings) {
+    if (auto ok = validateVplSettings(settings.vpl); !ok)
+        return ok.error();
+    auto renderer = VplRenderer::create(ctx);
+    if (!renderer)
+        return renderer.error();
+    return std::unique_ptr<TechniqueModule>(new VplModule(std::move(renderer.value()), settings.vpl));
+}
+
+} // namespace vkgi::gi
