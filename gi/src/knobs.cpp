@@ -38,6 +38,7 @@ Knob boolKnob(const char* name, std::optional<Technique> t, const char* help, Fi
 std::vector<Knob> makeKnobs() {
     const std::optional<Technique> all;
     const std::optional<Technique> lpv = Technique::Lpv;
+    const std::optional<Technique> vpl = Technique::Vpl;
     return {
         uintKnob("shadow.size", 16, 4096, all, "shadow-map / RSM texels per side",
                  [](GiSettings& s) -> uint32_t& { return s.shadowMapSize; }),
@@ -63,6 +64,16 @@ std::vector<Knob> makeKnobs() {
                   [](GiSettings& s) -> float& { return s.lpv.damping; }),
         boolKnob("lpv.half", lpv, "RGBA16F SH storage (off = RGBA32F)",
                  [](GiSettings& s) -> bool& { return s.lpv.halfFloat; }),
+        uintKnob("vpl.count", 1, kMaxVplsPerLight, vpl, "VPLs per spotlight (Halton points in the cone)",
+                 [](GiSettings& s) -> uint32_t& { return s.vpl.vplCount; }),
+        uintKnob("vpl.negative", 0, kMaxNegativeVpls, vpl, "negative VPLs for occlusion (0 = off)",
+                 [](GiSettings& s) -> uint32_t& { return s.vpl.negativeVplCount; }),
+        uintKnob("vpl.lowres", 1, 4, vpl, "gather at 1/f resolution per axis: 1, 2 or 4, refined at discontinuities",
+                 [](GiSettings& s) -> uint32_t& { return s.vpl.lowResFactor; }),
+        floatKnob("vpl.threshold", 0, 10, vpl, "discontinuity threshold of the low-res refinement",
+                  [](GiSettings& s) -> float& { return s.vpl.refineThreshold; }),
+        floatKnob("vpl.clamp", 0.001, 1, vpl, "1/d^2 clamp radius, fraction of the scene diagonal",
+                  [](GiSettings& s) -> float& { return s.vpl.clampDistance; }),
     };
 }
 
