@@ -180,6 +180,32 @@ TEST_F(VplScene, VplsLieOnDirectlyLitSurfacesInsideTheCone) {
     }
 }
 
+// Several spotlights: each gets its own N VPLs, in its own cone, spot after spot.
+TEST_F(VplScene, EachSpotlightGetsItsOwnVpls) {
+    Scene scene = builtin("cornell_spot");
+    Light second = scene.lights[0];
+    second.name = "second_spot";
+    second.position = glm::vec3(0.45f, 0.5f, 0.28f);
+    second.direction = glm::normalize(glm::vec3(-1.0f, -0.3f, 0.0f)); // towards the left wall
+    scene.lights.push_back(second);
+    VplSettings v;
+    v.vplCount = 64;
+    auto sys = makeSystem(v);
+    ASSERT_TRUE(sys);
+    auto set = sys->setScene(scene);
+    ASSERT_TRUE(set) << set.error().message;
+    auto vpls = vplRecords(*sys, *scene.camera);
+    ASSERT_EQ(vpls.size(), 128u);
+    for (size_t i = 0; i < vpls.size(); ++i) {
+        const Light& l = scene.lights[i / 64];
+        ASSERT_EQ(vpls[i].position.w, 1.0f) << i;
+        glm::vec3 d = glm::normalize(glm::vec3(vpls[i].position) - l.position);
+        // Within the outer cone plus ~2 RSM texels (see VplsLieOnDirectlyLitSurfacesInsideTheCone).
+        EXPECT_LE(std::acos(std::min(1.0f, glm::dot(d, glm::normalize(l.direction)))), l.outerConeAngle + 0.03f)
+            << "VPL " << i << " belongs to light " << i / 64;
+    }
+}
+
 TEST_F(VplScene, CameraNeverChangesTheVpls) {
     Scene scene = builtin("cornell_spot");
     auto sys = makeSystem({});
