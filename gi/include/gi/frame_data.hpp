@@ -52,7 +52,7 @@ struct GiSettings;
 constexpr float kMaxSpotFrustumHalfAngle = 1.0471976f; // 60 degrees
 // Cap of tan(incidence) in the slope-scaled bias: grazing receivers would otherwise push the
 // bias to infinity and detach shadows (peter-panning).
-constexpr float kMaxBiasSlope = 10.0f;
+constexpr float kMaxBiasSlope = 100.0f;
 
 // This frame's camera and scene (always present).
 struct FrameData {

@@ -42,7 +42,8 @@ float shadowVisibility(uint lightIndex, vec3 p, vec3 n, vec3 toLight) {
     vec4 clip = view.viewProj * vec4(q, 1.0);
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
     float depth = ortho ? clip.z : distance(q, view.eye.xyz) / view.eye.w;
-    depth -= (pc.bias.z + pc.bias.y * tanTheta) * texel / view.texel.y;
+    // The PCF footprint reaches (r + 1) texels from the centre (bilinear), so the slope term scales with it.
+    depth -= (pc.bias.z + pc.bias.y * float(pc.size.w + 1u) * tanTheta) * texel / view.texel.y;
     float invSize = 1.0 / view.texel.z;
     int r = int(pc.size.w);
     float lit = 0.0;
