@@ -1,6 +1,7 @@
 // LPV placement: a grid fitted to the lit region with one cell of margin, the lit region of
 // ranged point/spot lights, and camera-following cascades snapped to whole cells.
 #include <cmath>
+#include <algorithm>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -59,7 +60,8 @@ TEST(LpvGrid, RangedLightsOnlyLightTheirRange) {
 }
 
 TEST(LpvGrid, CascadesNestAndSnapToWholeCells) {
-    auto c = fitCascades({0.3f, 1.7f, -2.2f}, 0.25f, 32, 3);
+    const glm::vec3 forward(0.0f, 0.0f, -1.0f);
+    auto c = fitCascades({0.3f, 1.7f, -2.2f}, forward, 0.25f, 32, 3);
     ASSERT_EQ(c.size(), 3u);
     for (size_t k = 0; k < c.size(); ++k) {
         float cell = c[k].origin.w;
@@ -67,8 +69,9 @@ TEST(LpvGrid, CascadesNestAndSnapToWholeCells) {
         for (int a = 0; a < 3; ++a) {
             float o = c[k].origin[a] / cell;
             EXPECT_FLOAT_EQ(o, std::round(o)) << "level " << k << " axis " << a;
-            // the eye lies within one cell of the centre of every level
-            EXPECT_NEAR(c[k].origin[a] + 16.0f * cell, glm::vec3(0.3f, 1.7f, -2.2f)[a], cell);
+            // each level is centred a quarter of its extent (8 cells) ahead of the eye, to a cell
+            glm::vec3 centre = glm::vec3(0.3f, 1.7f, -2.2f) + forward * (8.0f * cell);
+            EXPECT_NEAR(c[k].origin[a] + 16.0f * cell, centre[a], cell);
         }
         if (k > 0) { // each level contains the finer one
             for (int a = 0; a < 3; ++a) {
@@ -78,6 +81,37 @@ TEST(LpvGrid, CascadesNestAndSnapToWholeCells) {
         }
     }
     // Moving the eye by less than a cell keeps the finest grid where it was.
-    auto moved = fitCascades({0.31f, 1.7f, -2.2f}, 0.25f, 32, 1);
+    auto moved = fitCascades({0.31f, 1.7f, -2.2f}, forward, 0.25f, 32, 1);
     EXPECT_EQ(moved[0].origin, c[0].origin);
+}
+
+TEST(LpvGrid, CascadeWeightsSumToOneInsideTheCoarsest) {
+    // Lookup weights: w_k = fade_k * prod over finer j of (1 - fade_j), fade from lpvBorderFade
+    // (shared with lookup.comp). Inside the coarsest level's interior they telescope to 1.
+    const glm::vec3 eye(0.3f, 1.7f, -2.2f);
+    auto c = fitCascades(eye, glm::vec3(1.0f, 0.0f, 0.0f), 0.25f, 16, 3);
+    double worst = 0.0;
+    int interior = 0;
+    for (int i = 0; i < 2000; ++i) {
+        // deterministic points spread over the coarsest grid
+        glm::vec3 t(std::fmod(i * 0.6180339f, 1.0f), std::fmod(i * 0.4142135f, 1.0f), std::fmod(i * 0.7320508f, 1.0f));
+        glm::vec3 p = glm::vec3(c[2].origin) + t * (16.0f * c[2].origin.w);
+        if (gpu::lpvBorderFade(c[2], p) < 1.0f)
+            continue;
+        ++interior;
+        double sum = 0.0, remaining = 1.0;
+        for (const auto& g : c) {
+            float f = gpu::lpvBorderFade(g, p);
+            sum += remaining * f;
+            remaining *= 1.0 - f;
+        }
+        worst = std::max(worst, std::abs(sum - 1.0));
+    }
+    EXPECT_GT(interior, 400); // (10/16)^3 = 24% of the points lie in the interior
+    EXPECT_LT(worst, 1e-6);
+    // The fade is 0 in a grid's outermost cell and 1 three cells in.
+    EXPECT_EQ(gpu::lpvBorderFade(c[0], glm::vec3(c[0].origin) + glm::vec3(0.5f * c[0].origin.w, 8.0f * c[0].origin.w,
+                                                                           8.0f * c[0].origin.w)),
+              0.0f);
+    EXPECT_EQ(gpu::lpvBorderFade(c[0], glm::vec3(c[0].origin) + 8.0f * c[0].origin.w), 1.0f);
 }

@@ -39,4 +39,11 @@ TEST(LpvSettings, OutOfRangeNamesTheField) {
     EXPECT_FALSE(validate(s));
     s.damping = std::numeric_limits<float>::quiet_NaN();
     EXPECT_FALSE(validate(s));
+    s = LpvSettings{};
+    s.cascades = 0;
+    EXPECT_FALSE(validate(s));
+    s.cascades = 4;
+    EXPECT_FALSE(validate(s));
+    s.cascades = 3;
+    EXPECT_TRUE(validate(s));
 }

@@ -15,6 +15,8 @@ struct LpvSettings {
                               // (Gaitatzes et al.; needs occlusion); off by default: on the Cornell box
                               // it lowers RMSE but raises relMSE so far (docs/lpv.md)
     float damping = 1.0f;     // light-bleeding damping strength at lookup (thesis 3.3.1), 0 = off, 0..1
+    uint32_t cascades = 1;    // nested camera-centred volumes (1..3) for scenes with a directional light,
+                              // blended over 2 cells at their borders; other scenes use one fitted grid
     bool halfFloat = true;    // RGBA16F SH storage (half the bandwidth); false = RGBA32F reference
 };
 

@@ -41,11 +41,12 @@ Aabb litRegion(const Aabb& bounds, const std::vector<Light>& lights) {
     return clipped.valid() ? clipped : Aabb{};
 }
 
-std::vector<gpu::LpvGrid> fitCascades(glm::vec3 eye, float finest, uint32_t cells, uint32_t count) {
+std::vector<gpu::LpvGrid> fitCascades(glm::vec3 eye, glm::vec3 forward, float finest, uint32_t cells, uint32_t count) {
     std::vector<gpu::LpvGrid> grids;
     float cell = finest;
     for (uint32_t level = 0; level < count; ++level, cell *= 2.0f) {
-        glm::vec3 origin = glm::floor(eye / cell - 0.5f * float(cells)) * cell; // whole cells of this level
+        glm::vec3 centre = eye + forward * (0.25f * float(cells) * cell);
+        glm::vec3 origin = glm::floor(centre / cell - 0.5f * float(cells)) * cell; // whole cells of this level
         gpu::LpvGrid g{};
         g.origin = glm::vec4(origin, cell);
         g.size = glm::ivec4(int(cells), int(cells), int(cells), 0);

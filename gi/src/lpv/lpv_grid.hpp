@@ -21,9 +21,10 @@ Result<gpu::LpvGrid> fitLpvGrid(const Aabb& region, uint32_t cells);
 // boxes of the point and spot lights. Invalid when nothing is lit.
 Aabb litRegion(const Aabb& bounds, const std::vector<Light>& lights);
 
-// `count` nested grids of `cells`^3 centred on `eye`, cell size doubling per level from
-// `finest`; origins snap to whole cells of their level so a moving camera does not make the
-// volumes shimmer. Level 0 is the finest.
-std::vector<gpu::LpvGrid> fitCascades(glm::vec3 eye, float finest, uint32_t cells, uint32_t count);
+// `count` nested grids of `cells`^3, cell size doubling per level from `finest`, each centred a
+// quarter of its extent ahead of `eye` along the unit view direction `forward` (most of a
+// level then covers what the camera sees, yet the camera stays inside it); origins snap to whole
+// cells of their level so a moving camera does not make the volumes shimmer. Level 0 is the finest.
+std::vector<gpu::LpvGrid> fitCascades(glm::vec3 eye, glm::vec3 forward, float finest, uint32_t cells, uint32_t count);
 
 } // namespace vkgi::gi::lpv

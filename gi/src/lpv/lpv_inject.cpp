@@ -1,5 +1,6 @@
 #include "lpv/lpv_inject.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "engine/context.hpp"
@@ -56,10 +57,10 @@ VkDeviceSize injectionBufferBytes(glm::ivec3 cells) {
 
 InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
                                    VkFormat format, const RsmInput& rsm, ShHandles wavefront, ShHandles accumulation,
-                                   rg::BufferHandle buffer) {
+                                   rg::BufferHandle buffer, const std::string& prefix) {
     const glm::ivec3 cells(grid.size);
     if (!buffer.valid())
-        buffer = graph.createBuffer("gi.lpv.injection", {injectionBufferBytes(cells), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
+        buffer = graph.createBuffer((prefix + ".injection"), {injectionBufferBytes(cells), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
     gpu::LpvInjectPush push{};
     push.grid = grid;
     push.rsm = glm::ivec4(int(rsm.resolution), int(rsm.layers), 0, 0);
@@ -68,10 +69,10 @@ InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injec
     const Injector* inj = &injector;
     rg::BufferHandle buf = buffer;
     graph.addPass(
-        "gi.lpv.inject.clear", [&](rg::PassBuilder& b) { buf = b.write(buf, Access::TransferWrite); },
+        (prefix + ".inject.clear"), [&](rg::PassBuilder& b) { buf = b.write(buf, Access::TransferWrite); },
         [=](rg::PassContext& ctx) { vkCmdFillBuffer(ctx.cmd(), ctx.buffer(buf).buffer, 0, VK_WHOLE_SIZE, 0); });
     graph.addPass(
-        "gi.lpv.inject.range",
+        (prefix + ".inject.range"),
         [&](rg::PassBuilder& b) {
             b.read(rsm.position, Access::ComputeSampledRead);
             b.read(rsm.flux, Access::ComputeSampledRead);
@@ -85,7 +86,7 @@ InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injec
                           ctx.buffer(LPV_INJECT_BINDING_BUFFER, buf)});
         });
     graph.addPass(
-        "gi.lpv.inject",
+        prefix + ".inject",
         [&](rg::PassBuilder& b) {
             b.read(rsm.position, Access::ComputeSampledRead);
             b.read(rsm.normal, Access::ComputeSampledRead);
@@ -103,7 +104,7 @@ InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injec
     const Pipeline* resolve = &injector.resolve[format == VK_FORMAT_R32G32B32A32_SFLOAT];
     ShHandles wave = wavefront, acc = accumulation;
     graph.addPass(
-        "gi.lpv.inject.resolve",
+        (prefix + ".inject.resolve"),
         [&](rg::PassBuilder& b) {
             b.read(buf, Access::ComputeStorageRead);
             for (int c = 0; c < 3; ++c) {
@@ -125,11 +126,12 @@ InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injec
 }
 
 rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
-                                        const RsmInput& rsm, const GBufferInput& gbuffer) {
+                                        const RsmInput& rsm, const GBufferInput& gbuffer,
+                                        const std::string& prefix) {
     const glm::ivec3 corners = glm::ivec3(grid.size) + 1;
     const size_t cornerCount = size_t(corners.x) * corners.y * corners.z;
     rg::BufferHandle buf = graph.createBuffer(
-        "gi.lpv.gv.sums", {VkDeviceSize(LPV_INJECT_HEADER_INTS + 2 * 4 * cornerCount) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
+        (prefix + ".gv.sums"), {VkDeviceSize(LPV_INJECT_HEADER_INTS + 2 * 4 * cornerCount) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
     ImageDesc desc;
     desc.type = VK_IMAGE_TYPE_3D;
     desc.format = kGeometryVolumeFormat;
@@ -137,22 +139,22 @@ rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& 
     desc.height = uint32_t(corners.y);
     desc.depth = uint32_t(corners.z);
     desc.usage = VK_IMAGE_USAGE_STORAGE_BIT;
-    rg::ImageHandle gv = graph.createImage("gi.lpv.gv", desc);
+    rg::ImageHandle gv = graph.createImage(prefix + ".gv", desc);
     gpu::LpvInjectPush push{};
     push.grid = grid;
     push.params = glm::vec4(float(LPV_GV_FIXED_SCALE), 0.0f, 0.0f, 0.0f);
     const Injector* inj = &injector;
     graph.addPass(
-        "gi.lpv.gv.clear", [&](rg::PassBuilder& b) { buf = b.write(buf, Access::TransferWrite); },
+        (prefix + ".gv.clear"), [&](rg::PassBuilder& b) { buf = b.write(buf, Access::TransferWrite); },
         [=](rg::PassContext& ctx) { vkCmdFillBuffer(ctx.cmd(), ctx.buffer(buf).buffer, 0, VK_WHOLE_SIZE, 0); });
     struct Source {
-        const char* name;
+        std::string name;
         rg::ImageHandle position, normal;
         const Pipeline* pipeline;
         glm::uvec3 texels;
-    } sources[2] = {{"gi.lpv.gv.rsm", rsm.position, rsm.normal, &injector.gvRsm,
+    } sources[2] = {{(prefix + ".gv.rsm"), rsm.position, rsm.normal, &injector.gvRsm,
                      {rsm.resolution, rsm.resolution, rsm.layers}},
-                    {"gi.lpv.gv.camera", gbuffer.position, gbuffer.normal, &injector.gvCamera,
+                    {(prefix + ".gv.camera"), gbuffer.position, gbuffer.normal, &injector.gvCamera,
                      {gbuffer.width, gbuffer.height, 1}}};
     for (int slot = 0; slot < 2; ++slot) {
         const Source src = sources[slot];
@@ -174,7 +176,7 @@ rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& 
             });
     }
     graph.addPass(
-        "gi.lpv.gv.resolve",
+        (prefix + ".gv.resolve"),
         [&](rg::PassBuilder& b) {
             b.read(buf, Access::ComputeStorageRead);
             gv = b.write(gv, Access::ComputeStorageWriteDiscard);
@@ -188,24 +190,29 @@ rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& 
 
 rg::ImageHandle addLookupPass(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
                               const ShHandles& accumulation, rg::BufferHandle buffer, const GBufferInput& gbuffer,
-                              float damping, rg::ImageHandle output) {
+                              float damping, rg::ImageHandle output, const CascadeBlend& blend,
+                              const std::string& prefix) {
     if (!output.valid()) {
         ImageDesc desc;
         desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
         desc.width = gbuffer.width;
         desc.height = gbuffer.height;
         desc.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-        output = graph.createImage("gi.lpv.indirect", desc);
+        output = graph.createImage((prefix + ".indirect"), desc);
     }
     gpu::LpvLookupPush push{};
     push.grid = grid;
     push.image = glm::ivec4(int(gbuffer.width), int(gbuffer.height), 0, 0);
-    push.params = glm::vec4(damping, 0.0f, 0.0f, 0.0f);
+    push.params = glm::vec4(damping, blend.fadeBorder ? 1.0f : 0.0f, blend.accumulate ? 1.0f : 0.0f, 0.0f);
+    push.image.z = int(std::min<size_t>(blend.finer.size(), 2));
+    for (size_t k = 0; k < blend.finer.size() && k < 2; ++k)
+        push.finer[k] = blend.finer[k];
+    const Access outAccess = blend.accumulate ? Access::ComputeStorageReadWrite : Access::ComputeStorageWriteDiscard;
     const Injector* inj = &injector;
     rg::ImageHandle out = output;
     ShHandles acc = accumulation;
     graph.addPass(
-        "gi.lpv.lookup",
+        (prefix + ".lookup"),
         [&](rg::PassBuilder& b) {
             b.read(gbuffer.position, Access::ComputeSampledRead);
             b.read(gbuffer.normal, Access::ComputeSampledRead);
@@ -213,7 +220,7 @@ rg::ImageHandle addLookupPass(rg::RenderGraph& graph, const Injector& injector, 
             for (int c = 0; c < 3; ++c)
                 b.read(acc.channel[c], Access::ComputeSampledRead);
             b.read(buffer, Access::ComputeStorageRead);
-            out = b.write(out, Access::ComputeStorageWriteDiscard);
+            out = b.write(out, outAccess);
         },
         [=](rg::PassContext& ctx) {
             ctx.dispatch(inj->lookup, rg::PassContext::groupsFor(inj->lookup, {gbuffer.width, gbuffer.height, 1}), push,

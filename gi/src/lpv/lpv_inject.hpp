@@ -6,6 +6,9 @@
 //   gi.lpv.inject.resolve  sums -> first wavefront and accumulation volumes
 //   gi.lpv.gv.*            geometry volume from RSM and camera surfels, combined by max
 //   gi.lpv.lookup          accumulated SH -> indirect radiance per G-buffer pixel
+#include <string>
+#include <vector>
+
 #include <glm/glm.hpp>
 
 #include "engine/rg/render_graph.hpp"
@@ -49,7 +52,7 @@ struct InjectionResult {
 // volumes. `buffer` may be a transient (invalid handle: one is created).
 InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
                                    VkFormat format, const RsmInput& rsm, ShHandles wavefront, ShHandles accumulation,
-                                   rg::BufferHandle buffer = {});
+                                   rg::BufferHandle buffer = {}, const std::string& prefix = "gi.lpv");
 
 // Size in bytes of the injection buffer of a grid.
 VkDeviceSize injectionBufferBytes(glm::ivec3 cells);
@@ -58,12 +61,23 @@ VkDeviceSize injectionBufferBytes(glm::ivec3 cells);
 // surfels and the camera's G-buffer surfels, in separate sums combined by max. Either source may
 // be absent (invalid position handle). Returns the (transient) GV image.
 rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
-                                        const RsmInput& rsm, const GBufferInput& gbuffer);
+                                        const RsmInput& rsm, const GBufferInput& gbuffer,
+                                        const std::string& prefix = "gi.lpv");
+
+// How one cascade's lookup blends with the others: it is weighted by its own border fade
+// (when `fadeBorder`) times (1 - fade) of each finer cascade, and added to `output` when
+// `accumulate` (the finest cascade writes first).
+struct CascadeBlend {
+    bool fadeBorder = false;
+    bool accumulate = false;
+    std::vector<gpu::LpvGrid> finer; // at most 2
+};
 
 // Indirect radiance (RGBA32F, G-buffer size) written into `output` (invalid: a transient is
 // created). `damping` is the light-bleeding damping strength (0 = off).
 rg::ImageHandle addLookupPass(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
                               const ShHandles& accumulation, rg::BufferHandle buffer, const GBufferInput& gbuffer,
-                              float damping, rg::ImageHandle output = {});
+                              float damping, rg::ImageHandle output = {}, const CascadeBlend& blend = {},
+                              const std::string& prefix = "gi.lpv");
 
 } // namespace vkgi::gi::lpv

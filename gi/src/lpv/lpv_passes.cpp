@@ -28,7 +28,8 @@ ShHandles createShVolume(rg::RenderGraph& graph, const char* name, glm::ivec3 ce
 
 PropagationVolumes addPropagationPasses(rg::RenderGraph& graph, const Propagator& propagator, glm::ivec3 cells,
                                         VkFormat format, PropagationVolumes volumes, rg::ImageHandle geometryVolume,
-                                        uint32_t iterations, const VoxelInput& voxels, glm::vec4 lpvOrigin) {
+                                        uint32_t iterations, const VoxelInput& voxels, glm::vec4 lpvOrigin,
+                                        const std::string& prefix) {
     if (iterations == 0)
         return volumes;
     const bool occlusion = geometryVolume.valid();
@@ -51,7 +52,7 @@ PropagationVolumes addPropagationPasses(rg::RenderGraph& graph, const Propagator
     for (uint32_t k = 0; k < iterations; ++k) {
         ShHandles src = volumes.wavefront, dst = volumes.scratch, acc = volumes.accumulation;
         graph.addPass(
-            "gi.lpv.propagate[" + std::to_string(k) + "]",
+            prefix + ".propagate[" + std::to_string(k) + "]",
             [&](rg::PassBuilder& b) {
                 b.read(gv, Access::ComputeStorageRead);
                 b.read(voxelAlbedo, Access::ComputeSampledRead);

@@ -4,6 +4,7 @@
 // The graph derives every barrier; nothing here records one.
 #include <array>
 #include <cstdint>
+#include <string>
 
 #include <glm/glm.hpp>
 
@@ -43,6 +44,6 @@ struct VoxelInput {
 PropagationVolumes addPropagationPasses(rg::RenderGraph& graph, const Propagator& propagator, glm::ivec3 cells,
                                         VkFormat format, PropagationVolumes volumes, rg::ImageHandle geometryVolume,
                                         uint32_t iterations, const VoxelInput& voxels = {},
-                                        glm::vec4 lpvOrigin = glm::vec4(0.0f));
+                                        glm::vec4 lpvOrigin = glm::vec4(0.0f), const std::string& prefix = "gi.lpv");
 
 } // namespace vkgi::gi::lpv

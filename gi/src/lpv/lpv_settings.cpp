@@ -16,6 +16,8 @@ Result<void> validate(const LpvSettings& s) {
     if (s.iterations > kMaxIterations)
         return makeError("LpvSettings.iterations = " + std::to_string(s.iterations) + ": must be in [0, " +
                          std::to_string(kMaxIterations) + "]");
+    if (s.cascades < 1 || s.cascades > 3)
+        return makeError("LpvSettings.cascades = " + std::to_string(s.cascades) + ": must be in [1, 3]");
     if (!(s.damping >= 0.0f && s.damping <= 1.0f))
         return makeError("LpvSettings.damping = " + std::to_string(s.damping) + ": must be in [0, 1]");
     return {};

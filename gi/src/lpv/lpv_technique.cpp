@@ -6,6 +6,8 @@
 #include "lpv/lpv_technique.hpp"
 
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "gi/frame_data.hpp"
 #include "lpv/lpv_grid.hpp"
@@ -42,6 +44,9 @@ public:
 
     Result<void> sceneChanged(Context& ctx, const Scene& scene, const GpuScene& gpu, bool uploaded) override {
         m_grid.reset();
+        m_directional = false;
+        for (const Light& l : scene.lights)
+            m_directional = m_directional || l.type == LightType::Directional;
         Aabb region = lpv::litRegion(gpu.bounds, scene.lights);
         if (region.valid()) {
             auto grid = lpv::fitLpvGrid(region, m_settings.gridSize);
@@ -77,15 +82,8 @@ public:
             return;
         }
         const VkFormat format = m_settings.halfFloat ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
-        const glm::ivec3 cells(m_grid->size);
         lpv::RsmInput rsm{rsmData->position, rsmData->normal, rsmData->flux, rsmData->resolution,
                           uint32_t(rsmData->layers.size())};
-        lpv::InjectionResult injected = lpv::addInjectionPasses(
-            graph, m_injector, *m_grid, format, rsm, lpv::createShVolume(graph, "gi.lpv.wave.a", cells, format),
-            lpv::createShVolume(graph, "gi.lpv.accumulation", cells, format));
-        rg::ImageHandle gv;
-        if (m_settings.occlusion)
-            gv = lpv::addGeometryVolumePasses(graph, m_injector, *m_grid, rsm, gb);
         lpv::VoxelInput voxels;
         if (m_voxels) {
             const SceneHandles& scene = bb.get<SceneHandles>();
@@ -95,12 +93,39 @@ public:
             m_voxelUpdate = VoxelUpdate::None;
             voxels = {grid.albedo, grid.normal, grid.params.originSize, grid.params.dims.x};
         }
-        lpv::PropagationVolumes volumes{injected.wavefront, lpv::createShVolume(graph, "gi.lpv.wave.b", cells, format),
-                                        injected.accumulation};
-        volumes = lpv::addPropagationPasses(graph, m_propagator, cells, format, volumes, gv, m_settings.iterations,
-                                            voxels, m_grid->origin);
-        rg::ImageHandle indirect = lpv::addLookupPass(graph, m_injector, *m_grid, volumes.accumulation,
-                                                      injected.buffer, gb, m_settings.damping);
+        // One grid fitted to the lit region, or (directional light, cascades > 1) nested grids
+        // following the camera.
+        std::vector<gpu::LpvGrid> grids{*m_grid};
+        if (m_settings.cascades > 1 && m_directional) {
+            // The coarsest level spans twice the lit region, so it covers it from any camera inside.
+            float finest = 2.0f * m_grid->origin.w / float(1u << (m_settings.cascades - 1));
+            grids = lpv::fitCascades(frame.camera.position, glm::normalize(frame.camera.forward), finest,
+                                     m_settings.gridSize, m_settings.cascades);
+        }
+        rg::ImageHandle indirect;
+        for (size_t k = 0; k < grids.size(); ++k) {
+            const gpu::LpvGrid& grid = grids[k];
+            const glm::ivec3 cells(grid.size);
+            const std::string prefix = k == 0 ? "gi.lpv" : "gi.lpv.c" + std::to_string(k);
+            lpv::InjectionResult injected = lpv::addInjectionPasses(
+                graph, m_injector, grid, format, rsm, lpv::createShVolume(graph, (prefix + ".wave.a").c_str(), cells, format),
+                lpv::createShVolume(graph, (prefix + ".accumulation").c_str(), cells, format), {}, prefix);
+            rg::ImageHandle gv;
+            if (m_settings.occlusion)
+                gv = lpv::addGeometryVolumePasses(graph, m_injector, grid, rsm, gb, prefix);
+            lpv::PropagationVolumes volumes{injected.wavefront,
+                                            lpv::createShVolume(graph, (prefix + ".wave.b").c_str(), cells, format),
+                                            injected.accumulation};
+            volumes = lpv::addPropagationPasses(graph, m_propagator, cells, format, volumes, gv, m_settings.iterations,
+                                                voxels, grid.origin, prefix);
+            lpv::CascadeBlend blend;
+            blend.fadeBorder = grids.size() > 1;
+            blend.accumulate = k > 0;
+            for (size_t j = k >= 2 ? k - 2 : 0; j < k; ++j)
+                blend.finer.push_back(grids[j]);
+            indirect = lpv::addLookupPass(graph, m_injector, grid, volumes.accumulation, injected.buffer, gb,
+                                          m_settings.damping, indirect, blend, prefix);
+        }
         bb.add(IndirectData{indirect, {}});
     }
 
@@ -130,6 +155,7 @@ private:
     lpv::Propagator m_propagator;
     lpv::Injector m_injector;
     std::optional<gpu::LpvGrid> m_grid;
+    bool m_directional = false;
     std::unique_ptr<VoxelGrid> m_voxels;
     std::vector<VoxelDraw> m_draws;
     VoxelUpdate m_voxelUpdate = VoxelUpdate::None;

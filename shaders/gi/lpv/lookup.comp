@@ -22,7 +22,7 @@ layout(set = 1, binding = LPV_LOOKUP_BINDING_ACC_R + 0) uniform sampler3D accR;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_ACC_R + 1) uniform sampler3D accG;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_ACC_R + 2) uniform sampler3D accB;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_BUFFER, std430) readonly buffer Injection { uint header[LPV_INJECT_HEADER_INTS]; } injection;
-layout(set = 1, binding = LPV_LOOKUP_BINDING_OUTPUT, rgba32f) uniform writeonly image2D outIndirect;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_OUTPUT, rgba32f) uniform image2D outIndirect;
 
 // Normalised irradiance (R, G, B) at world position p for normal n; zero outside the grid.
 vec3 irradiance(vec3 p, vec3 n) {
@@ -58,6 +58,14 @@ void main() {
         radiance = albedo * (1.0 / kShPi) * e * (m / (cell * cell));
         if (any(isnan(radiance)) || any(isinf(radiance)))
             radiance = vec3(0.0);
+        // Cascades: this level's weight is its own border fade times (1 - fade) of every finer
+        // level, so the weights of nested levels sum to 1 wherever the coarsest is not fading.
+        float w = pc.params.y > 0.0 ? lpvBorderFade(pc.grid, position.xyz) : 1.0;
+        for (int k = 0; k < pc.image.z; ++k)
+            w *= 1.0 - lpvBorderFade(pc.finer[k], position.xyz);
+        radiance *= w;
     }
+    if (pc.params.z > 0.0)
+        radiance += imageLoad(outIndirect, px).rgb;
     imageStore(outIndirect, px, vec4(radiance, 1.0));
 }

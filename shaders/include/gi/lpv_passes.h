@@ -63,10 +63,19 @@ GI_CHECK_SIZE(LpvInjectPush, 64);
 
 GI_GPU_STRUCT(LpvLookupPush) {
     LpvGrid grid;
-    ivec4 image;  // xy: output size
-    vec4 params;  // x: damping strength (0 = off)
+    ivec4 image;     // xy: output size; z: number of finer cascades in `finer` (0..2)
+    vec4 params;     // x: damping strength (0 = off); y: 1 = fade at this grid's border; z: 1 = add to the output
+    LpvGrid finer[2]; // finer cascades whose interior this one yields to
 };
-GI_CHECK_SIZE(LpvLookupPush, 64);
+GI_CHECK_SIZE(LpvLookupPush, 128);
+
+// Cascade border fade at world position p: 1 more than 3 cells inside the grid, 0 in its
+// outermost cell, linear in between (blending width 2 cells).
+GI_INLINE float lpvBorderFade(LpvGrid grid, vec3 p) {
+    vec3 g = (p - vec3(grid.origin)) / grid.origin.w;
+    vec3 d = min(g, vec3(grid.size) - g);
+    return clamp((min(d.x, min(d.y, d.z)) - 1.0f) * 0.5f, 0.0f, 1.0f);
+}
 
 // Cell a surfel at world position `p` with unit normal `n` is injected into: the cell containing
 // p moved half a cell along n (so a wall's light starts in front of it, not inside it).
