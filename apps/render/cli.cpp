@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gi/gi.hpp"
+
 namespace vkgi::render {
 
 namespace {
@@ -124,17 +126,19 @@ Result<Options> parseArgs(int argc, const char* const* argv) {
 }
 
 std::string helpText() {
-    return R"(vkgi-render: render a scene headless and report per-pass GPU times.
+    std::string text = R"(vkgi-render: render a scene headless and report per-pass GPU times.
 
 Usage: vkgi-render [options]
   --scene NAME|FILE   built-in scene name or a .gltf/.glb file (default: cornell)
-  --technique T       none (direct light + emission) or reference (CPU path tracer); default none
+  --technique T       TECHNIQUES, or reference (CPU path tracer); default none
+                      (none = direct light + emission only)
   --size WxH          image size, each side 1..16384 (default: 256x256)
   --out FILE          output image, .exr (linear float) or .png (tone mapped); may be repeated;
                       default out/<scene>.png. Files are written atomically.
   --spp N             path-tracer samples per pixel for --technique reference and --compare (default 64)
-  --bounces K         reflections: 1 = direct only, -1 = unbounded. Default: the technique's own
-                      count (none: 1), or -1 for --technique reference. --compare uses the same K.
+  --bounces K         reflections: 1 = direct only, -1 = unbounded. Default: the count the technique
+                      models (none: 1, one indirect bounce: 2), or -1 for --technique reference.
+                      --compare uses the same K.
   --compare           print relMSE and RMSE (full image and indirect only) against the path-traced
                       reference (cached by scene hash in $VKGI_CACHE_DIR or ~/.cache/vkgi)
   --json FILE         write {scene, technique, width, height, passes[{name, ms}], total_ms,
@@ -145,13 +149,17 @@ Environment: VKGI_DEVICE=<substring> picks the Vulkan device by name; VKGI_VALID
 the validation layers.
 Exit codes: 0 success, 1 scene/render/output failure, 2 bad arguments.
 )";
+    std::string names;
+    for (const std::string& n : gi::techniqueNames())
+        names += (names.empty() ? "" : ", ") + n;
+    return text.replace(text.find("TECHNIQUES"), 10, names);
 }
 
 std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalMs,
                         const std::vector<std::string>& culled, uint64_t memoryBytes) {
     std::ostringstream out;
     char line[160];
-    std::snprintf(line, sizeof(line), "%-32s %10s\n", "pass", "GPU ms");
+    std::snprintf(line, sizeof(line), "%-32s %10s\n", "pass", "ms");
     out << line;
     for (const rg::PassTiming& p : passes) {
         std::snprintf(line, sizeof(line), "%-32s %10.3f\n", p.name.c_str(), p.ms);

@@ -109,8 +109,7 @@ int main(int argc, char** argv) {
     if (!scene)
         return fail(1, scene.error().message);
     Camera camera = scene->cameraOrDefault();
-    // Technique none renders direct light only: one reflection.
-    int bounces = o.bounces.value_or(pathTraced ? -1 : 1);
+    int bounces = o.bounces.value_or(pathTraced ? -1 : gi::modelledBounces(*technique));
 
     auto rendered = pathTraced ? renderPathTraced(*scene, camera, o, bounces) : renderGi(*scene, camera, o, *technique);
     if (!rendered)

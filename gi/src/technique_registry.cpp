@@ -11,9 +11,10 @@ namespace {
 struct TechniqueName {
     Technique technique;
     const char* name;
+    int bounces; // reflections the technique models with its default settings (see modelledBounces)
 };
-constexpr std::array kTechniques = {TechniqueName{Technique::None, "none"}, TechniqueName{Technique::Lpv, "lpv"},
-                                    TechniqueName{Technique::Vpl, "vpl"}};
+constexpr std::array kTechniques = {TechniqueName{Technique::None, "none", 1}, TechniqueName{Technique::Lpv, "lpv", 2},
+                                    TechniqueName{Technique::Vpl, "vpl", 2}};
 } // namespace
 
 const char* toString(Technique technique) {
@@ -21,6 +22,13 @@ const char* toString(Technique technique) {
         if (t.technique == technique)
             return t.name;
     return "unknown";
+}
+
+int modelledBounces(Technique technique) {
+    for (const TechniqueName& t : kTechniques)
+        if (t.technique == technique)
+            return t.bounces;
+    return -1;
 }
 
 std::vector<std::string> techniqueNames() {

@@ -28,6 +28,9 @@ enum class Technique : uint32_t { None = 0, Lpv = 1, Vpl = 3 };
 // "none", ...; the names the CLI accepts.
 const char* toString(Technique technique);
 std::vector<std::string> techniqueNames();
+// Reflections between emitter and eye the technique models with default settings (none: 1 =
+// direct light only; one indirect bounce: 2): the path-tracer bounce count to compare against.
+int modelledBounces(Technique technique);
 // Parses a name from techniqueNames(); the error lists the valid names.
 Result<Technique> parseTechnique(std::string_view name);
 
