@@ -145,6 +145,7 @@ Usage: vkgi-render [options]
                       error{relmse, rmse, relmse_indirect, rmse_indirect} or null}
   --help              this text
 
+GPU times are of a second frame: the first pays the driver's shader compilation.
 Environment: VKGI_DEVICE=<substring> picks the Vulkan device by name; VKGI_VALIDATION=1 enables
 the validation layers.
 Exit codes: 0 success, 1 scene/render/output failure, 2 bad arguments.
