@@ -47,7 +47,7 @@ Light pointLight(std::string name, const glm::vec3& pos, float cd) {
     return l;
 }
 
-[[maybe_unused]] Light sunLight(std::string name, const glm::vec3& dir, float lux) {
+Light sunLight(std::string name, const glm::vec3& dir, float lux) {
     Light l;
     l.name = std::move(name);
     l.type = LightType::Directional;
@@ -185,6 +185,181 @@ Scene makeSphere(const BuiltinSceneParams& p) {
     return s;
 }
 
+
+// ---- Room lit through two windows (Gaitatzes et al.'s hard case) ----------------------------
+
+// Interior 6 (x) x 3 (y) x 5 (z) m; every wall, the floor and the ceiling are solid 0.2 m boxes
+// (outward faces), so the room is light-tight for shadow maps and rays except at the windows.
+constexpr float kRoomW = 6.0f, kRoomH = 3.0f, kRoomD = 5.0f, kRoomWall = 0.2f;
+// Windows in the x = 0 wall: z 1..2 and 3..4, sill 1.0 m, lintel 2.2 m.
+constexpr float kSill = 1.0f, kLintel = 2.2f;
+const std::array<glm::vec2, 2> kWindowsZ = {glm::vec2(1.0f, 2.0f), glm::vec2(3.0f, 4.0f)};
+// Sun 40 degrees above the horizon, 15 degrees off the window normal: rays through the window
+// land on the floor 1.15..2.5 m from the window wall, so only floor patches are lit directly.
+const glm::vec3 kRoomSunDir = glm::normalize(glm::vec3(std::cos(40 * kDeg) * std::cos(15 * kDeg), -std::sin(40 * kDeg),
+                                                       std::cos(40 * kDeg) * std::sin(15 * kDeg)));
+// 10^4 lux (overcast-bright daylight; full sun is ~10^5): the lit wooden floor reaches
+// 0.6 * 10^4 * sin 40 / pi = 1.2e3 nits, the indirectly lit room tens of nits, all well inside
+// half-float range.
+constexpr float kRoomSunLux = 1.0e4f;
+
+Scene makeRoom() {
+    Scene s;
+    s.name = "room";
+    const float t = kRoomWall;
+    uint32_t floorMat = addMaterial(s, "room_wood_floor", {0.60f, 0.42f, 0.25f});
+    uint32_t ceilMat = addMaterial(s, "room_ceiling", {0.80f, 0.80f, 0.78f});
+    uint32_t windowWallMat = addMaterial(s, "room_window_wall", {0.75f, 0.75f, 0.72f});
+    uint32_t blueMat = addMaterial(s, "room_blue_wall", {0.30f, 0.45f, 0.70f});
+    uint32_t terracottaMat = addMaterial(s, "room_terracotta_wall", {0.75f, 0.35f, 0.25f});
+    uint32_t greenMat = addMaterial(s, "room_green_wall", {0.45f, 0.65f, 0.40f});
+    MeshBuilder b;
+    b.addBox({-t, -t, -t}, {kRoomW + t, 0.0f, kRoomD + t});
+    addMeshInstance(s, b, "room_floor", floorMat);
+    b.addBox({-t, kRoomH, -t}, {kRoomW + t, kRoomH + t, kRoomD + t});
+    addMeshInstance(s, b, "room_ceiling", ceilMat);
+    b.addBox({kRoomW, 0.0f, 0.0f}, {kRoomW + t, kRoomH, kRoomD}); // opposite the windows
+    addMeshInstance(s, b, "room_blue_wall", blueMat);
+    b.addBox({0.0f, 0.0f, kRoomD}, {kRoomW, kRoomH, kRoomD + t});
+    addMeshInstance(s, b, "room_terracotta_wall", terracottaMat);
+    b.addBox({0.0f, 0.0f, -t}, {kRoomW, kRoomH, 0.0f});
+    addMeshInstance(s, b, "room_green_wall", greenMat);
+    // Window wall (x in [-t, 0]): below the sills, above the lintels, and the piers between.
+    b.addBox({-t, 0.0f, 0.0f}, {0.0f, kSill, kRoomD});
+    b.addBox({-t, kLintel, 0.0f}, {0.0f, kRoomH, kRoomD});
+    float z = 0.0f;
+    for (const glm::vec2& w : kWindowsZ) {
+        b.addBox({-t, kSill, z}, {0.0f, kLintel, w.x});
+        z = w.y;
+    }
+    b.addBox({-t, kSill, z}, {0.0f, kLintel, kRoomD});
+    addMeshInstance(s, b, "room_window_wall", windowWallMat);
+    s.lights.push_back(sunLight("room_sun", kRoomSunDir, kRoomSunLux));
+    s.camera = lookAt({5.7f, 1.6f, 0.3f}, {1.5f, 0.4f, 3.2f}, 60.0f, 0.02f, 50.0f);
+    return s;
+}
+
+// ---- A procedural "bunny" in an open box under a spot (after Cochran & Steele) -------------
+
+// Star-shaped radius: an ellipsoid with low-frequency bumps and two "ear" lobes. Radial
+// displacement of a sphere cannot self-intersect, so the mesh stays a closed 2-manifold.
+float bunnyRadius(const glm::vec3& d) {
+    const glm::vec3 semi(0.11f, 0.13f, 0.09f); // ellipsoid semi-axes, metres
+    float r = 1.0f / glm::length(d / semi);
+    float bumps = 0.08f * std::sin(5.0f * d.x + 1.0f) * std::sin(4.0f * d.y) * std::sin(3.0f * d.z + 0.5f);
+    float ears = 0.0f;
+    for (const glm::vec3& ear : {glm::vec3(0.35f, 0.9f, 0.2f), glm::vec3(-0.35f, 0.9f, 0.2f)})
+        ears += 0.9f * std::pow(std::max(0.0f, glm::dot(d, glm::normalize(ear))), 24.0f);
+    return r * (1.0f + bumps + ears);
+}
+
+Scene makeBunnyBox() {
+    Scene s;
+    s.name = "bunny_box";
+    addCornellWalls(s);
+    uint32_t clay = addMaterial(s, "bunny_clay", {0.80f, 0.60f, 0.45f});
+    MeshBuilder b;
+    b.addIcosphere(glm::vec3(0.0f), 4, bunnyRadius); // 5120 triangles
+    Aabb bb = b.bounds();
+    b.translate(glm::vec3(0.278f, 0.0f, 0.30f) - glm::vec3(bb.centre().x, bb.min.y, bb.centre().z)); // on the floor
+    addMeshInstance(s, b, "bunny", clay);
+    // From the ceiling front onto the bunny: 1.5 cd at ~0.5 m lights the floor around it at
+    // ~1.5 nits (0.71 * 1.5 * cos / (d^2 pi)), like the cornell scenes.
+    glm::vec3 from = mm(278, 520, 40), to = mm(278, 120, 300);
+    s.lights.push_back(spotLight("bunny_spot", from, to - from, 1.5f, 28.0f, 35.0f));
+    s.camera = cornellCamera();
+    return s;
+}
+
+// ---- Procedural Sponza-like atrium ------------------------------------------------------
+
+// Courtyard x in [-7, 7], z in [-14, 14]; colonnades on x = +-4 with columns every 3 m; two
+// storeys of round arches; galleries roofed, courtyard open to the sky.
+constexpr float kAtriumX = 7.0f, kAtriumZ = 14.0f, kColX = 4.0f, kColStep = 3.0f;
+constexpr float kGroundColH = 3.6f, kGalleryY = 5.1f, kSlab = 0.3f, kUpperColH = 2.2f, kArchR = 1.5f;
+constexpr float kWallTop = 9.6f;
+// Sun ~55 degrees high: floods most of the courtyard floor, leaves the galleries in shadow.
+const glm::vec3 kAtriumSunDir = glm::normalize(glm::vec3(0.35f, -1.0f, 0.5f));
+// Same 10^4 lux as the room (documented there).
+constexpr float kAtriumSunLux = 1.0e4f;
+
+// A round arch in the plane x = xc spanning z in [zc - R, zc + R], springing at y = ys: inner
+// radius R - 0.3, outer R, depth 0.6 m, made of `segments` hexahedra.
+void addArch(MeshBuilder& b, float xc, float zc, float ys, uint32_t segments) {
+    const float rin = kArchR - 0.3f, rout = kArchR, half = 0.3f;
+    auto at = [&](float r, float theta, float x) {
+        return glm::vec3(x, ys + r * std::sin(theta), zc - r * std::cos(theta));
+    };
+    for (uint32_t i = 0; i < segments; ++i) {
+        float a0 = kPi * float(i) / float(segments), a1 = kPi * float(i + 1) / float(segments);
+        std::array<glm::vec3, 8> c = {at(rin, a0, xc - half),  at(rin, a1, xc - half),  at(rout, a0, xc - half),
+                                      at(rout, a1, xc - half), at(rin, a0, xc + half),  at(rin, a1, xc + half),
+                                      at(rout, a0, xc + half), at(rout, a1, xc + half)};
+        b.addHexahedron(c);
+    }
+}
+
+Scene makeAtrium() {
+    Scene s;
+    s.name = "atrium";
+    uint32_t stone = addMaterial(s, "atrium_floor", {0.55f, 0.50f, 0.42f});
+    uint32_t sandstone = addMaterial(s, "atrium_walls", {0.70f, 0.60f, 0.45f});
+    uint32_t columnMat = addMaterial(s, "atrium_columns", {0.75f, 0.70f, 0.60f});
+    uint32_t roofMat = addMaterial(s, "atrium_roof", {0.50f, 0.45f, 0.40f});
+    const glm::vec3 bannerColours[3] = {{0.70f, 0.08f, 0.06f}, {0.10f, 0.55f, 0.12f}, {0.08f, 0.15f, 0.65f}};
+    uint32_t bannerMats[3];
+    for (int i = 0; i < 3; ++i)
+        bannerMats[i] = addMaterial(s, std::string("atrium_banner_") + "rgb"[i], bannerColours[i], glm::vec3(0.0f), true);
+
+    MeshBuilder floor, walls, columns, roof;
+    const float t = 0.3f;
+    floor.addBox({-kAtriumX - t, -0.2f, -kAtriumZ - t}, {kAtriumX + t, 0.0f, kAtriumZ + t}, Facing::Outward, 8);
+    walls.addBox({kAtriumX, 0.0f, -kAtriumZ}, {kAtriumX + t, kWallTop, kAtriumZ});
+    walls.addBox({-kAtriumX - t, 0.0f, -kAtriumZ}, {-kAtriumX, kWallTop, kAtriumZ});
+    walls.addBox({-kAtriumX - t, 0.0f, kAtriumZ}, {kAtriumX + t, kWallTop, kAtriumZ + t});
+    walls.addBox({-kAtriumX - t, 0.0f, -kAtriumZ - t}, {kAtriumX + t, kWallTop, -kAtriumZ});
+    const float upperY = kGalleryY + kSlab;           // upper gallery floor level
+    const float upperSpring = upperY + kUpperColH;     // upper arches spring here
+    const float roofY = upperSpring + kArchR;          // roof slab bottom
+    for (float side : {-1.0f, 1.0f}) {
+        float xc = side * kColX;
+        // Gallery floor and roof, from just inside the column line to the outer wall.
+        float inner = xc - side * 0.3f, outer = side * kAtriumX;
+        glm::vec3 lo(std::min(inner, outer), 0.0f, -kAtriumZ), hi(std::max(inner, outer), 0.0f, kAtriumZ);
+        roof.addBox({lo.x, kGalleryY, lo.z}, {hi.x, upperY, hi.z});
+        roof.addBox({lo.x, roofY, lo.z}, {hi.x, roofY + kSlab, hi.z});
+        for (float z = -kAtriumZ + 2.0f; z <= kAtriumZ - 2.0f + 1e-3f; z += kColStep) {
+            columns.addCylinder({xc, 0.0f, z}, 0.3f, kGroundColH, 12);
+            columns.addCylinder({xc, upperY, z}, 0.25f, kUpperColH, 12);
+            if (z + kColStep <= kAtriumZ - 2.0f + 1e-3f) {
+                addArch(columns, xc, z + 0.5f * kColStep, kGroundColH, 16);
+                addArch(columns, xc, z + 0.5f * kColStep, upperSpring, 16);
+            }
+        }
+    }
+    addMeshInstance(s, floor, "atrium_floor", stone);
+    addMeshInstance(s, walls, "atrium_walls", sandstone);
+    addMeshInstance(s, columns, "atrium_colonnades", columnMat);
+    addMeshInstance(s, roof, "atrium_gallery_slabs", roofMat);
+    // Banners hang on the courtyard side of each colonnade, below the gallery slab.
+    int k = 0;
+    for (float side : {-1.0f, 1.0f})
+        for (float z : {-7.0f, -1.0f, 5.0f}) {
+            MeshBuilder banner;
+            float x = side * (kColX - 0.6f);
+            glm::vec3 a(x, 2.4f, z - 0.6f), c(x, kGalleryY - 0.1f, z + 0.6f);
+            if (side < 0) // front faces the courtyard centre (banners are double-sided anyway)
+                banner.addQuad({x, a.y, c.z}, {x, a.y, a.z}, {x, c.y, a.z}, {x, c.y, c.z});
+            else
+                banner.addQuad(a, {x, a.y, c.z}, c, {x, c.y, a.z});
+            addMeshInstance(s, banner, "atrium_banner_" + std::to_string(k), bannerMats[k % 3]);
+            ++k;
+        }
+    s.lights.push_back(sunLight("atrium_sun", kAtriumSunDir, kAtriumSunLux));
+    s.camera = lookAt({0.0f, 1.7f, -12.5f}, {0.0f, 3.5f, 6.0f}, 60.0f, 0.05f, 100.0f);
+    return s;
+}
+
 struct Entry {
     const char* name;
     std::function<Scene(const BuiltinSceneParams&)> make;
@@ -198,6 +373,9 @@ const std::vector<Entry>& registry() {
         {"cornell_emissive", [](const BuiltinSceneParams&) { return makeCornellEmissive(); }},
         {"furnace", makeFurnace},
         {"sphere", makeSphere},
+        {"room", [](const BuiltinSceneParams&) { return makeRoom(); }},
+        {"bunny_box", [](const BuiltinSceneParams&) { return makeBunnyBox(); }},
+        {"atrium", [](const BuiltinSceneParams&) { return makeAtrium(); }},
     };
     return entries;
 }

@@ -77,22 +77,32 @@ void MeshBuilder::addConvexPolygon(std::span<const glm::vec3> points) {
 
 void MeshBuilder::addParallelepiped(const glm::vec3& o, const glm::vec3& ex, const glm::vec3& ey, const glm::vec3& ez,
                                     Facing facing, uint32_t n) {
-    auto c = [&](int i, int j, int k) { return o + float(i) * ex + float(j) * ey + float(k) * ez; };
-    // Outward and counter-clockwise for right-handed edge vectors; flipped otherwise.
+    std::array<glm::vec3, 8> c;
+    for (int k = 0; k < 2; ++k)
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i)
+                c[size_t(i + 2 * j + 4 * k)] = o + float(i) * ex + float(j) * ey + float(k) * ez;
+    addHexahedron(c, facing, n);
+}
+
+void MeshBuilder::addHexahedron(const std::array<glm::vec3, 8>& corners, Facing facing, uint32_t n) {
+    auto c = [&](int i, int j, int k) { return corners[size_t(i + 2 * j + 4 * k)]; };
+    // Outward and counter-clockwise for a right-handed corner layout; flipped otherwise.
     const std::array<std::array<int, 3>, 4> faces[6] = {
-        {{{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}}}, // -ex
-        {{{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}}}, // +ex
-        {{{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}}}, // -ey
-        {{{0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}}}, // +ey
-        {{{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}}}, // -ez
-        {{{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}}, // +ez
+        {{{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}}}, // i = 0
+        {{{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}}}, // i = 1
+        {{{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}}}, // j = 0
+        {{{0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}}}, // j = 1
+        {{{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}}}, // k = 0
+        {{{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}}, // k = 1
     };
+    glm::vec3 ex = c(1, 0, 0) - c(0, 0, 0), ey = c(0, 1, 0) - c(0, 0, 0), ez = c(0, 0, 1) - c(0, 0, 0);
     bool rightHanded = glm::dot(glm::cross(ex, ey), ez) > 0.0f;
     bool flip = rightHanded == (facing == Facing::Inward);
     for (const auto& f : faces) {
         glm::vec3 p[4];
         for (int v = 0; v < 4; ++v)
-            p[v] = c(f[v][0], f[v][1], f[v][2]);
+            p[v] = c(f[size_t(v)][0], f[size_t(v)][1], f[size_t(v)][2]);
         if (flip)
             addGridQuad(p[0], p[3], p[2], p[1], n);
         else
@@ -145,6 +155,18 @@ void MeshBuilder::addCylinder(const glm::vec3& base, float radius, float height,
         fp.emplace_back(base.x + radius * std::cos(a), base.z + radius * std::sin(a));
     }
     addPrism(fp, base.y, base.y + height, caps, caps);
+}
+
+void MeshBuilder::translate(const glm::vec3& offset) {
+    for (glm::vec3& p : m_mesh.positions)
+        p += offset;
+}
+
+Aabb MeshBuilder::bounds() const {
+    Aabb b;
+    for (const glm::vec3& p : m_mesh.positions)
+        b.extend(p);
+    return b;
 }
 
 void MeshBuilder::addIcosphere(const glm::vec3& centre, uint32_t subdivisions,

@@ -2,6 +2,7 @@
 // The one set of geometry builders used by every built-in scene (private to the engine; the unit
 // tests include it through engine/src). Convention for every builder: a face's front side is the
 // side its normal points to, and its vertices are counter-clockwise seen from that side.
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -30,6 +31,9 @@ public:
     // n x n cells, facing out of (or into) the solid. The edge vectors may be left-handed.
     void addParallelepiped(const glm::vec3& origin, const glm::vec3& ex, const glm::vec3& ey, const glm::vec3& ez,
                            Facing facing = Facing::Outward, uint32_t n = 1);
+    // A hexahedron from 8 corners c[i + 2j + 4k] laid out like the parallelepiped's
+    // origin + i ex + j ey + k ez (faces may be slightly non-planar, e.g. arch segments).
+    void addHexahedron(const std::array<glm::vec3, 8>& c, Facing facing = Facing::Outward, uint32_t n = 1);
     // Axis-aligned box.
     void addBox(const glm::vec3& min, const glm::vec3& max, Facing facing = Facing::Outward, uint32_t n = 1);
     // A vertical prism over a convex footprint given in (x, z), from y0 to y1: the side faces and
@@ -43,6 +47,9 @@ public:
     void addIcosphere(const glm::vec3& centre, uint32_t subdivisions, const std::function<float(const glm::vec3&)>& radiusOf,
                       Facing facing = Facing::Outward);
 
+    // Moves everything built so far.
+    void translate(const glm::vec3& offset);
+    Aabb bounds() const;
     uint32_t vertexCount() const { return uint32_t(m_mesh.positions.size()); }
     // Moves the geometry out as a mesh with the given name and material.
     Mesh take(std::string name, uint32_t material);

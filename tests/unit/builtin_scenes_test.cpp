@@ -256,3 +256,129 @@ TEST(BuiltinScenes, IntegratingSphereIsClosedInwardAndRound) {
     ASSERT_TRUE(s.camera);
     EXPECT_LT(glm::length(s.camera->position), 0.9f);
 }
+
+namespace {
+
+// Möller-Trumbore; returns the hit distance or a negative value.
+float intersect(const glm::vec3& o, const glm::vec3& d, const WorldTri& t) {
+    glm::vec3 e1 = t.b - t.a, e2 = t.c - t.a, p = glm::cross(d, e2);
+    float det = glm::dot(e1, p);
+    if (std::abs(det) < 1e-12f)
+        return -1.0f;
+    float inv = 1.0f / det;
+    glm::vec3 s = o - t.a;
+    float u = glm::dot(s, p) * inv;
+    if (u < 0.0f || u > 1.0f)
+        return -1.0f;
+    glm::vec3 q = glm::cross(s, e1);
+    float v = glm::dot(d, q) * inv;
+    if (v < 0.0f || u + v > 1.0f)
+        return -1.0f;
+    return glm::dot(e2, q) * inv;
+}
+
+bool occluded(const std::vector<WorldTri>& tris, const glm::vec3& o, const glm::vec3& d) {
+    for (const WorldTri& t : tris)
+        if (intersect(o, d, t) > 1e-4f)
+            return true;
+    return false;
+}
+
+} // namespace
+
+TEST(BuiltinScenes, RoomSunEntersOnlyThroughTheWindowsOntoTheFloor) {
+    Scene s = make("room");
+    ASSERT_EQ(s.lights.size(), 1u);
+    const Light& sun = s.lights[0];
+    ASSERT_EQ(sun.type, LightType::Directional);
+    std::vector<WorldTri> tris = worldTriangles(s);
+    const glm::vec3 toSun = -sun.direction;
+    // Trace back from the centre of each window opening (x = 0, y = 1.6, z = 1.5 / 3.5) along
+    // the sun direction: the ray must reach the floor, and that floor point must see the sun.
+    int litFloorSamples = 0;
+    for (float zw : {1.5f, 3.5f}) {
+        glm::vec3 w(0.0f, 1.6f, zw);
+        float tFloor = -w.y / sun.direction.y;
+        glm::vec3 hit = w + tFloor * sun.direction;
+        EXPECT_GT(hit.x, 0.5f); // inside the room, in front of the window wall
+        EXPECT_LT(hit.x, 5.5f); // and before the far wall: the patch is on the floor
+        glm::vec3 p = hit + glm::vec3(0, 1e-3f, 0);
+        EXPECT_FALSE(occluded(tris, p, toSun)) << "window patch at " << hit.x << ", " << hit.z << " is shadowed";
+        litFloorSamples += !occluded(tris, p, toSun);
+    }
+    EXPECT_EQ(litFloorSamples, 2);
+    // Everywhere else on a coarse grid the floor, walls and ceiling are in shadow: most of the
+    // room is lit indirectly (the point of the scene).
+    int lit = 0, total = 0;
+    for (float x = 0.25f; x < 6.0f; x += 0.5f)
+        for (float z = 0.25f; z < 5.0f; z += 0.5f) {
+            glm::vec3 floorP(x, 1e-3f, z), ceilP(x, 3.0f - 1e-3f, z);
+            lit += !occluded(tris, floorP, toSun);
+            EXPECT_TRUE(occluded(tris, ceilP, toSun)) << x << ", " << z;
+            total += 1;
+        }
+    for (float y = 0.25f; y < 3.0f; y += 0.5f)
+        for (float z = 0.25f; z < 5.0f; z += 0.5f)
+            EXPECT_TRUE(occluded(tris, {6.0f - 1e-3f, y, z}, toSun)) << "far wall " << y << ", " << z;
+    EXPECT_GT(lit, 0);
+    EXPECT_LT(lit, total / 5) << "sun patches should cover a small part of the floor";
+}
+
+TEST(BuiltinScenes, BunnyIsClosedAndStandsInTheBox) {
+    Scene s = make("bunny_box");
+    const Mesh* bunny = nullptr;
+    for (const Mesh& m : s.meshes)
+        if (m.name == "bunny")
+            bunny = &m;
+    ASSERT_NE(bunny, nullptr);
+    EXPECT_GE(bunny->triangleCount(), 2000u);
+    EXPECT_LE(bunny->triangleCount(), 10000u);
+    std::vector<WorldTri> tris;
+    for (const WorldTri& t : worldTriangles(s))
+        if (&s.meshes[t.mesh] == bunny)
+            tris.push_back(t);
+    std::string why;
+    EXPECT_TRUE(closedAndOriented(tris, &why)) << why;
+    // Closed and outward: the divergence theorem gives a positive volume.
+    double volume = 0.0;
+    for (const WorldTri& t : tris)
+        volume += glm::dot(t.a, glm::cross(t.b, t.c)) / 6.0;
+    EXPECT_GT(volume, 0.0);
+    Aabb b;
+    for (const glm::vec3& p : bunny->positions)
+        b.extend(p);
+    EXPECT_NEAR(b.min.y, 0.0f, 1e-6f); // rests on the floor
+    EXPECT_GT(b.min.x, 0.0f);
+    EXPECT_LT(b.max.x, 0.5496f);
+    EXPECT_GT(b.min.z, 0.0f);
+    EXPECT_LT(b.max.z, 0.5592f);
+    EXPECT_LT(b.max.y, 0.5488f);
+    ASSERT_EQ(s.lights.size(), 1u);
+    EXPECT_EQ(s.lights[0].type, LightType::Spot);
+    // The spot axis passes over the bunny: aimed within its outer cone.
+    glm::vec3 toBunny = glm::normalize(b.centre() - s.lights[0].position);
+    EXPECT_GT(glm::dot(toBunny, s.lights[0].direction), std::cos(s.lights[0].outerConeAngle));
+}
+
+TEST(BuiltinScenes, AtriumSizeAndSun) {
+    Scene s = make("atrium");
+    EXPECT_GE(s.triangleCount(), 5000u);
+    EXPECT_LE(s.triangleCount(), 30000u);
+    ASSERT_EQ(s.lights.size(), 1u);
+    EXPECT_EQ(s.lights[0].type, LightType::Directional);
+    EXPECT_LT(s.lights[0].direction.y, -0.5f);
+    Aabb b = s.bounds();
+    ASSERT_TRUE(s.camera);
+    const glm::vec3& c = s.camera->position;
+    EXPECT_TRUE(c.x > b.min.x && c.x < b.max.x && c.z > b.min.z && c.z < b.max.z);
+    EXPECT_LT(c.y, 2.0f); // ground level
+    std::set<std::string> banners;
+    for (const Mesh& m : s.meshes)
+        if (m.name.rfind("atrium_banner", 0) == 0)
+            banners.insert(s.materials[m.material].name);
+    EXPECT_EQ(banners.size(), 3u); // red, green and blue
+    // The courtyard centre sees the sun; the gallery floor under the roof does not.
+    std::vector<WorldTri> tris = worldTriangles(s);
+    EXPECT_FALSE(occluded(tris, {0.0f, 1e-3f, 0.0f}, -s.lights[0].direction));
+    EXPECT_TRUE(occluded(tris, {6.0f, 1e-3f, 0.0f}, -s.lights[0].direction));
+}

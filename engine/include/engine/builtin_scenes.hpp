@@ -2,15 +2,22 @@
 // Built-in test scenes, generated in code (no asset files): metres, +Y up, glTF conventions,
 // lights in KHR_lights_punctual units. Every scene passes validateScene() and has a camera.
 //
-//   cornell           Cornell's published box (default); a wide downward spot under the light rectangle
-//   cornell_point     the same box with a point light at that spot
-//   cornell_spot      the box lit by a narrow spot from the front of the ceiling toward the back
-//   cornell_emissive  the box lit only by the published light rectangle as an emissive quad
+//   cornell           Cornell's published box (default); a 1.5 cd downward spot (outer 70, inner 60 deg)
+//                     1 cm under the light rectangle's centre: ~1.2 nits direct floor radiance below it
+//   cornell_point     the same box with a 1.5 cd point light at that spot
+//   cornell_spot      the box lit by a 4 cd narrow spot (outer 30 deg) from the ceiling front to the back
+//   cornell_emissive  lit only by the published light rectangle (0.1 mm under the ceiling) emitting
+//                     109.9 nits, so its on-axis intensity equals the spot's 1.5 cd
 //   furnace           closed 1 m cube, uniform albedo and emission: radiance = Le / (1 - albedo)
-//   sphere            integrating sphere (r = 1 m) with a point light at its centre
-//   room              closed 6 x 3 x 5 m room, sun through two windows (mostly indirect lighting)
-//   bunny_box         a displaced-icosphere "bunny" in an open box under a spot light
-//   atrium            procedural Sponza-like two-storey atrium under a sun
+//   sphere            integrating sphere (r = 1 m, inward) with a point light at its centre
+//   room              closed 6 x 3 x 5 m room of solid walls; a 10^4 lux sun 40 deg high shines
+//                     through two windows onto floor patches only, the rest is lit indirectly
+//   bunny_box         a closed displaced-icosphere "bunny" (5120 triangles) in the open Cornell box
+//                     under a 1.5 cd spot
+//   atrium            procedural Sponza-like atrium (~8.6k triangles): two storeys of arcades,
+//                     red/green/blue banners, roofed galleries, open courtyard under a 10^4 lux sun
+// Reflectances of the Cornell scenes (linear sRGB): white (0.725, 0.71, 0.68), red
+// (0.63, 0.065, 0.05), green (0.14, 0.45, 0.091).
 #include <string>
 #include <string_view>
 #include <vector>
