@@ -4,6 +4,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -348,7 +349,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"bad_mesh_index.gltf", false, "uses mesh 5, which does not exist", 0},
         BadCase{"nan_position.gltf", true, "dropped 1 triangle(s) with a NaN/Inf vertex position", 1},
         BadCase{"zero_area_triangle.gltf", true, "dropped 1 zero-area triangle(s)", 1},
-        BadCase{"zero_length_normal.gltf", true, "replaced 1 zero-length or non-finite normal(s)", 1}),
+        BadCase{"zero_length_normal.gltf", true, "replaced 1 zero-length or non-finite normal(s)", 1},
+        BadCase{"sparse_accessor.gltf", false, "sparse accessors are not supported", 0},
+        BadCase{"bad_material_index.gltf", false, "uses material 3, which does not exist (1 materials)", 0},
+        BadCase{"float_indices.gltf", false, "indices must be unsigned byte, short or int", 0},
+        BadCase{"nan_normal.gltf", true, "replaced 1 zero-length or non-finite normal(s)", 1},
+        BadCase{"negative_light_intensity.gltf", true, "light 0 (node 1) has a non-finite or negative colour/intensity; skipped", 1}),
     [](const ::testing::TestParamInfo<BadCase>& p) {
         std::string n = p.param.file;
         for (char& ch : n)
@@ -364,6 +370,18 @@ TEST(GltfLoader, ZeroLengthNormalIsReplacedByTheFaceNormal) {
         EXPECT_NEAR(glm::length(n - glm::vec3(0, 0, 1)), 0.0f, 1e-6f);
 }
 
+TEST(GltfLoader, BadLightIsSkippedAndBadConeClamped) {
+    std::vector<std::string> warnings;
+    Result<Scene> r = loadGltf(badDir() / "negative_light_intensity.gltf", &warnings);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_EQ(r->lights.size(), 1u); // the negative point light is gone, the spot stays
+    const Light& l = r->lights[0];
+    EXPECT_EQ(l.type, LightType::Spot);
+    EXPECT_FLOAT_EQ(l.outerConeAngle, 1.0f);
+    EXPECT_FLOAT_EQ(l.innerConeAngle, 1.0f); // inner 2.0 > outer 1.0: clamped to outer
+    EXPECT_TRUE(anyContains(warnings, "cone angles clamped")) << joined(warnings);
+}
+
 TEST(GltfLoader, SkippedPrimitiveIsNamedInAWarning) {
     std::vector<std::string> warnings;
     Result<Scene> r = loadGltf(badDir() / "points_only.gltf", &warnings);
@@ -375,4 +393,61 @@ TEST(GltfLoader, MissingFileIsOneLineError) {
     Result<Scene> r = loadGltf("/nonexistent/dir/scene.gltf");
     ASSERT_FALSE(r.ok());
     EXPECT_EQ(r.error().message, "/nonexistent/dir/scene.gltf: no such file");
+}
+
+// Deterministic mutations of the corpus (truncations, byte flips, digit swaps) must each give a
+// scene that validates or a one-line error: never a crash, hang or exception.
+TEST(GltfLoader, MutatedCorpusNeverCrashes) {
+    fs::path dir = tempDir("mutations");
+    uint32_t rng = 12345u;
+    auto next = [&]() { // xorshift32: reproducible without <random>'s implementation-defined engines
+        rng ^= rng << 13;
+        rng ^= rng >> 17;
+        rng ^= rng << 5;
+        return rng;
+    };
+    int loaded = 0, failed = 0;
+    for (const auto& entry : fs::directory_iterator(badDir())) {
+        if (entry.path().extension() != ".gltf" && entry.path().extension() != ".glb")
+            continue;
+        std::ifstream in(entry.path(), std::ios::binary);
+        std::ostringstream buf;
+        buf << in.rdbuf();
+        std::string original = buf.str();
+        if (original.empty())
+            continue;
+        for (int m = 0; m < 40; ++m) {
+            std::string text = original;
+            switch (m % 4) {
+            case 0: text.resize(next() % text.size()); break;
+            case 1: text[next() % text.size()] = char(next() & 0xff); break;
+            case 2: { // change a digit: indices, counts, offsets and lengths go out of range
+                size_t at = next() % text.size();
+                while (at < text.size() && !std::isdigit(static_cast<unsigned char>(text[at])))
+                    ++at;
+                if (at < text.size())
+                    text[at] = char('0' + next() % 10);
+                break;
+            }
+            default: { // grow a number a lot
+                size_t at = text.find_first_of("0123456789", next() % text.size());
+                if (at != std::string::npos)
+                    text.insert(at, "99999");
+                break;
+            }
+            }
+            fs::path f = dir / ("m" + std::to_string(m) + entry.path().extension().string());
+            writeFile(f, text);
+            Result<Scene> r = loadGltf(f);
+            if (r.ok()) {
+                EXPECT_TRUE(validateScene(*r).ok()) << entry.path().filename() << " mutation " << m;
+                ++loaded;
+            } else {
+                EXPECT_EQ(r.error().message.find('\n'), std::string::npos) << r.error().message;
+                ++failed;
+            }
+        }
+    }
+    EXPECT_GT(failed, 0); // the mutations do reach the error paths
+    std::cout << "    mutations: " << loaded << " loaded, " << failed << " rejected\n";
 }
