@@ -1,0 +1,190 @@
+// vkgi-bench: error against run time. For each scene x technique x knob configuration it
+// measures median per-pass GPU ms on this device and the error against the path-traced
+// reference with the matching bounce count, then writes bench.csv, bench.json and one
+// error-vs-time plot per scene (Pareto front marked) into --out.
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <sstream>
+
+#include "engine/file_util.hpp"
+#include "engine/gltf_loader.hpp"
+#include "engine/progress.hpp"
+#include "gi/knobs.hpp"
+#include "gi/reference.hpp"
+#include "sweep.hpp"
+
+using namespace vkgi;
+
+namespace {
+
+const char* kUsage =
+    "usage: vkgi-bench [--scenes a,b] [--techniques a,b] [--size WxH] [--spp N] [--repeat N]\n"
+    "                  [--budget-ms X] [--quick] [--out DIR]\n"
+    "  --scenes      built-in names or glTF files (default cornell,room,atrium)\n"
+    "  --techniques  subset of the library's techniques (default: all)\n"
+    "  --size        image size (default 128x128)      --spp     reference paths/pixel (default 1024)\n"
+    "  --repeat      measured frames per configuration (default 5, after one warm-up frame)\n"
+    "  --budget-ms   also print the least-error configuration within this GPU time per scene\n"
+    "  --quick       one configuration per technique (smoke run)\n"
+    "  --out         output folder (default out/bench): bench.csv, bench.json, plot-<scene>.svg\n";
+
+std::vector<std::string> split(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream in(s);
+    for (std::string item; std::getline(in, item, ',');)
+        if (!item.empty())
+            out.push_back(item);
+    return out;
+}
+
+bool parseUint(const char* s, uint32_t lo, uint32_t hi, uint32_t& out) {
+    char* end = nullptr;
+    unsigned long v = std::strtoul(s, &end, 10);
+    if (!*s || *end || s[0] == '-' || v < lo || v > hi)
+        return false;
+    out = uint32_t(v);
+    return true;
+}
+
+Result<bench::Options> parseArgs(int argc, char** argv) {
+    bench::Options o;
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        if (a == "--help" || a == "-h") {
+            std::fputs(kUsage, stdout);
+            std::exit(0);
+        }
+        if (a == "--quick") {
+            o.quick = true;
+            continue;
+        }
+        if (i + 1 >= argc)
+            return makeError(a + ": missing value (see --help)");
+        const char* v = argv[++i];
+        if (a == "--scenes")
+            o.scenes = split(v);
+        else if (a == "--techniques")
+            o.techniques = split(v);
+        else if (a == "--out")
+            o.outDir = v;
+        else if (a == "--size") {
+            if (std::sscanf(v, "%ux%u", &o.width, &o.height) != 2 || o.width < 1 || o.height < 1 ||
+                o.width > 4096 || o.height > 4096)
+                return makeError(std::string("--size: '") + v + "' is not WxH with 1..4096");
+        } else if (a == "--spp" ? !parseUint(v, 1, 1u << 20, o.spp)
+                   : a == "--repeat" ? !parseUint(v, 1, 1000, o.repeat)
+                   : false)
+            return makeError(a + ": '" + v + "' is out of range");
+        else if (a == "--budget-ms") {
+            char* end = nullptr;
+            o.budgetMs = std::strtod(v, &end);
+            if (*end || !(o.budgetMs > 0.0 && o.budgetMs < 1e9))
+                return makeError(std::string("--budget-ms: '") + v + "' is not a positive number");
+        } else if (a != "--spp" && a != "--repeat")
+            return makeError("unknown option '" + a + "' (see --help)");
+    }
+    if (o.techniques.empty())
+        o.techniques = gi::techniqueNames();
+    for (const auto& t : o.techniques)
+        if (auto p = gi::parseTechnique(t); !p)
+            return p.error();
+    return o;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    auto opt = parseArgs(argc, argv);
+    if (!opt) {
+        std::fprintf(stderr, "vkgi-bench: %s\n", opt.error().message.c_str());
+        return 2;
+    }
+    auto ctx = defaultDeviceBuilder().build();
+    if (!ctx) {
+        std::fprintf(stderr, "vkgi-bench: %s\n", ctx.error().message.c_str());
+        return 1;
+    }
+    std::vector<std::pair<std::string, std::string>> jobs; // technique, knobs
+    for (const auto& t : opt->techniques)
+        for (const auto& k : bench::sweepFor(t, opt->quick))
+            jobs.push_back({t, k});
+    std::vector<gi::BenchRecord> records;
+    Progress progress("vkgi-bench", jobs.size() * opt->scenes.size());
+    for (const auto& sceneName : opt->scenes) {
+        auto scene = loadScene(sceneName);
+        if (!scene) {
+            std::fprintf(stderr, "vkgi-bench: %s\n", scene.error().message.c_str());
+            return 1;
+        }
+        std::map<int, gi::ReferenceImages> refs; // by bounce count
+        for (const auto& [tech, knobs] : jobs) {
+            progress.add(1);
+            gi::GiSettings s;
+            s.technique = *gi::parseTechnique(tech);
+            std::string err;
+            std::stringstream in(knobs);
+            for (std::string kv; in >> kv && err.empty();)
+                if (auto ok = gi::applyKnob(s, kv); !ok)
+                    err = ok.error().message;
+            if (!err.empty()) { // a knob of a technique that is not built yet: skip, say so
+                std::fprintf(stderr, "vkgi-bench: skipped %s [%s]: %s\n", tech.c_str(), knobs.c_str(), err.c_str());
+                continue;
+            }
+            // The bounce count each technique models, but at least one indirect bounce: then "none" shows
+            // the error of having no GI, and the techniques share one reference and one Pareto front.
+            int bounces = gi::modelledBounces(s.technique);
+            bounces = bounces < 0 ? -1 : std::max(bounces, 2);
+            if (!refs.count(bounces)) {
+                gi::ReferenceSettings rs;
+                rs.spp = opt->spp;
+                rs.maxBounces = bounces;
+                auto ref = gi::renderReferenceCached(*scene, scene->cameraOrDefault(), opt->width, opt->height, rs);
+                if (!ref) {
+                    std::fprintf(stderr, "vkgi-bench: %s\n", ref.error().message.c_str());
+                    return 1;
+                }
+                refs[bounces] = std::move(*ref);
+            }
+            auto rec = bench::measure(**ctx, *scene, sceneName, s, knobs, *opt, refs[bounces].full,
+                                      refs[bounces].indirect);
+            if (!rec) {
+                std::fprintf(stderr, "vkgi-bench: %s %s [%s]: %s\n", sceneName.c_str(), tech.c_str(), knobs.c_str(),
+                             rec.error().message.c_str());
+                return 1;
+            }
+            records.push_back(std::move(*rec));
+        }
+    }
+    progress.finish();
+    std::filesystem::create_directories(opt->outDir);
+    std::string csv = gi::toCsv(records);
+    Result<void> ok = writeFileAtomic(std::filesystem::path(opt->outDir) / "bench.csv", csv);
+    if (ok)
+        ok = writeFileAtomic(std::filesystem::path(opt->outDir) / "bench.json", gi::toJson(records));
+    for (const auto& sceneName : opt->scenes)
+        if (ok)
+            ok = writeFileAtomic(std::filesystem::path(opt->outDir) / ("plot-" + std::filesystem::path(sceneName).stem().string() + ".svg"),
+                                 gi::toSvgPlot(records, sceneName));
+    if (!ok) {
+        std::fprintf(stderr, "vkgi-bench: %s\n", ok.error().message.c_str());
+        return 1;
+    }
+    std::printf("%-10s %-6s %-44s %9s %9s %12s\n", "scene", "tech", "knobs", "total ms", "relMSE", "relMSE ind.");
+    for (const auto& r : records)
+        std::printf("%-10s %-6s %-44s %9.2f %9.4f %12.4f\n", r.scene.c_str(), r.technique.c_str(), r.knobs.c_str(),
+                    r.totalMs, r.relMse, r.relMseIndirect);
+    for (const auto& sceneName : opt->scenes)
+        if (opt->budgetMs > 0.0) {
+            long best = gi::bestWithinBudget(records, sceneName, opt->budgetMs);
+            if (best < 0)
+                std::printf("budget %.2f ms, %s: no configuration fits\n", opt->budgetMs, sceneName.c_str());
+            else
+                std::printf("budget %.2f ms, %s: %s %s (%.2f ms, relMSE %.4f)\n", opt->budgetMs, sceneName.c_str(),
+                            records[size_t(best)].technique.c_str(), records[size_t(best)].knobs.c_str(),
+                            records[size_t(best)].totalMs, records[size_t(best)].relMse);
+        }
+    std::printf("wrote %s/bench.csv, bench.json and plots\n", opt->outDir.c_str());
+    return 0;
+}
