@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gi/gi.hpp"
+#include "gi/knobs.hpp"
 
 namespace vkgi::render {
 
@@ -116,6 +117,16 @@ Result<Options> parseArgs(int argc, const char* const* argv) {
             }
             if (auto ok = applyValue(arg, value, o); !ok)
                 return ok.error();
+        } else if (gi::findKnob(arg.substr(2))) {
+            if (!inlineValue) {
+                if (i + 1 >= argc)
+                    return makeError(arg + " needs a value (see --help)");
+                value = argv[++i];
+            }
+            gi::GiSettings probe; // checked now so a bad value exits 2 before any work starts
+            if (auto ok = gi::setKnob(probe, arg.substr(2), value); !ok)
+                return makeError("--" + ok.error().message);
+            o.knobs.emplace_back(arg.substr(2), value);
         } else {
             return makeError("unknown option '" + arg + "' (see --help)");
         }
@@ -153,7 +164,8 @@ Exit codes: 0 success, 1 scene/render/output failure, 2 bad arguments.
     std::string names;
     for (const std::string& n : gi::techniqueNames())
         names += (names.empty() ? "" : ", ") + n;
-    return text.replace(text.find("TECHNIQUES"), 10, names);
+    text.replace(text.find("TECHNIQUES"), 10, names);
+    return text + "\nTechnique settings (--name value or --name=value):\n" + gi::knobHelp();
 }
 
 std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalMs,

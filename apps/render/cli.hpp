@@ -24,6 +24,8 @@ struct Options {
     bool compare = false;
     std::optional<std::filesystem::path> json;
     bool help = false;
+    // Technique knobs in command-line order ("lpv.grid", "64"); names and values from gi/knobs.hpp.
+    std::vector<std::pair<std::string, std::string>> knobs;
 };
 
 // Parses argv. Errors are one line naming the option and the problem (exit code 2).

@@ -9,6 +9,7 @@
 #include "engine/gltf_loader.hpp"
 #include "engine/image_io.hpp"
 #include "gi/gi.hpp"
+#include "gi/knobs.hpp"
 #include "gi/reference.hpp"
 
 using namespace vkgi;
@@ -40,6 +41,9 @@ gi::ReferenceSettings referenceSettings(const render::Options& o, int bounces) {
 Result<Rendered> renderGi(const Scene& scene, const Camera& camera, const render::Options& o, gi::Technique t) {
     gi::GiSettings settings;
     settings.technique = t;
+    for (const auto& [name, value] : o.knobs)
+        if (auto ok = gi::setKnob(settings, name, value); !ok)
+            return ok.error();
     auto system = gi::GiSystem::createHeadless(settings);
     if (!system)
         return system.error();
