@@ -110,14 +110,20 @@ int main(int argc, char** argv) {
     for (const auto& t : opt->techniques)
         for (const auto& k : bench::sweepFor(t, opt->quick))
             jobs.push_back({t, k});
-    std::vector<gi::BenchRecord> records;
-    Progress progress("vkgi-bench", jobs.size() * opt->scenes.size());
+    std::vector<Scene> scenes; // all loaded up front: a bad name fails before any long work
     for (const auto& sceneName : opt->scenes) {
         auto scene = loadScene(sceneName);
         if (!scene) {
             std::fprintf(stderr, "vkgi-bench: %s\n", scene.error().message.c_str());
             return 1;
         }
+        scenes.push_back(std::move(*scene));
+    }
+    std::vector<gi::BenchRecord> records;
+    Progress progress("vkgi-bench", jobs.size() * opt->scenes.size());
+    for (size_t si = 0; si < scenes.size(); ++si) {
+        const std::string& sceneName = opt->scenes[si];
+        const Scene* scene = &scenes[si];
         std::map<int, gi::ReferenceImages> refs; // by bounce count
         for (const auto& [tech, knobs] : jobs) {
             progress.add(1);
