@@ -11,14 +11,12 @@ namespace vkgi::gi {
 
 namespace {
 
-const char* kAnisoNames[6] = {"vct.aniso.px", "vct.aniso.nx", "vct.aniso.py",
-                              "vct.aniso.ny", "vct.aniso.pz", "vct.aniso.nz"};
-
-Image createRadianceVolume(Context& ctx, uint32_t n, uint32_t mips, const char* name) {
+Image createRadianceVolume(Context& ctx, uint32_t n, uint32_t depth, uint32_t mips, const char* name) {
     ImageDesc d;
     d.type = VK_IMAGE_TYPE_3D;
     d.format = VK_FORMAT_R16G16B16A16_SFLOAT;
-    d.width = d.height = d.depth = n;
+    d.width = d.height = n;
+    d.depth = depth;
     d.mipLevels = mips;
     d.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     return createImage(ctx, d, name);
@@ -68,10 +66,9 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     }
     uint32_t n = grid.resolution();
     v->m_levels = uint32_t(std::countr_zero(n)); // (N/2)^3 down to 1^3
-    v->m_radiance.image = createRadianceVolume(ctx, n, 1, "vct.radiance");
-    v->m_bounced.image = createRadianceVolume(ctx, n, 1, "vct.radiance.bounced");
-    for (uint32_t d = 0; d < 6; ++d)
-        v->m_aniso[d].image = createRadianceVolume(ctx, n / 2, v->m_levels, kAnisoNames[d]);
+    v->m_radiance.image = createRadianceVolume(ctx, n, n, 1, "vct.radiance");
+    v->m_bounced.image = createRadianceVolume(ctx, n, n, 1, "vct.radiance.bounced");
+    v->m_aniso.image = createRadianceVolume(ctx, n / 2, 6 * (n / 2), v->m_levels, "vct.aniso");
     SamplerDesc s;
     s.address = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER; // outside the grid is empty space
     s.border = VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK;
@@ -84,16 +81,14 @@ VctVolumes::~VctVolumes() {
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_radiance.image);
     destroyImage(m_ctx, m_bounced.image);
-    for (rg::PersistentImage& a : m_aniso)
-        destroyImage(m_ctx, a.image);
+    destroyImage(m_ctx, m_aniso.image);
     if (m_sampler)
         vkDestroySampler(m_ctx.device(), m_sampler, nullptr);
 }
 
 VkDeviceSize VctVolumes::bytes() const {
     VkDeviceSize total = imageBytes(m_radiance.image.desc) + imageBytes(m_bounced.image.desc);
-    for (const rg::PersistentImage& a : m_aniso)
-        total += imageBytes(a.image.desc);
+    total += imageBytes(m_aniso.image.desc);
     return total;
 }
 
@@ -127,25 +122,17 @@ void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t ligh
 void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level, const Image& source) const {
     uint32_t size = std::max(1u, (m_grid.resolution() / 2) >> level);
     gpu::VoxelMipPush push{m_grid.params(), glm::uvec4(level, size, 0u, 0u)};
-    auto dst = [&](uint32_t d) { return storage(6 + d, m_aniso[d].image.mipViews[level]); };
-    if (level == 0) {
-        dispatch(m_ctx, cmd, m_mipBase, push, {storage(0, source.view), dst(0), dst(1), dst(2), dst(3), dst(4), dst(5)},
-                 glm::uvec3(size));
-        return;
-    }
-    auto src = [&](uint32_t d) { return storage(d, m_aniso[d].image.mipViews[level - 1]); };
-    dispatch(m_ctx, cmd, m_mip, push,
-             {src(0), src(1), src(2), src(3), src(4), src(5), dst(0), dst(1), dst(2), dst(3), dst(4), dst(5)},
-             glm::uvec3(size));
+    VkImageView src = level == 0 ? source.view : m_aniso.image.mipViews[level - 1];
+    dispatch(m_ctx, cmd, level == 0 ? m_mipBase : m_mip, push,
+             {storage(0, src), storage(1, m_aniso.image.mipViews[level])}, glm::uvec3(size));
 }
 
 void VctVolumes::recordBounce(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkImageLayout sampledLayout) const {
     const VoxelVolumes& g = m_grid.volumes();
     gpu::VoxelBouncePush push{m_grid.params(), cones};
-    auto a = [&](uint32_t d) { return sampled(1 + d, m_aniso[d].image, m_sampler, sampledLayout); };
     dispatch(m_ctx, cmd, m_bounce, push,
-             {sampled(0, m_radiance.image, m_sampler, sampledLayout), a(0), a(1), a(2), a(3), a(4), a(5),
-              storage(7, g.albedo.image.view), storage(8, g.normal.image.view), storage(10, m_bounced.image.view)},
+             {sampled(0, m_radiance.image, m_sampler, sampledLayout), sampled(1, m_aniso.image, m_sampler, sampledLayout),
+              storage(2, g.albedo.image.view), storage(3, g.normal.image.view), storage(4, m_bounced.image.view)},
              glm::uvec3(m_grid.resolution()));
 }
 
@@ -154,11 +141,10 @@ void VctVolumes::recordTrace(VkCommandBuffer cmd, const Image& level0, const gpu
     gpu::VctTracePush push{m_grid.params(), cones, glm::vec4(t.eye, 0.0f)};
     push.cones.info.z = t.width;
     push.cones.info.w = t.height;
-    auto a = [&](uint32_t d) { return sampled(1 + d, m_aniso[d].image, m_sampler, sampledLayout); };
     dispatch(m_ctx, cmd, m_trace, push,
-             {sampled(0, level0, m_sampler, sampledLayout), a(0), a(1), a(2), a(3), a(4), a(5),
-              storage(7, t.position->view), storage(8, t.normal->view), storage(9, t.albedo->view),
-              storage(10, t.indirect->view), storage(11, t.glossy->view)},
+             {sampled(0, level0, m_sampler, sampledLayout), sampled(1, m_aniso.image, m_sampler, sampledLayout),
+              storage(2, t.position->view), storage(3, t.normal->view), storage(4, t.albedo->view),
+              storage(5, t.indirect->view), storage(6, t.glossy->view)},
              glm::uvec3(t.width, t.height, 1u));
 }
 

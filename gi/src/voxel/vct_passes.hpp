@@ -37,12 +37,12 @@ public:
     // Level 0: isotropic radiance after direct light (and after the bounce in bounced()).
     const Image& radiance() const { return m_radiance.image; }
     const Image& bounced() const { return m_bounced.image; }
-    // +X, -X, +Y, -Y, +Z, -Z chains of (N/2)^3 .. 1^3.
-    const Image& aniso(uint32_t d) const { return m_aniso[d].image; }
+    // Packed +X, -X, +Y, -Y, +Z, -Z tiles (voxel_passes.h), levels (N/2)^3 .. 1^3.
+    const Image& aniso() const { return m_aniso.image; }
     // Persistent state for the graph imports.
     rg::PersistentImage& radianceState() { return m_radiance; }
     rg::PersistentImage& bouncedState() { return m_bounced; }
-    rg::PersistentImage& anisoState(uint32_t d) { return m_aniso[d]; }
+    rg::PersistentImage& anisoState() { return m_aniso; }
     const VoxelGrid& grid() const { return m_grid; }
     uint32_t anisoLevels() const { return m_levels; }
     VkSampler sampler() const { return m_sampler; }
@@ -56,7 +56,7 @@ public:
     // grid volumes + lights -> radiance().
     void recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t lightCount, VctOcclusion occlusion,
                      VkImageLayout sampledLayout) const;
-    // aniso level `level` from `source` (level 0) or from level - 1.
+    // aniso level `level` from `source` (level 0) or from level - 1 of aniso.
     void recordMip(VkCommandBuffer cmd, uint32_t level, const Image& source) const;
     // radiance() + gathered second bounce -> bounced(); reads the aniso chains built from radiance().
     void recordBounce(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkImageLayout sampledLayout) const;
@@ -69,7 +69,7 @@ private:
     Context& m_ctx;
     const VoxelGrid& m_grid;
     rg::PersistentImage m_radiance, m_bounced;
-    std::array<rg::PersistentImage, 6> m_aniso;
+    rg::PersistentImage m_aniso;
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;
     Pipeline m_light, m_mipBase, m_mip, m_bounce, m_trace;

@@ -105,26 +105,24 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
 
 namespace {
 
-// Adds one pass per anisotropic level, built from `level0`.
-void addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::ImageHandle level0, rg::ImageHandle aniso[6],
-                  const char* prefix) {
+// Adds one pass per anisotropic level, built from `level0`; returns the newest aniso version.
+rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::ImageHandle level0,
+                             rg::ImageHandle aniso, const char* prefix) {
     for (uint32_t level = 0; level < v->anisoLevels(); ++level) {
-        bool fromRadiance = level == 0;
         graph.addPass(
             std::string(prefix) + "[" + std::to_string(level + 1) + "]",
             [&](rg::PassBuilder& b) {
-                if (fromRadiance)
+                if (level == 0)
                     b.read(level0, Access::ComputeStorageRead);
-                for (uint32_t d = 0; d < 6; ++d) {
-                    if (!fromRadiance)
-                        b.read(aniso[d], Access::ComputeStorageRead, rg::SubresourceRange::mip(level - 1));
-                    aniso[d] = b.write(aniso[d], Access::ComputeStorageWriteDiscard, rg::SubresourceRange::mip(level));
-                }
+                else
+                    b.read(aniso, Access::ComputeStorageRead, rg::SubresourceRange::mip(level - 1));
+                aniso = b.write(aniso, Access::ComputeStorageWriteDiscard, rg::SubresourceRange::mip(level));
             },
             [v, level, l0 = level0](rg::PassContext& ctx) {
                 v->recordMip(ctx.cmd(), level, level == 0 ? ctx.image(l0) : v->radiance()); // source unused above 0
             });
     }
+    return aniso;
 }
 
 } // namespace
@@ -135,8 +133,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     const VctVolumes* v = &volumes;
     VctOutputs out;
     rg::ImageHandle radiance = graph.importImage("gi.vct.radiance", volumes.radianceState());
-    for (uint32_t d = 0; d < 6; ++d)
-        out.aniso[d] = graph.importImage("gi.vct.aniso[" + std::to_string(d) + "]", volumes.anisoState(d));
+    out.aniso = graph.importImage("gi.vct.aniso", volumes.anisoState());
     VctOcclusion occlusion = settings.occlusion;
     graph.addPass(
         "gi.vct.light",
@@ -150,7 +147,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
         [v, lights, lightCount, occlusion, albedo = grid.albedo](rg::PassContext& ctx) {
             v->recordLight(ctx.cmd(), ctx.buffer(lights).buffer, lightCount, occlusion, ctx.layout(albedo));
         });
-    addMipPasses(graph, v, radiance, out.aniso, "gi.vct.mip");
+    out.aniso = addMipPasses(graph, v, radiance, out.aniso, "gi.vct.mip");
     gpu::ConeParams cones = volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
     if (settings.bounces >= 2) {
         rg::ImageHandle bounced = graph.importImage("gi.vct.radiance.bounced", volumes.bouncedState());
@@ -158,8 +155,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
             "gi.vct.bounce",
             [&](rg::PassBuilder& b) {
                 b.read(radiance, Access::ComputeSampledRead);
-                for (uint32_t d = 0; d < 6; ++d)
-                    b.read(out.aniso[d], Access::ComputeSampledRead);
+                b.read(out.aniso, Access::ComputeSampledRead);
                 b.read(grid.albedo, Access::ComputeStorageRead);
                 b.read(grid.normal, Access::ComputeStorageRead);
                 bounced = b.write(bounced, Access::ComputeStorageWriteDiscard);
@@ -168,7 +164,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                 v->recordBounce(ctx.cmd(), cones, ctx.layout(radiance));
             });
         radiance = bounced;
-        addMipPasses(graph, v, radiance, out.aniso, "gi.vct.bounce.mip");
+        out.aniso = addMipPasses(graph, v, radiance, out.aniso, "gi.vct.bounce.mip");
     }
     out.radiance = radiance;
     if (!gbuffer)
@@ -185,8 +181,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
         "gi.vct.trace",
         [&](rg::PassBuilder& b, TraceData& d) {
             b.read(radiance, Access::ComputeSampledRead);
-            for (uint32_t k = 0; k < 6; ++k)
-                b.read(out.aniso[k], Access::ComputeSampledRead);
+            b.read(out.aniso, Access::ComputeSampledRead);
             b.read(g.position, Access::ComputeStorageRead);
             b.read(g.normal, Access::ComputeStorageRead);
             b.read(g.albedo, Access::ComputeStorageRead);

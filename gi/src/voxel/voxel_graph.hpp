@@ -55,7 +55,7 @@ struct VctGBufferHandles {
 
 struct VctOutputs {
     rg::ImageHandle radiance; // level 0 the trace read (after the bounce when bounces = 2)
-    rg::ImageHandle aniso[6]; // the directional chains the trace read
+    rg::ImageHandle aniso;    // the packed directional mips the trace read
     rg::ImageHandle indirect; // RGBA32F: rgb indirect radiance (nits), a = AO (invalid without a G-buffer)
     rg::ImageHandle glossy;   // RGBA32F: glossy cone radiance (nits)
 };

@@ -8,11 +8,11 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform Push { VctTracePush pc; };
 #include "voxel_cone.glsl"
-layout(set = 1, binding = 7, rgba32f) uniform readonly image2D gPosition;
-layout(set = 1, binding = 8, rgba16f) uniform readonly image2D gNormal;
-layout(set = 1, binding = 9, rgba16f) uniform readonly image2D gAlbedo;
-layout(set = 1, binding = 10, rgba32f) uniform writeonly image2D outIndirect; // rgb indirect, a = AO
-layout(set = 1, binding = 11, rgba32f) uniform writeonly image2D outGlossy;   // rgb glossy cone radiance
+layout(set = 1, binding = 2, rgba32f) uniform readonly image2D gPosition;
+layout(set = 1, binding = 3, rgba16f) uniform readonly image2D gNormal;
+layout(set = 1, binding = 4, rgba16f) uniform readonly image2D gAlbedo;
+layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D outIndirect; // rgb indirect, a = AO
+layout(set = 1, binding = 6, rgba32f) uniform writeonly image2D outGlossy;   // rgb glossy cone radiance
 
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);

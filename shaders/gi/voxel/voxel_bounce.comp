@@ -8,9 +8,9 @@
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(push_constant) uniform Push { VoxelBouncePush pc; };
 #include "voxel_cone.glsl"
-layout(set = 1, binding = 7, rgba8) uniform readonly image3D albedoVol;
-layout(set = 1, binding = 8, rgba8) uniform readonly image3D normalVol;
-layout(set = 1, binding = 10, rgba16f) uniform writeonly image3D radianceOut;
+layout(set = 1, binding = 2, rgba8) uniform readonly image3D albedoVol;
+layout(set = 1, binding = 3, rgba8) uniform readonly image3D normalVol;
+layout(set = 1, binding = 4, rgba16f) uniform writeonly image3D radianceOut;
 
 void main() {
     ivec3 c = ivec3(gl_GlobalInvocationID);

@@ -1,13 +1,9 @@
 // Cone tracing through the voxel radiance (Crassin et al. 2011). The includer declares nothing
-// at bindings 0..6: they are the isotropic radiance volume and the six anisotropic chains.
-// Everything is in grid units (voxels); radiance stays scaled by radianceScale.
+// at bindings 0..1: the isotropic radiance volume and the packed anisotropic volume (six
+// direction tiles stacked along z, voxel_passes.h). Everything is in grid units (voxels);
+// radiance stays scaled by radianceScale.
 layout(set = 1, binding = 0) uniform sampler3D radianceVol;
-layout(set = 1, binding = 1) uniform sampler3D anisoPX;
-layout(set = 1, binding = 2) uniform sampler3D anisoNX;
-layout(set = 1, binding = 3) uniform sampler3D anisoPY;
-layout(set = 1, binding = 4) uniform sampler3D anisoNY;
-layout(set = 1, binding = 5) uniform sampler3D anisoPZ;
-layout(set = 1, binding = 6) uniform sampler3D anisoNZ;
+layout(set = 1, binding = 1) uniform sampler3D aniso;
 
 // Cones start this far (voxels) from their origin, which callers already offset by one voxel
 // along the normal: together they clear the surface's own (conservatively thick) voxel.
@@ -15,12 +11,22 @@ const float kConeStart = 1.0;
 // Accumulated opacity at which a cone stops (the rest would add under 1%).
 const float kConeOpaque = 0.99;
 
-// Directional sample: the three volumes facing `dir`, weighted by dir^2 (sums to 1).
+// Directional sample: the three direction tiles facing `dir`, weighted by dir^2 (sums to 1).
+// Tiles are picked by arithmetic, not by branching, so SIMD lanes with different directions
+// still take one path (three fetches instead of up to six). Along z the coordinate is clamped
+// half a texel of the coarser of the two levels inside the tile, so filtering never reads the
+// neighbouring tile; beyond the grid in z the sample is empty, as the border is in x and y.
 vec4 sampleAniso(vec3 uvw, vec3 dir, float lod) {
+    if (uvw.z < 0.0 || uvw.z > 1.0)
+        return vec4(0.0);
+    float levels = float(textureQueryLevels(aniso));
+    float tileTexels = float(textureSize(aniso, 0).x) / exp2(min(ceil(lod), levels - 1.0));
+    float z = clamp(uvw.z, 0.5 / tileTexels, 1.0 - 0.5 / tileTexels);
     vec3 w = dir * dir;
-    return w.x * (dir.x >= 0.0 ? textureLod(anisoPX, uvw, lod) : textureLod(anisoNX, uvw, lod)) +
-           w.y * (dir.y >= 0.0 ? textureLod(anisoPY, uvw, lod) : textureLod(anisoNY, uvw, lod)) +
-           w.z * (dir.z >= 0.0 ? textureLod(anisoPZ, uvw, lod) : textureLod(anisoNZ, uvw, lod));
+    vec3 tile = vec3(0.0, 2.0, 4.0) + step(dir, vec3(0.0)); // +X,-X,+Y,-Y,+Z,-Z = 0..5
+    return w.x * textureLod(aniso, vec3(uvw.xy, (tile.x + z) / 6.0), lod) +
+           w.y * textureLod(aniso, vec3(uvw.xy, (tile.y + z) / 6.0), lod) +
+           w.z * textureLod(aniso, vec3(uvw.xy, (tile.z + z) / 6.0), lod);
 }
 
 // Quadrilinear sample of a footprint 2^lod voxels wide: level 0 is the isotropic volume, level

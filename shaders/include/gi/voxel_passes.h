@@ -22,9 +22,12 @@ GI_CHECK_SIZE(VoxelizePush, 64);
 // Voxel radiance volumes written by the VCT passes:
 //   radiance  RGBA16F N^3: rgb = outgoing radiance * radianceScale (Lambertian, so the same in
 //             every direction), a = occupancy. Premultiplied: empty voxels are 0.
-//   aniso[6]  RGBA16F (N/2)^3 with log2(N) mips, one volume per viewing direction in the order
-//             +X, -X, +Y, -Y, +Z, -Z: level k holds the 2^(k+1)-voxel blocks as seen by a ray
-//             travelling along that direction (front-to-back composited, Crassin's pre-integration).
+//   aniso     RGBA16F S x S x 6S (S = N/2) with log2(N) mips: six tiles stacked along z, one per
+//             viewing direction in the order +X, -X, +Y, -Y, +Z, -Z (tile d of level k spans
+//             z in [d s_k, (d+1) s_k), s_k = S >> k). Level k holds the 2^(k+1)-voxel blocks as
+//             seen by a ray travelling along that direction (front-to-back composited,
+//             Crassin's pre-integration). One image instead of six lets a cone pick its three
+//             tiles by arithmetic, without divergent branches.
 #define GI_VOXEL_ANISO_DIRECTIONS 6
 
 // Occlusion of voxel direct light (VctOcclusion).
