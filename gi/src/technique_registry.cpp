@@ -4,6 +4,7 @@
 #include "lpv/lpv_technique.hpp"
 #include "technique.hpp"
 #include "vpl/vpl_module.hpp"
+#include "voxel/vct_technique.hpp"
 
 namespace vkgi::gi {
 
@@ -13,8 +14,9 @@ struct TechniqueName {
     const char* name;
     int bounces; // reflections the technique models with its default settings (see modelledBounces)
 };
+// vct: direct light, the voxels' first bounce and their second (VctSettings::bounces = 2).
 constexpr std::array kTechniques = {TechniqueName{Technique::None, "none", 1}, TechniqueName{Technique::Lpv, "lpv", 2},
-                                    TechniqueName{Technique::Vpl, "vpl", 2}};
+                                    TechniqueName{Technique::Vpl, "vpl", 2}, TechniqueName{Technique::Vct, "vct", 3}};
 } // namespace
 
 const char* toString(Technique technique) {
@@ -53,6 +55,7 @@ Result<std::unique_ptr<TechniqueModule>> createTechnique(Context& ctx, const GiS
     case Technique::None: return std::unique_ptr<TechniqueModule>();
     case Technique::Lpv: return createLpvTechnique(ctx, settings);
     case Technique::Vpl: return createVplModule(ctx, settings);
+    case Technique::Vct: return createVctTechnique(ctx, settings.vct);
     }
     return makeError(std::string("technique ") + toString(settings.technique) + " is not built into this library");
 }

@@ -61,13 +61,13 @@ TEST(VoxelGridFit, LongestSideSpansNMinusOneVoxelsCentred) {
     EXPECT_FALSE(fitVoxelGrid(box, 24, 1.0f).ok());
 }
 
-TEST(VoxelGridFit, RadianceScaleIsAPowerOfTwoMappingTheMaximumBelowOne) {
+TEST(VoxelGridFit, RadianceScaleIsAPowerOfTwoMappingTheMaximumToTheTarget) {
     for (float l : {1e-6f, 0.3f, 1.0f, 5.0f, 1e9f}) {
         float s = chooseRadianceScale(l);
         int e;
         EXPECT_EQ(std::frexp(s, &e), 0.5f) << l; // exact power of two
-        EXPECT_LE(l * s, 1.0f) << l;
-        EXPECT_GT(l * s, 0.5f) << l;
+        EXPECT_LE(l * s, GI_VOXEL_RADIANCE_TARGET) << l;
+        EXPECT_GT(l * s, 0.5 * GI_VOXEL_RADIANCE_TARGET) << l;
     }
     EXPECT_EQ(chooseRadianceScale(0.0f), 1.0f);
     EXPECT_EQ(chooseRadianceScale(std::numeric_limits<float>::quiet_NaN()), 1.0f);

@@ -259,7 +259,9 @@ TEST_F(Vct, VoxelDirectLightMatchesTheClosedForm) {
     glm::vec3 d = lightPos - centre;
     float cosine = d.y / glm::length(d);
     float albedo = 128.0f / 255.0f; // 0.5 after RGBA8 quantisation
-    float expected = albedo / kPi * intensity / glm::dot(d, d) * cosine * scale;
+    // Irradiance of the voxel's patch: I / (d^2 + a^2 / (2 pi)) (voxel_light.comp).
+    float a2 = p.originSize.w * p.originSize.w;
+    float expected = albedo / kPi * intensity / (glm::dot(d, d) + a2 / (2.0f * kPi)) * cosine * scale;
     glm::vec4 lit = at(floorPoint);
     EXPECT_NEAR(lit.r, expected, expected * 2e-3f) << "half-float storage: 2^-11 relative";
     EXPECT_EQ(lit.a, 1.0f);

@@ -19,11 +19,12 @@
 #include "engine/scene.hpp"
 #include "gi/lpv.hpp"
 #include "gi/vpl.hpp"
+#include "gi/vct.hpp"
 
 namespace vkgi::gi {
 
 // The indirect-light technique. None = direct lighting (+ emission) only.
-enum class Technique : uint32_t { None = 0, Lpv = 1, Vpl = 3 };
+enum class Technique : uint32_t { None = 0, Lpv = 1, Vct = 2, Vpl = 3 };
 
 // "none", ...; the names the CLI accepts.
 const char* toString(Technique technique);
@@ -54,6 +55,7 @@ struct GiSettings {
     LpvSettings lpv; // Technique::Lpv knobs (gi/lpv.hpp)
     // Technique::Vpl (image-space instant radiosity, docs/vpl.md).
     VplSettings vpl;
+    VctSettings vct; // Technique::Vct knobs (gi/vct.hpp), validated when the technique is created
 };
 
 // Which images a frame must produce; everything else is culled by the graph.

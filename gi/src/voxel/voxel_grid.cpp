@@ -77,8 +77,8 @@ Result<gpu::VoxelGridParams> fitVoxelGrid(const Aabb& box, uint32_t resolution, 
 float chooseRadianceScale(float maxRadiance) {
     if (!(maxRadiance > 0.0f) || !std::isfinite(maxRadiance))
         return 1.0f;
-    // exp2(-ceil(log2(L))): exact power of two, so scaling and unscaling lose no bits.
-    return std::ldexp(1.0f, -int(std::ceil(std::log2(maxRadiance))));
+    // target * exp2(-ceil(log2(L))): exact power of two, so scaling and unscaling lose no bits.
+    return std::ldexp(float(GI_VOXEL_RADIANCE_TARGET), -int(std::ceil(std::log2(maxRadiance))));
 }
 
 float sceneMaxRadiance(const Scene& scene, float voxelSize) {

@@ -21,8 +21,9 @@ namespace vkgi::gi {
 // (a wall on the boundary is one voxel thick, not two). Errors on an empty or non-finite box.
 Result<gpu::VoxelGridParams> fitVoxelGrid(const Aabb& box, uint32_t resolution, float radianceScale);
 
-// Power of two that maps the brightest radiance the grid will hold to about 1, so that stored
-// values stay within half-float range for any scene brightness (1e-6 .. 1e9 nits).
+// Power of two that maps the brightest radiance the grid will hold into
+// (GI_VOXEL_RADIANCE_TARGET / 2, GI_VOXEL_RADIANCE_TARGET], so that stored values stay within
+// half-float range for any scene brightness (1e-6 .. 1e9 nits).
 float chooseRadianceScale(float maxRadiance);
 
 // Brightest radiance the voxel volumes can hold for `scene` with voxels of edge `voxelSize`:

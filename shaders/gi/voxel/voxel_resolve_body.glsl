@@ -42,7 +42,7 @@ void main() {
     for (int k = 0; k < 3; ++k) {
         albedo[k] = float(acc(c, GI_VOXEL_ACC_ALBEDO + k)) * inv;
         normalSum[k] = float(int(acc(c, GI_VOXEL_ACC_NORMAL + k)));
-        emission[k] = float(acc(c, GI_VOXEL_ACC_EMISSION + k)) * inv;
+        emission[k] = float(acc(c, GI_VOXEL_ACC_EMISSION + k)) * inv * GI_VOXEL_RADIANCE_TARGET;
     }
     // Normals that cancel (both faces of a thin wall) leave no preferred direction: store zero.
     float len = length(normalSum);

@@ -72,7 +72,7 @@ void main() {
     }
     GpuMaterial mat = materials[inst.info.x];
     vec3 albedo = mat.baseColor.rgb;
-    vec3 emission = mat.emission.rgb * pc.grid.scales.y;
+    vec3 emission = mat.emission.rgb * (pc.grid.scales.y / GI_VOXEL_RADIANCE_TARGET);
     bool emissive = any(greaterThan(emission, vec3(0.0)));
 
     // Face normal, oriented like the authored vertex normals (which carry the facing of

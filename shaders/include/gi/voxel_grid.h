@@ -9,9 +9,10 @@
 //   normal   RGBA8_UNORM   rgb = voxelNormalEncode(mean face normal) (0.5 = zero vector when the
 //                          normals cancel, e.g. both sides of a thin wall), a = occupancy
 //   emission RGBA16F       rgb = mean emitted radiance (nits) * radianceScale, a = 0
-// Empty voxels are all zero. Radiance is stored pre-multiplied by `radianceScale` (a power of
-// two chosen from the brightest emitter/light) so that scenes from 1e-6 to 1e9 nits stay inside
-// the half-float range; divide by it (invRadianceScale) when converting back to nits.
+// Empty voxels are all zero. Radiance is stored pre-multiplied by `radianceScale`, a power of
+// two that maps the brightest radiance the scene can put in a voxel to about
+// GI_VOXEL_RADIANCE_TARGET, so that scenes from 1e-6 to 1e9 nits use the same half-float range;
+// multiply by scales.z (1 / radianceScale) to get nits back.
 #ifndef VKGI_GI_VOXEL_GRID_H
 #define VKGI_GI_VOXEL_GRID_H
 #include "../shared/bridge.h"
@@ -26,6 +27,11 @@ GI_GPU_STRUCT(VoxelGridParams) {
 GI_CHECK_SIZE(VoxelGridParams, 48);
 GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 
+// Stored value of the brightest radiance: 2^12 leaves 16x of half-float headroom (65504) for
+// bounces adding up and keeps radiance down to 1.5e-8 of the maximum out of the subnormals
+// (6.1e-5), where half floats lose relative precision.
+#define GI_VOXEL_RADIANCE_TARGET 4096.0
+
 // Fixed-point accumulation (R32UI, summed with integer atomics so that the result does not
 // depend on the order in which triangles arrive: two runs give bit-identical grids). Each
 // contribution adds value * GI_VOXEL_FIXED_ONE, rounded; the resolve divides by count.
@@ -38,7 +44,7 @@ GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 #define GI_VOXEL_ACC_COUNT 0
 #define GI_VOXEL_ACC_ALBEDO 1   // 3 channels: r, g, b
 #define GI_VOXEL_ACC_NORMAL 4   // 3 channels: x, y, z (two's-complement int sums)
-#define GI_VOXEL_ACC_EMISSION 7 // 3 channels: r, g, b (scaled by radianceScale, clamped to 1)
+#define GI_VOXEL_ACC_EMISSION 7 // 3 channels: r, g, b (emission * radianceScale / GI_VOXEL_RADIANCE_TARGET, <= 1)
 #define GI_VOXEL_ACC_CHANNELS 10u
 
 // Supported grid resolutions (powers of two).
