@@ -39,6 +39,7 @@ std::vector<Knob> makeKnobs() {
     const std::optional<Technique> all;
     const std::optional<Technique> lpv = Technique::Lpv;
     const std::optional<Technique> vpl = Technique::Vpl;
+    const std::optional<Technique> vct = Technique::Vct;
     return {
         uintKnob("shadow.size", 16, 4096, all, "shadow-map / RSM texels per side",
                  [](GiSettings& s) -> uint32_t& { return s.shadowMapSize; }),
@@ -74,6 +75,22 @@ std::vector<Knob> makeKnobs() {
                   [](GiSettings& s) -> float& { return s.vpl.refineThreshold; }),
         floatKnob("vpl.clamp", 0.001, 1, vpl, "1/d^2 clamp radius, fraction of the scene diagonal",
                   [](GiSettings& s) -> float& { return s.vpl.clampDistance; }),
+        uintKnob("vct.grid", 16, 256, vct, "voxels per axis, a power of two (memory and time grow as grid^3)",
+                 [](GiSettings& s) -> uint32_t& { return s.vct.gridResolution; }),
+        uintKnob("vct.cones", 1, 32, vct, "diffuse cones per pixel and per voxel (bounce)",
+                 [](GiSettings& s) -> uint32_t& { return s.vct.diffuseCones; }),
+        floatKnob("vct.aperture", 0.01, 1.4, vct, "diffuse cone half-angle, radians",
+                  [](GiSettings& s) -> float& { return s.vct.diffuseAperture; }),
+        floatKnob("vct.step", 0.05, 4, vct, "cone step in cone diameters",
+                  [](GiSettings& s) -> float& { return s.vct.stepFactor; }),
+        uintKnob("vct.bounces", 1, 2, vct, "bounces in the voxels: 1 = direct light, 2 = plus a voxel gather",
+                 [](GiSettings& s) -> uint32_t& { return s.vct.bounces; }),
+        boolKnob("vct.glossy", vct, "glossy cone (weighted by metallic)",
+                 [](GiSettings& s) -> bool& { return s.vct.glossy; }),
+        boolKnob("vct.ao", vct, "cone-traced ambient occlusion (alpha of the indirect image)",
+                 [](GiSettings& s) -> bool& { return s.vct.ambientOcclusion; }),
+        floatKnob("vct.ao_distance", 0, 1e6, vct, "AO decay distance in metres (0 = 1/8 of the grid)",
+                  [](GiSettings& s) -> float& { return s.vct.aoDistance; }),
     };
 }
 
