@@ -77,6 +77,12 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
         if (!v)
             return makeError(v.error().message + " (or -1 = unbounded)");
         o.bounces = int(*v);
+    } else if (flag == "--exposure") {
+        char* end = nullptr;
+        double e = std::strtod(value.c_str(), &end);
+        if (value.empty() || *end || !std::isfinite(e) || !(e > 0.0) || e > 1e12)
+            return makeError("--exposure: '" + value + "' is not a positive finite number");
+        o.exposure = float(e);
     } else if (flag == "--json") {
         if (value.empty())
             return makeError("--json: empty file name");
@@ -86,7 +92,7 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
 }
 
 bool takesValue(const std::string& flag) {
-    for (const char* f : {"--scene", "--technique", "--size", "--out", "--spp", "--bounces", "--json"})
+    for (const char* f : {"--scene", "--technique", "--size", "--out", "--spp", "--bounces", "--exposure", "--json"})
         if (flag == f)
             return true;
     return false;
@@ -152,6 +158,8 @@ Usage: vkgi-render [options]
                       --compare uses the same K.
   --compare           print relMSE and RMSE (full image and indirect only) against the path-traced
                       reference (cached by scene hash in $VKGI_CACHE_DIR or ~/.cache/vkgi)
+  --exposure E        PNG only: linear radiance is multiplied by E before the tone map (default 1;
+                      sun-lit scenes of ~1e3 nits want ~1e-3)
   --json FILE         write {scene, technique, width, height, passes[{name, ms}], total_ms,
                       error{relmse, rmse, relmse_indirect, rmse_indirect} or null}
   --help              this text

@@ -22,6 +22,7 @@ struct Options {
     uint32_t spp = 64;                          // path-tracer samples per pixel (reference, --compare)
     std::optional<int> bounces;                 // reflections; default: the technique's own count
     bool compare = false;
+    float exposure = 1.0f; // PNG tone-map exposure (ToneMap::exposure)
     std::optional<std::filesystem::path> json;
     bool help = false;
     // Technique knobs in command-line order ("lpv.grid", "64"); names and values from gi/knobs.hpp.

@@ -86,11 +86,11 @@ Result<render::Errors> compare(const Scene& scene, const Camera& camera, const r
     return render::Errors{*full, *ind};
 }
 
-Result<void> writeImage(const std::filesystem::path& path, const HdrImage& image) {
+Result<void> writeImage(const std::filesystem::path& path, const HdrImage& image, float exposure) {
     std::error_code ec;
     if (path.has_parent_path())
         std::filesystem::create_directories(path.parent_path(), ec);
-    return path.extension() == ".exr" ? writeExr(path, image) : writePng(path, image);
+    return path.extension() == ".exr" ? writeExr(path, image) : writePng(path, image, ToneMap{exposure, ToneMap::Curve::Aces});
 }
 
 } // namespace
@@ -137,7 +137,7 @@ int main(int argc, char** argv) {
                     bounces, o.spp, e->full.relMse, e->full.rmse, e->indirect.relMse, e->indirect.rmse);
     }
     for (const std::filesystem::path& out : o.outputs) {
-        if (auto ok = writeImage(out, rendered->image); !ok)
+        if (auto ok = writeImage(out, rendered->image, o.exposure); !ok)
             return fail(1, ok.error().message);
         std::printf("wrote %s\n", out.string().c_str());
     }
