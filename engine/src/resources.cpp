@@ -163,6 +163,18 @@ uint32_t mipCount(uint32_t w, uint32_t h, uint32_t d) {
     return n;
 }
 
+void fullMemoryBarrier(VkCommandBuffer cmd) {
+    VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+    b.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+    b.srcAccessMask = VK_ACCESS_2_MEMORY_WRITE_BIT;
+    b.dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+    b.dstAccessMask = VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT;
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.memoryBarrierCount = 1;
+    dep.pMemoryBarriers = &b;
+    vkCmdPipelineBarrier2(cmd, &dep);
+}
+
 VkDeviceSize imageBytes(const ImageDesc& d) {
     VkDeviceSize total = 0;
     for (uint32_t m = 0; m < d.mipLevels; ++m)
@@ -295,18 +307,6 @@ void imageLayoutBarrier(VkCommandBuffer cmd, const Image& img, VkImageLayout fro
     vkCmdPipelineBarrier2(cmd, &dep);
 }
 
-void memoryBarrier(VkCommandBuffer cmd) {
-    VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-    b.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-    b.srcAccessMask = VK_ACCESS_2_MEMORY_WRITE_BIT;
-    b.dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-    b.dstAccessMask = VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT;
-    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dep.memoryBarrierCount = 1;
-    dep.pMemoryBarriers = &b;
-    vkCmdPipelineBarrier2(cmd, &dep);
-}
-
 Buffer staging(Context& ctx, VkDeviceSize size, MemoryUsage usage) {
     return createBuffer(ctx, {size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, usage},
                         "vkgi.staging");
@@ -320,10 +320,10 @@ void uploadBuffer(Context& ctx, const Buffer& dst, const void* data, VkDeviceSiz
     Buffer s = staging(ctx, size, MemoryUsage::CpuToGpu);
     std::memcpy(s.mapped(), data, size);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
-        memoryBarrier(cmd); // order after any earlier use of dst in previous submissions
+        fullMemoryBarrier(cmd); // order after any earlier use of dst in previous submissions
         VkBufferCopy region{0, offset, size};
         vkCmdCopyBuffer(cmd, s.buffer, dst.buffer, 1, &region);
-        memoryBarrier(cmd);
+        fullMemoryBarrier(cmd);
     });
     destroyBuffer(ctx, s);
 }
@@ -331,10 +331,10 @@ void uploadBuffer(Context& ctx, const Buffer& dst, const void* data, VkDeviceSiz
 std::vector<uint8_t> readbackBuffer(Context& ctx, const Buffer& src) {
     Buffer s = staging(ctx, src.desc.size, MemoryUsage::GpuToCpu);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
-        memoryBarrier(cmd);
+        fullMemoryBarrier(cmd);
         VkBufferCopy region{0, 0, src.desc.size};
         vkCmdCopyBuffer(cmd, src.buffer, s.buffer, 1, &region);
-        memoryBarrier(cmd);
+        fullMemoryBarrier(cmd);
     });
     const auto* p = static_cast<const uint8_t*>(s.mapped());
     std::vector<uint8_t> out(p, p + src.desc.size);
@@ -379,7 +379,7 @@ std::vector<uint8_t> readbackImage(Context& ctx, const Image& src, VkImageLayout
         VkBufferImageCopy r = mipRegion(src, mip);
         vkCmdCopyImageToBuffer(cmd, src.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, s.buffer, 1, &r);
         imageLayoutBarrier(cmd, src, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, currentLayout);
-        memoryBarrier(cmd);
+        fullMemoryBarrier(cmd);
     });
     const auto* p = static_cast<const uint8_t*>(s.mapped());
     std::vector<uint8_t> out(p, p + size);

@@ -32,18 +32,6 @@ constexpr VkFormat kHalf = VK_FORMAT_R16G16B16A16_SFLOAT;
 constexpr VkFormat kFloat = VK_FORMAT_R32G32B32A32_SFLOAT;
 constexpr float kPi = 3.14159265f;
 
-// Makes all earlier device work visible to everything after it (test-only; once at the start of
-// every command buffer, since earlier submits wrote the images, and between steps).
-void fullBarrier(VkCommandBuffer cmd) {
-    VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-    b.srcStageMask = b.dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-    b.srcAccessMask = VK_ACCESS_2_MEMORY_WRITE_BIT;
-    b.dstAccessMask = VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT;
-    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dep.memoryBarrierCount = 1;
-    dep.pMemoryBarriers = &b;
-    vkCmdPipelineBarrier2(cmd, &dep);
-}
 
 std::vector<uint8_t> pack(const std::vector<glm::vec4>& texels, VkFormat format) {
     std::vector<uint8_t> bytes;
@@ -468,11 +456,11 @@ TEST_F(LpvPropagation, StepTimeAt32Cubed) {
                 TimestampPool timestamps(ctx(), 1);
                 ctx().submitAndWait([&](VkCommandBuffer cmd) {
                     timestamps.reset(cmd);
-                    fullBarrier(cmd);
+                    fullMemoryBarrier(cmd);
                     uint32_t scope = timestamps.begin(cmd);
                     for (uint32_t s = 0; s < steps; ++s) {
                         if (s > 0)
-                            fullBarrier(cmd);
+                            fullMemoryBarrier(cmd);
                         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, baseline->pipeline);
                         gpu::LpvPropagatePush push{};
                         push.gridSize = glm::ivec4(32, 32, 32, 0);

@@ -115,19 +115,6 @@ inline void exportGrid(rg::RenderGraph& graph, const gi::VoxelGridData& d) {
         graph.exportImage(h, rg::Access::ComputeStorageRead);
 }
 
-// A full pipeline barrier: tests record passes by hand (in the engine the render graph derives
-// these), so they serialise everything.
-inline void fullBarrier(VkCommandBuffer cmd) {
-    VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-    b.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-    b.srcAccessMask = VK_ACCESS_2_MEMORY_WRITE_BIT;
-    b.dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-    b.dstAccessMask = VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT;
-    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dep.memoryBarrierCount = 1;
-    dep.pMemoryBarriers = &b;
-    vkCmdPipelineBarrier2(cmd, &dep);
-}
 
 inline void toGeneral(VkCommandBuffer cmd, std::initializer_list<const Image*> images) {
     std::vector<VkImageMemoryBarrier2> bs;

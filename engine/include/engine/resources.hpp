@@ -118,6 +118,10 @@ struct SamplerDesc {
 };
 VkSampler createSampler(Context& ctx, const SamplerDesc& desc);
 
+// Every earlier write made visible to every later access: engine-internal immediate transfers
+// and GPU tests that record outside the render graph. Frame work gets barriers from the graph.
+void fullMemoryBarrier(VkCommandBuffer cmd);
+
 // Immediate (submit + wait) transfers for set-up and tests. Images must be in `layout`, which
 // they are left in afterwards. Inside a frame, use render-graph passes instead.
 void uploadBuffer(Context& ctx, const Buffer& dst, const void* data, VkDeviceSize size, VkDeviceSize offset = 0);

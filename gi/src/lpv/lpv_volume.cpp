@@ -5,6 +5,7 @@
 #include "engine/context.hpp"
 #include "engine/vk_check.hpp"
 #include "gi/lpv.h"
+#include "lpv/lpv_passes.hpp"
 
 namespace vkgi::gi::lpv {
 
@@ -14,13 +15,7 @@ bool isSupportedShFormat(VkFormat format) {
 
 ShImages createShImages(Context& ctx, glm::ivec3 cells, VkFormat format, const char* name) {
     ShImages images;
-    ImageDesc desc;
-    desc.type = VK_IMAGE_TYPE_3D;
-    desc.format = format;
-    desc.width = uint32_t(cells.x);
-    desc.height = uint32_t(cells.y);
-    desc.depth = uint32_t(cells.z);
-    desc.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    ImageDesc desc = shImageDesc(cells, format);
     const char* suffix[3] = {".r", ".g", ".b"};
     for (int c = 0; c < 3; ++c)
         images.channel[c] = createImage(ctx, desc, (std::string(name) + suffix[c]).c_str());
