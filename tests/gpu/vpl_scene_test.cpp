@@ -325,18 +325,25 @@ TEST_F(VplScene, OddSizesWithLowResolutionAndNegativeVpls) {
     EXPECT_NEAR(mean[2], mean[0], 0.05 * mean[0]);
 }
 
-TEST_F(VplScene, NoSpotlightFallsBackToBlackAndNoLightsAddsNoVplWork) {
+// Without a spotlight (point light only; emission only) the technique leaves its passes out:
+// no VPL pass runs, no indirect image exists and the frame is exactly the direct image.
+TEST_F(VplScene, NoSpotlightLeavesEveryVplPassOut) {
     for (const char* name : {"cornell_point", "cornell_emissive"}) {
         Scene scene = builtin(name);
         auto sys = makeSystem({});
         ASSERT_TRUE(sys && sys->setScene(scene));
-        std::vector<rg::PassTiming> passes;
-        HdrImage img = indirect(*sys, scene, nullptr, &passes);
-        ASSERT_EQ(img.pixels.size(), size_t(kSize) * kSize);
-        for (const glm::vec3& p : img.pixels)
-            ASSERT_EQ(p, glm::vec3(0.0f)) << name;
-        for (const rg::PassTiming& p : passes)
-            EXPECT_TRUE(p.name.rfind("vpl.", 0) != 0 || p.name == "vpl.no_spot_clear") << name << ": " << p.name;
+        FrameRequest request;
+        request.direct = true;
+        request.indirect = true;
+        auto frame = sys->renderFrame(scene.cameraOrDefault(), kSize, kSize, request);
+        ASSERT_TRUE(frame) << frame.error().message;
+        EXPECT_TRUE(frame->indirect.empty()) << name;
+        ASSERT_EQ(frame->composite.pixels.size(), size_t(kSize) * kSize);
+        EXPECT_EQ(frame->composite.pixels, frame->direct.pixels) << name;
+        for (const rg::PassTiming& p : frame->passes) {
+            EXPECT_EQ(p.name.rfind("vpl.", 0), std::string::npos) << name << ": " << p.name;
+            EXPECT_NE(p.name, "gi.composite") << name << ": a composite pass without indirect light";
+        }
     }
 }
 

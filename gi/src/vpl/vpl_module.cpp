@@ -70,6 +70,12 @@ public:
                 continue;
             in.spots.push_back({l.position, glm::normalize(l.direction), std::cos(l.outerConeAngle), first, count});
         }
+        if (in.spots.empty()) {
+            // No spotlight with an RSM: nothing to bounce, so the technique adds no pass and no
+            // indirect image; GiSystem then composites nothing (the frame is the direct image).
+            bb.add(IndirectData{});
+            return;
+        }
         auto out = m_renderer->addPasses(graph, in, m_settings);
         GI_ASSERT(out.ok(), "VplModule::addPasses: inputs were validated in sceneChanged");
         bb.add(IndirectData{out->indirect, {}});
