@@ -101,8 +101,8 @@ public:
     VplRenderer& operator=(const VplRenderer&) = delete;
 
     // Adds the VPL passes (upload, generate, gather, [negative VPLs], [upsample + refine]).
-    // Without spots it adds one pass that clears `indirect` (documented fall-back: a scene
-    // with no spotlight has no VPL light). Errors: bad settings, too many spots, a cone too
+    // Without spots it adds one pass that clears `indirect` (GiSystem's module does not call it
+    // then: a scene with no spotlight gets no VPL pass at all). Errors: bad settings, too many spots, a cone too
     // narrow for the requested VPL count.
     Result<VplOutputs> addPasses(rg::RenderGraph& graph, const VplInputs& inputs, const VplSettings& settings);
 
