@@ -82,6 +82,13 @@ private:
     Result<bool> loadPrimitive(int meshIndex, int primIndex, Mesh& out);
     Result<std::vector<float>> readFloats(int accessor, int components, const std::string& what);
     Result<std::vector<uint32_t>> readIndices(int accessor, const std::string& what);
+    struct ElementRange {
+        const unsigned char* base; // first element
+        uint64_t stride;           // bytes between elements
+    };
+    // Where the elements of accessor `a` live, after checking its buffer view, buffer and byte
+    // ranges; `acc` names the accessor in errors, `elemSize` is the bytes one element reads.
+    Result<ElementRange> elements(const tinygltf::Accessor& a, const std::string& acc, uint64_t elemSize);
     Result<void> visit(int node, const glm::mat4& parent, int depth);
     Result<glm::mat4> localTransform(const tinygltf::Node& n, int index);
     void addLight(int lightIndex, const glm::mat4& world, int node);
@@ -246,6 +253,28 @@ Result<void> Loader::loadMaterials() {
 }
 
 // Reads a float/normalized-integer attribute as `components` floats per element.
+Result<Loader::ElementRange> Loader::elements(const tinygltf::Accessor& a, const std::string& acc,
+                                              uint64_t elemSize) {
+    if (size_t(a.bufferView) >= m_m.bufferViews.size())
+        return error(acc + " uses buffer view " + std::to_string(a.bufferView) + ", which does not exist");
+    const tinygltf::BufferView& bv = m_m.bufferViews[size_t(a.bufferView)];
+    if (bv.buffer < 0 || size_t(bv.buffer) >= m_m.buffers.size())
+        return error("buffer view " + std::to_string(a.bufferView) + " uses buffer " + std::to_string(bv.buffer) +
+                     ", which does not exist");
+    const std::vector<unsigned char>& data = m_m.buffers[size_t(bv.buffer)].data;
+    if (uint64_t(bv.byteOffset) + uint64_t(bv.byteLength) > data.size())
+        return error("buffer view " + std::to_string(a.bufferView) + " (bytes " + std::to_string(bv.byteOffset) + "+" +
+                     std::to_string(bv.byteLength) + ") lies past the end of buffer " + std::to_string(bv.buffer) +
+                     " (" + std::to_string(data.size()) + " bytes)");
+    const uint64_t stride = bv.byteStride ? uint64_t(bv.byteStride) : elemSize;
+    if (stride < elemSize)
+        return error("buffer view " + std::to_string(a.bufferView) + " byteStride " + std::to_string(bv.byteStride) +
+                     " is smaller than the " + std::to_string(elemSize) + "-byte elements of " + acc);
+    if (a.count > 0 && uint64_t(a.byteOffset) + stride * (uint64_t(a.count) - 1) + elemSize > uint64_t(bv.byteLength))
+        return error(acc + " reads past the end of buffer view " + std::to_string(a.bufferView));
+    return ElementRange{data.data() + bv.byteOffset + a.byteOffset, stride};
+}
+
 Result<std::vector<float>> Loader::readFloats(int index, int components, const std::string& what) {
     if (index < 0 || size_t(index) >= m_m.accessors.size())
         return error(what + " uses accessor " + std::to_string(index) + ", which does not exist (" +
@@ -267,25 +296,11 @@ Result<std::vector<float>> Loader::readFloats(int index, int components, const s
     std::vector<float> out(count * uint64_t(components), 0.0f);
     if (a.bufferView < 0) // glTF: no buffer view means all zeros
         return out;
-    if (size_t(a.bufferView) >= m_m.bufferViews.size())
-        return error(acc + " uses buffer view " + std::to_string(a.bufferView) + ", which does not exist");
-    const tinygltf::BufferView& bv = m_m.bufferViews[size_t(a.bufferView)];
-    if (bv.buffer < 0 || size_t(bv.buffer) >= m_m.buffers.size())
-        return error("buffer view " + std::to_string(a.bufferView) + " uses buffer " + std::to_string(bv.buffer) +
-                     ", which does not exist");
-    const std::vector<unsigned char>& data = m_m.buffers[size_t(bv.buffer)].data;
-    if (uint64_t(bv.byteOffset) + uint64_t(bv.byteLength) > data.size())
-        return error("buffer view " + std::to_string(a.bufferView) + " (bytes " + std::to_string(bv.byteOffset) + "+" +
-                     std::to_string(bv.byteLength) + ") lies past the end of buffer " + std::to_string(bv.buffer) +
-                     " (" + std::to_string(data.size()) + " bytes)");
-    const uint64_t elemSize = uint64_t(compSize) * uint64_t(components);
-    const uint64_t stride = bv.byteStride ? uint64_t(bv.byteStride) : elemSize;
-    if (stride < elemSize)
-        return error("buffer view " + std::to_string(a.bufferView) + " byteStride " + std::to_string(bv.byteStride) +
-                     " is smaller than the " + std::to_string(elemSize) + "-byte elements of " + acc);
-    if (count > 0 && uint64_t(a.byteOffset) + stride * (count - 1) + elemSize > uint64_t(bv.byteLength))
-        return error(acc + " reads past the end of buffer view " + std::to_string(a.bufferView));
-    const unsigned char* base = data.data() + bv.byteOffset + a.byteOffset;
+    auto range = elements(a, acc, uint64_t(compSize) * uint64_t(components));
+    if (!range)
+        return range.error();
+    const unsigned char* base = range->base;
+    const uint64_t stride = range->stride;
     const bool norm = a.normalized;
     for (uint64_t e = 0; e < count; ++e) {
         const unsigned char* p = base + e * stride;
@@ -354,23 +369,12 @@ Result<std::vector<uint32_t>> Loader::readIndices(int index, const std::string& 
     std::vector<uint32_t> out(a.count, 0u);
     if (a.bufferView < 0)
         return out;
-    if (size_t(a.bufferView) >= m_m.bufferViews.size())
-        return error(acc + " uses buffer view " + std::to_string(a.bufferView) + ", which does not exist");
-    const tinygltf::BufferView& bv = m_m.bufferViews[size_t(a.bufferView)];
-    if (bv.buffer < 0 || size_t(bv.buffer) >= m_m.buffers.size())
-        return error("buffer view " + std::to_string(a.bufferView) + " uses buffer " + std::to_string(bv.buffer) +
-                     ", which does not exist");
-    const std::vector<unsigned char>& data = m_m.buffers[size_t(bv.buffer)].data;
-    if (uint64_t(bv.byteOffset) + uint64_t(bv.byteLength) > data.size())
-        return error("buffer view " + std::to_string(a.bufferView) + " lies past the end of buffer " +
-                     std::to_string(bv.buffer) + " (" + std::to_string(data.size()) + " bytes)");
     const uint64_t size = uint64_t(tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType)));
-    const uint64_t stride = bv.byteStride ? uint64_t(bv.byteStride) : size;
-    if (stride < size)
-        return error("buffer view " + std::to_string(a.bufferView) + " byteStride is smaller than its index size");
-    if (a.count > 0 && uint64_t(a.byteOffset) + stride * (uint64_t(a.count) - 1) + size > uint64_t(bv.byteLength))
-        return error(acc + " reads past the end of buffer view " + std::to_string(a.bufferView));
-    const unsigned char* base = data.data() + bv.byteOffset + a.byteOffset;
+    auto range = elements(a, acc, size);
+    if (!range)
+        return range.error();
+    const unsigned char* base = range->base;
+    const uint64_t stride = range->stride;
     for (size_t i = 0; i < out.size(); ++i) {
         const unsigned char* q = base + i * stride;
         if (size == 1) {
