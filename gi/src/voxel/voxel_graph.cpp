@@ -25,6 +25,21 @@ rg::ImageHandle addClear(rg::RenderGraph& graph, const VoxelGrid* grid, rg::Imag
     return accum;
 }
 
+// Averages the accumulated sums into `target` (handles updated to their new versions);
+// `physical` is the VoxelVolumes those handles were imported from.
+void addResolve(rg::RenderGraph& graph, const VoxelGrid* grid, rg::ImageHandle accum, VolumeHandles& target,
+                const VoxelVolumes* physical, const char* name) {
+    graph.addPass(
+        name,
+        [&](rg::PassBuilder& b) {
+            b.read(accum, Access::ComputeStorageRead);
+            target.albedo = b.write(target.albedo, Access::ComputeStorageWriteDiscard);
+            target.normal = b.write(target.normal, Access::ComputeStorageWriteDiscard);
+            target.emission = b.write(target.emission, Access::ComputeStorageWriteDiscard);
+        },
+        [grid, physical](rg::PassContext& ctx) { grid->recordResolve(ctx.cmd(), *physical); });
+}
+
 rg::ImageHandle addVoxelize(rg::RenderGraph& graph, const VoxelGrid* grid, const VoxelSceneHandles& scene,
                             rg::ImageHandle accum, VoxelDrawSet set, const char* name) {
     VoxelSceneHandles s = scene;
@@ -61,30 +76,14 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
         // Static scene: one voxelization straight into the grid (no static copy, no merge).
         accum = addClear(graph, g, accum, "gi.voxel.clear");
         accum = addVoxelize(graph, g, scene, accum, VoxelDrawSet::All, "gi.voxel.voxelize");
-        graph.addPass(
-            "gi.voxel.resolve",
-            [&](rg::PassBuilder& b) {
-                b.read(accum, Access::ComputeStorageRead);
-                data.albedo = b.write(data.albedo, Access::ComputeStorageWriteDiscard);
-                data.normal = b.write(data.normal, Access::ComputeStorageWriteDiscard);
-                data.emission = b.write(data.emission, Access::ComputeStorageWriteDiscard);
-            },
-            [g](rg::PassContext& ctx) { g->recordResolve(ctx.cmd(), g->volumes()); });
-        return data;
+        addResolve(graph, g, accum, out, &g->volumes(), "gi.voxel.resolve");
+        return {out.albedo, out.normal, out.emission, grid.params()};
     }
     VolumeHandles st = importVolumes(graph, grid.staticState(), "gi.voxel.static");
     if (update == VoxelUpdate::Full) {
         accum = addClear(graph, g, accum, "gi.voxel.clear.static");
         accum = addVoxelize(graph, g, scene, accum, VoxelDrawSet::Static, "gi.voxel.voxelize.static");
-        graph.addPass(
-            "gi.voxel.resolve.static",
-            [&](rg::PassBuilder& b) {
-                b.read(accum, Access::ComputeStorageRead);
-                st.albedo = b.write(st.albedo, Access::ComputeStorageWriteDiscard);
-                st.normal = b.write(st.normal, Access::ComputeStorageWriteDiscard);
-                st.emission = b.write(st.emission, Access::ComputeStorageWriteDiscard);
-            },
-            [g](rg::PassContext& ctx) { g->recordResolve(ctx.cmd(), g->staticVolumes()); });
+        addResolve(graph, g, accum, st, &g->staticVolumes(), "gi.voxel.resolve.static");
     }
     accum = addClear(graph, g, accum, "gi.voxel.clear.dynamic");
     accum = addVoxelize(graph, g, scene, accum, VoxelDrawSet::Dynamic, "gi.voxel.voxelize.dynamic");
