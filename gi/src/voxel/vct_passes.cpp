@@ -46,6 +46,23 @@ void dispatch(const Context& ctx, VkCommandBuffer cmd, const Pipeline& p, const 
                   groupCount(threads.z, p.localSize[2]));
 }
 
+DescriptorItem bufferItem(uint32_t binding, VkBuffer buffer) {
+    DescriptorItem item;
+    item.binding = binding;
+    item.buffer = {buffer, 0, VK_WHOLE_SIZE};
+    return item;
+}
+
+// As dispatch(), with the work-group counts read from `args` (VkDispatchIndirectCommand at 0).
+template <typename Push>
+void dispatchIndirect(const Context& ctx, VkCommandBuffer cmd, const Pipeline& p, const Push& push,
+                      std::initializer_list<DescriptorItem> items, VkBuffer args) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+    pushConstants(cmd, p, &push, sizeof(push));
+    pushDescriptors(ctx, cmd, p, std::span<const DescriptorItem>(items.begin(), items.size()));
+    vkCmdDispatchIndirect(cmd, args, 0);
+}
+
 } // namespace
 
 Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const VoxelGrid& grid) {
@@ -53,7 +70,8 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     struct Named {
         Pipeline* pipeline;
         const char* shader;
-    } shaders[] = {{&v->m_light, "gi/voxel/voxel_light.comp"},
+    } shaders[] = {{&v->m_compact, "gi/voxel/voxel_compact.comp"},
+                   {&v->m_light, "gi/voxel/voxel_light.comp"},
                    {&v->m_mipBase, "gi/voxel/voxel_mip_base.comp"},
                    {&v->m_mip, "gi/voxel/voxel_mip.comp"},
                    {&v->m_bounce, "gi/voxel/voxel_bounce.comp"},
@@ -69,6 +87,11 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     v->m_radiance.image = createRadianceVolume(ctx, n, n, 1, "vct.radiance");
     v->m_bounced.image = createRadianceVolume(ctx, n, n, 1, "vct.radiance.bounced");
     v->m_aniso.image = createRadianceVolume(ctx, n / 2, 6 * (n / 2), v->m_levels, "vct.aniso");
+    BufferDesc list;
+    list.size = VkDeviceSize(GI_VOXEL_LIST_HEADER + n * n * n) * sizeof(uint32_t);
+    list.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                 VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    v->m_list.buffer = createBuffer(ctx, list, "vct.voxel_list");
     SamplerDesc s;
     s.address = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER; // outside the grid is empty space
     s.border = VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK;
@@ -77,7 +100,8 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
 }
 
 VctVolumes::~VctVolumes() {
-    for (Pipeline* p : {&m_light, &m_mipBase, &m_mip, &m_bounce, &m_trace})
+    destroyBuffer(m_ctx, m_list.buffer);
+    for (Pipeline* p : {&m_compact, &m_light, &m_mipBase, &m_mip, &m_bounce, &m_trace})
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_radiance.image);
     destroyImage(m_ctx, m_bounced.image);
@@ -88,7 +112,7 @@ VctVolumes::~VctVolumes() {
 
 VkDeviceSize VctVolumes::bytes() const {
     VkDeviceSize total = imageBytes(m_radiance.image.desc) + imageBytes(m_bounced.image.desc);
-    total += imageBytes(m_aniso.image.desc);
+    total += imageBytes(m_aniso.image.desc) + m_list.buffer.desc.size;
     return total;
 }
 
@@ -104,6 +128,14 @@ gpu::ConeParams VctVolumes::coneParams(const VctSettings& s, uint32_t width, uin
     return c;
 }
 
+void VctVolumes::recordCompact(VkCommandBuffer cmd) const {
+    gpu::VoxelGridPush push{m_grid.params()};
+    dispatch(m_ctx, cmd, m_compact, push,
+             {storage(0, m_grid.volumes().albedo.image.view), bufferItem(1, m_list.buffer.buffer),
+              storage(2, m_radiance.image.view), storage(3, m_bounced.image.view)},
+             glm::uvec3(m_grid.resolution()));
+}
+
 void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t lightCount, VctOcclusion occlusion,
                              VkImageLayout sampledLayout) const {
     const VoxelVolumes& g = m_grid.volumes();
@@ -112,11 +144,11 @@ void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t ligh
     DescriptorItem lightItem;
     lightItem.binding = 0;
     lightItem.buffer = {lights, 0, VK_WHOLE_SIZE};
-    uint32_t n = m_grid.resolution();
-    dispatch(m_ctx, cmd, m_light, push,
-             {lightItem, storage(2, g.normal.image.view), storage(3, g.emission.image.view),
-              sampled(4, g.albedo.image, m_sampler, sampledLayout), storage(5, m_radiance.image.view)},
-             glm::uvec3(n));
+    dispatchIndirect(m_ctx, cmd, m_light, push,
+                     {lightItem, storage(2, g.normal.image.view), storage(3, g.emission.image.view),
+                      sampled(4, g.albedo.image, m_sampler, sampledLayout), storage(5, m_radiance.image.view),
+                      bufferItem(6, m_list.buffer.buffer)},
+                     m_list.buffer.buffer);
 }
 
 void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level, const Image& source) const {
@@ -130,10 +162,12 @@ void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level, const Image& sou
 void VctVolumes::recordBounce(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkImageLayout sampledLayout) const {
     const VoxelVolumes& g = m_grid.volumes();
     gpu::VoxelBouncePush push{m_grid.params(), cones};
-    dispatch(m_ctx, cmd, m_bounce, push,
-             {sampled(0, m_radiance.image, m_sampler, sampledLayout), sampled(1, m_aniso.image, m_sampler, sampledLayout),
-              storage(2, g.albedo.image.view), storage(3, g.normal.image.view), storage(4, m_bounced.image.view)},
-             glm::uvec3(m_grid.resolution()));
+    dispatchIndirect(m_ctx, cmd, m_bounce, push,
+                     {sampled(0, m_radiance.image, m_sampler, sampledLayout),
+                      sampled(1, m_aniso.image, m_sampler, sampledLayout), storage(2, g.albedo.image.view),
+                      storage(3, g.normal.image.view), storage(4, m_bounced.image.view),
+                      bufferItem(5, m_list.buffer.buffer)},
+                     m_list.buffer.buffer);
 }
 
 void VctVolumes::recordTrace(VkCommandBuffer cmd, const Image& level0, const gpu::ConeParams& cones,

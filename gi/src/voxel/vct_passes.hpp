@@ -43,6 +43,11 @@ public:
     rg::PersistentImage& radianceState() { return m_radiance; }
     rg::PersistentImage& bouncedState() { return m_bounced; }
     rg::PersistentImage& anisoState() { return m_aniso; }
+    // Occupied-voxel list + its indirect dispatch header (voxel_passes.h); `listBuilt` says
+    // whether it holds the current grid's voxels (cleared when the grid is re-voxelized).
+    rg::PersistentBuffer& listState() { return m_list; }
+    bool listBuilt() const { return m_listBuilt; }
+    void setListBuilt(bool built) { m_listBuilt = built; }
     const VoxelGrid& grid() const { return m_grid; }
     uint32_t anisoLevels() const { return m_levels; }
     VkSampler sampler() const { return m_sampler; }
@@ -53,12 +58,15 @@ public:
 
     // Storage layouts are GENERAL; `sampledLayout` is the layout of the images read through a
     // sampler (GENERAL in hand-recorded tests, what the graph chose inside a pass).
-    // grid volumes + lights -> radiance().
+    // Occupied voxels of the grid -> list (its header zeroed before, transfer); zero radiance()
+    // and bounced() at the empty voxels (storage write).
+    void recordCompact(VkCommandBuffer cmd) const;
+    // grid volumes + lights -> radiance() at the listed voxels (indirect dispatch over the list).
     void recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t lightCount, VctOcclusion occlusion,
                      VkImageLayout sampledLayout) const;
     // aniso level `level` from `source` (level 0) or from level - 1 of aniso.
     void recordMip(VkCommandBuffer cmd, uint32_t level, const Image& source) const;
-    // radiance() + gathered second bounce -> bounced(); reads the aniso chains built from radiance().
+    // radiance() + gathered second bounce -> bounced() at the listed voxels; reads the aniso chains built from radiance().
     void recordBounce(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkImageLayout sampledLayout) const;
     // Per-pixel trace; `level0` is radiance() or bounced(), whichever the mips were built from.
     void recordTrace(VkCommandBuffer cmd, const Image& level0, const gpu::ConeParams& cones,
@@ -70,9 +78,11 @@ private:
     const VoxelGrid& m_grid;
     rg::PersistentImage m_radiance, m_bounced;
     rg::PersistentImage m_aniso;
+    rg::PersistentBuffer m_list;
+    bool m_listBuilt = false;
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;
-    Pipeline m_light, m_mipBase, m_mip, m_bounce, m_trace;
+    Pipeline m_compact, m_light, m_mipBase, m_mip, m_bounce, m_trace;
 };
 
 } // namespace vkgi::gi

@@ -77,7 +77,7 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
         accum = addClear(graph, g, accum, "gi.voxel.clear");
         accum = addVoxelize(graph, g, scene, accum, VoxelDrawSet::All, "gi.voxel.voxelize");
         addResolve(graph, g, accum, out, &g->volumes(), "gi.voxel.resolve");
-        return {out.albedo, out.normal, out.emission, grid.params()};
+        return {out.albedo, out.normal, out.emission, grid.params(), true};
     }
     VolumeHandles st = importVolumes(graph, grid.staticState(), "gi.voxel.static");
     if (update == VoxelUpdate::Full) {
@@ -99,6 +99,7 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
             data.emission = b.write(data.emission, Access::ComputeStorageWriteDiscard);
         },
         [g](rg::PassContext& ctx) { g->recordResolveMerge(ctx.cmd()); });
+    data.changed = true;
     return data;
 }
 
@@ -132,16 +133,39 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     const VctVolumes* v = &volumes;
     VctOutputs out;
     rg::ImageHandle radiance = graph.importImage("gi.vct.radiance", volumes.radianceState());
+    rg::ImageHandle bounced = graph.importImage("gi.vct.radiance.bounced", volumes.bouncedState());
+    rg::BufferHandle list = graph.importBuffer("gi.vct.voxel_list", volumes.listState());
     out.aniso = graph.importImage("gi.vct.aniso", volumes.anisoState());
+    if (grid.changed || !volumes.listBuilt()) {
+        // Once per voxelization: the occupied-voxel list the light and bounce passes run over.
+        graph.addPass(
+            "gi.vct.list.clear",
+            [&](rg::PassBuilder& b) { list = b.write(list, Access::TransferWrite); },
+            [list](rg::PassContext& ctx) {
+                vkCmdFillBuffer(ctx.cmd(), ctx.buffer(list).buffer, 0, GI_VOXEL_LIST_HEADER * sizeof(uint32_t), 0);
+            });
+        graph.addPass(
+            "gi.vct.list",
+            [&](rg::PassBuilder& b) {
+                b.read(grid.albedo, Access::ComputeStorageRead);
+                list = b.write(list, Access::ComputeStorageReadWrite);
+                radiance = b.write(radiance, Access::ComputeStorageWrite);
+                bounced = b.write(bounced, Access::ComputeStorageWrite);
+            },
+            [v](rg::PassContext& ctx) { v->recordCompact(ctx.cmd()); });
+        volumes.setListBuilt(true);
+    }
     VctOcclusion occlusion = settings.occlusion;
     graph.addPass(
         "gi.vct.light",
         [&](rg::PassBuilder& b) {
+            b.read(list, Access::IndirectRead);
+            b.read(list, Access::ComputeStorageRead);
             b.read(lights, Access::ComputeStorageRead);
             b.read(grid.albedo, Access::ComputeSampledRead);
             b.read(grid.normal, Access::ComputeStorageRead);
             b.read(grid.emission, Access::ComputeStorageRead);
-            radiance = b.write(radiance, Access::ComputeStorageWriteDiscard);
+            radiance = b.write(radiance, Access::ComputeStorageWrite); // the listed voxels
         },
         [v, lights, lightCount, occlusion, albedo = grid.albedo](rg::PassContext& ctx) {
             v->recordLight(ctx.cmd(), ctx.buffer(lights).buffer, lightCount, occlusion, ctx.layout(albedo));
@@ -149,15 +173,16 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     out.aniso = addMipPasses(graph, v, radiance, out.aniso, "gi.vct.mip");
     gpu::ConeParams cones = volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
     if (settings.bounces >= 2) {
-        rg::ImageHandle bounced = graph.importImage("gi.vct.radiance.bounced", volumes.bouncedState());
         graph.addPass(
             "gi.vct.bounce",
             [&](rg::PassBuilder& b) {
+                b.read(list, Access::IndirectRead);
+                b.read(list, Access::ComputeStorageRead);
                 b.read(radiance, Access::ComputeSampledRead);
                 b.read(out.aniso, Access::ComputeSampledRead);
                 b.read(grid.albedo, Access::ComputeStorageRead);
                 b.read(grid.normal, Access::ComputeStorageRead);
-                bounced = b.write(bounced, Access::ComputeStorageWriteDiscard);
+                bounced = b.write(bounced, Access::ComputeStorageWrite); // the listed voxels
             },
             [v, cones, radiance](rg::PassContext& ctx) {
                 v->recordBounce(ctx.cmd(), cones, ctx.layout(radiance));

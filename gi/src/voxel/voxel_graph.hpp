@@ -19,6 +19,7 @@ struct VoxelGridData {
     rg::ImageHandle normal;   // RGBA8: voxelNormalEncode(mean normal), a = occupancy
     rg::ImageHandle emission; // RGBA16F: emission * radianceScale
     gpu::VoxelGridParams params{};
+    bool changed = false; // this frame re-voxelized the grid (occupancy may differ from the last frame)
 };
 
 // The GPU scene as graph handles (engine/scene_types.h layouts) plus its draws.

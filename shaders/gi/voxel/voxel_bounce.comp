@@ -5,23 +5,24 @@
 // radiance (so the per-pixel gather then sees emission + one bounce + two bounces).
 #include "gi/voxel_passes.h"
 
-layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+layout(local_size_x = GI_VOXEL_LIST_GROUP) in; // one invocation per occupied voxel (indirect)
 layout(push_constant) uniform Push { VoxelBouncePush pc; };
 #include "voxel_cone.glsl"
 layout(set = 1, binding = 2, rgba8) uniform readonly image3D albedoVol;
 layout(set = 1, binding = 3, rgba8) uniform readonly image3D normalVol;
 layout(set = 1, binding = 4, rgba16f) uniform writeonly image3D radianceOut;
+layout(set = 1, binding = 5, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint voxels[]; };
 
 void main() {
-    ivec3 c = ivec3(gl_GlobalInvocationID);
-    float n = float(pc.grid.dims.x);
-    if (any(greaterThanEqual(c, ivec3(pc.grid.dims.x))))
+    if (gl_GlobalInvocationID.x >= header[3])
         return;
+    ivec3 c = ivec3(voxelListUnpack(voxels[gl_GlobalInvocationID.x]));
+    float n = float(pc.grid.dims.x);
     vec4 own = texelFetch(radianceVol, c, 0);
     vec4 albedo = imageLoad(albedoVol, c);
     vec3 normal = voxelNormalDecode(imageLoad(normalVol, c).xyz);
-    if (albedo.a == 0.0 || dot(normal, normal) < 0.25) {
-        // Empty, or normals that cancel: no hemisphere to gather over (kept as is).
+    if (dot(normal, normal) < 0.25) {
+        // Normals that cancel: no hemisphere to gather over (kept as is).
         imageStore(radianceOut, c, own);
         return;
     }

@@ -9,7 +9,7 @@
 #include "engine/scene_types.h"
 #include "gi/voxel_passes.h"
 
-layout(local_size_x = 8, local_size_y = 8, local_size_z = 4) in;
+layout(local_size_x = GI_VOXEL_LIST_GROUP) in; // one invocation per occupied voxel (indirect)
 layout(push_constant) uniform Push { VoxelLightPush pc; };
 
 layout(set = 1, binding = 0, std430) readonly buffer Lights { GpuLight lights[]; };
@@ -17,6 +17,7 @@ layout(set = 1, binding = 2, rgba8) uniform readonly image3D normalVol;
 layout(set = 1, binding = 3, rgba16f) uniform readonly image3D emissionVol;
 layout(set = 1, binding = 4) uniform sampler3D albedoVol; // a = occupancy; linear filtering for soft shadows
 layout(set = 1, binding = 5, rgba16f) uniform writeonly image3D radianceOut;
+layout(set = 1, binding = 6, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint voxels[]; };
 
 const float kPi = 3.14159265358979;
 // Mean |cos| between a fixed axis and uniformly distributed directions: the cosine factor of a
@@ -50,14 +51,10 @@ float visibility(vec3 p, vec3 dir, float tMax, uint mode) {
 }
 
 void main() {
-    ivec3 c = ivec3(gl_GlobalInvocationID);
-    if (any(greaterThanEqual(c, ivec3(pc.grid.dims.x))))
+    if (gl_GlobalInvocationID.x >= header[3])
         return;
+    ivec3 c = ivec3(voxelListUnpack(voxels[gl_GlobalInvocationID.x]));
     vec4 albedo = texelFetch(albedoVol, c, 0);
-    if (albedo.a == 0.0) {
-        imageStore(radianceOut, c, vec4(0.0));
-        return;
-    }
     vec4 nEnc = imageLoad(normalVol, c);
     vec3 normal = voxelNormalDecode(nEnc.xyz);
     bool hasNormal = dot(normal, normal) > 0.25; // encoded zero normals decode to |n| ~ 0

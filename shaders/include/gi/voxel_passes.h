@@ -30,6 +30,16 @@ GI_CHECK_SIZE(VoxelizePush, 64);
 //             tiles by arithmetic, without divergent branches.
 #define GI_VOXEL_ANISO_DIRECTIONS 6
 
+// Occupied-voxel list (voxel_compact.comp, rebuilt once per voxelization): a storage buffer of
+// GI_VOXEL_LIST_HEADER uints then one packed coordinate per occupied voxel. The header is
+// also the VkDispatchIndirectCommand of the passes that run over the list (voxel light,
+// bounce): x = ceil(count / GI_VOXEL_LIST_GROUP) work groups, y = z = 1, w = count. Surface
+// voxels are ~10% of a grid, so those passes skip the empty 90% without divergent lanes.
+#define GI_VOXEL_LIST_HEADER 4u
+#define GI_VOXEL_LIST_GROUP 64u
+GI_INLINE uint voxelListPack(uvec3 c) { return c.x | (c.y << 10u) | (c.z << 20u); }
+GI_INLINE uvec3 voxelListUnpack(uint v) { return uvec3(v & 1023u, (v >> 10u) & 1023u, v >> 20u); }
+
 // Occlusion of voxel direct light (VctOcclusion).
 #define GI_VCT_OCCLUSION_HARD 0u
 #define GI_VCT_OCCLUSION_SOFT 1u
