@@ -10,7 +10,8 @@
 //   normal   RGBA16F             xyz unit shading normal turned towards the camera (for every
 //                                surface: reflection is two-sided, as in the path tracer), w = roughness
 //   albedo   RGBA16F             rgb Lambertian albedo = baseColor x texture clamped to [0,1], w = metallic
-//   emission RGBA16F             rgb nits (front faces, or both sides when doubleSided), clamped to 65504
+//   emission RGBA32F             rgb nits (front faces, or both sides when doubleSided); 32-bit so
+//                                1e-6 and 1e9 nit emitters keep their value (float16 would flush/clamp)
 //
 // Shadow atlas: one D32 2D array for all lights (ShadowData::layers says whose layer is whose);
 // depth is linear (see GpuShadowView in shaders/include/gi/direct_types.h). Spots with an outer

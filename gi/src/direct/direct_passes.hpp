@@ -30,7 +30,7 @@ constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr VkFormat kPositionFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 constexpr VkFormat kNormalFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 constexpr VkFormat kAlbedoFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
-constexpr VkFormat kEmissionFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+constexpr VkFormat kEmissionFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 constexpr VkFormat kRadianceFormat = VK_FORMAT_R32G32B32A32_SFLOAT; // 32F: 1e9 cd stays finite
 constexpr VkFormat kRsmFluxFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // per-texel flux ~1e-5 I: below half's normals
 

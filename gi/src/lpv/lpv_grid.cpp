@@ -15,9 +15,10 @@ Result<gpu::LpvGrid> fitLpvGrid(const Aabb& region, uint32_t cells) {
     if (cells < 1)
         return makeError("LPV grid: needs at least 1 cell per axis");
     float longest = std::max({extent.x, extent.y, extent.z});
-    // A flat or point-like region still gets a usable cell (1 mm per cell at the least).
+    // The cell follows the region at every scale (a millimetre scene gets micrometre cells); only
+    // a point-like region, which has no scale, gets 1 mm cells.
     float span = cells > 2 ? float(cells - 2) : float(cells);
-    float cell = std::max(longest / span, 1e-3f);
+    float cell = longest > 0.0f ? longest / span : 1e-3f;
     gpu::LpvGrid grid{};
     glm::vec3 origin = region.centre() - 0.5f * cell * float(cells);
     grid.origin = glm::vec4(origin, cell);

@@ -11,9 +11,6 @@ layout(location = 1) out vec4 outNormal;   // xyz unit normal facing the camera,
 layout(location = 2) out vec4 outAlbedo;   // rgb Lambertian albedo, w = metallic
 layout(location = 3) out vec4 outEmission; // rgb nits, w = 1
 
-// Largest finite half float: brighter emission is clamped rather than turned into +inf.
-const float kHalfMax = 65504.0;
-
 void main() {
     GpuMaterial m = materials[inMaterial];
     outPosition = vec4(inPosition, 1.0);
@@ -21,5 +18,5 @@ void main() {
     outAlbedo = vec4(surfaceAlbedo(m), m.params.x);
     // Emission is one-sided (front = counter-clockwise) unless the material is double-sided.
     bool emits = gl_FrontFacing || m.params.w > 0.5;
-    outEmission = vec4(emits ? min(m.emission.rgb, vec3(kHalfMax)) : vec3(0.0), 1.0);
+    outEmission = vec4(emits ? m.emission.rgb : vec3(0.0), 1.0);
 }

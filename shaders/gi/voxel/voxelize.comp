@@ -1,8 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Conservative compute voxelization, one invocation per triangle: every voxel whose closed box
-// the triangle touches (separating-axis test, so slivers, sub-voxel and zero-area triangles
-// count too) receives the triangle's albedo, face normal and emission as fixed-point integer
+// the triangle touches (separating-axis test, so slivers and sub-voxel triangles count too)
+// receives the triangle's albedo, face normal and emission as fixed-point integer
 // sums. Integer atomics make the result independent of the execution order.
 #include "engine/scene_types.h"
 #include "gi/voxel_passes.h"
@@ -76,15 +76,20 @@ void main() {
     bool emissive = any(greaterThan(emission, vec3(0.0)));
 
     // Face normal, oriented like the authored vertex normals (which carry the facing of
-    // double-sided or mirrored geometry); zero-area triangles fall back to those normals.
-    // Cross the shortest edge with the next one: for slivers this keeps the normal accurate to
-    // a few ulps (crossing the two long edges would cancel catastrophically).
+    // double-sided or mirrored geometry). Cross the shortest edge with the next one: for slivers
+    // this keeps the normal accurate to a few ulps (crossing the two long edges would cancel
+    // catastrophically).
     vec3 e0 = p[1] - p[0], e1 = p[2] - p[1], e2 = p[0] - p[2];
     float l0 = dot(e0, e0), l1 = dot(e1, e1), l2 = dot(e2, e2);
     vec3 n = (l0 <= l1 && l0 <= l2) ? cross(e0, e1) : (l1 <= l2 ? cross(e1, e2) : cross(e2, e0));
     vec3 shading = mat3(inst.normalModel) * shadingSum;
     float len = length(n);
-    vec3 faceNormal = len > 0.0 ? n / len : (length(shading) > 0.0 ? normalize(shading) : vec3(0.0));
+    // Zero-area triangles (points, segments, and slivers thinner than float rounding of their
+    // edges: |e_a x e_b| <= 5e-7 (|e0|^2 + |e1|^2 + |e2|^2)) cover nothing for the rasteriser and
+    // the path tracer, so they set no voxel either.
+    if (!(len > 5e-7 * (l0 + l1 + l2)))
+        return;
+    vec3 faceNormal = n / len;
     if (dot(faceNormal, shading) < 0.0)
         faceNormal = -faceNormal;
 
@@ -103,16 +108,13 @@ void main() {
     float planeD = dot(n, p[0]);
     for (int cu = vlo[u]; cu <= vhi[u]; ++cu) {
         for (int cw = vlo[w]; cw <= vhi[w]; ++cw) {
-            int k0 = vlo[k], k1 = vhi[k];
-            if (len > 0.0) {
-                // Plane height along k at the four column corners: k = (d - n_u*u - n_w*w) / n_k.
-                float h00 = (planeD - n[u] * float(cu) - n[w] * float(cw)) / n[k];
-                float du = -n[u] / n[k], dw = -n[w] / n[k];
-                float hmin = h00 + min(du, 0.0) + min(dw, 0.0);
-                float hmax = h00 + max(du, 0.0) + max(dw, 0.0);
-                k0 = max(k0, int(floor(hmin - 1e-3)));
-                k1 = min(k1, int(floor(hmax + 1e-3)));
-            }
+            // Plane height along k at the four column corners: k = (d - n_u*u - n_w*w) / n_k.
+            float h00 = (planeD - n[u] * float(cu) - n[w] * float(cw)) / n[k];
+            float du = -n[u] / n[k], dw = -n[w] / n[k];
+            float hmin = h00 + min(du, 0.0) + min(dw, 0.0);
+            float hmax = h00 + max(du, 0.0) + max(dw, 0.0);
+            int k0 = max(vlo[k], int(floor(hmin - 1e-3)));
+            int k1 = min(vhi[k], int(floor(hmax + 1e-3)));
             for (int ck = k0; ck <= k1; ++ck) {
                 ivec3 c;
                 c[k] = ck;
