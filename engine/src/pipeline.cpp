@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <mutex>
+
+#include <dlfcn.h>
 
 #include "engine/context.hpp"
 #include "engine/frame_constants.h"
@@ -10,17 +14,71 @@
 
 namespace vkgi {
 
+namespace detail {
+// Defined by exactly one of two tiny libraries (engine/spirv_location): the build tree's
+// returns its spirv folder, the installed one returns null (no build path in a package).
+const char* buildTreeSpirvDir();
+} // namespace detail
+
+namespace {
+
+std::mutex g_spirvMutex;
+std::string g_spirvDir; // setSpirvDir
+
+// <dir of the binary holding this code>/../share/vkgi/spirv: the executable (static vkgi) or
+// the host's shared library vkgi is linked into, when it is installed in vkgi's prefix.
+std::vector<std::filesystem::path> packageCandidates() {
+    namespace fs = std::filesystem;
+    std::vector<fs::path> out;
+    auto add = [&](const fs::path& binary) {
+        std::error_code ec;
+        fs::path real = fs::canonical(binary, ec);
+        if (ec)
+            return;
+        fs::path dir = real.parent_path().parent_path() / "share" / "vkgi" / "spirv";
+        if (std::find(out.begin(), out.end(), dir) == out.end())
+            out.push_back(dir);
+    };
+    Dl_info info{};
+    if (dladdr(reinterpret_cast<void*>(&spirvDir), &info) && info.dli_fname && info.dli_fname[0] == '/')
+        add(info.dli_fname);
+    add("/proc/self/exe");
+    return out;
+}
+
+} // namespace
+
+void setSpirvDir(std::string dir) {
+    std::lock_guard lock(g_spirvMutex);
+    g_spirvDir = std::move(dir);
+}
+
 std::string spirvDir() {
-    if (const char* env = std::getenv("VKGI_SPIRV_DIR"))
+    {
+        std::lock_guard lock(g_spirvMutex);
+        if (!g_spirvDir.empty())
+            return g_spirvDir;
+    }
+    if (const char* env = std::getenv("VKGI_SPIRV_DIR"); env && env[0])
         return env;
-    return GI_SPIRV_DIR;
+    std::vector<std::filesystem::path> candidates = packageCandidates();
+    for (const auto& dir : candidates) {
+        std::error_code ec;
+        if (std::filesystem::is_directory(dir, ec))
+            return dir.string();
+    }
+    if (const char* built = detail::buildTreeSpirvDir())
+        return built;
+    return candidates.empty() ? std::string("share/vkgi/spirv") : candidates.front().string();
 }
 
 Result<std::vector<uint32_t>> loadSpirv(const std::string& name) {
     std::string path = spirvDir() + "/" + name + ".spv";
     std::ifstream in(path, std::ios::binary | std::ios::ate);
     if (!in)
-        return makeError(path + ": cannot open SPIR-V (was the shader built? set VKGI_SPIRV_DIR for installed trees)");
+        return makeError(path + ": cannot open SPIR-V (was the shader built? an installed vkgi looks in "
+                         "<prefix>/share/vkgi/spirv next to the binary; otherwise set VKGI_SPIRV_DIR or call "
+                         "vkgi::setSpirvDir)");
     std::streamsize size = in.tellg();
     if (size <= 20 || size % 4 != 0)
         return makeError(path + ": not a SPIR-V file (size " + std::to_string(size) + ")");

@@ -15,10 +15,16 @@ namespace vkgi {
 
 class Context;
 
-// Loads <GI_SPIRV_DIR>/<name>.spv, e.g. "engine/fill.comp"; checks the SPIR-V magic and size.
-// The folder can be overridden with the VKGI_SPIRV_DIR environment variable (installed trees).
+// Loads <spirvDir()>/<name>.spv, e.g. "engine/fill.comp"; checks the SPIR-V magic and size.
 Result<std::vector<uint32_t>> loadSpirv(const std::string& name);
+// The folder SPIR-V is loaded from, first match of: setSpirvDir(); the VKGI_SPIRV_DIR environment
+// variable; <dir>/../share/vkgi/spirv where <dir> holds the binary vkgi's code is linked into
+// (an application or shared library installed in vkgi's prefix); the build tree's spirv folder
+// (build tree only: an installed package has no build path in it). docs/embedding.md.
 std::string spirvDir();
+// Overrides the folder for every later pipeline creation (empty: back to the search above).
+// Thread-safe; pipelines already created keep their code.
+void setSpirvDir(std::string dir);
 
 struct ReflectedBinding {
     uint32_t set = 0;

@@ -1,0 +1,299 @@
+// vkgi-embed: the minimal host of docs/embedding.md. It owns its Vulkan instance, device and
+// queue (raw Vulkan, no vkgi helpers), wraps them for vkgi, renders one frame of a scene with a
+// GI technique, prints the image mean and writes the image. It includes only vkgi's installed
+// public headers, so the same file builds in the main tree and, through find_package(vkgi), in
+// tests/package against the installed package.
+//
+//   vkgi-embed [--scene NAME|FILE] [--technique T] [--size WxH] [--out FILE.exr|.png] [--validate]
+//
+// --validate enables the Khronos validation layer with synchronization validation on the host's
+// instance; any message makes the exit code 3.
+#include <atomic>
+#include <charconv>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "engine/context.hpp"
+#include "engine/gltf_loader.hpp"
+#include "engine/image_io.hpp"
+#include "gi/gi.hpp"
+
+namespace {
+
+struct Options {
+    std::string scene = "cornell";
+    std::string technique = "vpl";
+    uint32_t width = 64;
+    uint32_t height = 64;
+    std::string out = "embed.exr";
+    bool validate = false;
+};
+
+int fail(const std::string& message) {
+    std::fprintf(stderr, "vkgi-embed: %s\n", message.c_str());
+    return 1;
+}
+
+bool parseSide(std::string_view text, uint32_t& side) {
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), side);
+    return ec == std::errc() && end == text.data() + text.size() && side >= 1 && side <= 16384;
+}
+
+vkgi::Result<Options> parseArgs(int argc, char** argv) {
+    Options o;
+    for (int i = 1; i < argc; ++i) {
+        std::string arg = argv[i];
+        if (arg == "--validate") {
+            o.validate = true;
+            continue;
+        }
+        if (arg != "--scene" && arg != "--technique" && arg != "--size" && arg != "--out")
+            return vkgi::makeError("unknown option '" + arg + "' (options: --scene --technique --size --out --validate)");
+        if (i + 1 == argc)
+            return vkgi::makeError(arg + " needs a value");
+        std::string value = argv[++i];
+        if (arg == "--scene") {
+            o.scene = value;
+        } else if (arg == "--technique") {
+            o.technique = value;
+        } else if (arg == "--out") {
+            if (!value.ends_with(".exr") && !value.ends_with(".png"))
+                return vkgi::makeError("--out: '" + value + "' must end in .exr or .png");
+            o.out = value;
+        } else {
+            size_t x = value.find('x');
+            if (x == std::string::npos || !parseSide(std::string_view(value).substr(0, x), o.width) ||
+                !parseSide(std::string_view(value).substr(x + 1), o.height))
+                return vkgi::makeError("--size: '" + value + "' is not WIDTHxHEIGHT with sides 1..16384");
+        }
+    }
+    return o;
+}
+
+// ---- The host's own Vulkan objects: everything vkgi needs is listed in docs/embedding.md. ----
+
+std::atomic<uint32_t> g_validationMessages{0};
+
+VKAPI_ATTR VkBool32 VKAPI_CALL onValidation(VkDebugUtilsMessageSeverityFlagBitsEXT,
+                                            VkDebugUtilsMessageTypeFlagsEXT, const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                            void*) {
+    ++g_validationMessages;
+    std::fprintf(stderr, "validation: %s\n", data->pMessage);
+    return VK_FALSE;
+}
+
+struct HostVulkan {
+    VkInstance instance = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+    VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    uint32_t queueFamily = 0;
+
+    ~HostVulkan() {
+        if (device)
+            vkDestroyDevice(device, nullptr);
+        if (messenger) {
+            auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+                vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
+            destroy(instance, messenger, nullptr);
+        }
+        if (instance)
+            vkDestroyInstance(instance, nullptr);
+    }
+};
+
+vkgi::Result<void> createInstance(HostVulkan& host, bool validate) {
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.pApplicationName = "vkgi-embed";
+    app.apiVersion = VK_API_VERSION_1_3; // vkgi needs Vulkan 1.3
+    const char* layer = "VK_LAYER_KHRONOS_validation";
+    const char* debugUtils = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
+    VkValidationFeatureEnableEXT sync = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+    VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+    features.enabledValidationFeatureCount = 1;
+    features.pEnabledValidationFeatures = &sync;
+    VkDebugUtilsMessengerCreateInfoEXT messenger{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+    messenger.messageSeverity =
+        VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    messenger.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                            VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                            VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+    messenger.pfnUserCallback = onValidation;
+    VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    info.pApplicationInfo = &app;
+    if (validate) {
+        features.pNext = &messenger;
+        info.pNext = &features;
+        info.enabledLayerCount = 1;
+        info.ppEnabledLayerNames = &layer;
+        info.enabledExtensionCount = 1;
+        info.ppEnabledExtensionNames = &debugUtils;
+    }
+    if (VkResult r = vkCreateInstance(&info, nullptr, &host.instance); r != VK_SUCCESS)
+        return vkgi::makeError("vkCreateInstance failed (" + std::to_string(int(r)) +
+                               (validate ? "); is the Khronos validation layer installed?" : ")"));
+    if (validate) {
+        auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+            vkGetInstanceProcAddr(host.instance, "vkCreateDebugUtilsMessengerEXT"));
+        if (!create || create(host.instance, &messenger, nullptr, &host.messenger) != VK_SUCCESS)
+            return vkgi::makeError("cannot create the debug messenger");
+    }
+    return {};
+}
+
+bool hasExtension(VkPhysicalDevice pd, const char* name) {
+    uint32_t n = 0;
+    vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr);
+    std::vector<VkExtensionProperties> exts(n);
+    vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, exts.data());
+    for (const auto& e : exts)
+        if (std::strcmp(e.extensionName, name) == 0)
+            return true;
+    return false;
+}
+
+// First Vulkan 1.3 device with VK_KHR_push_descriptor and a graphics+compute queue.
+vkgi::Result<void> createDevice(HostVulkan& host) {
+    uint32_t n = 0;
+    vkEnumeratePhysicalDevices(host.instance, &n, nullptr);
+    std::vector<VkPhysicalDevice> devices(n);
+    vkEnumeratePhysicalDevices(host.instance, &n, devices.data());
+    for (VkPhysicalDevice pd : devices) {
+        VkPhysicalDeviceProperties props;
+        vkGetPhysicalDeviceProperties(pd, &props);
+        if (props.apiVersion < VK_API_VERSION_1_3 || !hasExtension(pd, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME))
+            continue;
+        uint32_t familyCount = 0;
+        vkGetPhysicalDeviceQueueFamilyProperties(pd, &familyCount, nullptr);
+        std::vector<VkQueueFamilyProperties> families(familyCount);
+        vkGetPhysicalDeviceQueueFamilyProperties(pd, &familyCount, families.data());
+        for (uint32_t f = 0; f < familyCount; ++f) {
+            VkQueueFlags need = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
+            if ((families[f].queueFlags & need) != need)
+                continue;
+            host.physicalDevice = pd;
+            host.queueFamily = f;
+            break;
+        }
+        if (host.physicalDevice)
+            break;
+    }
+    if (!host.physicalDevice)
+        return vkgi::makeError("no Vulkan 1.3 device with VK_KHR_push_descriptor and a graphics+compute queue");
+
+    // The features vkgi needs (docs/embedding.md); the optional core ones only when supported.
+    VkPhysicalDeviceFeatures2 supported{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    vkGetPhysicalDeviceFeatures2(host.physicalDevice, &supported);
+    VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
+    f11.multiview = VK_TRUE;
+    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    f12.pNext = &f11;
+    f12.hostQueryReset = VK_TRUE;
+    f12.scalarBlockLayout = VK_TRUE;
+    VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+    f13.pNext = &f12;
+    f13.synchronization2 = VK_TRUE;
+    f13.dynamicRendering = VK_TRUE;
+    f13.maintenance4 = VK_TRUE;
+    VkPhysicalDeviceFeatures2 enabled{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    enabled.pNext = &f13;
+    enabled.features.fragmentStoresAndAtomics = supported.features.fragmentStoresAndAtomics;
+    enabled.features.vertexPipelineStoresAndAtomics = supported.features.vertexPipelineStoresAndAtomics;
+    enabled.features.geometryShader = supported.features.geometryShader;
+    enabled.features.shaderStorageImageExtendedFormats = supported.features.shaderStorageImageExtendedFormats;
+    enabled.features.samplerAnisotropy = supported.features.samplerAnisotropy;
+    enabled.features.depthClamp = supported.features.depthClamp;
+
+    float priority = 1.0f;
+    VkDeviceQueueCreateInfo queue{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    queue.queueFamilyIndex = host.queueFamily;
+    queue.queueCount = 1;
+    queue.pQueuePriorities = &priority;
+    const char* extension = VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME;
+    VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    info.pNext = &enabled;
+    info.queueCreateInfoCount = 1;
+    info.pQueueCreateInfos = &queue;
+    info.enabledExtensionCount = 1;
+    info.ppEnabledExtensionNames = &extension;
+    if (VkResult r = vkCreateDevice(host.physicalDevice, &info, nullptr, &host.device); r != VK_SUCCESS)
+        return vkgi::makeError("vkCreateDevice failed (" + std::to_string(int(r)) + ")");
+    vkGetDeviceQueue(host.device, host.queueFamily, 0, &host.queue);
+    return {};
+}
+
+glm::dvec3 mean(const vkgi::HdrImage& image) {
+    glm::dvec3 sum(0.0);
+    for (const glm::vec3& p : image.pixels)
+        sum += glm::dvec3(p);
+    return sum / double(image.pixels.size());
+}
+
+int run(const Options& o) {
+    auto technique = vkgi::gi::parseTechnique(o.technique);
+    if (!technique)
+        return fail("--technique: " + technique.error().message);
+    auto scene = vkgi::loadScene(o.scene);
+    if (!scene)
+        return fail(scene.error().message);
+
+    HostVulkan host;
+    if (auto ok = createInstance(host, o.validate); !ok)
+        return fail(ok.error().message);
+    if (auto ok = createDevice(host); !ok)
+        return fail(ok.error().message);
+    {
+        // vkgi uses the host's objects and never destroys them; the Context and the GiSystem
+        // must be destroyed before the device (this scope).
+        auto ctx = vkgi::wrapExternalDevice({host.instance, host.physicalDevice, host.device, host.queue, host.queueFamily});
+        if (!ctx)
+            return fail(ctx.error().message);
+        vkgi::gi::GiSettings settings;
+        settings.technique = *technique;
+        auto gi = vkgi::gi::GiSystem::create(**ctx, settings);
+        if (!gi)
+            return fail(gi.error().message);
+        if (auto ok = (*gi)->setScene(*scene); !ok)
+            return fail(ok.error().message);
+        vkgi::Camera camera = scene->cameraOrDefault();
+        vkgi::gi::FrameRequest request;
+        request.indirect = *technique != vkgi::gi::Technique::None;
+        // Two frames, as vkgi-render renders them: the first one JIT-compiles the shaders.
+        auto frame = (*gi)->renderFrame(camera, o.width, o.height, request);
+        if (frame)
+            frame = (*gi)->renderFrame(camera, o.width, o.height, request);
+        if (!frame)
+            return fail(frame.error().message);
+        glm::dvec3 m = mean(frame->composite);
+        std::printf("%s %ux%u technique %s: composite mean %.6f %.6f %.6f nits, %.2f ms GPU\n", o.scene.c_str(),
+                    o.width, o.height, o.technique.c_str(), m.x, m.y, m.z, frame->totalMs);
+        if (!frame->indirect.empty()) {
+            glm::dvec3 mi = mean(frame->indirect);
+            std::printf("indirect mean %.6f %.6f %.6f nits\n", mi.x, mi.y, mi.z);
+        }
+        auto written = o.out.ends_with(".exr") ? vkgi::writeExr(o.out, frame->composite)
+                                               : vkgi::writePng(o.out, frame->composite);
+        if (!written)
+            return fail(written.error().message);
+        std::printf("wrote %s\n", o.out.c_str());
+    }
+    if (uint32_t n = g_validationMessages.load(); n != 0) {
+        std::fprintf(stderr, "vkgi-embed: %u validation message(s)\n", n);
+        return 3;
+    }
+    return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    auto options = parseArgs(argc, argv);
+    if (!options)
+        return std::fprintf(stderr, "vkgi-embed: %s\n", options.error().message.c_str()), 2;
+    return run(*options);
+}
