@@ -117,9 +117,12 @@ protected:
     }
 
     // G-buffer from per-pixel (position, normal, albedo); trace; returns indirect (a = AO).
-    std::vector<glm::vec4> trace(const VctSettings& s, const std::vector<glm::vec3>& pos,
+    std::vector<glm::vec4> trace(const VctSettings& settings, const std::vector<glm::vec3>& pos,
                                  const std::vector<glm::vec3>& nrm, glm::vec3 albedo, uint32_t width,
                                  glm::vec3 eye = glm::vec3(0.5f)) {
+        // Every pixel traced: these G-buffers are lists of sample points, not images of surfaces.
+        VctSettings s = settings;
+        s.lowResFactor = 1;
         uint32_t height = uint32_t(pos.size() / width);
         if (!m_g.position) {
             m_g.position = makeImage(ctx(), width, height, VK_FORMAT_R32G32B32A32_SFLOAT, "t.gpos");

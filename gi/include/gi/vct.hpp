@@ -30,6 +30,12 @@ struct VctSettings {
     float stepFactor = 1.0f;
     // Light bounces carried by the voxels: 1 = direct light only, 2 = plus a per-voxel gather.
     uint32_t bounces = 2;
+    // Per-pixel cones at 1/lowResFactor resolution per axis (1, 2 or 4), bilinearly upsampled;
+    // pixels whose low-res neighbours lie across a discontinuity (background, normals or
+    // tangent-plane distance beyond refineThreshold, as the VPL low-res gather) are traced at
+    // full resolution.
+    uint32_t lowResFactor = 2;
+    float refineThreshold = 0.1f;
     bool glossy = true;          // glossy cone whose aperture follows the roughness
     bool ambientOcclusion = true;
     float aoDistance = 0.0f;     // Villegas' AO decay distance in metres; 0 = 1/8 of the grid

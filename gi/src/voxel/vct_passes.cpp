@@ -75,7 +75,9 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
                    {&v->m_mipBase, "gi/voxel/voxel_mip_base.comp"},
                    {&v->m_mip, "gi/voxel/voxel_mip.comp"},
                    {&v->m_bounce, "gi/voxel/voxel_bounce.comp"},
-                   {&v->m_trace, "gi/voxel/vct_trace.comp"}};
+                   {&v->m_trace, "gi/voxel/vct_trace.comp"},
+                   {&v->m_traceRefine, "gi/voxel/vct_trace_refine.comp"},
+                   {&v->m_upsample, "gi/voxel/vct_upsample.comp"}};
     for (const Named& s : shaders) {
         auto p = createComputePipeline(ctx, {s.shader, {}});
         if (!p)
@@ -95,13 +97,14 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     SamplerDesc s;
     s.address = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER; // outside the grid is empty space
     s.border = VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK;
+    s.mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST; // one level per cone sample (voxel_cone.glsl)
     v->m_sampler = createSampler(ctx, s);
     return v;
 }
 
 VctVolumes::~VctVolumes() {
     destroyBuffer(m_ctx, m_list.buffer);
-    for (Pipeline* p : {&m_compact, &m_light, &m_mipBase, &m_mip, &m_bounce, &m_trace})
+    for (Pipeline* p : {&m_compact, &m_light, &m_mipBase, &m_mip, &m_bounce, &m_trace, &m_traceRefine, &m_upsample})
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_radiance.image);
     destroyImage(m_ctx, m_bounced.image);
@@ -170,16 +173,38 @@ void VctVolumes::recordBounce(VkCommandBuffer cmd, const gpu::ConeParams& cones,
                      m_list.buffer.buffer);
 }
 
-void VctVolumes::recordTrace(VkCommandBuffer cmd, const Image& level0, const gpu::ConeParams& cones,
-                             const VctTraceTargets& t, VkImageLayout sampledLayout) const {
-    gpu::VctTracePush push{m_grid.params(), cones, glm::vec4(t.eye, 0.0f)};
-    push.cones.info.z = t.width;
-    push.cones.info.w = t.height;
-    dispatch(m_ctx, cmd, m_trace, push,
-             {sampled(0, level0, m_sampler, sampledLayout), sampled(1, m_aniso.image, m_sampler, sampledLayout),
-              storage(2, t.position->view), storage(3, t.normal->view), storage(4, t.albedo->view),
-              storage(5, t.indirect->view), storage(6, t.glossy->view)},
-             glm::uvec3(t.width, t.height, 1u));
+void VctVolumes::recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const Image& level0,
+                             const gpu::VctTracePush& push, const VctTraceTargets& t,
+                             VkImageLayout sampledLayout) const {
+    DescriptorItem common[] = {sampled(0, level0, m_sampler, sampledLayout),
+                               sampled(1, m_aniso.image, m_sampler, sampledLayout),
+                               storage(2, t.position->view),
+                               storage(3, t.normal->view),
+                               storage(4, t.albedo->view),
+                               storage(5, t.indirect->view),
+                               storage(6, t.glossy->view)};
+    if (mode == VctTraceMode::Grid) {
+        dispatch(m_ctx, cmd, m_trace, push,
+                 {common[0], common[1], common[2], common[3], common[4], common[5], common[6]},
+                 glm::uvec3(push.lowRes.y, push.lowRes.z, 1u));
+        return;
+    }
+    // Work groups counted by the upsample (header words 1..3, voxel_passes.h).
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_traceRefine.pipeline);
+    pushConstants(cmd, m_traceRefine, &push, sizeof(push));
+    DescriptorItem items[] = {common[0], common[1], common[2], common[3], common[4], common[5], common[6],
+                              bufferItem(7, t.refineList)};
+    pushDescriptors(m_ctx, cmd, m_traceRefine, std::span<const DescriptorItem>(items));
+    vkCmdDispatchIndirect(cmd, t.refineList, sizeof(uint32_t));
+}
+
+void VctVolumes::recordUpsample(VkCommandBuffer cmd, const gpu::VctTracePush& push, const Image& lowIndirect,
+                                const Image& lowGlossy, const VctTraceTargets& t, VkImageLayout sampledLayout) const {
+    dispatch(m_ctx, cmd, m_upsample, push,
+             {sampled(0, *t.position, m_sampler, sampledLayout), sampled(1, *t.normal, m_sampler, sampledLayout),
+              sampled(2, lowIndirect, m_sampler, sampledLayout), sampled(3, lowGlossy, m_sampler, sampledLayout),
+              storage(4, t.indirect->view), storage(5, t.glossy->view), bufferItem(6, t.refineList)},
+             glm::uvec3(push.cones.info.z, push.cones.info.w, 1u));
 }
 
 } // namespace vkgi::gi

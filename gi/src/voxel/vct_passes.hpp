@@ -22,9 +22,13 @@ struct VctTraceTargets {
     const Image* albedo = nullptr;   // RGBA16F, w = metallic
     const Image* indirect = nullptr; // RGBA32F out: rgb indirect radiance (nits), a = AO
     const Image* glossy = nullptr;   // RGBA32F out: glossy cone radiance (nits)
-    uint32_t width = 0;
-    uint32_t height = 0;
-    glm::vec3 eye{0.0f};
+    VkBuffer refineList = VK_NULL_HANDLE; // refine variant: the pixels to trace (upsample's list)
+};
+
+// Which pixels a trace dispatch covers.
+enum class VctTraceMode {
+    Grid,   // every f-th pixel into the 1/f-resolution targets (f = push.lowRes.x; 1 = all)
+    Refine, // the pixels of targets.refineList into the full-resolution targets
 };
 
 class VctVolumes {
@@ -69,8 +73,13 @@ public:
     // radiance() + gathered second bounce -> bounced() at the listed voxels; reads the aniso chains built from radiance().
     void recordBounce(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkImageLayout sampledLayout) const;
     // Per-pixel trace; `level0` is radiance() or bounced(), whichever the mips were built from.
-    void recordTrace(VkCommandBuffer cmd, const Image& level0, const gpu::ConeParams& cones,
+    void recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const Image& level0, const gpu::VctTracePush& push,
                      const VctTraceTargets& targets, VkImageLayout sampledLayout) const;
+    // Low-res indirect + glossy -> full resolution (targets.indirect/glossy), appending the
+    // pixels across discontinuities to `refineList` (count zeroed before). G-buffer position
+    // and normal and the low-res images are read through a sampler in `sampledLayout`.
+    void recordUpsample(VkCommandBuffer cmd, const gpu::VctTracePush& push, const Image& lowIndirect,
+                        const Image& lowGlossy, const VctTraceTargets& targets, VkImageLayout sampledLayout) const;
 
 private:
     VctVolumes(Context& ctx, const VoxelGrid& grid) : m_ctx(ctx), m_grid(grid) {}
@@ -82,7 +91,7 @@ private:
     bool m_listBuilt = false;
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;
-    Pipeline m_compact, m_light, m_mipBase, m_mip, m_bounce, m_trace;
+    Pipeline m_compact, m_light, m_mipBase, m_mip, m_bounce, m_trace, m_traceRefine, m_upsample;
 };
 
 } // namespace vkgi::gi

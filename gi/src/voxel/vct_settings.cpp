@@ -22,6 +22,10 @@ Result<void> validateVctSettings(const VctSettings& s) {
         return makeError("vct: diffuseAperture must be a finite half-angle in (0, 1.4] radians");
     if (!std::isfinite(s.stepFactor) || s.stepFactor <= 0.0f || s.stepFactor > 4.0f)
         return makeError("vct: stepFactor must be finite and in (0, 4]");
+    if (s.lowResFactor != 1 && s.lowResFactor != 2 && s.lowResFactor != 4)
+        return makeError("vct: lowResFactor " + std::to_string(s.lowResFactor) + " must be 1, 2 or 4");
+    if (!std::isfinite(s.refineThreshold) || s.refineThreshold < 0.0f)
+        return makeError("vct: refineThreshold must be finite and >= 0");
     if (s.bounces < 1 || s.bounces > 2)
         return makeError("vct: bounces " + std::to_string(s.bounces) + " must be 1 or 2");
     if (!std::isfinite(s.aoDistance) || s.aoDistance < 0.0f)

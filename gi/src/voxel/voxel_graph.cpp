@@ -193,14 +193,22 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     out.radiance = radiance;
     if (!gbuffer)
         return out;
-    ImageDesc desc;
-    desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
-    desc.width = gbuffer->width;
-    desc.height = gbuffer->height;
+    VctGBufferHandles g = *gbuffer;
+    const uint32_t f = settings.lowResFactor;
+    gpu::VctTracePush push{volumes.grid().params(), cones, glm::vec4(g.eye, settings.refineThreshold),
+                           glm::uvec4(f, (g.width + f - 1) / f, (g.height + f - 1) / f, g.width * g.height)};
+    push.cones.info.z = g.width;
+    push.cones.info.w = g.height;
+    auto image = [](uint32_t w, uint32_t h) {
+        ImageDesc d;
+        d.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+        d.width = w;
+        d.height = h;
+        return d;
+    };
     struct TraceData {
         rg::ImageHandle indirect, glossy;
     };
-    VctGBufferHandles g = *gbuffer;
     const TraceData& data = graph.addPass<TraceData>(
         "gi.vct.trace",
         [&](rg::PassBuilder& b, TraceData& d) {
@@ -209,17 +217,77 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
             b.read(g.position, Access::ComputeStorageRead);
             b.read(g.normal, Access::ComputeStorageRead);
             b.read(g.albedo, Access::ComputeStorageRead);
+            ImageDesc desc = image(push.lowRes.y, push.lowRes.z);
+            d.indirect = b.write(b.create(f == 1 ? "gi.vct.indirect" : "gi.vct.indirect.low", desc),
+                                 Access::ComputeStorageWriteDiscard);
+            d.glossy = b.write(b.create(f == 1 ? "gi.vct.glossy" : "gi.vct.glossy.low", desc),
+                               Access::ComputeStorageWriteDiscard);
+        },
+        [v, push, radiance, g](const TraceData& d, rg::PassContext& ctx) {
+            VctTraceTargets t{&ctx.image(g.position), &ctx.image(g.normal),   &ctx.image(g.albedo),
+                              &ctx.image(d.indirect), &ctx.image(d.glossy), VK_NULL_HANDLE};
+            v->recordTrace(ctx.cmd(), VctTraceMode::Grid, ctx.image(radiance), push, t, ctx.layout(radiance));
+        });
+    if (f == 1) {
+        out.indirect = data.indirect;
+        out.glossy = data.glossy;
+        return out;
+    }
+    // Low-res: upsample + refine list, then the listed pixels at full resolution.
+    struct UpsampleData {
+        rg::ImageHandle indirect, glossy;
+        rg::BufferHandle list;
+    };
+    const UpsampleData& up = graph.addPass<UpsampleData>(
+        "gi.vct.refine.clear",
+        [&](rg::PassBuilder& b, UpsampleData& d) {
+            BufferDesc desc;
+            desc.size = VkDeviceSize(GI_VCT_REFINE_HEADER + push.lowRes.w) * sizeof(uint32_t);
+            desc.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                         VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+            d.list = b.write(b.create("gi.vct.refine_list", desc), Access::TransferWrite);
+        },
+        [](const UpsampleData& d, rg::PassContext& ctx) {
+            vkCmdFillBuffer(ctx.cmd(), ctx.buffer(d.list).buffer, 0, GI_VCT_REFINE_HEADER * sizeof(uint32_t), 0);
+        });
+    const UpsampleData& us = graph.addPass<UpsampleData>(
+        "gi.vct.upsample",
+        [&](rg::PassBuilder& b, UpsampleData& d) {
+            b.read(g.position, Access::ComputeSampledRead);
+            b.read(g.normal, Access::ComputeSampledRead);
+            b.read(data.indirect, Access::ComputeSampledRead);
+            b.read(data.glossy, Access::ComputeSampledRead);
+            ImageDesc desc = image(g.width, g.height);
             d.indirect = b.write(b.create("gi.vct.indirect", desc), Access::ComputeStorageWriteDiscard);
             d.glossy = b.write(b.create("gi.vct.glossy", desc), Access::ComputeStorageWriteDiscard);
+            d.list = b.write(up.list, Access::ComputeStorageReadWrite);
         },
-        [v, cones, radiance, g](const TraceData& d, rg::PassContext& ctx) {
-            VctTraceTargets t{&ctx.image(g.position), &ctx.image(g.normal), &ctx.image(g.albedo),
-                              &ctx.image(d.indirect), &ctx.image(d.glossy), g.width,
-                              g.height,               g.eye};
-            v->recordTrace(ctx.cmd(), ctx.image(radiance), cones, t, ctx.layout(radiance));
+        [v, push, g, low = data](const UpsampleData& d, rg::PassContext& ctx) {
+            VctTraceTargets t{&ctx.image(g.position), &ctx.image(g.normal),   nullptr,
+                              &ctx.image(d.indirect), &ctx.image(d.glossy), ctx.buffer(d.list).buffer};
+            v->recordUpsample(ctx.cmd(), push, ctx.image(low.indirect), ctx.image(low.glossy), t,
+                              ctx.layout(g.position));
         });
-    out.indirect = data.indirect;
-    out.glossy = data.glossy;
+    const UpsampleData& rf = graph.addPass<UpsampleData>(
+        "gi.vct.refine",
+        [&](rg::PassBuilder& b, UpsampleData& d) {
+            b.read(radiance, Access::ComputeSampledRead);
+            b.read(out.aniso, Access::ComputeSampledRead);
+            b.read(g.position, Access::ComputeStorageRead);
+            b.read(g.normal, Access::ComputeStorageRead);
+            b.read(g.albedo, Access::ComputeStorageRead);
+            b.read(us.list, Access::IndirectRead);
+            b.read(us.list, Access::ComputeStorageRead);
+            d.indirect = b.write(us.indirect, Access::ComputeStorageWrite);
+            d.glossy = b.write(us.glossy, Access::ComputeStorageWrite);
+        },
+        [v, push, radiance, g, list = us.list](const UpsampleData& d, rg::PassContext& ctx) {
+            VctTraceTargets t{&ctx.image(g.position), &ctx.image(g.normal),   &ctx.image(g.albedo),
+                              &ctx.image(d.indirect), &ctx.image(d.glossy), ctx.buffer(list).buffer};
+            v->recordTrace(ctx.cmd(), VctTraceMode::Refine, ctx.image(radiance), push, t, ctx.layout(radiance));
+        });
+    out.indirect = rf.indirect;
+    out.glossy = rf.glossy;
     return out;
 }
 

@@ -29,20 +29,22 @@ vec4 sampleAniso(vec3 uvw, vec3 dir, float lod) {
            w.z * textureLod(aniso, vec3(uvw.xy, (tile.z + z) / 6.0), lod);
 }
 
-// Quadrilinear sample of a footprint 2^lod voxels wide: level 0 is the isotropic volume, level
-// 1 + k level k of the anisotropic chains (blended linearly between 0 and 1).
-vec4 sampleVoxels(vec3 p, vec3 dir, float lod, float n) {
+// Sample of mip level `level` (a footprint 2^level voxels wide): level 0 is the isotropic
+// volume, level 1 + k level k of the anisotropic chains. One level per sample (the sampler's
+// mip mode is NEAREST): blending two levels doubles the texels a sample reads, and the cone
+// accounts for the footprint it actually got (traceCone).
+vec4 sampleVoxels(vec3 p, vec3 dir, float level, float n) {
     vec3 uvw = p / n;
-    if (lod <= 0.0)
+    if (level == 0.0)
         return textureLod(radianceVol, uvw, 0.0);
-    if (lod < 1.0)
-        return mix(textureLod(radianceVol, uvw, 0.0), sampleAniso(uvw, dir, 0.0), lod);
-    return sampleAniso(uvw, dir, lod - 1.0);
+    return sampleAniso(uvw, dir, level - 1.0);
 }
 
 // Front-to-back accumulation along a cone of half-angle atan(tanHalf). Samples are spaced
-// stepFactor diameters apart; a pre-integrated sample stands for a slab one diameter thick, so
-// its opacity is corrected to the step length: a' = 1 - (1 - a)^stepFactor (colour likewise).
+// stepFactor diameters apart. Each reads the mip level nearest to the cone's diameter d,
+// whose pre-integrated voxels stand for slabs 2^level thick; the opacity is corrected from
+// that slab to the step length s = stepFactor * d: a' = 1 - (1 - a)^(s / 2^level) (colour
+// likewise, premultiplied). With d = 2^level this is the plain a' = 1 - (1 - a)^stepFactor.
 // `occlusion` gets Villegas' AO: opacity weighted by 1 / (1 + decay * distance).
 vec4 traceCone(vec3 origin, vec3 dir, float tanHalf, float stepFactor, float decay, float n, out float occlusion) {
     vec4 acc = vec4(0.0);
@@ -54,12 +56,14 @@ vec4 traceCone(vec3 origin, vec3 dir, float tanHalf, float stepFactor, float dec
         vec3 p = origin + t * dir;
         if (any(lessThan(p, vec3(-diameter))) || any(greaterThan(p, vec3(n + diameter))))
             break;
-        vec4 s = sampleVoxels(p, dir, min(log2(diameter), maxLod), n);
-        float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepFactor);
+        float level = min(round(log2(diameter)), maxLod);
+        float stepLength = stepFactor * diameter;
+        vec4 s = sampleVoxels(p, dir, level, n);
+        float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepLength * exp2(-level));
         s.rgb *= s.a > 1e-6 ? a / s.a : 0.0;
         acc += (1.0 - acc.a) * vec4(s.rgb, a);
         occlusion += (1.0 - occlusion) * a / (1.0 + decay * t);
-        t += stepFactor * diameter;
+        t += stepLength;
     }
     return acc;
 }

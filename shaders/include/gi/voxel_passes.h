@@ -74,13 +74,19 @@ GI_GPU_STRUCT(VoxelBouncePush) {
 };
 GI_CHECK_SIZE(VoxelBouncePush, 80);
 
-// vct_trace.comp: per-pixel cones over the G-buffer.
+// vct_trace*.comp, vct_upsample.comp: per-pixel cones over the G-buffer (cones.info.zw =
+// full-res size), optionally at 1/f resolution with a discontinuity refine.
 GI_GPU_STRUCT(VctTracePush) {
     VoxelGridParams grid;
     ConeParams cones;
-    vec4 eye; // xyz camera position (world), w 0
+    vec4 eye;     // xyz camera position (world), w refine threshold (gi/lowres_upsample.h)
+    uvec4 lowRes; // x factor f, y, z low-res width, height, w refine-list capacity (pixels)
 };
-GI_CHECK_SIZE(VctTracePush, 96);
+GI_CHECK_SIZE(VctTracePush, 112);
+// Refine list (vct_upsample.comp -> vct_trace_refine.comp): uint count, then the refine
+// trace's VkDispatchIndirectCommand (groups of GI_VCT_REFINE_GROUP), then packed pixels x | y << 16.
+#define GI_VCT_REFINE_GROUP 64u
+#define GI_VCT_REFINE_HEADER 4u
 
 GI_NAMESPACE_END
 #endif

@@ -1,0 +1,73 @@
+// Per-pixel voxel cone tracing over the G-buffer (vct_trace.comp, vct_trace_refine.comp):
+// diffuse cones over the normal hemisphere, a glossy cone along the mirror direction whose
+// aperture follows the roughness, and cone-traced AO. Output radiance is in nits
+// (radianceScale undone). With a low-res factor f > 1 the plain variant fills the low-res
+// images from every f-th pixel (gi/lowres_upsample.h); vct_upsample.comp interpolates them
+// and lists the pixels across discontinuities, which the refine variant (GI_VCT_REFINE)
+// traces at full resolution.
+#include "gi/voxel_passes.h"
+#define GI_LOWRES_SOURCE_ONLY
+#include "gi/lowres_upsample.h"
+
+#ifdef GI_VCT_REFINE
+layout(local_size_x = GI_VCT_REFINE_GROUP) in; // indirect: header words 1..3 (vct_upsample.comp)
+#else
+layout(local_size_x = 8, local_size_y = 8) in;
+#endif
+layout(push_constant) uniform Push { VctTracePush pc; };
+#include "voxel_cone.glsl"
+layout(set = 1, binding = 2, rgba32f) uniform readonly image2D gPosition;
+layout(set = 1, binding = 3, rgba16f) uniform readonly image2D gNormal;
+layout(set = 1, binding = 4, rgba16f) uniform readonly image2D gAlbedo;
+layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D outIndirect; // rgb indirect, a = AO
+layout(set = 1, binding = 6, rgba32f) uniform writeonly image2D outGlossy;   // rgb glossy cone radiance
+#ifdef GI_VCT_REFINE
+layout(set = 1, binding = 7, std430) readonly buffer RefineList {
+    uint refineCount;
+    uint refinePad[3];
+    uint refinePixels[]; // x | y << 16
+};
+#endif
+
+void main() {
+    ivec2 full = ivec2(pc.cones.info.zw);
+#ifdef GI_VCT_REFINE
+    if (gl_GlobalInvocationID.x >= min(refineCount, pc.lowRes.w))
+        return;
+    uint packed = refinePixels[gl_GlobalInvocationID.x];
+    ivec2 dst = ivec2(packed & 0xffffu, packed >> 16);
+    ivec2 px = dst;
+#else
+    ivec2 dst = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(dst, ivec2(pc.lowRes.yz))))
+        return;
+    ivec2 px = lowResSource(dst, int(pc.lowRes.x), full);
+#endif
+    vec4 position = imageLoad(gPosition, px);
+    if (position.w == 0.0) {
+        imageStore(outIndirect, dst, vec4(0.0, 0.0, 0.0, 1.0));
+        imageStore(outGlossy, dst, vec4(0.0));
+        return;
+    }
+    vec4 nr = imageLoad(gNormal, px);
+    vec4 am = imageLoad(gAlbedo, px);
+    vec3 normal = normalize(nr.xyz);
+    float n = float(pc.grid.dims.x);
+    vec3 p = (position.xyz - pc.grid.originSize.xyz) * pc.grid.scales.x + normal;
+    float occlusion;
+    vec3 diffuse = diffuseGather(p, normal, pc.cones, n, occlusion);
+    vec3 glossy = vec3(0.0);
+    if ((pc.cones.info.y & GI_VCT_FLAG_GLOSSY) != 0u) {
+        vec3 v = normalize(pc.eye.xyz - position.xyz);
+        // GGX-like lobe width alpha = roughness^2 as the cone's tan(half-angle), floored so a
+        // mirror still gets a finite footprint of about a voxel at 50 voxels.
+        float tanHalf = clamp(nr.w * nr.w, 0.01, 1.0);
+        float unused;
+        glossy = traceCone(p, reflect(-v, normal), tanHalf, pc.cones.cone.y, 0.0, n, unused).rgb;
+    }
+    float metallic = clamp(am.w, 0.0, 1.0);
+    vec3 indirect = am.rgb * mix(diffuse, glossy, metallic) * pc.grid.scales.z;
+    float ao = (pc.cones.info.y & GI_VCT_FLAG_AO) != 0u ? 1.0 - occlusion : 1.0;
+    imageStore(outIndirect, dst, vec4(indirect, ao));
+    imageStore(outGlossy, dst, vec4(glossy * pc.grid.scales.z, 1.0));
+}

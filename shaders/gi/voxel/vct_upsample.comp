@@ -1,0 +1,60 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Low-res VCT trace -> full resolution: bilinear from the low-res indirect (a = AO) and glossy
+// images, and the pixels across discontinuities appended to the refine list
+// (gi/lowres_upsample.h, shared with the VPL upsample). The list header is also the indirect
+// dispatch of the refine trace: {count, groups x, 1, 1}, the dispatch read at byte offset 4.
+#include "gi/voxel_passes.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(push_constant) uniform Push { VctTracePush pc; };
+layout(set = 1, binding = 0) uniform sampler2D gPosition;
+layout(set = 1, binding = 1) uniform sampler2D gNormal;
+layout(set = 1, binding = 2) uniform sampler2D lowIndirect;
+layout(set = 1, binding = 3) uniform sampler2D lowGlossy;
+layout(set = 1, binding = 4, rgba32f) uniform writeonly image2D outIndirect;
+layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D outGlossy;
+layout(set = 1, binding = 6, std430) buffer RefineList {
+    uint refineCount;
+    uint refineGroups[3]; // VkDispatchIndirectCommand of vct_trace_refine.comp (zeroed before)
+    uint refinePixels[];  // x | y << 16
+};
+#include "gi/lowres_upsample.h"
+
+void main() {
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 full = ivec2(pc.cones.info.zw);
+    if (any(greaterThanEqual(px, full)))
+        return;
+    if (px == ivec2(0)) {
+        refineGroups[1] = 1u;
+        refineGroups[2] = 1u;
+    }
+    vec4 position = texelFetch(gPosition, px, 0);
+    if (position.w == 0.0) {
+        imageStore(outIndirect, px, vec4(0.0, 0.0, 0.0, 1.0));
+        imageStore(outGlossy, px, vec4(0.0));
+        return;
+    }
+    vec3 n = normalize(texelFetch(gNormal, px, 0).xyz);
+    float depth = distance(position.xyz, pc.eye.xyz);
+    ivec2 taps[4];
+    vec4 w;
+    bool refine = lowResTaps(px, position.xyz, n, depth, int(pc.lowRes.x), ivec2(pc.lowRes.yz), full, pc.eye.w,
+                             taps, w);
+    vec4 indirect = vec4(0.0), glossy = vec4(0.0);
+    for (int k = 0; k < 4; ++k) {
+        indirect += w[k] * texelFetch(lowIndirect, taps[k], 0);
+        glossy += w[k] * texelFetch(lowGlossy, taps[k], 0);
+    }
+    imageStore(outIndirect, px, indirect);
+    imageStore(outGlossy, px, glossy);
+    if (refine) {
+        uint slot = atomicAdd(refineCount, 1u);
+        if (slot < pc.lowRes.w) {
+            refinePixels[slot] = uint(px.x) | (uint(px.y) << 16);
+            if (slot % GI_VCT_REFINE_GROUP == 0u)
+                atomicAdd(refineGroups[0], 1u); // x = ceil(listed / group)
+        }
+    }
+}

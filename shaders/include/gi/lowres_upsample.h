@@ -1,0 +1,43 @@
+// GLSL only: the low-resolution gather with discontinuity refinement shared by the VPL and the
+// VCT passes. Low-res texel li holds the value computed at full-res pixel lowResSource(li);
+// every full-res pixel interpolates the 4 nearest low-res texels bilinearly unless one of them
+// (with non-zero weight) lies across a discontinuity: background, normals differing by more
+// than the threshold (1 - dot), or a sample off the pixel's tangent plane by more than
+// threshold x depth. Such pixels go to a refine list and are recomputed at full resolution.
+// The includer declares sampler2D gPosition and gNormal (the G-buffer, point-sampled), or
+// defines GI_LOWRES_SOURCE_ONLY to get lowResSource alone.
+#ifndef VKGI_GI_LOWRES_UPSAMPLE_H
+#define VKGI_GI_LOWRES_UPSAMPLE_H
+
+// Full-res pixel a low-res texel stands for (factor f, full-res size `full`).
+ivec2 lowResSource(ivec2 li, int f, ivec2 full) { return min(li * f + f / 2, full - 1); }
+
+#ifndef GI_LOWRES_SOURCE_ONLY // the gather side needs no G-buffer samplers
+
+// Bilinear taps of full-res pixel px (position, normal n, distance to the camera `depth`) on
+// the low-res grid of size `low`; true when one of them crosses a discontinuity.
+bool lowResTaps(ivec2 px, vec3 position, vec3 n, float depth, int f, ivec2 low, ivec2 full, float threshold,
+                out ivec2 taps[4], out vec4 weights) {
+    vec2 c = (vec2(px) - float(f / 2)) / float(f);
+    ivec2 i0 = ivec2(floor(c));
+    vec2 t = c - vec2(i0);
+    bool refine = false;
+    for (int k = 0; k < 4; ++k) {
+        ivec2 o = ivec2(k & 1, k >> 1);
+        float w = (o.x == 1 ? t.x : 1.0 - t.x) * (o.y == 1 ? t.y : 1.0 - t.y);
+        ivec2 li = clamp(i0 + o, ivec2(0), low - 1);
+        taps[k] = li;
+        weights[k] = w;
+        if (w <= 0.0)
+            continue;
+        ivec2 s = lowResSource(li, f, full);
+        vec4 q = texelFetch(gPosition, s, 0);
+        vec3 nq = texelFetch(gNormal, s, 0).xyz;
+        if (q.w == 0.0 || 1.0 - dot(n, nq) > threshold || abs(dot(q.xyz - position.xyz, n)) > threshold * depth)
+            refine = true;
+    }
+    return refine;
+}
+#endif
+
+#endif
