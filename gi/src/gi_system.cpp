@@ -28,7 +28,7 @@ Result<void> checkSettings(const GiSettings& s) {
         return makeError("GiSettings.maxShadowLayers " + std::to_string(s.maxShadowLayers) + " is outside 1..2048");
     if (s.pcfRadius > 8)
         return makeError("GiSettings.pcfRadius " + std::to_string(s.pcfRadius) + " is above 8");
-    for (float b : {s.shadowNormalOffset, s.shadowSlopeBias, s.shadowConstantBias})
+    for (float b : {s.shadowNormalOffset, s.shadowConstantBias})
         if (!std::isfinite(b) || b < 0.0f || b > 100.0f)
             return makeError("GiSettings shadow biases must be finite and in 0..100 texels");
     return {};

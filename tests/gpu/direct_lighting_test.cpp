@@ -248,7 +248,7 @@ TEST_F(DirectLighting, MatchesThePathTracerAwayFromEdges) {
     struct Case {
         const char* scene;
         int bounces;
-    } cases[] = {{"cornell", 1}, {"cornell_point", 1}, {"cornell_spot", 1}, {"cornell_emissive", 0}};
+    } cases[] = {{"cornell", 1}, {"cornell_point", 1}, {"cornell_spot", 1}, {"cornell_emissive", 0}, {"room", 1}};
     const uint32_t n = 128;
     for (const Case& c : cases) {
         Scene scene = builtin(c.scene);

@@ -400,7 +400,7 @@ TEST_F(Stability, AbsurdSettingsAreClearErrors) {
          [](GiSettings& s) { s.technique = Technique::Lpv; s.lpv.damping = std::nanf(""); }},
         {"vpl 0 VPLs", "vpl", [](GiSettings& s) { s.technique = Technique::Vpl; s.vpl.vplCount = 0; }},
         {"shadow map 0", "shadowMapSize", [](GiSettings& s) { s.shadowMapSize = 0; }},
-        {"NaN shadow bias", "bias", [](GiSettings& s) { s.shadowSlopeBias = std::nanf(""); }},
+        {"NaN shadow bias", "bias", [](GiSettings& s) { s.shadowConstantBias = std::nanf(""); }},
     };
     for (const Case& c : cases) {
         GiSettings settings;

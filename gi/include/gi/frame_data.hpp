@@ -51,9 +51,6 @@ struct GiSettings;
 // Spots up to this outer half angle get one perspective layer (fov 120 degrees); beyond, the
 // texels at the rim would stretch by 1/cos^3 = 8x or more, so wider spots use a cube.
 constexpr float kMaxSpotFrustumHalfAngle = 1.0471976f; // 60 degrees
-// Cap of tan(incidence) in the slope-scaled bias: grazing receivers would otherwise push the
-// bias to infinity and detach shadows (peter-panning).
-constexpr float kMaxBiasSlope = 100.0f;
 
 // This frame's camera and scene (always present).
 struct FrameData {

@@ -45,10 +45,10 @@ struct GiSettings {
     uint32_t maxShadowLayers = 64;
     // PCF kernel (2r+1)^2 of bilinear compares; 1 = 3x3 softens the 1-texel stair steps.
     uint32_t pcfRadius = 1;
-    // Shadow biases in shadow-texel world sizes at the receiver: normal offset, slope-scaled
-    // (times tan of the light incidence angle, capped at kMaxBiasSlope) and constant.
-    float shadowNormalOffset = 1.0f;
-    float shadowSlopeBias = 1.0f;
+    // Shadow biases in shadow-texel world sizes at the receiver: a normal offset and a depth
+    // bias below the receiver's tangent plane, which every PCF texel is compared against
+    // (deferred.comp), so no slope-scaled term is needed.
+    float shadowNormalOffset = 0.0f;
     float shadowConstantBias = 0.5f;
     // Render the reflective shadow map even when the technique does not read it (tests, tools).
     bool forceRsm = false;

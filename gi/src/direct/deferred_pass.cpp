@@ -57,7 +57,7 @@ DirectData addDeferredPass(rg::RenderGraph& graph, const DirectPipelines& p, con
             d.lights = scene.lights;
             d.p = &p;
             d.push.size = glm::uvec4(frame.width, frame.height, uint32_t(frame.scene->lights.size()), s.pcfRadius);
-            d.push.bias = glm::vec4(s.shadowNormalOffset, s.shadowSlopeBias, s.shadowConstantBias, kMaxBiasSlope);
+            d.push.bias = glm::vec4(s.shadowNormalOffset, s.shadowConstantBias, 0.0f, 0.0f);
         },
         [](const DeferredPass& d, rg::PassContext& pc) {
             const Pipeline& pl = d.p->deferred;
@@ -65,7 +65,7 @@ DirectData addDeferredPass(rg::RenderGraph& graph, const DirectPipelines& p, con
             pc.dispatch(pl, rg::PassContext::groupsFor(pl, {d.push.size.x, d.push.size.y, 1}), d.push,
                         {pc.sampled(0, d.g.position, pt), pc.sampled(1, d.g.normal, pt), pc.sampled(2, d.g.albedo, pt),
                          pc.sampled(3, d.g.emission, pt), pc.buffer(4, d.lights), pc.buffer(5, d.shadow.lightShadows),
-                         pc.buffer(6, d.shadow.views), pc.sampled(7, d.shadow.atlas, d.p->shadowSampler),
+                         pc.buffer(6, d.shadow.views), pc.sampled(7, d.shadow.atlas, pt),
                          pc.storage(8, d.out)});
         });
     return DirectData{pass.out};

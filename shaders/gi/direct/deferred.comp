@@ -2,8 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // Deferred direct lighting over the G-buffer: emission + sum over all punctual lights of
 // albedo/pi * E * visibility, with E from the shared KHR_lights_punctual falloff (lights.h)
-// and visibility from the shadow atlas (PCF over bilinear depth compares, normal offset and
-// slope-scaled bias). The light loop has a run-time trip count so lavapipe's JIT stays small.
+// and visibility from the shadow atlas (PCF over bilinear receiver-plane depth
+// compares). The light loop has a run-time trip count so lavapipe's JIT stays small.
 #include "engine/lights.h"
 #include "engine/scene_types.h"
 #include "gi/direct_types.h"
@@ -18,12 +18,30 @@ layout(set = 1, binding = 3) uniform sampler2D gEmission;
 layout(set = 1, binding = 4, std430) readonly buffer Lights { GpuLight lights[]; };
 layout(set = 1, binding = 5, std430) readonly buffer LightShadows { GpuLightShadow lightShadows[]; };
 layout(set = 1, binding = 6, std430) readonly buffer ShadowViews { GpuShadowView shadowViews[]; };
-layout(set = 1, binding = 7) uniform sampler2DArrayShadow shadowAtlas;
+layout(set = 1, binding = 7) uniform sampler2DArray shadowDepth; // point sampler: textureGather of raw depths
 layout(set = 1, binding = 8, rgba32f) uniform writeonly image2D outDirect;
 
 const float kPi = 3.14159265358979;
 
+// Shadow-map texel coordinates (xy, texel centres at +0.5) and stored depth of world point x.
+vec3 shadowProject(GpuShadowView view, vec3 x) {
+    vec4 clip = view.viewProj * vec4(x, 1.0);
+    vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
+    float depth = view.eye.w > 0.0 ? distance(x, view.eye.xyz) / view.eye.w : clip.z;
+    return vec3(uv * view.texel.z, depth);
+}
+
 // Fraction of the PCF kernel that sees the light from `p` (normal `n`, unit `toLight`).
+//
+// Receiver-plane compares: every shadow texel a tap reads is compared with the depth the
+// receiver's tangent plane has at that texel's centre, not with the depth at p. The texel
+// stores the first surface at its centre, so for a planar receiver the two are equal where
+// nothing occludes it, whatever the incidence angle, and only a constant bias (rounding,
+// curvature) is left. A single reference depth per tap needs a slope bias of l tan(theta) for
+// texels l away: 10 texels (0.36 m) at the room's 79 degree incidence with the 3x3 kernel, which
+// put the lookup behind the thin ceiling and lintel and lit their contact shadows; a normal
+// offset l sin(theta) avoids that but shifts every shadow edge sideways by l sin(theta) tan(theta)
+// (0.13 m on the room floor). Texels come from a non-compare gather, weighted bilinearly.
 float shadowVisibility(uint lightIndex, vec3 p, vec3 n, vec3 toLight) {
     GpuLightShadow ls = lightShadows[lightIndex];
     if (ls.info.z == GI_SHADOW_NONE)
@@ -34,22 +52,60 @@ float shadowVisibility(uint lightIndex, vec3 p, vec3 n, vec3 toLight) {
         layer += cubeFace(p - light.positionType.xyz);
     GpuShadowView view = shadowViews[layer];
     bool ortho = view.eye.w <= 0.0;
-    // World size of one shadow texel at p, which all biases scale with.
+    // World size of one shadow texel at p, which the biases scale with.
     float texel = ortho ? view.texel.x : view.texel.x * max(dot(p - view.eye.xyz, view.axisArea.xyz), 0.0);
-    float cosTheta = clamp(dot(n, toLight), 1e-3, 1.0);
-    float tanTheta = min(sqrt(1.0 - cosTheta * cosTheta) / cosTheta, pc.bias.w);
     vec3 q = p + n * (pc.bias.x * texel);
-    vec4 clip = view.viewProj * vec4(q, 1.0);
-    vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
-    float depth = ortho ? clip.z : distance(q, view.eye.xyz) / view.eye.w;
-    // The PCF footprint reaches (r + 1) texels from the centre (bilinear), so the slope term scales with it.
-    depth -= (pc.bias.z + pc.bias.y * float(pc.size.w + 1u) * tanTheta) * texel / view.texel.y;
-    float invSize = 1.0 / view.texel.z;
+    vec3 c = shadowProject(view, q);
+    // The bias is a distance along the normal (rounding of p, the half-float normal, curvature),
+    // so along the light it is 1 / cos(theta) longer; at grazing angles the plane's depth across
+    // the footprint is also most sensitive to the normal's rounding.
+    float cosTheta = max(dot(n, toLight), 0.05);
+    float bias = pc.bias.y * texel / (cosTheta * view.texel.y);
+    // Orthographic depth is affine, so on the plane it is c.z plus a gradient per texel (found by
+    // projecting two tangents one texel long). Perspective depth (distance / far) is not affine
+    // in the texel coordinates; there each texel's ray from the light is cut with the plane.
+    vec2 grad = vec2(0.0);
+    if (ortho) {
+        vec3 t1 = normalize(abs(n.x) < 0.9 ? cross(n, vec3(1, 0, 0)) : cross(n, vec3(0, 1, 0)));
+        vec3 t2 = cross(n, t1);
+        vec3 d1 = shadowProject(view, q + t1 * texel) - c, d2 = shadowProject(view, q + t2 * texel) - c;
+        float det = d1.x * d2.y - d2.x * d1.y;
+        // Seen edge-on the plane has no defined gradient (and receives no light): compare flat.
+        if (abs(det) > 1e-6)
+            grad = vec2(d1.z * d2.y - d2.z * d1.y, d2.z * d1.x - d1.z * d2.x) / det;
+    }
+    // Perspective: the direction w to texel-space point (x, y) satisfies (row0 - ndc.x row3) . w = 0
+    // and (row1 - ndc.y row3) . w = 0 (the light position projects to clip (0, 0, *, 0)).
+    mat4 vpT = transpose(view.viewProj);
+    vec3 row0 = vpT[0].xyz, row1 = vpT[1].xyz, row3 = vpT[3].xyz;
+    float planeDist = dot(n, q - view.eye.xyz);
     int r = int(pc.size.w);
     float lit = 0.0;
     for (int y = -r; y <= r; ++y)
-        for (int x = -r; x <= r; ++x)
-            lit += texture(shadowAtlas, vec4(uv + vec2(x, y) * invSize, float(layer), depth));
+        for (int x = -r; x <= r; ++x) {
+            vec2 st = c.xy + vec2(x, y) - 0.5; // bilinear: texel (i, j) has its centre at (i + 0.5, j + 0.5)
+            vec2 base = floor(st), f = st - base;
+            vec4 stored = textureGather(shadowDepth, vec3((base + 1.0) / view.texel.z, float(layer)));
+            // Gather order: (0,1), (1,1), (1,0), (0,0) relative to base. Texel centres, clamped to
+            // the layer as the sampler's clamp-to-edge does, relative to c.xy.
+            float hi = view.texel.z - 0.5;
+            vec4 du = clamp(base.x + vec4(0.5, 1.5, 1.5, 0.5), 0.5, hi) - c.x;
+            vec4 dv = clamp(base.y + vec4(1.5, 1.5, 0.5, 0.5), 0.5, hi) - c.y;
+            vec4 plane;
+            if (ortho) {
+                plane = c.z + grad.x * du + grad.y * dv;
+            } else {
+                for (int k = 0; k < 4; ++k) {
+                    vec2 ndc = (c.xy + vec2(du[k], dv[k])) / view.texel.z * 2.0 - 1.0;
+                    vec3 w = cross(row0 - ndc.x * row3, row1 - ndc.y * row3);
+                    float nw = dot(n, w);
+                    // A ray parallel to the plane never meets it: compare against the receiver's depth.
+                    plane[k] = abs(nw) > 1e-12 * length(w) ? abs(planeDist / nw) * length(w) / view.eye.w : c.z;
+                }
+            }
+            vec4 seen = vec4(greaterThanEqual(stored, plane - bias));
+            lit += mix(mix(seen.w, seen.z, f.x), mix(seen.x, seen.y, f.x), f.y);
+        }
     float taps = float((2 * r + 1) * (2 * r + 1));
     return lit / taps;
 }

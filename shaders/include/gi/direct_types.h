@@ -41,7 +41,7 @@ GI_CHECK_SIZE(GpuLightShadow, 16);
 // Deferred direct lighting (compute over the G-buffer).
 GI_GPU_STRUCT(DeferredPush) {
     uvec4 size;   // x width, y height, z light count, w PCF radius in texels
-    vec4 bias;    // x normal offset, y slope-scaled bias, z constant bias (all in shadow texels), w max slope
+    vec4 bias;    // x normal offset, y depth bias (both in shadow texels at the receiver), zw unused
 };
 GI_CHECK_SIZE(DeferredPush, 32);
 
