@@ -1,0 +1,181 @@
+#include "options.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+
+#include "gi/gi.hpp"
+#include "gi/knobs.hpp"
+
+namespace vkgi::view {
+
+namespace {
+
+constexpr uint32_t kMaxSide = 16384;
+constexpr uint32_t kMaxFrames = 1u << 24;
+
+Result<uint64_t> parseWhole(const std::string& option, const std::string& text, uint64_t lo, uint64_t hi) {
+    uint64_t v = 0;
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
+        return makeError(option + ": '" + text + "' is not a whole number in " + std::to_string(lo) + ".." +
+                         std::to_string(hi));
+    return v;
+}
+
+Result<void> applyValue(const std::string& flag, const std::string& value, Options& o) {
+    if (flag == "--scene") {
+        o.scene = value;
+    } else if (flag == "--technique") {
+        if (auto t = gi::parseTechnique(value); !t)
+            return makeError("--technique: " + t.error().message);
+        o.technique = value;
+    } else if (flag == "--size") {
+        size_t x = value.find('x');
+        if (x == std::string::npos)
+            return makeError("--size: '" + value + "' is not WIDTHxHEIGHT (e.g. 256x256)");
+        auto w = parseWhole("--size width", value.substr(0, x), 1, kMaxSide);
+        if (!w)
+            return w.error();
+        auto h = parseWhole("--size height", value.substr(x + 1), 1, kMaxSide);
+        if (!h)
+            return h.error();
+        o.width = uint32_t(*w);
+        o.height = uint32_t(*h);
+    } else if (flag == "--exposure") {
+        char* end = nullptr;
+        double e = std::strtod(value.c_str(), &end);
+        if (value.empty() || *end || !std::isfinite(e) || !(e > 0.0) || e > 1e12)
+            return makeError("--exposure: '" + value + "' is not a positive finite number");
+        o.exposure = float(e);
+    } else if (flag == "--present") {
+        if (value == "fifo")
+            o.present = PresentMode::Fifo;
+        else if (value == "mailbox")
+            o.present = PresentMode::Mailbox;
+        else if (value == "immediate")
+            o.present = PresentMode::Immediate;
+        else
+            return makeError("--present: '" + value + "' is not fifo, mailbox or immediate");
+    } else if (flag == "--frames") {
+        auto n = parseWhole("--frames", value, 1, kMaxFrames);
+        if (!n)
+            return n.error();
+        o.frames = uint32_t(*n);
+    } else if (flag == "--camera-script") {
+        if (value.empty())
+            return makeError("--camera-script: empty name");
+        o.cameraScript = value;
+    } else if (flag == "--screenshot") {
+        if (std::filesystem::path(value).extension() != ".exr")
+            return makeError("--screenshot: '" + value + "' must end in .exr (the .png is written beside it)");
+        o.screenshot = value;
+    }
+    return {};
+}
+
+bool takesValue(const std::string& flag) {
+    for (const char* f : {"--scene", "--technique", "--size", "--exposure", "--present", "--frames", "--camera-script",
+                          "--screenshot"})
+        if (flag == f)
+            return true;
+    return false;
+}
+
+} // namespace
+
+Result<Options> parseArgs(int argc, const char* const* argv) {
+    Options o;
+    if (const char* v = std::getenv("VKGI_VALIDATION"); v && std::string(v) != "0")
+        o.validation = true;
+    for (int i = 1; i < argc; ++i) {
+        std::string arg = argv[i];
+        std::string value;
+        bool inlineValue = false;
+        if (size_t eq = arg.find('='); arg.rfind("--", 0) == 0 && eq != std::string::npos) {
+            value = arg.substr(eq + 1);
+            arg = arg.substr(0, eq);
+            inlineValue = true;
+        }
+        auto takeValue = [&]() -> Result<void> {
+            if (inlineValue)
+                return {};
+            if (i + 1 >= argc)
+                return makeError(arg + " needs a value (see --help)");
+            value = argv[++i];
+            return {};
+        };
+        if (arg == "--help" || arg == "-h") {
+            o.help = true;
+        } else if (arg == "--validation") {
+            o.validation = true;
+        } else if (arg == "--no-ui") {
+            o.ui = false;
+        } else if (arg == "--animate") {
+            o.animate = true;
+        } else if (arg == "--exit") {
+            o.exitAfterFrames = true;
+        } else if (takesValue(arg)) {
+            if (auto ok = takeValue(); !ok)
+                return ok.error();
+            if (auto ok = applyValue(arg, value, o); !ok)
+                return ok.error();
+        } else if (arg.rfind("--", 0) == 0 && gi::findKnob(arg.substr(2))) {
+            if (auto ok = takeValue(); !ok)
+                return ok.error();
+            gi::GiSettings probe; // a bad value exits 2 before a window opens
+            if (auto ok = gi::setKnob(probe, arg.substr(2), value); !ok)
+                return makeError("--" + ok.error().message);
+            o.knobs.emplace_back(arg.substr(2), value);
+        } else {
+            return makeError("unknown option '" + arg + "' (see --help)");
+        }
+    }
+    if (o.exitAfterFrames && !o.frames)
+        return makeError("--exit needs --frames N");
+    if (o.screenshot && !o.frames)
+        return makeError("--screenshot needs --frames N (it captures the last scripted frame)");
+    return o;
+}
+
+std::string helpText() {
+    std::string text = R"(vkgi-view: interactive viewer of a scene lit by a vkgi GI technique.
+
+Usage: vkgi-view [options]
+  --scene NAME|FILE      built-in scene name or a .gltf/.glb file (default: cornell)
+  --technique T          TECHNIQUES (default none); switchable at run time
+  --size WxH             initial window size = render size (default 640x480)
+  --exposure E           display / PNG exposure: radiance is multiplied by E before the ACES curve
+  --present MODE         fifo (default), mailbox or immediate
+  --validation           Khronos validation + synchronization validation; any message makes the
+                         exit code 3 (also VKGI_VALIDATION=1)
+  --no-ui                no ImGui panel
+Scripted mode (CI):
+  --frames N             render N frames with the scripted camera, then continue interactively
+                         (or exit with --exit)
+  --camera-script S      still (the scene camera; default), orbit (one turn around the scene's
+                         vertical axis, back to the scene camera at the last frame), or a file of
+                         keyframes "px py pz tx ty tz [yfov_degrees]" (position, look-at target), one
+                         per line, spread evenly over the N frames and interpolated linearly
+  --animate              move the first light and the dynamic object (GiSystem::updateScene) along
+                         loops that return to their start at the last frame
+  --screenshot FILE.exr  capture the last scripted frame: linear radiance FILE.exr + tone-mapped
+                         FILE.png (atomic writes)
+  --exit                 exit after the N frames (0 = success)
+  --help                 this text
+
+Controls: left drag orbit (fly: look), right drag pan, wheel dolly; Tab orbit/fly camera;
+fly: W/A/S/D/Q/E move, Shift faster; R reset camera; 1-4 technique; F12 or P screenshot
+(vkgi-view-<scene>-<technique>-<n>.exr/.png); H hide panel; Esc quit.
+Environment: VKGI_DEVICE=<substring> picks the Vulkan device by name.
+Exit codes: 0 success, 1 window/device/scene/render/output failure, 2 bad arguments,
+3 validation messages were reported.
+)";
+    std::string names;
+    for (const std::string& n : gi::techniqueNames())
+        names += (names.empty() ? "" : ", ") + n;
+    text.replace(text.find("TECHNIQUES"), 10, names);
+    return text + "\nTechnique settings (--name value or --name=value):\n" + gi::knobHelp();
+}
+
+} // namespace vkgi::view

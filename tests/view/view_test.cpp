@@ -1,0 +1,144 @@
+// vkgi-view end to end, under xvfb-run (tests/CMakeLists.txt runs this binary through it): a
+// scripted run must exit 0 with validation + synchronization validation on and silent, and its
+// screenshot (linear radiance, before tone mapping) must match vkgi-render's image of the
+// same scene, technique, size and camera.
+//
+// Tolerance: both programs render through the same GiSystem passes, on the same device, with
+// the same camera (the scripted orbit and the --animate loops return exactly to the start at
+// the last frame), and no vkgi shader reads the frame counter. The images are therefore
+// expected to be bit-identical, and the test allows only float noise (max |a - b| <= 1e-5 x
+// the reference's peak, a few ulps of the largest value): any real difference (a wrong camera,
+// an off-by-one in the readback, a missed scene update, a stale shadow atlas) is far larger.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+
+#include "engine/image_io.hpp"
+#include "engine/image_metrics.hpp"
+#include "support/test_env.hpp"
+
+namespace vkgi::test {
+namespace {
+
+struct RunResult {
+    int code = -1;
+    std::string out; // stdout + stderr
+};
+
+std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s)
+        q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+RunResult run(const std::string& exe, const std::string& args, const std::string& tag) {
+    std::filesystem::path log = outputDir() / ("view-" + tag + ".log");
+    std::string cmd = quote(exe) + " " + args + " > " + quote(log.string()) + " 2>&1";
+    int status = std::system(cmd.c_str());
+    RunResult r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream in(log);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    r.out = ss.str();
+    return r;
+}
+
+// Renders `technique` on cornell at 96x96 with both programs and compares the EXRs. `knobs` go
+// to both, `viewArgs` to vkgi-view only.
+void expectViewMatchesRender(const std::string& technique, const std::string& knobs, const std::string& viewArgs) {
+    std::filesystem::path dir = outputDir() / ("view-" + technique);
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    std::string common = "--scene cornell --technique " + technique + " --size 96x96 " + knobs;
+    RunResult render = run(VKGI_RENDER_EXE, common + " --out " + quote((dir / "render.exr").string()), technique + "-render");
+    ASSERT_EQ(render.code, 0) << render.out;
+    RunResult view = run(VKGI_VIEW_EXE,
+                   common + " --validation --frames 8 --exit --screenshot " + quote((dir / "view.exr").string()) + " " +
+                       viewArgs,
+                   technique + "-view");
+    ASSERT_EQ(view.code, 0) << view.out;
+    EXPECT_EQ(view.out.find("validation"), std::string::npos) << view.out;
+    EXPECT_TRUE(std::filesystem::exists(dir / "view.png"));
+
+    auto a = readExr(dir / "view.exr");
+    auto b = readExr(dir / "render.exr");
+    ASSERT_TRUE(a) << a.error().message;
+    ASSERT_TRUE(b) << b.error().message;
+    ASSERT_EQ(a->width, b->width);
+    ASSERT_EQ(a->height, b->height);
+    float peak = 0.0f, maxDiff = 0.0f;
+    for (size_t i = 0; i < b->pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            peak = std::max(peak, std::abs(b->pixels[i][c]));
+            maxDiff = std::max(maxDiff, std::abs(a->pixels[i][c] - b->pixels[i][c]));
+        }
+    EXPECT_GT(peak, 0.0f) << "the reference image is black";
+    EXPECT_LE(maxDiff, 1e-5f * peak) << technique << ": max |view - render| " << maxDiff << " nits, peak " << peak;
+    auto metrics = compareImages(*a, *b);
+    ASSERT_TRUE(metrics) << metrics.error().message;
+    EXPECT_EQ(metrics->nonFinite, 0u);
+    std::printf("%s: max |view - render| = %g nits (peak %g), relMSE %g\n", technique.c_str(), maxDiff, peak,
+                metrics->relMse);
+}
+
+TEST(View, ScriptedDirectOnlyMatchesRender) {
+    expectViewMatchesRender("none", "", "--camera-script orbit --animate");
+}
+
+TEST(View, ScriptedVplMatchesRender) {
+    expectViewMatchesRender("vpl", "", "--camera-script orbit --animate");
+}
+
+TEST(View, ScriptedLpvMatchesRender) {
+    expectViewMatchesRender("lpv", "--lpv.grid 16", "--camera-script orbit --animate");
+}
+
+// A keyframe file really moves the camera: its view of cornell differs from the scene camera's.
+TEST(View, CameraScriptFileMovesTheCamera) {
+    std::filesystem::path dir = outputDir() / "view-keyframes";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "path.txt") << "# px py pz  tx ty tz  yfov\n0.1 0.3 1.0  0.2 0.25 0.0  50\n";
+    std::string common = "--scene cornell --size 64x64";
+    RunResult render = run(VKGI_RENDER_EXE, common + " --out " + quote((dir / "render.exr").string()), "keys-render");
+    ASSERT_EQ(render.code, 0) << render.out;
+    RunResult view = run(VKGI_VIEW_EXE,
+                         common + " --validation --no-ui --frames 2 --exit --camera-script " +
+                             quote((dir / "path.txt").string()) + " --screenshot " + quote((dir / "view.exr").string()),
+                         "keys-view");
+    ASSERT_EQ(view.code, 0) << view.out;
+    auto a = readExr(dir / "view.exr");
+    auto b = readExr(dir / "render.exr");
+    ASSERT_TRUE(a && b);
+    auto metrics = compareImages(*a, *b);
+    ASSERT_TRUE(metrics) << metrics.error().message;
+    EXPECT_GT(metrics->relMse, 0.01);
+}
+
+TEST(View, CameraScriptFileErrorsNameTheLine) {
+    std::filesystem::path file = outputDir() / "view-bad-script.txt";
+    std::ofstream(file) << "# position target\n0 1 3  0 1 0\n0 1 x 0 0 0\n";
+    RunResult r = run(VKGI_VIEW_EXE, "--size 32x32 --frames 2 --exit --camera-script " + quote(file.string()), "bad-script");
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find(file.string() + ":3: 'x' is not a finite number"), std::string::npos) << r.out;
+}
+
+TEST(View, BadArgumentsExit2BeforeOpeningAWindow) {
+    for (const char* args : {"--exit", "--screenshot out.png --frames 1", "--frames 0", "--technique nope",
+                             "--lpv.grid 0", "--present vsync"}) {
+        RunResult r = run(VKGI_VIEW_EXE, args, "bad-args");
+        EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+        EXPECT_NE(r.out.find("vkgi-view: "), std::string::npos) << args;
+    }
+}
+
+} // namespace
+} // namespace vkgi::test
