@@ -56,11 +56,11 @@ DescriptorItem bufferItem(uint32_t binding, VkBuffer buffer) {
 // As dispatch(), with the work-group counts read from `args` (VkDispatchIndirectCommand at 0).
 template <typename Push>
 void dispatchIndirect(const Context& ctx, VkCommandBuffer cmd, const Pipeline& p, const Push& push,
-                      std::initializer_list<DescriptorItem> items, VkBuffer args) {
+                      std::initializer_list<DescriptorItem> items, VkBuffer args, VkDeviceSize offset = 0) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
     pushConstants(cmd, p, &push, sizeof(push));
     pushDescriptors(ctx, cmd, p, std::span<const DescriptorItem>(items.begin(), items.size()));
-    vkCmdDispatchIndirect(cmd, args, 0);
+    vkCmdDispatchIndirect(cmd, args, offset);
 }
 
 } // namespace
@@ -75,6 +75,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
                    {&v->m_mipBase, "gi/voxel/voxel_mip_base.comp"},
                    {&v->m_mip, "gi/voxel/voxel_mip.comp"},
                    {&v->m_bounce, "gi/voxel/voxel_bounce.comp"},
+                   {&v->m_bounceApply, "gi/voxel/voxel_bounce_apply.comp"},
                    {&v->m_trace, "gi/voxel/vct_trace.comp"},
                    {&v->m_traceRefine, "gi/voxel/vct_trace_refine.comp"},
                    {&v->m_upsample, "gi/voxel/vct_upsample.comp"}};
@@ -90,7 +91,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     v->m_bounced.image = createRadianceVolume(ctx, n, n, 1, "vct.radiance.bounced");
     v->m_aniso.image = createRadianceVolume(ctx, n / 2, 6 * (n / 2), v->m_levels, "vct.aniso");
     BufferDesc list;
-    list.size = VkDeviceSize(GI_VOXEL_LIST_HEADER + n * n * n) * sizeof(uint32_t);
+    list.size = VkDeviceSize(GI_VOXEL_LIST_HEADER + n * n * n + (n / 2) * (n / 2) * (n / 2)) * sizeof(uint32_t);
     list.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
                  VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     v->m_list.buffer = createBuffer(ctx, list, "vct.voxel_list");
@@ -104,7 +105,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
 
 VctVolumes::~VctVolumes() {
     destroyBuffer(m_ctx, m_list.buffer);
-    for (Pipeline* p : {&m_compact, &m_light, &m_mipBase, &m_mip, &m_bounce, &m_trace, &m_traceRefine, &m_upsample})
+    for (Pipeline* p : {&m_compact, &m_light, &m_mipBase, &m_mip, &m_bounce, &m_bounceApply, &m_trace, &m_traceRefine, &m_upsample})
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_radiance.image);
     destroyImage(m_ctx, m_bounced.image);
@@ -162,14 +163,25 @@ void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level, const Image& sou
              {storage(0, src), storage(1, m_aniso.image.mipViews[level])}, glm::uvec3(size));
 }
 
-void VctVolumes::recordBounce(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkImageLayout sampledLayout) const {
-    const VoxelVolumes& g = m_grid.volumes();
+void VctVolumes::recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& cones, const Image& gathered,
+                                    VkImageLayout sampledLayout) const {
     gpu::VoxelBouncePush push{m_grid.params(), cones};
     dispatchIndirect(m_ctx, cmd, m_bounce, push,
                      {sampled(0, m_radiance.image, m_sampler, sampledLayout),
+                      sampled(1, m_aniso.image, m_sampler, sampledLayout), storage(2, m_grid.volumes().normal.image.view),
+                      storage(3, gathered.view), bufferItem(4, m_list.buffer.buffer)},
+                     m_list.buffer.buffer, GI_VOXEL_LIST_BLOCKS * sizeof(uint32_t));
+}
+
+void VctVolumes::recordBounceApply(VkCommandBuffer cmd, const gpu::ConeParams& cones, const Image& gathered,
+                                   VkImageLayout sampledLayout) const {
+    const VoxelVolumes& g = m_grid.volumes();
+    gpu::VoxelBouncePush push{m_grid.params(), cones};
+    dispatchIndirect(m_ctx, cmd, m_bounceApply, push,
+                     {sampled(0, m_radiance.image, m_sampler, sampledLayout),
                       sampled(1, m_aniso.image, m_sampler, sampledLayout), storage(2, g.albedo.image.view),
-                      storage(3, g.normal.image.view), storage(4, m_bounced.image.view),
-                      bufferItem(5, m_list.buffer.buffer)},
+                      storage(3, g.normal.image.view), storage(4, gathered.view), storage(5, m_bounced.image.view),
+                      bufferItem(6, m_list.buffer.buffer)},
                      m_list.buffer.buffer);
 }
 

@@ -70,8 +70,13 @@ public:
                      VkImageLayout sampledLayout) const;
     // aniso level `level` from `source` (level 0) or from level - 1 of aniso.
     void recordMip(VkCommandBuffer cmd, uint32_t level, const Image& source) const;
-    // radiance() + gathered second bounce -> bounced() at the listed voxels; reads the aniso chains built from radiance().
-    void recordBounce(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkImageLayout sampledLayout) const;
+    // Second bounce, both halves read the aniso chains built from radiance(). Blocks: the
+    // diffuse gather of every listed 2^3 block -> `gathered` ((N/2)^3 RGBA16F, storage write).
+    void recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& cones, const Image& gathered,
+                            VkImageLayout sampledLayout) const;
+    // Apply: radiance() + albedo * (block or own gather) -> bounced() at the listed voxels.
+    void recordBounceApply(VkCommandBuffer cmd, const gpu::ConeParams& cones, const Image& gathered,
+                           VkImageLayout sampledLayout) const;
     // Per-pixel trace; `level0` is radiance() or bounced(), whichever the mips were built from.
     void recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const Image& level0, const gpu::VctTracePush& push,
                      const VctTraceTargets& targets, VkImageLayout sampledLayout) const;
@@ -91,7 +96,7 @@ private:
     bool m_listBuilt = false;
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;
-    Pipeline m_compact, m_light, m_mipBase, m_mip, m_bounce, m_trace, m_traceRefine, m_upsample;
+    Pipeline m_compact, m_light, m_mipBase, m_mip, m_bounce, m_bounceApply, m_trace, m_traceRefine, m_upsample;
 };
 
 } // namespace vkgi::gi

@@ -173,6 +173,27 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     out.aniso = addMipPasses(graph, v, radiance, out.aniso, "gi.vct.mip");
     gpu::ConeParams cones = volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
     if (settings.bounces >= 2) {
+        ImageDesc gatheredDesc;
+        gatheredDesc.type = VK_IMAGE_TYPE_3D;
+        gatheredDesc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+        gatheredDesc.width = gatheredDesc.height = gatheredDesc.depth = volumes.grid().resolution() / 2;
+        struct Gathered {
+            rg::ImageHandle image;
+        };
+        const Gathered& blocks = graph.addPass<Gathered>(
+            "gi.vct.bounce.blocks",
+            [&](rg::PassBuilder& b, Gathered& d) {
+                b.read(list, Access::IndirectRead);
+                b.read(list, Access::ComputeStorageRead);
+                b.read(radiance, Access::ComputeSampledRead);
+                b.read(out.aniso, Access::ComputeSampledRead);
+                b.read(grid.normal, Access::ComputeStorageRead);
+                // Only the listed blocks are written; the apply pass reads no others.
+                d.image = b.write(b.create("gi.vct.bounce.gathered", gatheredDesc), Access::ComputeStorageWriteDiscard);
+            },
+            [v, cones, radiance](const Gathered& d, rg::PassContext& ctx) {
+                v->recordBounceBlocks(ctx.cmd(), cones, ctx.image(d.image), ctx.layout(radiance));
+            });
         graph.addPass(
             "gi.vct.bounce",
             [&](rg::PassBuilder& b) {
@@ -182,10 +203,11 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                 b.read(out.aniso, Access::ComputeSampledRead);
                 b.read(grid.albedo, Access::ComputeStorageRead);
                 b.read(grid.normal, Access::ComputeStorageRead);
+                b.read(blocks.image, Access::ComputeStorageRead);
                 bounced = b.write(bounced, Access::ComputeStorageWrite); // the listed voxels
             },
-            [v, cones, radiance](rg::PassContext& ctx) {
-                v->recordBounce(ctx.cmd(), cones, ctx.layout(radiance));
+            [v, cones, radiance, gathered = blocks.image](rg::PassContext& ctx) {
+                v->recordBounceApply(ctx.cmd(), cones, ctx.image(gathered), ctx.layout(radiance));
             });
         radiance = bounced;
         out.aniso = addMipPasses(graph, v, radiance, out.aniso, "gi.vct.bounce.mip");

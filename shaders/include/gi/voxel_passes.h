@@ -31,11 +31,14 @@ GI_CHECK_SIZE(VoxelizePush, 64);
 #define GI_VOXEL_ANISO_DIRECTIONS 6
 
 // Occupied-voxel list (voxel_compact.comp, rebuilt once per voxelization): a storage buffer of
-// GI_VOXEL_LIST_HEADER uints then one packed coordinate per occupied voxel. The header is
-// also the VkDispatchIndirectCommand of the passes that run over the list (voxel light,
-// bounce): x = ceil(count / GI_VOXEL_LIST_GROUP) work groups, y = z = 1, w = count. Surface
-// voxels are ~10% of a grid, so those passes skip the empty 90% without divergent lanes.
-#define GI_VOXEL_LIST_HEADER 4u
+// GI_VOXEL_LIST_HEADER uints, then N^3 slots for occupied voxels, then (N/2)^3 slots for
+// occupied 2^3 blocks, each a packed coordinate. Header words 0..3 belong to the voxels, 4..7
+// to the blocks; each quad is also the VkDispatchIndirectCommand (at byte 0 and 16) of the
+// passes that run over that list: x = ceil(count / GI_VOXEL_LIST_GROUP) work groups,
+// y = z = 1, w = count. Surface voxels are ~10% of a grid, so those passes skip the empty 90%
+// without divergent lanes.
+#define GI_VOXEL_LIST_HEADER 8u
+#define GI_VOXEL_LIST_BLOCKS 4u // header offset (words) of the block quad
 #define GI_VOXEL_LIST_GROUP 64u
 GI_INLINE uint voxelListPack(uvec3 c) { return c.x | (c.y << 10u) | (c.z << 20u); }
 GI_INLINE uvec3 voxelListUnpack(uint v) { return uvec3(v & 1023u, (v >> 10u) & 1023u, v >> 20u); }
@@ -67,7 +70,8 @@ GI_GPU_STRUCT(ConeParams) {
 #define GI_VCT_FLAG_GLOSSY 1u
 #define GI_VCT_FLAG_AO 2u
 
-// voxel_bounce.comp: per-voxel diffuse gather added to the voxel's own radiance.
+// voxel_bounce.comp: diffuse gather per occupied 2^3 block (voxel_bounce_apply.comp adds it to
+// the voxels, or gathers per voxel where the block's mean normal does not fit).
 GI_GPU_STRUCT(VoxelBouncePush) {
     VoxelGridParams grid;
     ConeParams cones;
