@@ -184,19 +184,21 @@ Camera CameraScript::at(float t) const {
 
 std::optional<uint32_t> SceneAnimation::pickDynamicInstance(const Scene& scene) {
     std::optional<uint32_t> best;
-    float bestVolume = 0.0f;
+    float bestSize = 0.0f;
     for (uint32_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& inst = scene.instances[i];
         if (inst.dynamic)
             return i;
+        const Mesh& mesh = scene.meshes[inst.mesh];
+        if (scene.materials[mesh.material].emission != glm::vec3(0.0f))
+            continue; // moving an emitter is moving a light: the light controls do that
         Aabb box;
-        for (const glm::vec3& p : scene.meshes[inst.mesh].positions)
+        for (const glm::vec3& p : mesh.positions)
             box.extend(glm::vec3(inst.transform * glm::vec4(p, 1.0f)));
-        glm::vec3 e = box.extent();
-        float volume = e.x * e.y * e.z;
-        if (box.valid() && volume > 0.0f && (!best || volume < bestVolume)) {
+        float size = glm::length(box.extent());
+        if (box.valid() && size > 0.0f && (!best || size < bestSize)) {
             best = i;
-            bestVolume = volume;
+            bestSize = size;
         }
     }
     return best;

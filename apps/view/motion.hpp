@@ -64,8 +64,8 @@ private:
 
 // The scripted light/object loop (--animate) and the instance the UI moves.
 struct SceneAnimation {
-    // The instance to move: the first one marked dynamic, else the smallest by bounds volume
-    // (cornell: the short block), which then gets marked dynamic.
+    // The instance to move: the first one marked dynamic, else the non-emissive one with the
+    // smallest bounds diagonal (cornell: the short block), which then gets marked dynamic.
     static std::optional<uint32_t> pickDynamicInstance(const Scene& scene);
     // `scene` with light 0 and instance `object` displaced along closed loops at phase t.
     static Scene at(const Scene& base, std::optional<uint32_t> object, float t);

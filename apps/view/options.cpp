@@ -23,6 +23,21 @@ Result<uint64_t> parseWhole(const std::string& option, const std::string& text, 
     return v;
 }
 
+Result<void> parseSize(const std::string& flag, const std::string& value, uint32_t& width, uint32_t& height) {
+    size_t x = value.find('x');
+    if (x == std::string::npos)
+        return makeError(flag + ": '" + value + "' is not WIDTHxHEIGHT (e.g. 256x256)");
+    auto w = parseWhole(flag + " width", value.substr(0, x), 1, kMaxSide);
+    if (!w)
+        return w.error();
+    auto h = parseWhole(flag + " height", value.substr(x + 1), 1, kMaxSide);
+    if (!h)
+        return h.error();
+    width = uint32_t(*w);
+    height = uint32_t(*h);
+    return {};
+}
+
 Result<void> applyValue(const std::string& flag, const std::string& value, Options& o) {
     if (flag == "--scene") {
         o.scene = value;
@@ -31,17 +46,16 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
             return makeError("--technique: " + t.error().message);
         o.technique = value;
     } else if (flag == "--size") {
-        size_t x = value.find('x');
-        if (x == std::string::npos)
-            return makeError("--size: '" + value + "' is not WIDTHxHEIGHT (e.g. 256x256)");
-        auto w = parseWhole("--size width", value.substr(0, x), 1, kMaxSide);
-        if (!w)
-            return w.error();
-        auto h = parseWhole("--size height", value.substr(x + 1), 1, kMaxSide);
-        if (!h)
-            return h.error();
-        o.width = uint32_t(*w);
-        o.height = uint32_t(*h);
+        return parseSize(flag, value, o.width, o.height);
+    } else if (flag == "--resize-at") {
+        size_t colon = value.find(':');
+        if (colon == std::string::npos)
+            return makeError("--resize-at: '" + value + "' is not FRAME:WIDTHxHEIGHT (e.g. 3:320x240)");
+        auto frame = parseWhole("--resize-at frame", value.substr(0, colon), 0, kMaxFrames);
+        if (!frame)
+            return frame.error();
+        o.resizeFrame = uint32_t(*frame);
+        return parseSize(flag, value.substr(colon + 1), o.resizeWidth, o.resizeHeight);
     } else if (flag == "--exposure") {
         char* end = nullptr;
         double e = std::strtod(value.c_str(), &end);
@@ -76,7 +90,7 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
 
 bool takesValue(const std::string& flag) {
     for (const char* f : {"--scene", "--technique", "--size", "--exposure", "--present", "--frames", "--camera-script",
-                          "--screenshot"})
+                          "--screenshot", "--resize-at"})
         if (flag == f)
             return true;
     return false;
@@ -133,6 +147,8 @@ Result<Options> parseArgs(int argc, const char* const* argv) {
     }
     if (o.exitAfterFrames && !o.frames)
         return makeError("--exit needs --frames N");
+    if (o.resizeFrame && (!o.frames || *o.resizeFrame >= *o.frames))
+        return makeError("--resize-at: the frame must be one of the --frames N scripted frames");
     if (o.screenshot && !o.frames)
         return makeError("--screenshot needs --frames N (it captures the last scripted frame)");
     return o;
@@ -159,6 +175,7 @@ Scripted mode (CI):
                          per line, spread evenly over the N frames and interpolated linearly
   --animate              move the first light and the dynamic object (GiSystem::updateScene) along
                          loops that return to their start at the last frame
+  --resize-at F:WxH      resize the window to WxH before scripted frame F (swapchain recreation)
   --screenshot FILE.exr  capture the last scripted frame: linear radiance FILE.exr + tone-mapped
                          FILE.png (atomic writes)
   --exit                 exit after the N frames (0 = success)

@@ -28,6 +28,9 @@ struct Options {
     std::string cameraScript = "still";
     bool animate = false; // move the light and the dynamic object along loops that end where they start
     std::optional<std::filesystem::path> screenshot;
+    // Scripted window resize before frame `resizeFrame` (exercises swapchain recreation in CI).
+    std::optional<uint32_t> resizeFrame;
+    uint32_t resizeWidth = 0, resizeHeight = 0;
     bool exitAfterFrames = false;
     bool help = false;
 };

@@ -224,8 +224,9 @@ PanelActions Ui::build(PanelModel& model) {
     ImGui::NewFrame();
     if (m_visible) {
         ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-        ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
+        ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
         ImGui::Begin("vkgi-view (H hides)");
+        ImGui::PushItemWidth(-ImGui::GetFontSize() * 8.0f); // room for the labels
         ImGui::Text("%ux%u  frame %.1f ms  GPU %.1f ms", model.size.width, model.size.height, model.frameMs,
                     model.gpuMs);
         gi::GiSettings edited = *model.settings;
@@ -243,7 +244,7 @@ PanelActions Ui::build(PanelModel& model) {
         }
         if (ImGui::CollapsingHeader("settings (knob table)") && knobControls(edited))
             actions.settings = edited;
-        if (ImGui::CollapsingHeader("scene", ImGuiTreeNodeFlags_DefaultOpen))
+        if (ImGui::CollapsingHeader("scene"))
             actions.sceneEdited = sceneControls(model);
         ImGui::DragFloat("exposure", model.exposure, 0.01f, 1e-6f, 1e6f, "%.4g",
                          ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
@@ -266,6 +267,7 @@ PanelActions Ui::build(PanelModel& model) {
             }
             ImGui::EndTable();
         }
+        ImGui::PopItemWidth();
         ImGui::End();
     }
     ImGui::Render();

@@ -347,6 +347,10 @@ int Viewer::run() {
     m_start = std::chrono::steady_clock::now();
     auto last = m_start;
     while (!m_window.shouldClose()) {
+        if (m_options.resizeFrame && m_frame == *m_options.resizeFrame && !m_resized) {
+            m_window.resize(m_options.resizeWidth, m_options.resizeHeight);
+            m_resized = true;
+        }
         glfwPollEvents();
         WindowEvents events = m_window.takeEvents();
         uint32_t fw = 0, fh = 0;
@@ -445,10 +449,14 @@ int Viewer::run() {
         std::vector<double> frames(m_frameTimes.begin() + kWarmupFrames, m_frameTimes.end());
         std::vector<double> gpu(m_gpuTimes.begin() + kWarmupFrames, m_gpuTimes.end());
         VkExtent2D e = m_swapchain->extent();
+        std::string own; // the viewer's own passes in the last frame
+        for (const rg::PassTiming& p : m_passes)
+            if (p.name.rfind("view.", 0) == 0)
+                own += " " + p.name + " " + std::to_string(p.ms).substr(0, 5) + " ms";
         std::printf("vkgi-view: %zu frames at %ux%u (%s, present %s): median frame %.2f ms, median GPU %.2f ms "
-                    "(first %zu frames left out)\n",
+                    "(first %zu frames left out); last frame:%s\n",
                     m_frameTimes.size() + 1, e.width, e.height, gi::toString(m_gi->settings().technique),
-                    m_swapchain->presentModeName(), median(frames), median(gpu), kWarmupFrames);
+                    m_swapchain->presentModeName(), median(frames), median(gpu), kWarmupFrames, own.c_str());
     }
     return 0;
 }

@@ -91,6 +91,7 @@ private:
     std::vector<double> m_gpuTimes;
     std::string m_status;
     bool m_swapchainStale = false;
+    bool m_resized = false; // the scripted --resize-at happened
     double m_cursor[2] = {0.0, 0.0};
     std::chrono::steady_clock::time_point m_start;
 };

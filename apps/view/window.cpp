@@ -78,6 +78,10 @@ void Window::requestClose() {
     glfwSetWindowShouldClose(m_window, GLFW_TRUE);
 }
 
+void Window::resize(uint32_t width, uint32_t height) {
+    glfwSetWindowSize(m_window, int(width), int(height));
+}
+
 void Window::framebufferSize(uint32_t& width, uint32_t& height) const {
     int w = 0, h = 0;
     glfwGetFramebufferSize(m_window, &w, &h);

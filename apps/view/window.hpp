@@ -40,6 +40,7 @@ public:
     GLFWwindow* handle() const { return m_window; }
     bool shouldClose() const;
     void requestClose();
+    void resize(uint32_t width, uint32_t height);
     // Framebuffer size in pixels (0 x 0 while minimised).
     void framebufferSize(uint32_t& width, uint32_t& height) const;
     WindowEvents takeEvents();

@@ -90,8 +90,9 @@ void expectViewMatchesRender(const std::string& technique, const std::string& kn
                 metrics->relMse);
 }
 
-TEST(View, ScriptedDirectOnlyMatchesRender) {
-    expectViewMatchesRender("none", "", "--camera-script orbit --animate");
+// Starts smaller and is resized to 96x96 at frame 2: the swapchain is recreated mid-run.
+TEST(View, ScriptedDirectOnlyWithResizeMatchesRender) {
+    expectViewMatchesRender("none", "", "--camera-script orbit --animate --size 64x48 --resize-at 2:96x96");
 }
 
 TEST(View, ScriptedVplMatchesRender) {
@@ -133,7 +134,8 @@ TEST(View, CameraScriptFileErrorsNameTheLine) {
 
 TEST(View, BadArgumentsExit2BeforeOpeningAWindow) {
     for (const char* args : {"--exit", "--screenshot out.png --frames 1", "--frames 0", "--technique nope",
-                             "--lpv.grid 0", "--present vsync"}) {
+                             "--lpv.grid 0", "--present vsync",
+                             "--frames 3 --resize-at 3:64x64"}) {
         RunResult r = run(VKGI_VIEW_EXE, args, "bad-args");
         EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
         EXPECT_NE(r.out.find("vkgi-view: "), std::string::npos) << args;
