@@ -56,6 +56,17 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
             return frame.error();
         o.resizeFrame = uint32_t(*frame);
         return parseSize(flag, value.substr(colon + 1), o.resizeWidth, o.resizeHeight);
+    } else if (flag == "--switch-at") {
+        size_t colon = value.find(':');
+        if (colon == std::string::npos)
+            return makeError("--switch-at: '" + value + "' is not FRAME:TECHNIQUE (e.g. 3:vpl)");
+        auto frame = parseWhole("--switch-at frame", value.substr(0, colon), 0, kMaxFrames);
+        if (!frame)
+            return frame.error();
+        if (auto t = gi::parseTechnique(value.substr(colon + 1)); !t)
+            return makeError("--switch-at: " + t.error().message);
+        o.switchFrame = uint32_t(*frame);
+        o.switchTechnique = value.substr(colon + 1);
     } else if (flag == "--exposure") {
         char* end = nullptr;
         double e = std::strtod(value.c_str(), &end);
@@ -90,7 +101,7 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
 
 bool takesValue(const std::string& flag) {
     for (const char* f : {"--scene", "--technique", "--size", "--exposure", "--present", "--frames", "--camera-script",
-                          "--screenshot", "--resize-at"})
+                          "--screenshot", "--resize-at", "--switch-at"})
         if (flag == f)
             return true;
     return false;
@@ -149,6 +160,8 @@ Result<Options> parseArgs(int argc, const char* const* argv) {
         return makeError("--exit needs --frames N");
     if (o.resizeFrame && (!o.frames || *o.resizeFrame >= *o.frames))
         return makeError("--resize-at: the frame must be one of the --frames N scripted frames");
+    if (o.switchFrame && (!o.frames || *o.switchFrame >= *o.frames))
+        return makeError("--switch-at: the frame must be one of the --frames N scripted frames");
     if (o.screenshot && !o.frames)
         return makeError("--screenshot needs --frames N (it captures the last scripted frame)");
     return o;
@@ -176,6 +189,7 @@ Scripted mode (CI):
   --animate              move the first light and the dynamic object (GiSystem::updateScene) along
                          loops that return to their start at the last frame
   --resize-at F:WxH      resize the window to WxH before scripted frame F (swapchain recreation)
+  --switch-at F:T        switch to technique T before scripted frame F (the GiSystem is rebuilt)
   --screenshot FILE.exr  capture the last scripted frame: linear radiance FILE.exr + tone-mapped
                          FILE.png (atomic writes)
   --exit                 exit after the N frames (0 = success)

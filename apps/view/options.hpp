@@ -31,6 +31,9 @@ struct Options {
     // Scripted window resize before frame `resizeFrame` (exercises swapchain recreation in CI).
     std::optional<uint32_t> resizeFrame;
     uint32_t resizeWidth = 0, resizeHeight = 0;
+    // Scripted technique switch before frame `switchFrame` (rebuilds the GiSystem, as the panel does).
+    std::optional<uint32_t> switchFrame;
+    std::string switchTechnique;
     bool exitAfterFrames = false;
     bool help = false;
 };

@@ -389,6 +389,11 @@ int Viewer::run() {
         bool screenshot = false;
         std::optional<gi::GiSettings> newSettings;
         handleKeys(events.keysPressed, screenshot, newSettings);
+        if (scriptedFrame && m_options.switchFrame && m_frame == *m_options.switchFrame) {
+            gi::GiSettings s = m_gi->settings();
+            s.technique = *gi::parseTechnique(m_options.switchTechnique);
+            newSettings = s;
+        }
         bool sceneEdited = false;
         if (m_ui) {
             PanelModel model;

@@ -3,7 +3,10 @@
 // recorded into one of two frame slots so the CPU builds frame N+1 while the GPU renders N.
 // Two frames in flight is what GiSystem's FrameConstants ring (2 entries) and the transient
 // pool (entries idle for 8 executions survive) are sized for; GPU-side hazards between
-// frames are covered by the graph's barriers, derived from the states it carries over.
+// frames are covered by the graph's barriers, derived from the states it carries over (on
+// the one queue). GiSystem frees persistent images only on a settings or scene change: the
+// viewer waits for both slots before those (rebuildGi, updateScene), and the shadow atlas
+// waits for the device itself when its layout changes.
 #include <chrono>
 #include <filesystem>
 #include <memory>

@@ -55,16 +55,18 @@ RunResult run(const std::string& exe, const std::string& args, const std::string
 // Renders `technique` on cornell at 96x96 with both programs and compares the EXRs. `knobs` go
 // to both, `viewArgs` to vkgi-view only.
 void expectViewMatchesRender(const std::string& technique, const std::string& knobs, const std::string& viewArgs) {
-    std::filesystem::path dir = outputDir() / ("view-" + technique);
+    // One folder per test: ctest runs the cases in parallel.
+    std::string tag = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    std::filesystem::path dir = outputDir() / ("view-" + tag);
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     std::string common = "--scene cornell --technique " + technique + " --size 96x96 " + knobs;
-    RunResult render = run(VKGI_RENDER_EXE, common + " --out " + quote((dir / "render.exr").string()), technique + "-render");
+    RunResult render = run(VKGI_RENDER_EXE, common + " --out " + quote((dir / "render.exr").string()), tag + "-render");
     ASSERT_EQ(render.code, 0) << render.out;
     RunResult view = run(VKGI_VIEW_EXE,
                    common + " --validation --frames 8 --exit --screenshot " + quote((dir / "view.exr").string()) + " " +
                        viewArgs,
-                   technique + "-view");
+                   tag + "-view");
     ASSERT_EQ(view.code, 0) << view.out;
     EXPECT_EQ(view.out.find("validation"), std::string::npos) << view.out;
     EXPECT_TRUE(std::filesystem::exists(dir / "view.png"));
@@ -103,6 +105,11 @@ TEST(View, ScriptedLpvMatchesRender) {
     expectViewMatchesRender("lpv", "--lpv.grid 16", "--camera-script orbit --animate");
 }
 
+// Starts with LPV and switches to VPL at frame 3 (the GiSystem is rebuilt mid-run).
+TEST(View, TechniqueSwitchMatchesRenderOfTheNewTechnique) {
+    expectViewMatchesRender("vpl", "", "--camera-script still --technique lpv --lpv.grid 16 --switch-at 3:vpl");
+}
+
 // A keyframe file really moves the camera: its view of cornell differs from the scene camera's.
 TEST(View, CameraScriptFileMovesTheCamera) {
     std::filesystem::path dir = outputDir() / "view-keyframes";
@@ -135,7 +142,7 @@ TEST(View, CameraScriptFileErrorsNameTheLine) {
 TEST(View, BadArgumentsExit2BeforeOpeningAWindow) {
     for (const char* args : {"--exit", "--screenshot out.png --frames 1", "--frames 0", "--technique nope",
                              "--lpv.grid 0", "--present vsync",
-                             "--frames 3 --resize-at 3:64x64"}) {
+                             "--frames 3 --resize-at 3:64x64", "--frames 3 --switch-at 1:nope"}) {
         RunResult r = run(VKGI_VIEW_EXE, args, "bad-args");
         EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
         EXPECT_NE(r.out.find("vkgi-view: "), std::string::npos) << args;
