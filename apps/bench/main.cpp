@@ -13,6 +13,7 @@
 #include "engine/progress.hpp"
 #include "gi/knobs.hpp"
 #include "gi/reference.hpp"
+#include "stream.hpp"
 #include "sweep.hpp"
 
 using namespace vkgi;
@@ -21,13 +22,14 @@ namespace {
 
 const char* kUsage =
     "usage: vkgi-bench [--scenes a,b] [--techniques a,b] [--size WxH] [--spp N] [--repeat N]\n"
-    "                  [--budget-ms X] [--quick] [--out DIR]\n"
+    "                  [--budget-ms X] [--quick] [--passes] [--out DIR]\n"
     "  --scenes      built-in names or glTF files (default cornell,room,atrium)\n"
     "  --techniques  subset of the library's techniques (default: all)\n"
     "  --size        image size (default 128x128)      --spp     reference paths/pixel (default 1024)\n"
     "  --repeat      measured frames per configuration (default 5, after one warm-up frame)\n"
     "  --budget-ms   also print the least-error configuration within this GPU time per scene\n"
     "  --quick       one configuration per technique (smoke run)\n"
+    "  --passes      also print every configuration's passes: GPU ms, MiB moved, x streaming rate\n"
     "  --out         output folder (default out/bench): bench.csv, bench.json, plot-<scene>.svg\n";
 
 std::vector<std::string> split(const std::string& s) {
@@ -56,8 +58,8 @@ Result<bench::Options> parseArgs(int argc, char** argv) {
             std::fputs(kUsage, stdout);
             std::exit(0);
         }
-        if (a == "--quick") {
-            o.quick = true;
+        if (a == "--quick" || a == "--passes") {
+            (a == "--quick" ? o.quick : o.passes) = true;
             continue;
         }
         if (i + 1 >= argc)
@@ -104,6 +106,12 @@ int main(int argc, char** argv) {
     auto ctx = defaultDeviceBuilder().build();
     if (!ctx) {
         std::fprintf(stderr, "vkgi-bench: %s\n", ctx.error().message.c_str());
+        return 1;
+    }
+    // The streaming rate every pass is compared with, measured now on this device and load.
+    auto streamGBs = bench::measureStreamGBs(**ctx);
+    if (!streamGBs) {
+        std::fprintf(stderr, "vkgi-bench: %s\n", streamGBs.error().message.c_str());
         return 1;
     }
     std::vector<std::pair<std::string, std::string>> jobs; // technique, knobs
@@ -160,6 +168,7 @@ int main(int argc, char** argv) {
                              rec.error().message.c_str());
                 return 1;
             }
+            rec->streamGBs = *streamGBs;
             records.push_back(std::move(*rec));
         }
     }
@@ -181,6 +190,16 @@ int main(int argc, char** argv) {
     for (const auto& r : records)
         std::printf("%-10s %-6s %-44s %9.2f %9.4f %12.4f\n", r.scene.c_str(), r.technique.c_str(), r.knobs.c_str(),
                     r.totalMs, r.relMse, r.relMseIndirect);
+    std::printf("streaming rate (compute copy, 64 MiB): %.2f GB/s\n", *streamGBs);
+    if (opt->passes)
+        for (const auto& r : records) {
+            std::printf("%s %s [%s]\n", r.scene.c_str(), r.technique.c_str(), r.knobs.c_str());
+            for (size_t i = 0; i < r.passMs.size(); ++i) {
+                double bytes = i < r.passBytes.size() ? r.passBytes[i].second : 0.0;
+                std::printf("    %-32s %9.3f ms %9.2f MiB %8.2fx\n", r.passMs[i].first.c_str(), r.passMs[i].second,
+                            bytes / (1024.0 * 1024.0), gi::streamRatio(r.passMs[i].second, bytes, *streamGBs));
+            }
+        }
     for (const auto& sceneName : opt->scenes)
         if (opt->budgetMs > 0.0) {
             long best = gi::bestWithinBudget(records, sceneName, opt->budgetMs);

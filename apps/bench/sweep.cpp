@@ -91,6 +91,12 @@ Result<gi::BenchRecord> measure(Context& ctx, const Scene& scene, const std::str
         rec.passMs.push_back({name, median(passMs[name])});
     rec.totalMs = median(totals);
     rec.deviceMiB = double(last.persistentBytes + last.transientBytes) / (1024.0 * 1024.0);
+    for (const auto& name : order)
+        for (const rg::PassMemory& m : last.passMemory)
+            if (m.name == name) {
+                rec.passBytes.push_back({name, double(m.accessedBytes)});
+                break;
+            }
     auto full = compareImages(last.composite, refFull);
     if (!full)
         return full.error();

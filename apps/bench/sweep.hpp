@@ -19,6 +19,7 @@ struct Options {
     uint32_t spp = 1024;   // reference paths per pixel (its own relMSE ~ 1.5/spp on cornell)
     uint32_t repeat = 5;   // measured frames per configuration after one warm-up frame
     bool quick = false;    // first configuration of each technique only (smoke runs)
+    bool passes = false;   // print per-pass ms, bytes moved and stream ratio of every configuration
     double budgetMs = 0.0; // > 0: report the best configuration within this GPU time
     std::string outDir = "out/bench";
 };

@@ -118,7 +118,7 @@ bool isDepthFormat(VkFormat f) {
 
 VkImageAspectFlags aspectOf(VkFormat f) { return isDepthFormat(f) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT; }
 
-uint32_t formatBytes(VkFormat f) {
+uint32_t tryFormatBytes(VkFormat f) {
     switch (f) {
     case VK_FORMAT_R8_UNORM:
     case VK_FORMAT_R8_UINT:
@@ -150,8 +150,15 @@ uint32_t formatBytes(VkFormat f) {
     case VK_FORMAT_R32G32B32A32_UINT:
         return 16;
     default:
-        fatal(__FILE__, __LINE__, "formatBytes: format not in vkgi's table");
+        return 0;
     }
+}
+
+uint32_t formatBytes(VkFormat f) {
+    uint32_t bytes = tryFormatBytes(f);
+    if (bytes == 0)
+        fatal(__FILE__, __LINE__, "formatBytes: format not in vkgi's table");
+    return bytes;
 }
 
 uint32_t mipCount(uint32_t w, uint32_t h, uint32_t d) {

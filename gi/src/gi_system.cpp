@@ -294,6 +294,7 @@ Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, 
         r.totalMs += t.ms;
     r.culledPasses = graph.culledPassNames();
     r.transientBytes = graph.memoryReport().transientBytes;
+    r.passMemory = graph.memoryReport().passes;
     r.persistentBytes = persistentBytes();
     return r;
 }

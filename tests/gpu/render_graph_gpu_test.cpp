@@ -203,6 +203,9 @@ TEST_F(RenderGraphGpu, CulledPassIsNeitherRecordedNorAllocated) {
         texels += VkDeviceSize(kSize >> k) * (kSize >> k) * 4;
     EXPECT_GE(report.passes[0].createdBytes, texels);
     EXPECT_EQ(report.passes[1].createdBytes, 0u) << "mip[1] uses the pyramid fill created";
+    // Bytes moved: fill writes mip 0; mip[1] reads mip 0 and writes mip 1 (4-byte texels).
+    EXPECT_EQ(report.passes[0].accessedBytes, VkDeviceSize(kSize * kSize * 4));
+    EXPECT_EQ(report.passes[1].accessedBytes, VkDeviceSize(kSize * kSize * 4 + (kSize / 2) * (kSize / 2) * 4));
 }
 
 TEST_F(RenderGraphGpu, TimingsArePositiveFiniteAndWithinWallClock) {

@@ -114,3 +114,12 @@ TEST(Progress, FormatsDurations) {
     quiet.add(5);
     EXPECT_FALSE(quiet.visible());
 }
+
+// 15 MB moved at 7.5 GB/s take 2 ms: a pass of 2 ms streams at the copy rate (ratio 1), one of
+// 3 ms is 1.5x slower; unknown bytes or rate give 0, never inf/NaN.
+TEST(Bench, StreamRatioIsTimeOverStreamingTime) {
+    EXPECT_DOUBLE_EQ(vkgi::gi::streamRatio(2.0, 15e6, 7.5), 1.0);
+    EXPECT_DOUBLE_EQ(vkgi::gi::streamRatio(3.0, 15e6, 7.5), 1.5);
+    EXPECT_EQ(vkgi::gi::streamRatio(3.0, 0.0, 7.5), 0.0);
+    EXPECT_EQ(vkgi::gi::streamRatio(3.0, 15e6, 0.0), 0.0);
+}

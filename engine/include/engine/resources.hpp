@@ -101,6 +101,7 @@ struct Image {
 bool isDepthFormat(VkFormat format);
 VkImageAspectFlags aspectOf(VkFormat format);
 uint32_t formatBytes(VkFormat format); // bytes per texel of uncompressed colour/depth formats
+uint32_t tryFormatBytes(VkFormat format); // the same, 0 for a format outside vkgi's table (host images)
 uint32_t mipCount(uint32_t width, uint32_t height, uint32_t depth);
 
 Buffer createBuffer(Context& ctx, const BufferDesc& desc, const char* name);

@@ -135,6 +135,27 @@ void RenderGraph::recordBarriers(VkCommandBuffer cmd, const std::vector<BarrierI
     vkCmdPipelineBarrier2(cmd, &dep);
 }
 
+namespace {
+
+constexpr VkAccessFlags2 kReadBits =
+    VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_INDEX_READ_BIT | VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT |
+    VK_ACCESS_2_UNIFORM_READ_BIT | VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT |
+    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_MEMORY_READ_BIT |
+    VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
+
+// Bytes of the mips and layers `range` selects in an image described by `d`.
+VkDeviceSize rangeBytes(const ImageDesc& d, const SubresourceRange& range) {
+    uint32_t layers = d.arrayLayers;
+    uint32_t layerCount = range.layerCount == kAll ? layers - std::min(range.baseLayer, layers) : range.layerCount;
+    uint32_t mipEnd = range.mipCount == kAll ? d.mipLevels : std::min(d.mipLevels, range.baseMip + range.mipCount);
+    VkDeviceSize texels = 0;
+    for (uint32_t m = range.baseMip; m < mipEnd; ++m)
+        texels += VkDeviceSize(std::max(1u, d.width >> m)) * std::max(1u, d.height >> m) * std::max(1u, d.depth >> m);
+    return texels * layerCount * tryFormatBytes(d.format); // 0 for a host format vkgi does not know
+}
+
+} // namespace
+
 void RenderGraph::buildMemoryReport() {
     m_memory = {};
     auto bytesOf = [&](uint32_t r) -> VkDeviceSize {
@@ -148,9 +169,13 @@ void RenderGraph::buildMemoryReport() {
             m_memory.transientCount++;
         }
     for (const CompiledPass& compiled : m_compiled.passes) {
-        PassMemory pm{compiled.name, 0, 0};
+        PassMemory pm{compiled.name, 0, 0, 0};
         std::vector<uint32_t> seen;
         for (const detail::Use& u : m_passes[compiled.pass].uses) {
+            const ResourceNode& res = m_resources[u.resource];
+            const AccessInfo& info = accessInfo(u.access);
+            VkDeviceSize bytes = res.image ? rangeBytes(res.imageDesc, u.range) : res.bufferDesc.size;
+            pm.accessedBytes += bytes * ((info.access & kReadBits ? 1u : 0u) + (info.write ? 1u : 0u));
             if (std::find(seen.begin(), seen.end(), u.resource) != seen.end())
                 continue;
             seen.push_back(u.resource);

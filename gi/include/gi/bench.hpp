@@ -19,7 +19,16 @@ struct BenchRecord {
     double relMse = 0.0, rmse = 0.0;                    // full image vs reference
     double relMseIndirect = 0.0, rmseIndirect = 0.0;    // indirect-only vs reference indirect
     double deviceMiB = 0.0;                             // device memory of the module
+    // Bytes each pass's declared accesses move (rg::PassMemory::accessedBytes), same order as
+    // passMs, and the device's measured streaming rate (compute copy, GB/s) of the same run:
+    // stream ratio = ms / (bytes / rate), 1 = as fast as a copy of the same bytes.
+    std::vector<std::pair<std::string, double>> passBytes;
+    double streamGBs = 0.0;
 };
+
+// ms / (bytes / streamGBs) of a pass: how many times slower than streaming its bytes (0 when
+// either is unknown).
+double streamRatio(double ms, double bytes, double streamGBs);
 
 // Indices of the records of `scene` on the (total ms, relMSE) Pareto front, fastest first:
 // no other record of the scene is both faster (or equal) and more accurate (or equal).

@@ -72,6 +72,7 @@ struct FrameResult {
     std::vector<rg::PassTiming> passes;  // executed passes in order, GPU milliseconds
     double totalMs = 0.0;                // sum of `passes`
     std::vector<std::string> culledPasses;
+    std::vector<rg::PassMemory> passMemory; // per executed pass: transients created/touched, bytes accessed
     uint64_t transientBytes = 0;  // render-graph transients of this frame
     uint64_t persistentBytes = 0; // scene, shadow/RSM atlases, technique volumes, readback buffers
 };

@@ -59,6 +59,12 @@ std::string num(double v) {
 }
 } // namespace
 
+double streamRatio(double ms, double bytes, double streamGBs) {
+    if (!(bytes > 0.0) || !(streamGBs > 0.0))
+        return 0.0;
+    return ms / (bytes / (streamGBs * 1e6));
+}
+
 std::string toCsv(const std::vector<BenchRecord>& records) {
     // Pass columns are the union of pass names over all records, in first-seen order.
     std::vector<std::string> passes;
@@ -88,14 +94,23 @@ std::string toJson(const std::vector<BenchRecord>& records) {
     nlohmann::json arr = nlohmann::json::array();
     for (const auto& r : records) {
         nlohmann::json passes = nlohmann::json::array();
-        for (const auto& [name, ms] : r.passMs)
-            passes.push_back({{"name", name}, {"ms", ms}});
+        for (const auto& [name, ms] : r.passMs) {
+            nlohmann::json pass = {{"name", name}, {"ms", ms}};
+            auto it = std::find_if(r.passBytes.begin(), r.passBytes.end(),
+                                   [&](const auto& e) { return e.first == name; });
+            if (it != r.passBytes.end()) {
+                pass["bytes"] = it->second;
+                pass["stream_ratio"] = streamRatio(ms, it->second, r.streamGBs);
+            }
+            passes.push_back(pass);
+        }
         arr.push_back({{"scene", r.scene},
                        {"technique", r.technique},
                        {"knobs", r.knobs},
                        {"passes", passes},
                        {"total_ms", r.totalMs},
                        {"device_mib", r.deviceMiB},
+                       {"stream_gbs", r.streamGBs},
                        {"error",
                         {{"relmse", r.relMse},
                          {"rmse", r.rmse},

@@ -124,6 +124,10 @@ struct PassMemory {
     std::string name;
     VkDeviceSize createdBytes = 0; // transients first used by this pass (no aliasing yet)
     VkDeviceSize touchedBytes = 0; // all transients this pass declares
+    // Bytes the pass's declared accesses move, imports included: each declared subresource range
+    // counted once if read and once if written (read-modify-write twice). Exact for streaming
+    // passes (clears, copies, mips, propagation); an upper bound for gathers that sample sparsely.
+    VkDeviceSize accessedBytes = 0;
 };
 struct MemoryReport {
     std::vector<PassMemory> passes;
