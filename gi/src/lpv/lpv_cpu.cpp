@@ -51,7 +51,7 @@ void propagateStep(const ShVolume& src, ShVolume& dst, ShVolume* acc, const Geom
                     for (int f = 0; f < 5; ++f) {
                         float t = transmittance(gv, p, i, f);
                         glm::vec4 w = t * gpu::lpvFaceWeight(i, f);
-                        glm::vec4 r = gpu::lpvReprojection(gpu::lpvFaceNormal(i, f));
+                        glm::vec4 r = gpu::lpvFaceReprojection(i, f);
                         for (int c = 0; c < 3; ++c)
                             sum[c] += glm::dot(src.channel[c][src.index(q)], w) * r;
                     }

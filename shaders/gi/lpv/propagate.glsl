@@ -76,7 +76,7 @@ void main() {
         for (int f = 0; f < 5; ++f) {
             vec4 open = lpvFaceWeight(i, f);
             vec4 w = open * lpvTransmittance(blocking, lpvFaceDirection(i, f));
-            vec4 lobe = lpvReprojection(lpvFaceNormal(i, f));
+            vec4 lobe = lpvFaceReprojection(i, f);
             sumR += dot(r, w) * lobe;
             sumG += dot(g, w) * lobe;
             sumB += dot(b, w) * lobe;

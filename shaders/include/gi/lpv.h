@@ -94,11 +94,20 @@ GI_INLINE vec3 lpvFaceDirection(int i, int f) {
     return kLpvSideDirectionAxial * d + kLpvSideDirectionLateral * lpvFaceNormal(i, f);
 }
 
-// Intensity SH of a flux of 1 re-emitted from the destination centre as a Lambertian lobe
-// around face normal n: shCosineLobe(n) / pi, whose integral is exactly 1, so the flux a face
-// receives is the flux it passes on (no amplification factor; docs/lpv.md).
-GI_INLINE vec4 lpvReprojection(vec3 n) {
-    return vec4(kShY00, ((2.0f / 3.0f) * kShY1) * n);
+// Intensity SH of a flux of 1 re-emitted from the destination centre in the directions it
+// crossed exit face f with (uniform over the face's solid angle as seen from the source):
+// (Y00, Y1 V_f / Omega_f), the exact 2-band projection of that distribution. Its integral is
+// exactly 1, so the flux a face receives is the flux it passes on (no amplification factor).
+// Kaplanyan re-emits a Lambertian lobe around the face normal instead (band 1 = 2/3 Y1 n),
+// which turns every step's light into a half-space of directions: light then random-walks,
+// a lit wall lights itself and the accumulated light near emitters grows with the step count
+// (docs/lpv.md, LpvPropagationCpu.ALitWallDoesNotLightItself).
+GI_INLINE vec4 lpvFaceReprojection(int i, int f) {
+    vec3 d = vec3(lpvAxisStep(i));
+    if (f == 0)
+        return vec4(kShY00, (kShY1 * kLpvFrontAxial / kLpvFrontSolidAngle) * d);
+    vec3 v = kLpvSideAxial * d + kLpvSideLateral * lpvFaceNormal(i, f);
+    return vec4(kShY00, (kShY1 / kLpvSideSolidAngle) * v);
 }
 
 // The geometry volume has (gridSize + 1)^3 cells centred on the LPV cell corners (offset half a
@@ -109,15 +118,19 @@ GI_INLINE ivec3 lpvSharedFaceCorner(ivec3 p, int i) {
 }
 
 // Without occlusion the 5 face terms of one neighbour sum to a fixed linear map of its SH c
-// (sum over faces of lpvReprojection(n_f) * lpvFaceWeight^T), which collapses to a closed form
-// because d is an axis: with e = dot(d, c.yzw)
+// (sum over faces of lpvFaceReprojection(f) * lpvFaceWeight(f)^T), which collapses to a closed
+// form because d is an axis: with e = dot(d, c.yzw), sum over f of V_f = V_near = 1.7408 d, and
+// sum over f of V_f V_f^T / Omega_f = (a^2 / Om_front + (4 b^2 - 2 l^2) / Om_side) d d^T
+// + (2 l^2 / Om_side) I (a, b, l the front axial, side axial and side lateral parts of V):
 //   out.x   = c.x / 6 + kLpvFreeB * e                       (Y00^2 * 2 pi / 3 = 1/6 exactly)
 //   out.yzw = kLpvFreeS * c.yzw + d * (kLpvFreeC * c.x + kLpvFreeD * e)
 // Same operator as the face loop (tested), ~12 FMA instead of ~40 per colour and neighbour.
 const float kLpvFreeB = kShY00 * kShY1 * (kLpvFrontAxial + 4.0f * kLpvSideAxial); // Y00 Y1 |V_near|
-const float kLpvFreeC = (2.0f / 3.0f) * kShY1 * kShY00 * kLpvFrontSolidAngle;
-const float kLpvFreeS = (2.0f / 3.0f) * kShY1 * kShY1 * 2.0f * kLpvSideLateral;      // sum over s of s s^T = 2 (I - d d^T)
-const float kLpvFreeD = (2.0f / 3.0f) * kShY1 * kShY1 * (kLpvFrontAxial - 2.0f * kLpvSideLateral);
+const float kLpvFreeC = kShY1 * kShY00 * (kLpvFrontAxial + 4.0f * kLpvSideAxial);
+const float kLpvFreeS = kShY1 * kShY1 * 2.0f * kLpvSideLateral * kLpvSideLateral / kLpvSideSolidAngle;
+const float kLpvFreeD = kShY1 * kShY1 *
+                        (kLpvFrontAxial * kLpvFrontAxial / kLpvFrontSolidAngle +
+                         (4.0f * kLpvSideAxial * kLpvSideAxial - 2.0f * kLpvSideLateral * kLpvSideLateral) / kLpvSideSolidAngle);
 
 // Light that neighbour SH c sends along unit axis d into the adjacent cell, in empty space.
 GI_INLINE vec4 lpvPropagateFree(vec4 c, vec3 d) {
