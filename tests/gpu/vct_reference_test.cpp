@@ -1,6 +1,7 @@
 // VCT through GiSystem against the path tracer with the same bounce count, on built-in scenes
 // at 64^2: relMSE of the full image and of the indirect part (composite - direct against
 // reference - direct), compared with the best constant ambient term added to the direct image.
+#include <cmath>
 #include <cstdio>
 
 #include "engine/builtin_scenes.hpp"
@@ -34,7 +35,7 @@ HdrImage bestAmbient(const HdrImage& direct, const HdrImage& ref, float eps = 0.
 }
 
 struct Errors {
-    double full, indirect, ambientFull;
+    double full, indirect, ambientFull, ambientIndirect;
 };
 
 class VctReference : public test::GpuTest {
@@ -71,42 +72,74 @@ protected:
         auto refIndirect = subtract(ref->full, frame->direct);
         auto indirect = compareImages(*testIndirect, *refIndirect);
         auto ambient = compareImages(bestAmbient(frame->direct, ref->full), ref->full);
-        Errors e{full->relMse, indirect->relMse, ambient->relMse};
+        HdrImage zero = *refIndirect;
+        for (glm::vec3& p : zero.pixels)
+            p = glm::vec3(0.0f);
+        auto ambientIndirect = compareImages(bestAmbient(zero, *refIndirect), *refIndirect);
+        Errors e{full->relMse, indirect->relMse, ambient->relMse, ambientIndirect->relMse};
         EXPECT_EQ(countNonFinite(frame->composite), 0u) << sceneName;
         double ms = 0.0;
         for (const auto& p : frame->passes)
             if (p.name.rfind("gi.v", 0) == 0)
                 ms += p.ms;
-        std::printf("%s: relMSE full %.4f, indirect %.4f, best ambient %.4f; VCT passes %.1f ms\n", sceneName,
-                    e.full, e.indirect, e.ambientFull, ms);
+        std::printf("%s: relMSE full %.4f (best ambient %.4f), indirect %.4f (best constant %.4f); VCT passes %.1f ms\n",
+                    sceneName, e.full, e.ambientFull, e.indirect, e.ambientIndirect, ms);
         return e;
     }
 };
 
 } // namespace
 
-// Measured on lavapipe (Mesa 22.3.6), 32^3 grid, 6 cones of 30 degrees, 2 bounces, 64^2 pixels
-// (relMSE with epsilon 0.01; the reference has 3 reflections, as VCT: direct, voxel, bounce):
-//   cornell           full 0.209  indirect 0.423   best constant ambient 0.256
-//   cornell_point     full 0.617  indirect 4.10    best constant ambient 0.267
-//   cornell_emissive  full 2.09   indirect 3.40    best constant ambient 0.494
+// Measured on lavapipe (Mesa 22.3.6), 32^3 grid, 6 cones of 30 degrees, 2 bounces, cones at
+// half resolution with the discontinuity refine, 64^2 pixels (relMSE with epsilon 0.01; the
+// reference has 3 reflections, as VCT: direct, voxel, bounce). "constant" is the best
+// constant colour: added to the direct image (full) or alone (indirect only).
+//   scene             full    constant   indirect  constant
+//   cornell           0.192   0.251      0.287     0.356
+//   cornell_point     0.669   0.267      2.14      0.579
+//   cornell_emissive  1.10    0.494      1.37      0.498
+//   room              945     9.05       936       0.944
+//   atrium            2.07    1.18       8.99      0.868
 // Both renderers are deterministic, so the bounds only allow for driver/compiler changes: 20%
-// above the measurement. Only the spot-lit box beats the ambient baseline; near a point light
-// under the ceiling and with the small emitter sharing voxels with the ceiling (its emission is
-// averaged with the ceiling's zero), VCT at 32^3 is worse than a constant (docs/vct.md).
-TEST_F(VctReference, CornellBoxes) {
+// above the measurement. Only the spot-lit box beats the constant baselines. Causes
+// (docs/vct.md): next to a point light under the ceiling and at the small emitter, whose
+// emission is averaged with the ceiling behind it, the voxels are too bright or too dark; in
+// the sun-lit room and atrium the lit outer faces of roofs and walls one or two voxels thick
+// leak into the interior through the side views of the anisotropic mips.
+TEST_F(VctReference, BuiltinScenesAgainstThePathTracer) {
+    struct Case {
+        const char* scene;
+        double full, indirect;
+        bool beatsConstant;
+    } cases[] = {{"cornell", 0.192, 0.287, true},
+                 {"cornell_point", 0.669, 2.14, false},
+                 {"cornell_emissive", 1.10, 1.37, false},
+                 {"room", 945.0, 936.0, false},
+                 {"atrium", 2.07, 8.99, false}};
     VctSettings s;
     s.gridResolution = 32;
-    Errors spot = measure("cornell", s);
-    EXPECT_LT(spot.full, 0.25);
-    EXPECT_LT(spot.indirect, 0.51);
-    EXPECT_LT(spot.full, spot.ambientFull);
-    Errors point = measure("cornell_point", s);
-    EXPECT_LT(point.full, 0.74);
-    EXPECT_LT(point.indirect, 4.9);
-    Errors emissive = measure("cornell_emissive", s);
-    EXPECT_LT(emissive.full, 2.5);
-    EXPECT_LT(emissive.indirect, 4.1);
+    for (const Case& c : cases) {
+        Errors e = measure(c.scene, s);
+        EXPECT_LT(e.full, 1.2 * c.full) << c.scene;
+        EXPECT_LT(e.indirect, 1.2 * c.indirect) << c.scene;
+        if (c.beatsConstant) {
+            EXPECT_LT(e.full, e.ambientFull) << c.scene;
+            EXPECT_LT(e.indirect, e.ambientIndirect) << c.scene;
+        }
+    }
+}
+
+// Full-resolution cones (lowResFactor 1) against the default half resolution on the spot-lit
+// box: the upsample with its discontinuity refine changes the error by under 3% (measured:
+// full 0.1918 vs 0.1913, indirect 0.2868 vs 0.2871).
+TEST_F(VctReference, HalfResolutionConesMatchFullResolution) {
+    VctSettings s;
+    s.gridResolution = 32;
+    Errors half = measure("cornell", s);
+    s.lowResFactor = 1;
+    Errors full = measure("cornell", s);
+    EXPECT_LT(std::abs(half.full - full.full), 0.03 * full.full);
+    EXPECT_LT(std::abs(half.indirect - full.indirect), 0.03 * full.indirect);
 }
 
 TEST_F(VctReference, TechniqueIsRegisteredAndBadSettingsAreErrors) {
