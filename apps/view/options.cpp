@@ -196,7 +196,7 @@ Scripted mode (CI):
   --help                 this text
 
 Controls: left drag orbit (fly: look), right drag pan, wheel dolly; Tab orbit/fly camera;
-fly: W/A/S/D/Q/E move, Shift faster; R reset camera; 1-4 technique; F12 or P screenshot
+fly: W/A/S/D/Q/E move, Shift faster; R reset camera; 1-4 technique (in --technique's order); F12 or P screenshot
 (vkgi-view-<scene>-<technique>-<n>.exr/.png); H hide panel; Esc quit.
 Environment: VKGI_DEVICE=<substring> picks the Vulkan device by name.
 Exit codes: 0 success, 1 window/device/scene/render/output failure, 2 bad arguments,

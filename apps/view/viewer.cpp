@@ -386,50 +386,9 @@ int Viewer::run() {
             m_frameMs = m_frameMs == 0.0 ? ms : 0.9 * m_frameMs + 0.1 * ms;
         }
 
-        bool screenshot = false;
-        std::optional<gi::GiSettings> newSettings;
-        handleKeys(events.keysPressed, screenshot, newSettings);
-        if (scriptedFrame && m_options.switchFrame && m_frame == *m_options.switchFrame) {
-            gi::GiSettings s = m_gi->settings();
-            s.technique = *gi::parseTechnique(m_options.switchTechnique);
-            newSettings = s;
-        }
-        bool sceneEdited = false;
-        if (m_ui) {
-            PanelModel model;
-            model.settings = &m_gi->settings();
-            model.scene = &m_scene;
-            model.dynamicObject = m_object;
-            model.animate = &m_animate;
-            model.exposure = &m_exposure;
-            model.passes = &m_passes;
-            model.gpuMs = m_gpuMs;
-            model.frameMs = m_frameMs;
-            model.flyCamera = m_camera->mode() == CameraController::Mode::Fly;
-            model.size = m_swapchain->extent();
-            model.status = m_status;
-            PanelActions actions = m_ui->build(model);
-            screenshot |= actions.screenshot;
-            sceneEdited = actions.sceneEdited;
-            if (actions.settings)
-                newSettings = actions.settings;
-            if (actions.resetCamera)
-                m_camera->reset();
-            if (actions.toggleCamera)
-                m_camera->toggleMode();
-        }
-        if (newSettings) {
-            gi::GiSettings previous = m_gi->settings();
-            if (auto ok = rebuildGi(*newSettings); !ok) {
-                m_status = ok.error().message; // the panel shows it; go back to the previous settings
-                std::fprintf(stderr, "vkgi-view: %s\n", ok.error().message.c_str());
-                if (auto back = rebuildGi(previous); !back)
-                    return fail(back.error());
-            }
-        }
-        if (sceneEdited || m_animate)
-            if (auto ok = updateScene(t); !ok)
-                return fail(ok.error());
+        auto screenshot = applyEdits(events.keysPressed, scriptedFrame, t);
+        if (!screenshot)
+            return fail(screenshot.error());
 
         if (scriptedFrame)
             m_camera->setCamera(m_script->at(t));
@@ -438,7 +397,7 @@ int Viewer::run() {
 
         if (scriptedFrame && m_frame + 1 == scripted && m_options.screenshot)
             slot.screenshot = *m_options.screenshot;
-        else if (screenshot)
+        else if (*screenshot)
             slot.screenshot = nextScreenshotPath();
         if (auto ok = record(slot, imageIndex, m_camera->camera()); !ok)
             return fail(ok.error());
@@ -450,20 +409,78 @@ int Viewer::run() {
     }
     if (auto ok = finishAll(); !ok)
         return fail(ok.error());
-    if (m_frameTimes.size() > kWarmupFrames && m_gpuTimes.size() > kWarmupFrames) {
-        std::vector<double> frames(m_frameTimes.begin() + kWarmupFrames, m_frameTimes.end());
-        std::vector<double> gpu(m_gpuTimes.begin() + kWarmupFrames, m_gpuTimes.end());
-        VkExtent2D e = m_swapchain->extent();
-        std::string own; // the viewer's own passes in the last frame
-        for (const rg::PassTiming& p : m_passes)
-            if (p.name.rfind("view.", 0) == 0)
-                own += " " + p.name + " " + std::to_string(p.ms).substr(0, 5) + " ms";
-        std::printf("vkgi-view: %zu frames at %ux%u (%s, present %s): median frame %.2f ms, median GPU %.2f ms "
-                    "(first %zu frames left out); last frame:%s\n",
-                    m_frameTimes.size() + 1, e.width, e.height, gi::toString(m_gi->settings().technique),
-                    m_swapchain->presentModeName(), median(frames), median(gpu), kWarmupFrames, own.c_str());
-    }
+    if (m_options.exitAfterFrames && m_frame < scripted)
+        return fail(makeError("the window was closed after " + std::to_string(m_frame) + " of " +
+                              std::to_string(scripted) + " scripted frames"));
+    printSummary();
     return 0;
+}
+
+Result<bool> Viewer::applyEdits(const std::vector<int>& keys, bool scriptedFrame, float t) {
+    bool screenshot = false;
+    std::optional<gi::GiSettings> newSettings;
+    handleKeys(keys, screenshot, newSettings);
+    if (scriptedFrame && m_options.switchFrame && m_frame == *m_options.switchFrame) {
+        gi::GiSettings s = m_gi->settings();
+        s.technique = *gi::parseTechnique(m_options.switchTechnique);
+        newSettings = s;
+    }
+    bool sceneEdited = false;
+    if (m_ui) {
+        PanelModel model;
+        model.settings = &m_gi->settings();
+        model.scene = &m_scene;
+        model.dynamicObject = m_object;
+        model.animate = &m_animate;
+        model.exposure = &m_exposure;
+        model.passes = &m_passes;
+        model.gpuMs = m_gpuMs;
+        model.frameMs = m_frameMs;
+        model.flyCamera = m_camera->mode() == CameraController::Mode::Fly;
+        model.size = m_swapchain->extent();
+        model.status = m_status;
+        PanelActions actions = m_ui->build(model);
+        screenshot |= actions.screenshot;
+        sceneEdited = actions.sceneEdited;
+        if (actions.settings)
+            newSettings = actions.settings;
+        if (actions.resetCamera)
+            m_camera->reset();
+        if (actions.toggleCamera)
+            m_camera->toggleMode();
+    }
+    if (newSettings) {
+        gi::GiSettings previous = m_gi->settings();
+        if (auto ok = rebuildGi(*newSettings); !ok) {
+            m_status = ok.error().message; // the panel shows it; go back to the previous settings
+            std::fprintf(stderr, "vkgi-view: %s\n", ok.error().message.c_str());
+            if (auto back = rebuildGi(previous); !back)
+                return back.error();
+        }
+    }
+    if (sceneEdited || m_animate)
+        if (auto ok = updateScene(t); !ok)
+            return ok.error();
+    return screenshot;
+}
+
+void Viewer::printSummary() const {
+    if (m_frameTimes.size() <= kWarmupFrames || m_gpuTimes.size() <= kWarmupFrames)
+        return;
+    std::vector<double> frames(m_frameTimes.begin() + kWarmupFrames, m_frameTimes.end());
+    std::vector<double> gpu(m_gpuTimes.begin() + kWarmupFrames, m_gpuTimes.end());
+    VkExtent2D e = m_swapchain->extent();
+    std::string own; // the viewer's own passes in the last frame
+    char ms[32];
+    for (const rg::PassTiming& p : m_passes)
+        if (p.name.rfind("view.", 0) == 0) {
+            std::snprintf(ms, sizeof(ms), " %.3f ms", p.ms);
+            own += " " + p.name + ms;
+        }
+    std::printf("vkgi-view: %zu frames at %ux%u (%s, present %s): median frame %.2f ms, median GPU %.2f ms "
+                "(first %zu frames left out); last frame:%s\n",
+                m_frameTimes.size() + 1, e.width, e.height, gi::toString(m_gi->settings().technique),
+                m_swapchain->presentModeName(), median(frames), median(gpu), kWarmupFrames, own.c_str());
 }
 
 } // namespace vkgi::view

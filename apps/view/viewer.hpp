@@ -62,6 +62,10 @@ private:
     Result<void> rebuildGi(const gi::GiSettings& settings);
     Result<void> recreateSwapchain();
     void handleKeys(const std::vector<int>& keys, bool& screenshot, std::optional<gi::GiSettings>& settings);
+    // Keys, the scripted technique switch and the panel: rebuilds the GiSystem or updates the
+    // scene as asked. True when a screenshot was asked for.
+    Result<bool> applyEdits(const std::vector<int>& keys, bool scriptedFrame, float t);
+    void printSummary() const;
     CameraInput cameraInput(double scroll, float dt);
     Result<void> updateScene(float t);
     Result<void> record(FrameSlot& slot, uint32_t imageIndex, const Camera& camera);
