@@ -39,9 +39,10 @@ std::string quote(const std::string& s) {
     return q + "'";
 }
 
-RunResult run(const std::string& exe, const std::string& args, const std::string& tag) {
+// Runs `exe args` through the shell (`env` = "NAME=value ..." prefix), output to a log file.
+RunResult run(const std::string& exe, const std::string& args, const std::string& tag, const std::string& env = "") {
     std::filesystem::path log = outputDir() / ("view-" + tag + ".log");
-    std::string cmd = quote(exe) + " " + args + " > " + quote(log.string()) + " 2>&1";
+    std::string cmd = env + " " + quote(exe) + " " + args + " > " + quote(log.string()) + " 2>&1";
     int status = std::system(cmd.c_str());
     RunResult r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -129,6 +130,15 @@ TEST(View, CameraScriptFileMovesTheCamera) {
     auto metrics = compareImages(*a, *b);
     ASSERT_TRUE(metrics) << metrics.error().message;
     EXPECT_GT(metrics->relMse, 0.01);
+}
+
+// The CI check itself: a validation message must turn into a failing exit code. The layer's
+// best-practices checks (switched on through its environment) always warn on this run.
+TEST(View, ValidationMessagesMakeTheExitCode3) {
+    RunResult r = run(VKGI_VIEW_EXE, "--size 32x32 --frames 2 --exit --validation --no-ui", "validation-fails",
+                      "VK_LAYER_ENABLES=VK_VALIDATION_FEATURE_ENABLE_BEST_PRACTICES_EXT");
+    EXPECT_EQ(r.code, 3) << r.out;
+    EXPECT_NE(r.out.find("validation message(s)"), std::string::npos) << r.out;
 }
 
 TEST(View, CameraScriptFileErrorsNameTheLine) {
