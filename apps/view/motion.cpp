@@ -154,7 +154,8 @@ Result<CameraScript> CameraScript::load(const std::string& nameOrFile, const Cam
 
 Camera CameraScript::at(float t) const {
     switch (m_kind) {
-    case Kind::Still: return m_base;
+    case Kind::Still:
+        return m_base;
     case Kind::Orbit: {
         float angle = loopPhase(t);
         if (angle == 0.0f)
@@ -164,7 +165,8 @@ Camera CameraScript::at(float t) const {
         c.forward = glm::rotate(m_base.forward, angle, kUp);
         return c;
     }
-    case Kind::Keys: break;
+    case Kind::Keys:
+        break;
     }
     if (m_keys.size() == 1 || t <= 0.0f)
         return m_keys.front();

@@ -3,9 +3,9 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_vulkan.h>
+#include <imgui.h>
 
 #include "engine/vk_check.hpp"
 #include "gi/knobs.hpp"
@@ -173,8 +173,9 @@ bool Ui::knobControls(gi::GiSettings& edited) {
             ImGui::SetTooltip("%s", knob.help.c_str());
         ImGui::PopID();
         if (commit) {
-            auto ok = gi::setKnob(edited, knob.name, knob.kind == gi::Knob::Kind::Bool ? (value != 0.0 ? "on" : "off")
-                                                                                        : knobText(knob, value));
+            auto ok =
+                gi::setKnob(edited, knob.name,
+                            knob.kind == gi::Knob::Kind::Bool ? (value != 0.0 ? "on" : "off") : knobText(knob, value));
             m_knobError = ok ? std::string() : ok.error().message;
             changed = changed || ok.ok();
         }

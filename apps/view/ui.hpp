@@ -21,9 +21,9 @@ namespace vkgi::view {
 // What the panel shows and may edit this frame.
 struct PanelModel {
     const gi::GiSettings* settings = nullptr;
-    Scene* scene = nullptr;                      // lights and instances are edited in place
-    std::optional<uint32_t> dynamicObject;       // instance the object controls move
-    bool* animate = nullptr;                     // scripted light/object loop on or off
+    Scene* scene = nullptr;                // lights and instances are edited in place
+    std::optional<uint32_t> dynamicObject; // instance the object controls move
+    bool* animate = nullptr;               // scripted light/object loop on or off
     float* exposure = nullptr;
     const std::vector<rg::PassTiming>* passes = nullptr; // last finished frame
     double gpuMs = 0.0;

@@ -15,8 +15,8 @@ namespace {
 
 // Push constants of shaders/view/tonemap.comp.
 struct TonemapPush {
-    glm::uvec4 size;   // swapchain w, h; composite w, h
-    glm::vec4 params;  // exposure, 1 = ACES
+    glm::uvec4 size;  // swapchain w, h; composite w, h
+    glm::vec4 params; // exposure, 1 = ACES
 };
 
 // Frames left out of the exit summary: the first ones pay lavapipe's shader JIT.
@@ -286,8 +286,8 @@ Result<void> Viewer::record(FrameSlot& slot, uint32_t imageIndex, const Camera& 
         if (!slot.readback || slot.readback.desc.size != bytes) {
             if (slot.readback)
                 destroyBuffer(m_ctx, slot.readback);
-            slot.readback =
-                createBuffer(m_ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::GpuToCpu}, "view.screenshot");
+            slot.readback = createBuffer(m_ctx, {bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::GpuToCpu},
+                                         "view.screenshot");
         }
         slot.size = size;
         rg::BufferHandle buffer = graph.importBuffer("view.screenshot", slot.readback, rg::Access::None);

@@ -32,8 +32,8 @@ class Viewer {
 public:
     static constexpr uint32_t kFramesInFlight = 2;
 
-    static Result<std::unique_ptr<Viewer>> create(const Options& options, Window& window, Context& ctx,
-                                                  Scene scene, const gi::GiSettings& settings);
+    static Result<std::unique_ptr<Viewer>> create(const Options& options, Window& window, Context& ctx, Scene scene,
+                                                  const gi::GiSettings& settings);
     ~Viewer();
     Viewer(const Viewer&) = delete;
     Viewer& operator=(const Viewer&) = delete;
@@ -83,8 +83,8 @@ private:
     FrameSlot m_slots[kFramesInFlight];
     uint64_t m_frame = 0;
 
-    Scene m_scene;     // as edited in the panel
-    Scene m_uploaded;  // what GiSystem has (m_scene, animated)
+    Scene m_scene;    // as edited in the panel
+    Scene m_uploaded; // what GiSystem has (m_scene, animated)
     std::optional<uint32_t> m_object;
     bool m_animate = false;
     float m_exposure = 1.0f;
@@ -94,7 +94,7 @@ private:
     std::vector<rg::PassTiming> m_passes; // last finished frame
     double m_gpuMs = 0.0;
     double m_frameMs = 0.0;
-    std::vector<double> m_frameTimes;   // wall ms of every frame, for the exit summary
+    std::vector<double> m_frameTimes; // wall ms of every frame, for the exit summary
     std::vector<double> m_gpuTimes;
     std::string m_status;
     bool m_swapchainStale = false;

@@ -17,9 +17,12 @@ Window* owner(GLFWwindow* window) {
 
 VkPresentModeKHR toVk(PresentMode mode) {
     switch (mode) {
-    case PresentMode::Mailbox: return VK_PRESENT_MODE_MAILBOX_KHR;
-    case PresentMode::Immediate: return VK_PRESENT_MODE_IMMEDIATE_KHR;
-    case PresentMode::Fifo: break;
+    case PresentMode::Mailbox:
+        return VK_PRESENT_MODE_MAILBOX_KHR;
+    case PresentMode::Immediate:
+        return VK_PRESENT_MODE_IMMEDIATE_KHR;
+    case PresentMode::Fifo:
+        break;
     }
     return VK_PRESENT_MODE_FIFO_KHR;
 }
@@ -145,9 +148,12 @@ Swapchain::~Swapchain() {
 
 const char* Swapchain::presentModeName() const {
     switch (m_mode) {
-    case VK_PRESENT_MODE_MAILBOX_KHR: return "mailbox";
-    case VK_PRESENT_MODE_IMMEDIATE_KHR: return "immediate";
-    default: return "fifo";
+    case VK_PRESENT_MODE_MAILBOX_KHR:
+        return "mailbox";
+    case VK_PRESENT_MODE_IMMEDIATE_KHR:
+        return "immediate";
+    default:
+        return "fifo";
     }
 }
 

@@ -70,9 +70,9 @@ void expectViewMatchesRender(const std::string& technique, const std::string& kn
     RunResult render = run(VKGI_RENDER_EXE, common + " --out " + quote((dir / "render.exr").string()), tag + "-render");
     ASSERT_EQ(render.code, 0) << render.out;
     RunResult view = run(VKGI_VIEW_EXE,
-                   common + " --validation --frames 8 --exit --screenshot " + quote((dir / "view.exr").string()) + " " +
-                       viewArgs,
-                   tag + "-view");
+                         common + " --validation --frames 8 --exit --screenshot " + quote((dir / "view.exr").string()) +
+                             " " + viewArgs,
+                         tag + "-view");
     ASSERT_EQ(view.code, 0) << view.out;
     EXPECT_EQ(view.out.find("validation"), std::string::npos) << view.out;
     EXPECT_TRUE(std::filesystem::exists(dir / "view.png"));
@@ -153,15 +153,16 @@ TEST(View, ValidationMessagesMakeTheExitCode3) {
 TEST(View, CameraScriptFileErrorsNameTheLine) {
     std::filesystem::path file = outputDir() / "view-bad-script.txt";
     std::ofstream(file) << "# position target\n0 1 3  0 1 0\n0 1 x 0 0 0\n";
-    RunResult r = run(VKGI_VIEW_EXE, "--size 32x32 --frames 2 --exit --camera-script " + quote(file.string()), "bad-script");
+    RunResult r =
+        run(VKGI_VIEW_EXE, "--size 32x32 --frames 2 --exit --camera-script " + quote(file.string()), "bad-script");
     EXPECT_EQ(r.code, 1) << r.out;
     EXPECT_NE(r.out.find(file.string() + ":3: 'x' is not a finite number"), std::string::npos) << r.out;
 }
 
 TEST(View, BadArgumentsExit2BeforeOpeningAWindow) {
-    for (const char* args : {"--exit", "--screenshot out.png --frames 1", "--frames 0", "--technique nope",
-                             "--lpv.grid 0", "--present vsync",
-                             "--frames 3 --resize-at 3:64x64", "--frames 3 --switch-at 1:nope"}) {
+    for (const char* args :
+         {"--exit", "--screenshot out.png --frames 1", "--frames 0", "--technique nope", "--lpv.grid 0",
+          "--present vsync", "--frames 3 --resize-at 3:64x64", "--frames 3 --switch-at 1:nope"}) {
         RunResult r = run(VKGI_VIEW_EXE, args, "bad-args");
         EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
         EXPECT_NE(r.out.find("vkgi-view: "), std::string::npos) << args;
