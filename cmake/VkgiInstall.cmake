@@ -20,7 +20,7 @@ install(EXPORT vkgiTargets NAMESPACE vkgi:: DESTINATION "${VKGI_INSTALL_CMAKEDIR
 set(VKGI_PUBLIC_ENGINE_HEADERS
     builtin_scenes.hpp camera.hpp context.hpp gltf_loader.hpp hdr_image.hpp image_io.hpp pipeline.hpp
     resources.hpp result.hpp scene.hpp vk_check.hpp)
-set(VKGI_PUBLIC_RG_HEADERS access.hpp blackboard.hpp render_graph.hpp)
+set(VKGI_PUBLIC_RG_HEADERS access.hpp blackboard.hpp render_graph.hpp transient_pool.hpp)
 set(VKGI_PUBLIC_GI_HEADERS frame_data.hpp gi.hpp lpv.hpp vct.hpp version.hpp vpl.hpp)
 list(TRANSFORM VKGI_PUBLIC_ENGINE_HEADERS PREPEND "${PROJECT_SOURCE_DIR}/engine/include/engine/")
 list(TRANSFORM VKGI_PUBLIC_RG_HEADERS PREPEND "${PROJECT_SOURCE_DIR}/engine/include/engine/rg/")

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "direct/direct_passes.hpp"
+#include "direct/host_gbuffer.hpp"
 #include "engine/frame_constants.hpp"
 #include "engine/rg/transient_pool.hpp"
 #include "engine/vk_check.hpp"
@@ -67,8 +68,9 @@ struct GiSystem::Impl {
     uint32_t frameIndex = 0;
 
     ~Impl();
+    // `host`: the host's G-buffer replaces the G-buffer pass, and no direct light is computed.
     Result<GiOutputs> addPasses(rg::RenderGraph& graph, rg::Blackboard& bb, const Camera& camera, uint32_t width,
-                                uint32_t height, const FrameRequest& request);
+                                uint32_t height, const FrameRequest& request, const HostGBuffer* host = nullptr);
     FrameData frameData(const Camera& camera, uint32_t width, uint32_t height);
     const Buffer& readbackBuffer(uint32_t slot, uint32_t width, uint32_t height);
     void submitAndWait(rg::RenderGraph& graph);
@@ -121,7 +123,8 @@ FrameData GiSystem::Impl::frameData(const Camera& camera, uint32_t width, uint32
 }
 
 Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboard& bb, const Camera& camera,
-                                            uint32_t width, uint32_t height, const FrameRequest& request) {
+                                            uint32_t width, uint32_t height, const FrameRequest& request,
+                                            const HostGBuffer* host) {
     if (!gpu)
         return makeError("GiSystem: no scene (call setScene before rendering)");
     if (auto ok = checkCamera(camera, width, height); !ok)
@@ -130,14 +133,16 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
     graph.setFrameSet(frameValue.frameSet); // set 0 for technique shaders that read FrameConstants
     const FrameData& frame = bb.add(std::move(frameValue));
     const SceneHandles& sceneHandles = bb.add(importScene(graph, *gpu));
-    const GBufferData& gbuffer = bb.add(addGBufferPass(graph, pipelines, frame, sceneHandles));
+    const GBufferData& gbuffer = bb.add(host ? importHostGBuffer(graph, pipelines, frame, *host)
+                                             : addGBufferPass(graph, pipelines, frame, sceneHandles));
 
     bool rsm = settings.forceRsm || (technique && technique->needsRsm());
     ShadowLayout layout = planShadows(scene, gpu->bounds, settings.shadowMapSize, settings.maxShadowLayers);
     ensureShadowTargets(*ctx, shadows, uint32_t(layout.views.size()), settings.shadowMapSize, rsm);
     addLightPasses(graph, bb, pipelines, frame, sceneHandles, layout, shadows, rsm);
-    const DirectData& direct =
-        bb.add(addDeferredPass(graph, pipelines, frame, sceneHandles, gbuffer, bb.get<ShadowData>()));
+    const DirectData& direct = bb.add(host ? DirectData{}
+                                           : addDeferredPass(graph, pipelines, frame, sceneHandles, gbuffer,
+                                                             bb.get<ShadowData>()));
 
     GiOutputs out;
     if (technique) {
@@ -145,7 +150,7 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
         out.indirect = bb.get<IndirectData>().indirect;
     }
     out.direct = direct.direct;
-    out.composite = out.indirect.valid() ? addCompositePass(graph, pipelines, frame, direct.direct, out.indirect).final
+    out.composite = out.indirect.valid() && direct.direct.valid() ? addCompositePass(graph, pipelines, frame, direct.direct, out.indirect).final
                                          : direct.direct;
     bb.add(CompositeData{out.composite});
     if (!request.composite)
@@ -295,6 +300,63 @@ Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, 
     r.culledPasses = graph.culledPassNames();
     r.transientBytes = graph.memoryReport().transientBytes;
     r.passMemory = graph.memoryReport().passes;
+    r.persistentBytes = persistentBytes();
+    return r;
+}
+
+namespace {
+
+Result<void> checkHostFrame(const TechniqueModule* technique, const HostGBuffer& g) {
+    if (!technique)
+        return makeError("GiSystem host G-buffer path: technique none computes no indirect light");
+    return checkHostGBuffer(g);
+}
+
+} // namespace
+
+Result<GiOutputs> GiSystem::addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
+                                      const HostGBuffer& gbuffer) {
+    if (auto ok = checkHostFrame(m->technique.get(), gbuffer); !ok)
+        return ok.error();
+    return m->addPasses(graph, blackboard, camera, gbuffer.normal.width, gbuffer.normal.height,
+                        FrameRequest{false, false, true}, &gbuffer);
+}
+
+Result<FrameResult> GiSystem::renderIndirect(const Camera& camera, const HostFrame& host) {
+    if (auto ok = checkHostFrame(m->technique.get(), host.gbuffer); !ok)
+        return ok.error();
+    if (!host.indirect.image && !host.readback)
+        return makeError("GiSystem::renderIndirect: HostFrame has no indirect image and no readback: nothing to do");
+    if (host.indirect.image)
+        if (auto ok = checkHostIndirect(host.indirect, host.gbuffer); !ok)
+            return ok.error();
+    if (auto ok = checkFinalAccess("HostFrame.indirectFinalAccess", host.indirectFinalAccess); !ok)
+        return ok.error();
+    if (auto ok = checkFinalAccess("HostFrame.gbufferFinalAccess", host.gbufferFinalAccess); !ok)
+        return ok.error();
+    uint32_t width = host.gbuffer.normal.width, height = host.gbuffer.normal.height;
+    rg::RenderGraph graph;
+    rg::Blackboard bb;
+    auto outputs = m->addPasses(graph, bb, camera, width, height, FrameRequest{false, false, true}, &host.gbuffer);
+    if (!outputs)
+        return outputs.error();
+    exportHostGBuffer(graph, bb.get<GBufferData>(), host.gbuffer, host.gbufferFinalAccess);
+    if (host.indirect.image)
+        addHostIndirectCopy(graph, outputs->indirect, host.indirect, host.indirectFinalAccess);
+    if (host.readback)
+        addReadbackPass(graph, "gi.readback.indirect", outputs->indirect, m->readbackBuffer(2, width, height));
+    if (auto ok = graph.compile(); !ok)
+        return makeError("frame graph: " + ok.error().message);
+    m->submitAndWait(graph);
+
+    FrameResult r;
+    if (host.readback)
+        r.indirect = readbackToImage(m->readback[2], width, height);
+    r.passes = graph.timings();
+    for (const rg::PassTiming& t : r.passes)
+        r.totalMs += t.ms;
+    r.culledPasses = graph.culledPassNames();
+    r.transientBytes = graph.memoryReport().transientBytes;
     r.persistentBytes = persistentBytes();
     return r;
 }

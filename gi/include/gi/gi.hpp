@@ -77,6 +77,52 @@ struct FrameResult {
     uint64_t persistentBytes = 0; // scene, shadow/RSM atlases, technique volumes, readback buffers
 };
 
+// One image owned by the host, given to vkgi for one frame (docs/embedding.md). `view` covers
+// the whole image (one mip, one layer; depth aspect for depth). `access` is the last access the
+// host made to it, which also names its current layout (rg::accessInfo(access).layout, e.g.
+// FragmentSampledRead = SHADER_READ_ONLY_OPTIMAL, ColorAttachmentWrite = COLOR_ATTACHMENT_OPTIMAL,
+// None = UNDEFINED): the frame's first barrier waits on that access and transitions from it.
+// `usage` is the image's creation usage; the frame checks it covers what vkgi does with it.
+struct HostImage {
+    VkImage image = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+    VkFormat format = VK_FORMAT_UNDEFINED;
+    uint32_t width = 0;
+    uint32_t height = 0;
+    VkImageUsageFlags usage = 0;
+    rg::Access access = rg::Access::None;
+};
+
+// The host's G-buffer, in vkgi's G-buffer conventions (gi/frame_data.hpp) at the camera's pixel
+// centres, all the same size; the technique computes the indirect light of these surfaces.
+struct HostGBuffer {
+    // D32_SFLOAT, Camera::projection depth (0 near .. 1 far, 1 = background); usage SAMPLED.
+    // Only read when `position` is not given (world positions are reconstructed from it).
+    HostImage depth;
+    // R16G16B16A16_SFLOAT: xyz unit world normal turned towards the camera, w roughness;
+    // usage SAMPLED | STORAGE.
+    HostImage normal;
+    // R16G16B16A16_SFLOAT: rgb Lambertian albedo in [0, 1], w metallic; usage SAMPLED | STORAGE.
+    HostImage albedo;
+    // Optional R32G32B32A32_SFLOAT: xyz world position, w = 1 on geometry, 0 = background;
+    // usage SAMPLED | STORAGE. VK_NULL_HANDLE: vkgi reconstructs it from `depth`.
+    HostImage position;
+};
+
+// A frame on the host's G-buffer (renderIndirect).
+struct HostFrame {
+    HostGBuffer gbuffer;
+    // Optional output: receives the indirect radiance (RGB nits, A = 1) after the frame. Format
+    // R32G32B32A32_SFLOAT or R16G16B16A16_SFLOAT, the G-buffer's size, usage TRANSFER_DST.
+    HostImage indirect;
+    // The states renderIndirect leaves the images in (their layouts: rg::accessInfo(..).layout);
+    // read accesses only. The G-buffer's: for the host's own lighting passes next.
+    rg::Access indirectFinalAccess = rg::Access::FragmentSampledRead;
+    rg::Access gbufferFinalAccess = rg::Access::FragmentSampledRead;
+    // Also read the indirect light back into FrameResult::indirect.
+    bool readback = false;
+};
+
 // Graph handles of the requested outputs of addPasses (invalid when not requested).
 struct GiOutputs {
     rg::ImageHandle composite; // RGBA32F
@@ -113,6 +159,20 @@ public:
     // the shared handles (gi/frame_data.hpp) for the host's own passes.
     Result<GiOutputs> addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
                                 uint32_t width, uint32_t height, const FrameRequest& request = {});
+
+    // Host G-buffer path (docs/embedding.md): the technique's indirect light of the host's
+    // surfaces. Builds and executes a graph on the system's queue and waits: it imports the host
+    // images in their stated access, copies the indirect light into `frame.indirect` (when given)
+    // and leaves it in `frame.indirectFinalAccess`, the G-buffer in `frame.gbufferFinalAccess`.
+    // The host must have submitted its G-buffer work to the same queue before this call (or
+    // waited for it). Needs a technique other than none.
+    Result<FrameResult> renderIndirect(const Camera& camera, const HostFrame& frame);
+    // The same passes added to a host graph: GiOutputs::indirect is the graph's indirect image
+    // (RGBA32F, marked as output), composite and direct are invalid. The host compiles and
+    // executes the graph; the G-buffer images must stay valid until the graph has executed. They
+    // are left in the graph's last access unless the host exports their handles (GBufferData).
+    Result<GiOutputs> addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
+                                const HostGBuffer& gbuffer);
 
     // Scene + atlases + technique state currently allocated, in bytes.
     uint64_t persistentBytes() const;

@@ -19,6 +19,7 @@ struct DirectPipelines {
     Pipeline rsm;
     Pipeline deferred;
     Pipeline composite;
+    Pipeline hostPosition; // host G-buffer path (host_gbuffer.cpp)
     VkSampler pointSampler = VK_NULL_HANDLE;  // texelFetch-only images still need a sampler
     VkSampler shadowSampler = VK_NULL_HANDLE; // depth compare, bilinear (PCF)
 };

@@ -46,6 +46,10 @@ Result<DirectPipelines> createDirectPipelines(Context& ctx) {
     if (!composite)
         return fail(composite.error());
     p.composite = *composite;
+    auto hostPosition = createComputePipeline(ctx, {"gi/direct/host_position.comp", {}});
+    if (!hostPosition)
+        return fail(hostPosition.error());
+    p.hostPosition = *hostPosition;
     SamplerDesc point;
     point.filter = VK_FILTER_NEAREST;
     point.mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST;
@@ -58,7 +62,7 @@ Result<DirectPipelines> createDirectPipelines(Context& ctx) {
 }
 
 void destroyDirectPipelines(Context& ctx, DirectPipelines& p) {
-    for (Pipeline* pl : {&p.gbuffer, &p.shadow, &p.rsm, &p.deferred, &p.composite})
+    for (Pipeline* pl : {&p.gbuffer, &p.shadow, &p.rsm, &p.deferred, &p.composite, &p.hostPosition})
         if (pl->pipeline)
             destroyPipeline(ctx, *pl);
     for (VkSampler s : {p.pointSampler, p.shadowSampler})

@@ -51,6 +51,13 @@ GI_GPU_STRUCT(CompositePush) {
 };
 GI_CHECK_SIZE(CompositePush, 16);
 
+// Host G-buffer path: world position reconstructed from the host's depth.
+GI_GPU_STRUCT(HostPositionPush) {
+    mat4 invViewProj; // clip -> world of the frame's camera
+    uvec4 size;       // x width, y height
+};
+GI_CHECK_SIZE(HostPositionPush, 80);
+
 // Cube face of a direction from the light: +X, -X, +Y, -Y, +Z, -Z = 0..5 (major axis).
 GI_INLINE uint cubeFace(vec3 d) {
     vec3 a = abs(d);
