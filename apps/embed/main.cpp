@@ -5,9 +5,12 @@
 // tests/package against the installed package.
 //
 //   vkgi-embed [--scene NAME|FILE] [--technique T] [--size WxH] [--out FILE.exr|.png] [--validate]
+//              [--host-graph]
 //
 // --validate enables the Khronos validation layer with synchronization validation on the host's
-// instance; any message makes the exit code 3.
+// instance; any message makes the exit code 3. --host-graph adds vkgi's passes to the host's own
+// render graph, recorded into the host's command buffer and submitted by the host, instead of
+// GiSystem::renderFrame (the image is the same).
 #include <atomic>
 #include <charconv>
 #include <cstdio>
@@ -20,6 +23,9 @@
 #include "engine/context.hpp"
 #include "engine/gltf_loader.hpp"
 #include "engine/image_io.hpp"
+#include "engine/resources.hpp"
+#include "engine/rg/blackboard.hpp"
+#include "engine/rg/transient_pool.hpp"
 #include "gi/gi.hpp"
 
 namespace {
@@ -31,6 +37,7 @@ struct Options {
     uint32_t height = 64;
     std::string out = "embed.exr";
     bool validate = false;
+    bool hostGraph = false;
 };
 
 int fail(const std::string& message) {
@@ -47,12 +54,12 @@ vkgi::Result<Options> parseArgs(int argc, char** argv) {
     Options o;
     for (int i = 1; i < argc; ++i) {
         std::string arg = argv[i];
-        if (arg == "--validate") {
-            o.validate = true;
+        if (arg == "--validate" || arg == "--host-graph") {
+            (arg == "--validate" ? o.validate : o.hostGraph) = true;
             continue;
         }
         if (arg != "--scene" && arg != "--technique" && arg != "--size" && arg != "--out")
-            return vkgi::makeError("unknown option '" + arg + "' (options: --scene --technique --size --out --validate)");
+            return vkgi::makeError("unknown option '" + arg + "' (options: --scene --technique --size --out --validate --host-graph)");
         if (i + 1 == argc)
             return vkgi::makeError(arg + " needs a value");
         std::string value = argv[++i];
@@ -227,11 +234,111 @@ vkgi::Result<void> createDevice(HostVulkan& host) {
     return {};
 }
 
+// ---- Host-graph mode: the host records and submits; vkgi only adds passes. ----
+
+struct ReadbackPass {
+    vkgi::rg::ImageHandle image;
+    vkgi::rg::BufferHandle buffer;
+};
+
+// One frame of vkgi's passes plus the host's own readback pass in a host graph, executed into the
+// host's command buffer and submitted to the host's queue. Returns the composite image.
+vkgi::Result<vkgi::HdrImage> renderInHostGraph(const HostVulkan& host, vkgi::Context& ctx, vkgi::gi::GiSystem& gi,
+                                               const vkgi::Camera& camera, uint32_t width, uint32_t height) {
+    namespace rg = vkgi::rg;
+    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT; // one command buffer, re-recorded each frame
+    poolInfo.queueFamilyIndex = host.queueFamily;
+    VkCommandPool pool = VK_NULL_HANDLE;
+    if (vkCreateCommandPool(host.device, &poolInfo, nullptr, &pool) != VK_SUCCESS)
+        return vkgi::makeError("vkCreateCommandPool failed");
+    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    alloc.commandPool = pool;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    vkAllocateCommandBuffers(host.device, &alloc, &cmd);
+    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VkFence fence = VK_NULL_HANDLE;
+    vkCreateFence(host.device, &fenceInfo, nullptr, &fence);
+    vkgi::Buffer readback = vkgi::createBuffer(
+        ctx, {VkDeviceSize(width) * height * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, vkgi::MemoryUsage::GpuToCpu},
+        "embed.readback");
+    vkgi::Result<vkgi::HdrImage> result = vkgi::HdrImage{};
+    {
+        rg::TransientPool transients(ctx); // graph transients, reused across frames; outlives the GPU work
+        // Two frames, as vkgi-render renders them; each must finish before the next addPasses.
+        for (int frame = 0; frame < 2 && result; ++frame) {
+            rg::RenderGraph graph;
+            rg::Blackboard blackboard;
+            vkgi::gi::FrameRequest request; // composite only
+            auto outputs = gi.addPasses(graph, blackboard, camera, width, height, request);
+            if (!outputs) {
+                result = outputs.error();
+                break;
+            }
+            rg::BufferHandle buffer = graph.importBuffer("embed.readback", readback, rg::Access::HostRead);
+            const ReadbackPass& copy = graph.addPass<ReadbackPass>(
+                "embed.readback",
+                [&](rg::PassBuilder& b, ReadbackPass& d) {
+                    b.read(outputs->composite, rg::Access::TransferRead);
+                    d.image = outputs->composite;
+                    d.buffer = b.write(buffer, rg::Access::TransferWrite);
+                },
+                [](const ReadbackPass& d, rg::PassContext& pc) {
+                    const vkgi::Image& image = pc.image(d.image);
+                    VkBufferImageCopy region{};
+                    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                    region.imageExtent = {image.desc.width, image.desc.height, 1};
+                    vkCmdCopyImageToBuffer(pc.cmd(), image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                           pc.buffer(d.buffer).buffer, 1, &region);
+                });
+            graph.exportBuffer(copy.buffer, rg::Access::HostRead); // barriers make it visible to the host
+            if (auto ok = graph.compile(); !ok) {
+                result = ok.error();
+                break;
+            }
+            vkResetCommandBuffer(cmd, 0);
+            VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+            begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+            vkBeginCommandBuffer(cmd, &begin);
+            graph.execute(cmd, ctx, transients); // the host's own passes could be recorded around it
+            vkEndCommandBuffer(cmd);
+            VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+            submit.commandBufferCount = 1;
+            submit.pCommandBuffers = &cmd;
+            vkResetFences(host.device, 1, &fence);
+            vkQueueSubmit(host.queue, 1, &submit, fence);
+            vkWaitForFences(host.device, 1, &fence, VK_TRUE, UINT64_MAX);
+        }
+        if (result) {
+            vkgi::HdrImage image(width, height);
+            const auto* texels = static_cast<const glm::vec4*>(readback.mapped());
+            for (size_t i = 0; i < image.pixels.size(); ++i)
+                image.pixels[i] = glm::vec3(texels[i]);
+            result = std::move(image);
+        }
+    }
+    vkgi::destroyBuffer(ctx, readback);
+    vkDestroyFence(host.device, fence, nullptr);
+    vkDestroyCommandPool(host.device, pool, nullptr);
+    return result;
+}
+
 glm::dvec3 mean(const vkgi::HdrImage& image) {
     glm::dvec3 sum(0.0);
     for (const glm::vec3& p : image.pixels)
         sum += glm::dvec3(p);
     return sum / double(image.pixels.size());
+}
+
+// Exit code once vkgi is done: 3 when the validation layer reported anything.
+int finish() {
+    if (uint32_t n = g_validationMessages.load(); n != 0) {
+        std::fprintf(stderr, "vkgi-embed: %u validation message(s)\n", n);
+        return 3;
+    }
+    return 0;
 }
 
 int run(const Options& o) {
@@ -261,32 +368,37 @@ int run(const Options& o) {
         if (auto ok = (*gi)->setScene(*scene); !ok)
             return fail(ok.error().message);
         vkgi::Camera camera = scene->cameraOrDefault();
-        vkgi::gi::FrameRequest request;
-        request.indirect = *technique != vkgi::gi::Technique::None;
-        // Two frames, as vkgi-render renders them: the first one JIT-compiles the shaders.
-        auto frame = (*gi)->renderFrame(camera, o.width, o.height, request);
-        if (frame)
-            frame = (*gi)->renderFrame(camera, o.width, o.height, request);
-        if (!frame)
-            return fail(frame.error().message);
-        glm::dvec3 m = mean(frame->composite);
-        std::printf("%s %ux%u technique %s: composite mean %.6f %.6f %.6f nits, %.2f ms GPU\n", o.scene.c_str(),
-                    o.width, o.height, o.technique.c_str(), m.x, m.y, m.z, frame->totalMs);
-        if (!frame->indirect.empty()) {
-            glm::dvec3 mi = mean(frame->indirect);
-            std::printf("indirect mean %.6f %.6f %.6f nits\n", mi.x, mi.y, mi.z);
+        vkgi::HdrImage composite;
+        if (o.hostGraph) {
+            auto image = renderInHostGraph(host, **ctx, **gi, camera, o.width, o.height);
+            if (!image)
+                return fail(image.error().message);
+            composite = std::move(*image);
+        } else {
+            vkgi::gi::FrameRequest request;
+            request.indirect = *technique != vkgi::gi::Technique::None;
+            // Two frames, as vkgi-render renders them: the first one JIT-compiles the shaders.
+            auto frame = (*gi)->renderFrame(camera, o.width, o.height, request);
+            if (frame)
+                frame = (*gi)->renderFrame(camera, o.width, o.height, request);
+            if (!frame)
+                return fail(frame.error().message);
+            composite = std::move(frame->composite);
+            std::printf("%.2f ms GPU\n", frame->totalMs);
+            if (!frame->indirect.empty()) {
+                glm::dvec3 mi = mean(frame->indirect);
+                std::printf("indirect mean %.6f %.6f %.6f nits\n", mi.x, mi.y, mi.z);
+            }
         }
-        auto written = o.out.ends_with(".exr") ? vkgi::writeExr(o.out, frame->composite)
-                                               : vkgi::writePng(o.out, frame->composite);
+        glm::dvec3 m = mean(composite);
+        std::printf("%s %ux%u technique %s%s: composite mean %.6f %.6f %.6f nits\n", o.scene.c_str(), o.width,
+                    o.height, o.technique.c_str(), o.hostGraph ? " (host graph)" : "", m.x, m.y, m.z);
+        auto written = o.out.ends_with(".exr") ? vkgi::writeExr(o.out, composite) : vkgi::writePng(o.out, composite);
         if (!written)
             return fail(written.error().message);
         std::printf("wrote %s\n", o.out.c_str());
     }
-    if (uint32_t n = g_validationMessages.load(); n != 0) {
-        std::fprintf(stderr, "vkgi-embed: %u validation message(s)\n", n);
-        return 3;
-    }
-    return 0;
+    return finish();
 }
 
 } // namespace
