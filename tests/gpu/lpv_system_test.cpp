@@ -4,8 +4,10 @@
 #include <cstdio>
 #include <iterator>
 #include <string>
+#include <utility>
 
 #include "engine/builtin_scenes.hpp"
+#include "mesh_builder.hpp"
 #include "engine/image_metrics.hpp"
 #include "gi/gi.hpp"
 #include "gi/reference.hpp"
@@ -203,4 +205,75 @@ TEST_F(LpvSystem, DirectionalLightUsesBlendedCascades) {
     EXPECT_NEAR(mean(frame.indirect), mean(single.indirect), 0.3 * mean(single.indirect));
     for (const char* pass : {"gi.lpv.propagate[7]", "gi.lpv.c1.propagate[7]", "gi.lpv.lookup", "gi.lpv.c1.lookup"})
         EXPECT_TRUE(hasPass(frame, pass)) << pass;
+}
+
+namespace {
+
+
+// Two 2 x 2 x 2 m rooms side by side along x, sharing a 0.1 m wall (every wall a solid box, so
+// both rooms are light-tight): a spotlight in room A shines on the shared wall; the camera is
+// in room B looking at the other side of it. Room B's true indirect light is exactly zero.
+Scene twoRooms() {
+    Scene s;
+    s.name = "two_rooms";
+    uint32_t white = addMaterial(s, "two_rooms_walls", glm::vec3(0.7f));
+    const float t = 0.1f, w = 2.0f;
+    MeshBuilder b;
+    b.addBox({-t, -t, -t}, {2 * w + 2 * t, 0.0f, w + t});       // floor
+    b.addBox({-t, w, -t}, {2 * w + 2 * t, w + t, w + t});        // ceiling
+    b.addBox({-t, 0.0f, -t}, {0.0f, w, w + t});                  // room A's outer wall
+    b.addBox({w, 0.0f, 0.0f}, {w + t, w, w});                    // shared wall
+    b.addBox({2 * w + t, 0.0f, -t}, {2 * w + 2 * t, w, w + t});  // room B's outer wall
+    b.addBox({0.0f, 0.0f, -t}, {2 * w + t, w, 0.0f});            // front
+    b.addBox({0.0f, 0.0f, w}, {2 * w + t, w, w + t});            // back
+    addMeshInstance(s, b, "two_rooms", white);
+    Light spot;
+    spot.name = "two_rooms_spot";
+    spot.type = LightType::Spot;
+    spot.position = {0.3f, 1.0f, 1.0f};
+    spot.direction = {1.0f, 0.0f, 0.0f};
+    spot.intensity = 10.0f;
+    spot.innerConeAngle = 0.6f;
+    spot.outerConeAngle = 0.7f;
+    s.lights.push_back(spot);
+    Camera c;
+    c.position = {2 * w + 0.05f, 1.0f, 1.0f};
+    c.forward = {-1.0f, 0.0f, 0.0f};
+    c.up = {0.0f, 1.0f, 0.0f};
+    c.yfov = 1.4f;
+    c.znear = 0.01f;
+    c.zfar = 10.0f;
+    s.camera = c;
+    return s;
+}
+
+} // namespace
+
+// The leak test: the indirect light in the dark room with the geometry volume is at
+// most a stated fraction of that without it (the truth is zero).
+TEST_F(LpvSystem, GeometryVolumeKeepsLightOutOfTheNeighbouringRoom) {
+    Scene scene = twoRooms();
+    // A fully covered GV face passes >= 25% of head-on light (docs/lpv.md). Measured: 54% at 16^3
+    // (27 cm cells: the 10 cm wall shares a cell row with light on both sides) and 34% at 32^3;
+    // the dark room then gets 2.8% / 2.7% of the lit room's indirect light.
+    for (auto [grid, bound] : {std::pair{16u, 0.6}, std::pair{32u, 0.4}}) {
+        LpvSettings lpv;
+        lpv.gridSize = grid;
+        lpv.iterations = grid / 2;
+        lpv.occlusion = false;
+        const double open = mean(render(scene, lpv, 64).indirect);
+        lpv.occlusion = true;
+        const double blocked = mean(render(scene, lpv, 64).indirect);
+        // Scale: what room A's own walls get, seen from inside room A.
+        Scene lit = scene;
+        lit.camera->position = {0.05f, 1.0f, 1.0f};
+        lit.camera->forward = {1.0f, 0.0f, 0.0f};
+        const double litRoom = mean(render(lit, lpv, 64).indirect);
+        std::printf("[lpv] two rooms %u^3 x %u: dark room %.4g nits with GV, %.4g without (%.1f%%); lit room %.4g\n",
+                    grid, lpv.iterations, blocked, open, 100.0 * blocked / open, litRoom);
+        EXPECT_GT(open, 0.0);
+        EXPECT_GT(litRoom, blocked);
+        EXPECT_LE(blocked, bound * open) << grid;
+        EXPECT_LE(blocked, 0.05 * litRoom) << grid;
+    }
 }
