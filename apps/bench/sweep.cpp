@@ -32,7 +32,7 @@ std::vector<std::string> sweepFor(const std::string& technique, bool quick) {
         s = {""};
     } else if (technique == "lpv") {
         s = product("lpv.grid", {"16", "32", "64"}, "lpv.iterations", {"4", "8", "16", "32", "64"});
-        for (const char* t : {"lpv.occlusion=off", "lpv.bounces=on", "lpv.damping=0"})
+        for (const char* t : {"lpv.occlusion=off", "lpv.bounces=on", "lpv.damping=0", "lpv.cascades=2"})
             s.push_back(std::string("lpv.grid=32 lpv.iterations=8 ") + t);
     } else if (technique == "vct") {
         s = product("vct.grid", {"32", "64", "128"}, "vct.cones", {"4", "6", "16"});

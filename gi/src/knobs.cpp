@@ -61,6 +61,8 @@ std::vector<Knob> makeKnobs() {
                  [](GiSettings& s) -> bool& { return s.lpv.bounces; }),
         floatKnob("lpv.damping", 0, 1, lpv, "light-bleeding damping strength at lookup",
                   [](GiSettings& s) -> float& { return s.lpv.damping; }),
+        uintKnob("lpv.cascades", 1, 3, lpv, "nested camera-centred volumes for a directional light (1 = one fitted grid)",
+                 [](GiSettings& s) -> uint32_t& { return s.lpv.cascades; }),
         boolKnob("lpv.half", lpv, "RGBA16F SH storage (off = RGBA32F)",
                  [](GiSettings& s) -> bool& { return s.lpv.halfFloat; }),
         uintKnob("vpl.count", 1, kMaxVplsPerLight, vpl, "VPLs per spotlight (Halton points in the cone)",
