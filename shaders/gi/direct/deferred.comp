@@ -75,9 +75,11 @@ float shadowVisibility(uint lightIndex, vec3 p, vec3 n, vec3 toLight) {
             grad = vec2(d1.z * d2.y - d2.z * d1.y, d2.z * d1.x - d1.z * d2.x) / det;
     }
     // Perspective: the direction w to texel-space point (x, y) satisfies (row0 - ndc.x row3) . w = 0
-    // and (row1 - ndc.y row3) . w = 0 (the light position projects to clip (0, 0, *, 0)).
+    // and (row1 - ndc.y row3) . w = 0 (the light position projects to clip (0, 0, *, 0)), so
+    // w = cross(row0 - x row3, row1 - y row3) = w0 + x wx + y wy (row3 x row3 = 0): affine in ndc.
     mat4 vpT = transpose(view.viewProj);
     vec3 row0 = vpT[0].xyz, row1 = vpT[1].xyz, row3 = vpT[3].xyz;
+    vec3 w0 = cross(row0, row1), wx = cross(row1, row3), wy = cross(row3, row0);
     float planeDist = dot(n, q - view.eye.xyz);
     int r = int(pc.size.w);
     float lit = 0.0;
@@ -97,7 +99,7 @@ float shadowVisibility(uint lightIndex, vec3 p, vec3 n, vec3 toLight) {
             } else {
                 for (int k = 0; k < 4; ++k) {
                     vec2 ndc = (c.xy + vec2(du[k], dv[k])) / view.texel.z * 2.0 - 1.0;
-                    vec3 w = cross(row0 - ndc.x * row3, row1 - ndc.y * row3);
+                    vec3 w = w0 + ndc.x * wx + ndc.y * wy;
                     float nw = dot(n, w);
                     // A ray parallel to the plane never meets it: compare against the receiver's depth.
                     plane[k] = abs(nw) > 1e-12 * length(w) ? abs(planeDist / nw) * length(w) / view.eye.w : c.z;
