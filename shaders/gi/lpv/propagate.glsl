@@ -1,8 +1,9 @@
 // One LPV propagation step (Kaplanyan's gather, as described in Elvek's thesis): every cell
 // gathers from its 6 neighbours; a neighbour's light is split over the 5 faces of this cell it
 // leaves through (exact face integrals, gi/lpv.h), optionally attenuated by the geometry
-// volume at the shared face, and re-emitted from this cell's centre as a cosine lobe around
-// the face normal. Writes the new wavefront and adds it to the accumulation volume.
+// volume at the shared face, and re-emitted from this cell's centre in the directions it crossed
+// the face with (lpvFaceReprojection). Writes the new wavefront and adds it to the
+// accumulation volume.
 // Multi-bounce (Gaitatzes et al.): light that enters occupied voxels is reflected instead of
 // passing through. Here "does not pass" is the geometry volume's job (its blocking at this
 // cell's faces), and the voxel grid (sampled trilinearly at the cell centre: occupancy a, mean
@@ -73,6 +74,22 @@ void main() {
             continue;
         }
         vec4 blocking = faces[i];
+        // Nothing at the shared face (most of the volume): transmittance 1 on all 5 faces, which
+        // is the free-space closed form (the same operator, tested). Cornell 32^3: ~9 -> ~8 ms
+        // per step (lanes of a SIMD group that straddle a surface still run the face loop).
+        if (blocking == vec4(0.0)) {
+            vec3 d = vec3(p - q);
+            vec4 fr = lpvPropagateFree(r, d), fg = lpvPropagateFree(g, d), fb = lpvPropagateFree(b, d);
+            sumR += fr;
+            sumG += fg;
+            sumB += fb;
+            if (kBounce) {
+                inR += fr;
+                inG += fg;
+                inB += fb;
+            }
+            continue;
+        }
         for (int f = 0; f < 5; ++f) {
             vec4 open = lpvFaceWeight(i, f);
             vec4 w = open * lpvTransmittance(blocking, lpvFaceDirection(i, f));
