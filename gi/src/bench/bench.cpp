@@ -94,10 +94,11 @@ std::string toJson(const std::vector<BenchRecord>& records) {
     nlohmann::json arr = nlohmann::json::array();
     for (const auto& r : records) {
         nlohmann::json passes = nlohmann::json::array();
-        for (const auto& [name, ms] : r.passMs) {
+        for (const auto& entry : r.passMs) {
+            const auto& [name, ms] = entry;
             nlohmann::json pass = {{"name", name}, {"ms", ms}};
             auto it = std::find_if(r.passBytes.begin(), r.passBytes.end(),
-                                   [&](const auto& e) { return e.first == name; });
+                                   [&](const auto& e) { return e.first == entry.first; });
             if (it != r.passBytes.end()) {
                 pass["bytes"] = it->second;
                 pass["stream_ratio"] = streamRatio(ms, it->second, r.streamGBs);
