@@ -154,9 +154,13 @@ public:
                                     const FrameRequest& request = {});
 
     // For hosts with their own graph: adds this frame's passes and marks the requested outputs.
-    // The host compiles and executes the graph and must keep this GiSystem's previous frame
-    // finished before calling again (shadow/RSM atlases are persistent). The blackboard gets
-    // the shared handles (gi/frame_data.hpp) for the host's own passes.
+    // The host compiles and executes the graph on the Context's queue, with at most two of this
+    // GiSystem's frames in flight: frame constants are double-buffered, and persistent resources
+    // (shadow/RSM atlases, technique volumes) carry their last access into the next frame's graph,
+    // whose barriers then order it after the previous submission on the same queue (vkgi-view runs
+    // this way under synchronization validation). setScene waits for idle; updateScene uploads
+    // through the same queue behind full barriers, so it is ordered after the frames in flight.
+    // The blackboard gets the shared handles (gi/frame_data.hpp) for the host's own passes.
     Result<GiOutputs> addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
                                 uint32_t width, uint32_t height, const FrameRequest& request = {});
 
