@@ -40,6 +40,15 @@ TEST(VctSettings, BadValuesAreReadableErrors) {
     s = {};
     s.shadowAperture = std::numeric_limits<float>::infinity();
     expectError(s, "shadowAperture");
+    s = {};
+    s.lowResFactor = 3;
+    expectError(s, "lowResFactor 3");
+    s = {};
+    s.refineThreshold = std::numeric_limits<float>::quiet_NaN();
+    expectError(s, "refineThreshold");
+    s = {};
+    s.occlusion = VctOcclusion::ShadowMap;
+    expectError(s, "not implemented");
 }
 
 TEST(VoxelGridFit, LongestSideSpansNMinusOneVoxelsCentred) {
