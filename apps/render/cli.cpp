@@ -161,10 +161,13 @@ Usage: vkgi-render [options]
   --exposure E        PNG only: linear radiance is multiplied by E before the tone map (default 1;
                       sun-lit scenes of ~1e3 nits want ~1e-3)
   --json FILE         write {scene, technique, width, height, passes[{name, ms}], total_ms,
+                      left_out[{name, reason: culled|not-needed|not-dirty, detail}],
+                      static_frame{passes, total_ms, left_out} or null,
                       error{relmse, rmse, relmse_indirect, rmse_indirect} or null}
   --help              this text
 
-GPU times are of a second frame: the first pays the driver's shader compilation.
+GPU times are of a second frame that recomputes everything (the first pays the driver's shader
+compilation); static_frame is a third one with nothing changed, which reuses the persistent volumes.
 Environment: VKGI_DEVICE=<substring> picks the Vulkan device by name; VKGI_VALIDATION=1 enables
 the validation layers.
 Exit codes: 0 success, 1 scene/render/output failure, 2 bad arguments.
@@ -177,7 +180,8 @@ Exit codes: 0 success, 1 scene/render/output failure, 2 bad arguments.
 }
 
 std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalMs,
-                        const std::vector<std::string>& culled, uint64_t memoryBytes) {
+                        const std::vector<gi::LeftOutPass>& leftOut, uint64_t memoryBytes,
+                        const std::optional<StaticFrame>& staticFrame) {
     std::ostringstream out;
     char line[160];
     std::snprintf(line, sizeof(line), "%-32s %10s\n", "pass", "ms");
@@ -188,11 +192,12 @@ std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalM
     }
     std::snprintf(line, sizeof(line), "%-32s %10.3f\n", "total", totalMs);
     out << line;
-    if (!culled.empty()) {
-        out << "culled:";
-        for (const std::string& c : culled)
-            out << ' ' << c;
-        out << '\n';
+    for (const gi::LeftOutPass& p : leftOut)
+        out << "left out: " << p.name << " (" << gi::toString(p.reason) << ": " << p.detail << ")\n";
+    if (staticFrame) {
+        std::snprintf(line, sizeof(line), "next frame, nothing changed: %.3f ms, %zu passes\n", staticFrame->totalMs,
+                      staticFrame->passes.size());
+        out << line;
     }
     if (memoryBytes > 0) {
         std::snprintf(line, sizeof(line), "device memory: %.2f MiB\n", double(memoryBytes) / (1024.0 * 1024.0));
@@ -201,17 +206,41 @@ std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalM
     return out.str();
 }
 
+namespace {
+
+nlohmann::json passesJson(const std::vector<rg::PassTiming>& passes) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const rg::PassTiming& p : passes)
+        a.push_back({{"name", p.name}, {"ms", p.ms}});
+    return a;
+}
+
+nlohmann::json leftOutJson(const std::vector<gi::LeftOutPass>& leftOut) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const gi::LeftOutPass& p : leftOut)
+        a.push_back({{"name", p.name}, {"reason", gi::toString(p.reason)}, {"detail", p.detail}});
+    return a;
+}
+
+} // namespace
+
 std::string jsonReport(const Options& o, const std::vector<rg::PassTiming>& passes, double totalMs,
+                       const std::vector<gi::LeftOutPass>& leftOut, const std::optional<StaticFrame>& staticFrame,
                        const std::optional<Errors>& errors) {
     nlohmann::json j;
     j["scene"] = o.scene;
     j["technique"] = o.technique;
     j["width"] = o.width;
     j["height"] = o.height;
-    j["passes"] = nlohmann::json::array();
-    for (const rg::PassTiming& p : passes)
-        j["passes"].push_back({{"name", p.name}, {"ms", p.ms}});
+    j["passes"] = passesJson(passes);
     j["total_ms"] = totalMs;
+    j["left_out"] = leftOutJson(leftOut);
+    if (staticFrame)
+        j["static_frame"] = {{"passes", passesJson(staticFrame->passes)},
+                             {"total_ms", staticFrame->totalMs},
+                             {"left_out", leftOutJson(staticFrame->leftOut)}};
+    else
+        j["static_frame"] = nullptr;
     // JSON has no infinity: a non-finite error (broken pixels) is reported as null.
     auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
     if (errors)

@@ -10,6 +10,7 @@
 #include "engine/image_metrics.hpp"
 #include "engine/result.hpp"
 #include "engine/rg/render_graph.hpp"
+#include "gi/gi.hpp"
 
 namespace vkgi::render {
 
@@ -38,11 +39,22 @@ struct Errors {
     ErrorMetrics indirect;
 };
 
-// The per-pass GPU time table (plus total, culled passes and memory) for stdout.
+// A frame rendered after one with nothing changed: only what the persistent volumes do not cover.
+struct StaticFrame {
+    std::vector<rg::PassTiming> passes;
+    double totalMs = 0.0;
+    std::vector<gi::LeftOutPass> leftOut;
+};
+
+// The per-pass GPU time table (plus total, the passes left out with their reason, memory, and
+// the static frame's total) for stdout.
 std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalMs,
-                        const std::vector<std::string>& culled, uint64_t memoryBytes);
-// The --json report: scene, technique, size, passes, total_ms, error (null without --compare).
+                        const std::vector<gi::LeftOutPass>& leftOut, uint64_t memoryBytes,
+                        const std::optional<StaticFrame>& staticFrame);
+// The --json report: scene, technique, size, passes, total_ms, left_out[{name, reason, detail}],
+// static_frame {passes, total_ms, left_out} or null, error (null without --compare).
 std::string jsonReport(const Options& o, const std::vector<rg::PassTiming>& passes, double totalMs,
+                       const std::vector<gi::LeftOutPass>& leftOut, const std::optional<StaticFrame>& staticFrame,
                        const std::optional<Errors>& errors);
 
 } // namespace vkgi::render

@@ -3,6 +3,7 @@
 // reference, and writes EXR/PNG images and a JSON report. `vkgi-render --help` lists options.
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "cli.hpp"
 #include "engine/file_util.hpp"
@@ -22,8 +23,11 @@ struct Rendered {
     HdrImage direct;
     std::vector<rg::PassTiming> passes;
     double totalMs = 0.0;
-    std::vector<std::string> culled;
+    std::vector<gi::LeftOutPass> leftOut;
     uint64_t memoryBytes = 0;
+    // GPU times and passes of a third frame with nothing changed (GI techniques only): what a
+    // static scene costs once the persistent volumes are valid.
+    std::optional<render::StaticFrame> staticFrame;
 };
 
 int fail(int code, const std::string& message) {
@@ -38,12 +42,17 @@ gi::ReferenceSettings referenceSettings(const render::Options& o, int bounces) {
     return s;
 }
 
-Result<Rendered> renderGi(const Scene& scene, const Camera& camera, const render::Options& o, gi::Technique t) {
+Result<gi::GiSettings> giSettings(const render::Options& o, gi::Technique t) {
     gi::GiSettings settings;
     settings.technique = t;
     for (const auto& [name, value] : o.knobs)
         if (auto ok = gi::setKnob(settings, name, value); !ok)
             return ok.error();
+    return settings;
+}
+
+Result<Rendered> renderGi(const Scene& scene, const Camera& camera, const render::Options& o,
+                          const gi::GiSettings& settings) {
     auto system = gi::GiSystem::createHeadless(settings);
     if (!system)
         return system.error();
@@ -52,14 +61,25 @@ Result<Rendered> renderGi(const Scene& scene, const Camera& camera, const render
     gi::FrameRequest request;
     request.direct = true;
     // lavapipe JIT-compiles each shader at its first dispatch; a warm-up frame keeps that out of
-    // the reported times (they are the second frame's).
+    // the reported times (they are the second frame's, recomputing everything as a first frame
+    // does: invalidate() keeps the warm-up's persistent volumes from being reused).
     auto frame = (*system)->renderFrame(camera, o.width, o.height, request);
-    if (frame)
+    if (frame) {
+        (*system)->invalidate();
         frame = (*system)->renderFrame(camera, o.width, o.height, request);
+    }
     if (!frame)
         return frame.error();
-    return Rendered{std::move(frame->composite), std::move(frame->direct), frame->passes, frame->totalMs,
-                    frame->culledPasses, frame->transientBytes + frame->persistentBytes};
+    auto still = (*system)->renderFrame(camera, o.width, o.height, request);
+    if (!still)
+        return still.error();
+    return Rendered{std::move(frame->composite),
+                    std::move(frame->direct),
+                    frame->passes,
+                    frame->totalMs,
+                    frame->leftOut,
+                    frame->transientBytes + frame->persistentBytes,
+                    render::StaticFrame{still->passes, still->totalMs, still->leftOut}};
 }
 
 Result<Rendered> renderPathTraced(const Scene& scene, const Camera& camera, const render::Options& o, int bounces) {
@@ -67,7 +87,7 @@ Result<Rendered> renderPathTraced(const Scene& scene, const Camera& camera, cons
     if (!ref)
         return ref.error();
     double ms = ref->seconds * 1000.0;
-    return Rendered{std::move(ref->full), std::move(ref->direct), {{"reference (CPU wall time)", ms}}, ms, {}, 0};
+    return Rendered{std::move(ref->full), std::move(ref->direct), {{"reference (CPU wall time)", ms}}, ms, {}, 0, {}};
 }
 
 // Errors of the full image and of its indirect part (full - direct) against the reference.
@@ -117,13 +137,17 @@ int main(int argc, char** argv) {
     if (!scene)
         return fail(1, scene.error().message);
     Camera camera = scene->cameraOrDefault();
-    int bounces = o.bounces.value_or(pathTraced ? -1 : gi::modelledBounces(*technique));
+    auto settings = giSettings(o, *technique);
+    if (!settings)
+        return fail(2, settings.error().message);
+    int bounces = o.bounces.value_or(pathTraced ? -1 : gi::modelledBounces(*settings));
 
-    auto rendered = pathTraced ? renderPathTraced(*scene, camera, o, bounces) : renderGi(*scene, camera, o, *technique);
+    auto rendered = pathTraced ? renderPathTraced(*scene, camera, o, bounces) : renderGi(*scene, camera, o, *settings);
     if (!rendered)
         return fail(1, rendered.error().message);
     std::printf("%s %ux%u, technique %s\n", o.scene.c_str(), o.width, o.height, o.technique.c_str());
-    std::fputs(render::timingTable(rendered->passes, rendered->totalMs, rendered->culled, rendered->memoryBytes).c_str(),
+    std::fputs(render::timingTable(rendered->passes, rendered->totalMs, rendered->leftOut, rendered->memoryBytes,
+                                   rendered->staticFrame).c_str(),
                stdout);
 
     std::optional<render::Errors> errors;
@@ -142,7 +166,8 @@ int main(int argc, char** argv) {
         std::printf("wrote %s\n", out.string().c_str());
     }
     if (o.json) {
-        if (auto ok = writeFileAtomic(*o.json, render::jsonReport(o, rendered->passes, rendered->totalMs, errors)); !ok)
+        if (auto ok = writeFileAtomic(*o.json, render::jsonReport(o, rendered->passes, rendered->totalMs, rendered->leftOut,
+                                                                   rendered->staticFrame, errors)); !ok)
             return fail(1, ok.error().message);
         std::printf("wrote %s\n", o.json->string().c_str());
     }

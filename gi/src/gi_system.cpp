@@ -9,6 +9,7 @@
 #include "engine/rg/transient_pool.hpp"
 #include "engine/vk_check.hpp"
 #include "gi/gi.hpp"
+#include "pipeline.hpp"
 #include "technique.hpp"
 
 namespace vkgi::gi {
@@ -66,6 +67,14 @@ struct GiSystem::Impl {
     VkCommandBuffer cmd = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
     uint32_t frameIndex = 0;
+    // Pass selection (pipeline.hpp): the scene's features and what changed since the shadow
+    // passes and the technique last registered their passes.
+    SceneFeatures features;
+    SceneChanges shadowChanges;
+    SceneChanges techniqueChanges;
+    ShadowLayout lastShadowLayout; // layout the persistent atlas was last rendered with
+    std::optional<Camera> lastTechniqueCamera;
+    uint32_t lastTechniqueWidth = 0, lastTechniqueHeight = 0;
 
     ~Impl();
     // `host`: the host's G-buffer replaces the G-buffer pass, and no direct light is computed.
@@ -74,6 +83,10 @@ struct GiSystem::Impl {
     FrameData frameData(const Camera& camera, uint32_t width, uint32_t height);
     const Buffer& readbackBuffer(uint32_t slot, uint32_t width, uint32_t height);
     void submitAndWait(rg::RenderGraph& graph);
+    void invalidate() {
+        shadowChanges = SceneChanges{};
+        techniqueChanges = SceneChanges{};
+    }
 };
 
 GiSystem::Impl::~Impl() {
@@ -136,17 +149,50 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
     const GBufferData& gbuffer = bb.add(host ? importHostGBuffer(graph, pipelines, frame, *host)
                                              : addGBufferPass(graph, pipelines, frame, sceneHandles));
 
+    PassSelection& selection = bb.add(PassSelection{features, {}, {}});
+    leaveOutMissingLightKinds(features, selection);
+
     bool rsm = settings.forceRsm || (technique && technique->needsRsm());
     ShadowLayout layout = planShadows(scene, gpu->bounds, settings.shadowMapSize, settings.maxShadowLayers);
+    // New atlas or RSM arrays have no contents yet: every light renders.
+    uint32_t oldLayers = shadows.layers, oldResolution = shadows.resolution;
+    bool oldRsm = shadows.rsm;
     ensureShadowTargets(*ctx, shadows, uint32_t(layout.views.size()), settings.shadowMapSize, rsm);
-    addLightPasses(graph, bb, pipelines, frame, sceneHandles, layout, shadows, rsm);
+    if (shadows.layers != oldLayers || shadows.resolution != oldResolution || shadows.rsm != oldRsm)
+        shadowChanges.all = true;
+    std::vector<bool> keep = cleanShadowLights(layout, lastShadowLayout, shadowChanges);
+    for (uint32_t i = 0; i < keep.size(); ++i)
+        if (keep[i])
+            selection.leaveOut(lightPassName(i, scene.lights[i].type),
+                               LeftOutReason::NotDirty, "light " + std::to_string(i) + " and every object unchanged");
+    addLightPasses(graph, bb, pipelines, frame, sceneHandles, layout, shadows, rsm, keep);
+    lastShadowLayout = std::move(layout);
+    shadowChanges.reset();
+    if (host)
+        selection.leaveOut("gi.direct", LeftOutReason::NotNeeded, "host G-buffer: the host shades direct light");
     const DirectData& direct = bb.add(host ? DirectData{}
                                            : addDeferredPass(graph, pipelines, frame, sceneHandles, gbuffer,
                                                              bb.get<ShadowData>()));
 
     GiOutputs out;
-    if (technique) {
+    if (!technique) {
+        selection.leaveOut("gi.indirect.*", LeftOutReason::NotNeeded,
+                           "technique none: no voxel grid, LPV or VPL is allocated or run");
+    } else if (!request.composite && !request.indirect) {
+        // Persistent technique volumes would keep their passes alive in the graph: do not add them.
+        selection.leaveOut(std::string("gi.") + toString(settings.technique) + ".*", LeftOutReason::NotNeeded,
+                           "no requested output reads indirect light (composite and indirect not requested)");
+    } else {
+        // A host's G-buffer may change without a camera move: view-dependent work re-runs each frame.
+        techniqueChanges.camera = host || !lastTechniqueCamera ||
+                                  !sameView(*lastTechniqueCamera, lastTechniqueWidth, lastTechniqueHeight, camera,
+                                            width, height);
+        selection.changes = techniqueChanges;
         technique->addPasses(graph, bb);
+        techniqueChanges.reset();
+        lastTechniqueCamera = camera;
+        lastTechniqueWidth = width;
+        lastTechniqueHeight = height;
         out.indirect = bb.get<IndirectData>().indirect;
     }
     out.direct = direct.direct;
@@ -251,6 +297,8 @@ Result<void> GiSystem::setScene(const Scene& scene) {
     }
     m->gpu = std::move(*uploaded);
     m->scene = scene;
+    m->features = analyzeScene(scene);
+    m->invalidate();
     if (m->technique)
         return m->technique->sceneChanged(*m->ctx, m->scene, *m->gpu, true);
     return {};
@@ -261,12 +309,17 @@ Result<void> GiSystem::updateScene(const Scene& scene) {
         return makeError("GiSystem::updateScene: no scene (call setScene first)");
     if (auto ok = updateSceneTransforms(*m->ctx, *m->gpu, scene); !ok)
         return ok;
+    SceneChanges changes = diffScenes(m->scene, scene);
+    m->shadowChanges.merge(changes);
+    m->techniqueChanges.merge(changes);
     m->scene.instances = scene.instances;
     m->scene.lights = scene.lights;
     if (m->technique)
         return m->technique->sceneChanged(*m->ctx, m->scene, *m->gpu, false);
     return {};
 }
+
+void GiSystem::invalidate() { m->invalidate(); }
 
 Result<GiOutputs> GiSystem::addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
                                       uint32_t width, uint32_t height, const FrameRequest& request) {
@@ -298,6 +351,11 @@ Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, 
     for (const rg::PassTiming& t : r.passes)
         r.totalMs += t.ms;
     r.culledPasses = graph.culledPassNames();
+    r.leftOut = bb.get<PassSelection>().leftOut;
+    for (const std::string& name : r.culledPasses)
+        r.leftOut.push_back({name, LeftOutReason::Culled, "no requested output reads what it writes"});
+    r.transientResources = graph.usedResourceNames(false);
+    r.persistentResources = graph.usedResourceNames(true);
     r.transientBytes = graph.memoryReport().transientBytes;
     r.passMemory = graph.memoryReport().passes;
     r.persistentBytes = persistentBytes();

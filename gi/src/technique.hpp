@@ -4,6 +4,14 @@
 // one case in createTechnique. The module reads the shared handles from the blackboard
 // (FrameData, SceneHandles, GBufferData, ShadowData, and RsmData when needsRsm()) and must add
 // IndirectData; the graph culls its passes when no requested output needs them.
+//
+// Pass selection (pipeline.hpp): the blackboard also holds PassSelection, with the scene's
+// features and the SceneChanges since the module's last addPasses. A module keeps results that
+// only depend on the scene and lights (voxel grid, voxel light, propagated volumes) in
+// persistent graph resources (importImage of an rg::PersistentImage) and registers the passes
+// that produce them only when the changes dirty them; whatever it leaves out, or never needs for
+// this scene, it records with PassSelection::leaveOut. GiSystem does not call addPasses at all
+// when no requested output needs indirect light (the changes then keep accumulating).
 #include <memory>
 
 #include "engine/gpu_scene.hpp"
@@ -11,6 +19,7 @@
 #include "engine/rg/render_graph.hpp"
 #include "gi/frame_data.hpp"
 #include "gi/gi.hpp"
+#include "pipeline.hpp"
 
 namespace vkgi::gi {
 

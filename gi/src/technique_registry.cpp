@@ -12,11 +12,12 @@ namespace {
 struct TechniqueName {
     Technique technique;
     const char* name;
-    int bounces; // reflections the technique models with its default settings (see modelledBounces)
+    int bounces; // reflections the technique models before its bounce knobs (see modelledBounces)
 };
-// vct: direct light, the voxels' first bounce and their second (VctSettings::bounces = 2).
+// vct: direct light plus VctSettings::bounces voxel bounces (added in modelledBounces); lpv: one
+// indirect bounce, plus one when LpvSettings::bounces reflects at the voxel grid.
 constexpr std::array kTechniques = {TechniqueName{Technique::None, "none", 1}, TechniqueName{Technique::Lpv, "lpv", 2},
-                                    TechniqueName{Technique::Vpl, "vpl", 2}, TechniqueName{Technique::Vct, "vct", 3}};
+                                    TechniqueName{Technique::Vpl, "vpl", 2}, TechniqueName{Technique::Vct, "vct", 1}};
 } // namespace
 
 const char* toString(Technique technique) {
@@ -26,10 +27,16 @@ const char* toString(Technique technique) {
     return "unknown";
 }
 
-int modelledBounces(Technique technique) {
-    for (const TechniqueName& t : kTechniques)
-        if (t.technique == technique)
-            return t.bounces;
+int modelledBounces(const GiSettings& settings) {
+    for (const TechniqueName& t : kTechniques) {
+        if (t.technique != settings.technique)
+            continue;
+        switch (settings.technique) {
+        case Technique::Vct: return t.bounces + int(settings.vct.bounces);
+        case Technique::Lpv: return t.bounces + (settings.lpv.bounces ? 1 : 0);
+        default: return t.bounces;
+        }
+    }
     return -1;
 }
 

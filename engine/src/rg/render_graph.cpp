@@ -296,6 +296,21 @@ std::vector<std::string> RenderGraph::orderedPassNames() const {
     return names;
 }
 
+std::vector<std::string> RenderGraph::usedResourceNames(bool persistent) const {
+    std::vector<std::string> names;
+    std::vector<bool> seen(m_resources.size(), false);
+    for (const CompiledPass& p : m_compiled.passes)
+        for (const detail::Use& u : m_passes[p.pass].uses) {
+            const detail::ResourceNode& res = m_resources[u.resource];
+            bool wanted = persistent ? res.origin == detail::Origin::Persistent : res.origin == detail::Origin::Transient;
+            if (wanted && !seen[u.resource]) {
+                seen[u.resource] = true;
+                names.push_back(res.name);
+            }
+        }
+    return names;
+}
+
 const std::vector<BarrierInfo>* RenderGraph::barriersBefore(std::string_view pass) const {
     for (const CompiledPass& p : m_compiled.passes)
         if (p.name == pass)

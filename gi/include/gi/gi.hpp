@@ -29,9 +29,11 @@ enum class Technique : uint32_t { None = 0, Lpv = 1, Vct = 2, Vpl = 3 };
 // "none", ...; the names the CLI accepts.
 const char* toString(Technique technique);
 std::vector<std::string> techniqueNames();
-// Reflections between emitter and eye the technique models with default settings (none: 1 =
-// direct light only; one indirect bounce: 2): the path-tracer bounce count to compare against.
-int modelledBounces(Technique technique);
+struct GiSettings;
+// Reflections between emitter and eye `settings.technique` models with these settings (none: 1 =
+// direct light only; one indirect bounce: 2; vct.bounces = 2 and lpv.bounces add one): the
+// path-tracer bounce count to compare against.
+int modelledBounces(const GiSettings& settings);
 // Parses a name from techniqueNames(); the error lists the valid names.
 Result<Technique> parseTechnique(std::string_view name);
 
@@ -65,6 +67,21 @@ struct FrameRequest {
     bool indirect = false; // only when the technique produces indirect light
 };
 
+// Why a pass of the full pipeline is not in a frame (FrameResult::leftOut).
+enum class LeftOutReason : uint32_t {
+    Culled,    // registered, but the render graph culled it: nothing requested reads its output
+    NotNeeded, // never registered: the scene or the request lacks what it serves (detail says what)
+    NotDirty,  // never registered: its persistent result from an earlier frame is still valid
+};
+// "culled", "not-needed", "not-dirty"
+const char* toString(LeftOutReason reason);
+
+struct LeftOutPass {
+    std::string name;   // pass name, or a group ("gi.vct.mip[*]", "gi.light[*].point")
+    LeftOutReason reason = LeftOutReason::Culled;
+    std::string detail; // the scene property, request or change that decided it
+};
+
 struct FrameResult {
     HdrImage composite; // linear radiance (nits); empty unless requested
     HdrImage direct;
@@ -73,6 +90,9 @@ struct FrameResult {
     double totalMs = 0.0;                // sum of `passes`
     std::vector<std::string> culledPasses;
     std::vector<rg::PassMemory> passMemory; // per executed pass: transients created/touched, bytes accessed
+    std::vector<LeftOutPass> leftOut;           // culled + not needed + not dirty, with the reason
+    std::vector<std::string> transientResources; // graph transients the executed passes used
+    std::vector<std::string> persistentResources; // imported persistent resources the executed passes used
     uint64_t transientBytes = 0;  // render-graph transients of this frame
     uint64_t persistentBytes = 0; // scene, shadow/RSM atlases, technique volumes, readback buffers
 };
@@ -146,7 +166,12 @@ public:
     // Uploads a scene (validated first; the error names the problem). Replaces any previous one.
     Result<void> setScene(const Scene& scene);
     // Moved instances and lights of the scene given to setScene (same meshes, same counts).
+    // Marks exactly what changed: a moved instance re-voxelizes (static: the static bake too)
+    // and re-renders the shadow maps; a changed light re-renders its shadow map/RSM and relights
+    // the technique's volumes. Unchanged content of persistent volumes is reused next frame.
     Result<void> updateScene(const Scene& scene);
+    // Marks everything dirty: the next frame recomputes every persistent result.
+    void invalidate();
 
     // Builds, compiles and executes the frame graph, submits, waits, and reads back the
     // requested images together with per-pass GPU times and memory. Sizes 1..16384.

@@ -73,11 +73,15 @@ SceneHandles importScene(rg::RenderGraph& graph, const GpuScene& scene);
 GBufferData addGBufferPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame,
                            const SceneHandles& scene);
 
+// "gi.light[i].spot|point|directional": the name of light i's shadow/RSM pass.
+std::string lightPassName(uint32_t light, LightType type);
+
 // One pass per shadowed light ("gi.light[i].spot|point|directional"), writing the atlas layers
 // of that light and, when `rsm`, the RSM arrays. Adds ShadowData (and RsmData) to `blackboard`.
+// Lights with `keep[i]` true get no pass: their persistent layers still hold this frame's content.
 void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const DirectPipelines& p,
                     const FrameData& frame, const SceneHandles& scene, const ShadowLayout& layout,
-                    ShadowTargets& targets, bool rsm);
+                    ShadowTargets& targets, bool rsm, const std::vector<bool>& keep = {});
 
 DirectData addDeferredPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame,
                            const SceneHandles& scene, const GBufferData& gbuffer, const ShadowData& shadow);

@@ -7,18 +7,14 @@
 
 namespace vkgi::gi {
 
+std::string lightPassName(uint32_t light, LightType type) {
+    const char* kind = type == LightType::Directional ? "directional" : type == LightType::Point ? "point" : "spot";
+    return "gi.light[" + std::to_string(light) + "]." + kind;
+}
+
 namespace {
 
 using rg::Access;
-
-const char* lightTypeName(LightType t) {
-    switch (t) {
-    case LightType::Directional: return "directional";
-    case LightType::Point: return "point";
-    case LightType::Spot: return "spot";
-    }
-    return "light";
-}
 
 struct ShadowTables {
     std::vector<gpu::GpuShadowView> views;
@@ -158,7 +154,7 @@ void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameD
                                    : std::vector<VkImageView>{});
     }
     const Light& light = frame.scene->lights[plan.light];
-    std::string name = "gi.light[" + std::to_string(plan.light) + "]." + lightTypeName(light.type);
+    std::string name = lightPassName(plan.light, light.type);
     graph.addPass(
         std::move(name),
         [&](rg::PassBuilder& b) {
@@ -183,7 +179,7 @@ void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameD
 
 void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const DirectPipelines& p,
                     const FrameData& frame, const SceneHandles& scene, const ShadowLayout& layout,
-                    ShadowTargets& targets, bool rsm) {
+                    ShadowTargets& targets, bool rsm, const std::vector<bool>& keep) {
     AtlasHandles h;
     h.atlas = graph.importImage("gi.shadow.atlas", targets.atlas);
     if (rsm) {
@@ -194,7 +190,7 @@ void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Di
     ShadowData shadow;
     addSetupPass(graph, layout, uint32_t(frame.scene->lights.size()), rsm, h, shadow.views, shadow.lightShadows);
     for (const LightShadowPlan& plan : layout.lights)
-        if (plan.kind != GI_SHADOW_NONE)
+        if (plan.kind != GI_SHADOW_NONE && !(plan.light < keep.size() && keep[plan.light]))
             addLightPass(graph, p, frame, scene, layout, plan, targets, rsm, h);
     shadow.atlas = h.atlas;
     shadow.resolution = layout.resolution;

@@ -1,10 +1,17 @@
 // Technique::Lpv: per frame, inject the shared RSM into a grid fitted to the lit part of the
 // scene, build the geometry volume from the RSM and the camera's G-buffer, propagate (with
 // reflection at the shared voxel grid's occupied voxels when bounces are on), and look the
-// accumulated light up per pixel. Everything is a transient of the frame graph except the voxel
-// grid, which is persistent and re-voxelized only when the scene changed.
+// accumulated light up per pixel. With one grid (no camera-following cascades) the accumulated
+// volume and the injection buffer are persistent: injection and propagation run only when a
+// light or object changed, or the camera moved while occlusion is on (the geometry volume takes
+// the camera's G-buffer surfels, so it is view dependent); otherwise only the lookup runs. The
+// voxel grid of the bounce is persistent too and re-voxelized only for moved objects. Everything
+// else is a transient of the frame graph.
 #include "lpv/lpv_technique.hpp"
 
+#include <algorithm>
+#include <array>
+#include <cstring>
 #include <optional>
 #include <string>
 #include <vector>
@@ -35,12 +42,16 @@ public:
     LpvTechnique(Context& ctx, const LpvSettings& settings, lpv::Propagator propagator, lpv::Injector injector)
         : m_ctx(ctx), m_settings(settings), m_propagator(propagator), m_injector(injector) {}
     ~LpvTechnique() override {
+        if (m_cache.cells != glm::ivec3(0))
+            vkDeviceWaitIdle(m_ctx.device()); // the last frame may still read the kept volume
+        destroyCache();
         m_voxels.reset();
         m_propagator.destroy(m_ctx);
         m_injector.destroy(m_ctx);
     }
 
-    bool needsRsm() const override { return true; }
+    // Without a lit region (no light) there is nothing to inject: the light passes leave the RSM out.
+    bool needsRsm() const override { return m_grid.has_value(); }
 
     Result<void> sceneChanged(Context& ctx, const Scene& scene, const GpuScene& gpu, bool uploaded) override {
         m_grid.reset();
@@ -66,9 +77,7 @@ public:
                 return voxels.error();
             m_voxels = std::move(*voxels);
             m_voxelUpdate = VoxelUpdate::Full;
-        } else if (m_voxels && m_voxelUpdate == VoxelUpdate::None) {
-            m_voxelUpdate = VoxelUpdate::Dynamic;
-        }
+        } // moved objects arrive as PassSelection::changes with the next frame
         return {};
     }
 
@@ -78,21 +87,24 @@ public:
         const RsmData* rsmData = bb.tryGet<RsmData>();
         lpv::GBufferInput gb{gbuffer.position, gbuffer.normal, gbuffer.albedo, frame.width, frame.height};
         if (!m_grid || !rsmData || rsmData->layers.empty()) {
+            m_cache.valid = false; // the changes of this frame are not looked at
+            bb.get<PassSelection>().leaveOut("gi.lpv.*", LeftOutReason::NotNeeded,
+                                             !m_grid ? "no light reaches the scene (the LPV injects only the RSM)"
+                                                     : "no light has shadow-atlas layers");
             bb.add(IndirectData{addBlack(graph, frame), {}});
             return;
         }
         const VkFormat format = m_settings.halfFloat ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
         lpv::RsmInput rsm{rsmData->position, rsmData->normal, rsmData->flux, rsmData->resolution,
                           uint32_t(rsmData->layers.size())};
-        lpv::VoxelInput voxels;
-        if (m_voxels) {
-            const SceneHandles& scene = bb.get<SceneHandles>();
-            VoxelGridData grid = addVoxelGridPasses(
-                graph, *m_voxels, {scene.vertices, scene.indices, scene.instances, scene.materials, m_draws},
-                m_voxelUpdate);
-            m_voxelUpdate = VoxelUpdate::None;
-            voxels = {grid.albedo, grid.normal, grid.params.originSize, grid.params.dims.x};
-        }
+        PassSelection& selection = bb.get<PassSelection>();
+        const SceneChanges& changes = selection.changes;
+        // Pending re-voxelization: a moved static object invalidates the static bake.
+        VoxelUpdate moved = changes.all || changes.staticGeometry ? VoxelUpdate::Full
+                            : changes.dynamicGeometry             ? VoxelUpdate::Dynamic
+                                                                  : VoxelUpdate::None;
+        if (m_voxels)
+            m_voxelUpdate = std::max(m_voxelUpdate, moved);
         // One grid fitted to the lit region, or (directional light, cascades > 1) nested grids
         // following the camera.
         std::vector<gpu::LpvGrid> grids{*m_grid};
@@ -103,6 +115,38 @@ public:
                                      m_settings.gridSize, m_settings.cascades);
         }
         rg::ImageHandle indirect;
+        if (grids.size() == 1) {
+            // One grid: the propagated volume is kept and reused while nothing it depends on changed.
+            const gpu::LpvGrid& grid = grids[0];
+            bool fresh = ensureCache(glm::ivec3(grid.size), format);
+            bool sameGrid = std::memcmp(&grid, &m_cache.grid, sizeof(grid)) == 0;
+            bool viewChanged = m_settings.occlusion && changes.camera;
+            bool rerun = fresh || !m_cache.valid || !sameGrid || changes.any() || viewChanged ||
+                         m_voxelUpdate != VoxelUpdate::None;
+            lpv::ShHandles accumulation;
+            for (int c = 0; c < 3; ++c)
+                accumulation.channel[c] = graph.importImage("gi.lpv.accumulation." + std::string(1, "rgb"[c]),
+                                                            m_cache.accumulation[c]);
+            rg::BufferHandle buffer = graph.importBuffer("gi.lpv.injection", m_cache.injection);
+            if (rerun) {
+                addVolumePasses(graph, bb, grid, format, rsm, gb, accumulation, buffer);
+                m_cache.grid = grid;
+                m_cache.valid = true;
+            } else {
+                std::string why = m_settings.occlusion ? "no light or object changed and the camera did not move"
+                                                       : "no light or object changed";
+                selection.leaveOut("gi.lpv.inject*", LeftOutReason::NotDirty, why);
+                if (m_settings.occlusion)
+                    selection.leaveOut("gi.lpv.gv.*", LeftOutReason::NotDirty, why);
+                selection.leaveOut("gi.lpv.propagate*", LeftOutReason::NotDirty, why);
+                if (m_voxels)
+                    selection.leaveOut("gi.voxel.*", LeftOutReason::NotDirty, why);
+            }
+            indirect = lpv::addLookupPass(graph, m_injector, grid, accumulation, buffer, gb, m_settings.damping);
+            bb.add(IndirectData{indirect, {}});
+            return;
+        }
+        lpv::VoxelInput voxels = addVoxelPasses(graph, bb);
         for (size_t k = 0; k < grids.size(); ++k) {
             const gpu::LpvGrid& grid = grids[k];
             const glm::ivec3 cells(grid.size);
@@ -129,9 +173,73 @@ public:
         bb.add(IndirectData{indirect, {}});
     }
 
-    uint64_t persistentBytes() const override { return m_voxels ? uint64_t(m_voxels->bytes()) : 0; }
+    uint64_t persistentBytes() const override {
+        uint64_t n = m_voxels ? uint64_t(m_voxels->bytes()) : 0;
+        for (const rg::PersistentImage& img : m_cache.accumulation)
+            n += img.image.alloc.size;
+        return n + m_cache.injection.buffer.alloc.size;
+    }
 
 private:
+    // The voxel grid of the bounce (when on), re-voxelized for the pending m_voxelUpdate.
+    lpv::VoxelInput addVoxelPasses(rg::RenderGraph& graph, rg::Blackboard& bb) {
+        if (!m_voxels)
+            return {};
+        const SceneHandles& scene = bb.get<SceneHandles>();
+        VoxelGridData grid = addVoxelGridPasses(
+            graph, *m_voxels, {scene.vertices, scene.indices, scene.instances, scene.materials, m_draws}, m_voxelUpdate);
+        m_voxelUpdate = VoxelUpdate::None;
+        return {grid.albedo, grid.normal, grid.params.originSize, grid.params.dims.x};
+    }
+
+    // Injection, geometry volume and propagation of one grid into `accumulation` (+ `buffer`).
+    void addVolumePasses(rg::RenderGraph& graph, rg::Blackboard& bb, const gpu::LpvGrid& grid, VkFormat format,
+                         const lpv::RsmInput& rsm, const lpv::GBufferInput& gb, lpv::ShHandles& accumulation,
+                         rg::BufferHandle& buffer) {
+        lpv::VoxelInput voxels = addVoxelPasses(graph, bb);
+        const glm::ivec3 cells(grid.size);
+        lpv::InjectionResult injected = lpv::addInjectionPasses(
+            graph, m_injector, grid, format, rsm, lpv::createShVolume(graph, "gi.lpv.wave.a", cells, format),
+            accumulation, buffer, "gi.lpv");
+        rg::ImageHandle gv;
+        if (m_settings.occlusion)
+            gv = lpv::addGeometryVolumePasses(graph, m_injector, grid, rsm, gb, "gi.lpv");
+        lpv::PropagationVolumes volumes{injected.wavefront, lpv::createShVolume(graph, "gi.lpv.wave.b", cells, format),
+                                        injected.accumulation};
+        volumes = lpv::addPropagationPasses(graph, m_propagator, cells, format, volumes, gv, m_settings.iterations,
+                                            voxels, grid.origin, "gi.lpv");
+        accumulation = volumes.accumulation;
+        buffer = injected.buffer;
+    }
+
+    // The kept volume for `cells` x `format`; true when (re)allocated (contents undefined).
+    bool ensureCache(glm::ivec3 cells, VkFormat format) {
+        if (m_cache.cells == cells && m_cache.format == format)
+            return false;
+        if (m_cache.cells != glm::ivec3(0))
+            vkDeviceWaitIdle(m_ctx.device());
+        destroyCache();
+        for (int c = 0; c < 3; ++c) {
+            std::string name = "gi.lpv.accumulation." + std::string(1, "rgb"[c]);
+            m_cache.accumulation[c].image = createImage(m_ctx, lpv::shImageDesc(cells, format), name.c_str());
+        }
+        BufferDesc desc{lpv::injectionBufferBytes(cells), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT};
+        m_cache.injection.buffer = createBuffer(m_ctx, desc, "gi.lpv.injection");
+        m_cache.cells = cells;
+        m_cache.format = format;
+        m_cache.valid = false;
+        return true;
+    }
+
+    void destroyCache() {
+        for (rg::PersistentImage& img : m_cache.accumulation)
+            if (img.image.image)
+                destroyImage(m_ctx, img.image);
+        if (m_cache.injection.buffer.buffer)
+            destroyBuffer(m_ctx, m_cache.injection.buffer);
+        m_cache = {};
+    }
+
     // No lit geometry: a black indirect image (the lookup with an empty grid would read nothing).
     rg::ImageHandle addBlack(rg::RenderGraph& graph, const FrameData& frame) {
         ImageDesc desc;
@@ -159,6 +267,16 @@ private:
     std::unique_ptr<VoxelGrid> m_voxels;
     std::vector<VoxelDraw> m_draws;
     VoxelUpdate m_voxelUpdate = VoxelUpdate::None;
+    // The accumulated SH volume and injection buffer (its header holds the flux unit M) of the
+    // single-grid case, kept across frames.
+    struct Cache {
+        std::array<rg::PersistentImage, 3> accumulation;
+        rg::PersistentBuffer injection;
+        glm::ivec3 cells{0};
+        VkFormat format = VK_FORMAT_UNDEFINED;
+        gpu::LpvGrid grid{};
+        bool valid = false; // holds the propagated light of `grid`
+    } m_cache;
 };
 
 } // namespace

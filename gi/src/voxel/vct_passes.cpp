@@ -141,10 +141,10 @@ void VctVolumes::recordCompact(VkCommandBuffer cmd) const {
 }
 
 void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t lightCount, VctOcclusion occlusion,
-                             VkImageLayout sampledLayout) const {
+                             VkImageLayout sampledLayout, bool emission) const {
     const VoxelVolumes& g = m_grid.volumes();
     uint32_t mode = occlusion == VctOcclusion::RayMarchSoft ? GI_VCT_OCCLUSION_SOFT : GI_VCT_OCCLUSION_HARD;
-    gpu::VoxelLightPush push{m_grid.params(), glm::uvec4(lightCount, mode, 0u, 0u)};
+    gpu::VoxelLightPush push{m_grid.params(), glm::uvec4(lightCount, mode, emission ? GI_VOXEL_LIGHT_EMISSION : 0u, 0u)};
     DescriptorItem lightItem;
     lightItem.binding = 0;
     lightItem.buffer = {lights, 0, VK_WHOLE_SIZE};

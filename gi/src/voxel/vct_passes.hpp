@@ -65,9 +65,10 @@ public:
     // Occupied voxels of the grid -> list (its header zeroed before, transfer); zero radiance()
     // and bounced() at the empty voxels (storage write).
     void recordCompact(VkCommandBuffer cmd) const;
-    // grid volumes + lights -> radiance() at the listed voxels (indirect dispatch over the list).
+    // grid volumes + lights (+ the emission volume when `emission`) -> radiance() at the listed
+    // voxels (indirect dispatch over the list).
     void recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t lightCount, VctOcclusion occlusion,
-                     VkImageLayout sampledLayout) const;
+                     VkImageLayout sampledLayout, bool emission = true) const;
     // aniso level `level` from `source` (level 0) or from level - 1 of aniso.
     void recordMip(VkCommandBuffer cmd, uint32_t level, const Image& source) const;
     // Second bounce, both halves read the aniso chains built from radiance(). Blocks: the

@@ -3,6 +3,7 @@
 // grid is also published on the blackboard (VoxelGridData) for other techniques.
 #include "voxel/vct_technique.hpp"
 
+#include <algorithm>
 #include <memory>
 
 #include "voxel/voxel_graph.hpp"
@@ -24,10 +25,8 @@ public:
         for (const GpuDraw& d : gpu.draws)
             m_draws.push_back({d.instance, d.firstIndex, d.indexCount / 3, d.vertexOffset, d.dynamic});
         m_lightCount = gpu.lightCount;
-        if (!uploaded) {
-            m_update = m_update == VoxelUpdate::Full ? VoxelUpdate::Full : VoxelUpdate::Dynamic;
-            return {};
-        }
+        if (!uploaded)
+            return {}; // what moved arrives as PassSelection::changes with the next frame
         Aabb box = m_settings.gridBox ? *m_settings.gridBox : scene.bounds();
         if (!box.valid()) { // empty scene: a unit box keeps every pass well-defined (all voxels empty)
             box.extend(glm::vec3(-0.5f));
@@ -53,6 +52,7 @@ public:
             return volumes.error();
         m_volumes = std::move(*volumes);
         m_update = VoxelUpdate::Full;
+        m_lit = false;
         return {};
     }
 
@@ -64,13 +64,46 @@ public:
             bb.add(IndirectData{});
             return;
         }
+        PassSelection& selection = bb.get<PassSelection>();
+        const SceneChanges& changes = selection.changes;
+        // A moved static object invalidates the static bake; a moved dynamic one only itself.
+        VoxelUpdate update = std::max(m_update, changes.all || changes.staticGeometry ? VoxelUpdate::Full
+                                                : changes.dynamicGeometry             ? VoxelUpdate::Dynamic
+                                                                                      : VoxelUpdate::None);
+        if (update == VoxelUpdate::None)
+            selection.leaveOut("gi.voxel.*", LeftOutReason::NotDirty, "no object moved since the grid was voxelized");
+        else if (update == VoxelUpdate::Dynamic)
+            selection.leaveOut("gi.voxel.*.static", LeftOutReason::NotDirty, "no static object moved");
+        // Voxel light, mips and bounce depend on the grid and the lights only, not on the camera.
+        bool relight = !m_lit || update != VoxelUpdate::None || changes.anyLight();
+        if (!relight) {
+            std::string why = "no light or object changed since the voxels were lit";
+            selection.leaveOut("gi.vct.light", LeftOutReason::NotDirty, why);
+            selection.leaveOut("gi.vct.mip[*]", LeftOutReason::NotDirty, why);
+            if (m_settings.bounces >= 2) {
+                selection.leaveOut("gi.vct.bounce", LeftOutReason::NotDirty, why);
+                selection.leaveOut("gi.vct.bounce.mip[*]", LeftOutReason::NotDirty, why);
+            }
+        }
+        if (m_settings.bounces < 2)
+            selection.leaveOut("gi.vct.bounce", LeftOutReason::NotNeeded, "vct.bounces = 1");
+        if (relight && !selection.features.emissive)
+            selection.leaveOut("gi.vct.light:emission", LeftOutReason::NotNeeded, "no emissive material");
+        // The trace weights the glossy cone by metallic: without a metallic material it adds 0.
+        VctSettings settings = m_settings;
+        if (settings.glossy && !selection.features.metallic) {
+            settings.glossy = false;
+            selection.leaveOut("gi.vct.trace:glossy-cone", LeftOutReason::NotNeeded, "no metallic material");
+        }
         VoxelSceneHandles handles{scene.vertices, scene.indices, scene.instances, scene.materials, m_draws};
-        VoxelGridData grid = addVoxelGridPasses(graph, *m_grid, handles, m_update);
+        VoxelGridData grid = addVoxelGridPasses(graph, *m_grid, handles, update);
         m_update = VoxelUpdate::None;
+        m_lit = true;
         bb.add(grid);
         VctGBufferHandles g{gbuffer.position, gbuffer.normal, gbuffer.albedo, frame.width, frame.height,
                             frame.camera.position};
-        VctOutputs out = addVctPasses(graph, *m_volumes, grid, scene.lights, m_lightCount, m_settings, &g);
+        VctOutputs out = addVctPasses(graph, *m_volumes, grid, scene.lights, m_lightCount, settings, &g,
+                                      {relight, selection.features.emissive});
         bb.add(IndirectData{out.indirect, {}});
         bb.add(out);
     }
@@ -86,7 +119,8 @@ private:
     std::unique_ptr<VctVolumes> m_volumes;
     std::vector<VoxelDraw> m_draws;
     uint32_t m_lightCount = 0;
-    VoxelUpdate m_update = VoxelUpdate::Full;
+    VoxelUpdate m_update = VoxelUpdate::Full; // Full until a new grid's first frame
+    bool m_lit = false;                       // the volumes hold the voxel light of the current grid
 };
 
 } // namespace

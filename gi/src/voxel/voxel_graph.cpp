@@ -125,17 +125,27 @@ rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::Im
     return aniso;
 }
 
+// The per-pixel passes ("gi.vct.trace" and, at low resolution, the upsample and refine) through
+// `radiance` (level 0) and out.aniso.
+VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, rg::ImageHandle radiance, VctOutputs out,
+                          const VctSettings& settings, const VctGBufferHandles* gbuffer);
+
 } // namespace
 
 VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
                         rg::BufferHandle lights, uint32_t lightCount, const VctSettings& settings,
-                        const VctGBufferHandles* gbuffer) {
+                        const VctGBufferHandles* gbuffer, VctPassOptions options) {
     const VctVolumes* v = &volumes;
     VctOutputs out;
     rg::ImageHandle radiance = graph.importImage("gi.vct.radiance", volumes.radianceState());
     rg::ImageHandle bounced = graph.importImage("gi.vct.radiance.bounced", volumes.bouncedState());
     rg::BufferHandle list = graph.importBuffer("gi.vct.voxel_list", volumes.listState());
     out.aniso = graph.importImage("gi.vct.aniso", volumes.anisoState());
+    if (!options.relight) {
+        // Nothing the voxel light depends on changed: the trace reads the kept radiance and mips.
+        out.radiance = settings.bounces >= 2 ? bounced : radiance;
+        return gbuffer ? addTracePasses(graph, volumes, out.radiance, out, settings, gbuffer) : out;
+    }
     if (grid.changed || !volumes.listBuilt()) {
         // Once per voxelization: the occupied-voxel list the light and bounce passes run over.
         graph.addPass(
@@ -156,6 +166,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
         volumes.setListBuilt(true);
     }
     VctOcclusion occlusion = settings.occlusion;
+    bool emission = options.emission;
     graph.addPass(
         "gi.vct.light",
         [&](rg::PassBuilder& b) {
@@ -167,8 +178,8 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
             b.read(grid.emission, Access::ComputeStorageRead);
             radiance = b.write(radiance, Access::ComputeStorageWrite); // the listed voxels
         },
-        [v, lights, lightCount, occlusion, albedo = grid.albedo](rg::PassContext& ctx) {
-            v->recordLight(ctx.cmd(), ctx.buffer(lights).buffer, lightCount, occlusion, ctx.layout(albedo));
+        [v, lights, lightCount, occlusion, emission, albedo = grid.albedo](rg::PassContext& ctx) {
+            v->recordLight(ctx.cmd(), ctx.buffer(lights).buffer, lightCount, occlusion, ctx.layout(albedo), emission);
         });
     out.aniso = addMipPasses(graph, v, radiance, out.aniso, "gi.vct.mip");
     gpu::ConeParams cones = volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
@@ -213,8 +224,15 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
         out.aniso = addMipPasses(graph, v, radiance, out.aniso, "gi.vct.bounce.mip");
     }
     out.radiance = radiance;
-    if (!gbuffer)
-        return out;
+    return gbuffer ? addTracePasses(graph, volumes, radiance, out, settings, gbuffer) : out;
+}
+
+namespace {
+
+VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, rg::ImageHandle radiance, VctOutputs out,
+                          const VctSettings& settings, const VctGBufferHandles* gbuffer) {
+    const VctVolumes* v = &volumes;
+    gpu::ConeParams cones = volumes.coneParams(settings, gbuffer->width, gbuffer->height);
     VctGBufferHandles g = *gbuffer;
     const uint32_t f = settings.lowResFactor;
     gpu::VctTracePush push{volumes.grid().params(), cones, glm::vec4(g.eye, settings.refineThreshold),
@@ -312,5 +330,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     out.glossy = rf.glossy;
     return out;
 }
+
+} // namespace
 
 } // namespace vkgi::gi

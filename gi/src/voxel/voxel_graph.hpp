@@ -63,8 +63,15 @@ struct VctOutputs {
 
 // "gi.vct.light", "gi.vct.mip[k]", optionally "gi.vct.bounce" + "gi.vct.bounce.mip[k]", and
 // "gi.vct.trace" when `gbuffer` is given. `lights` holds `lightCount` GpuLight records.
+struct VctPassOptions {
+    // false: only the trace is added; it reads the radiance and mips the volumes kept from the
+    // last relit frame (valid while neither the grid nor the lights changed).
+    bool relight = true;
+    // false: the voxel light leaves out the emission volume (the scene has no emissive material).
+    bool emission = true;
+};
 VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
                         rg::BufferHandle lights, uint32_t lightCount, const VctSettings& settings,
-                        const VctGBufferHandles* gbuffer);
+                        const VctGBufferHandles* gbuffer, VctPassOptions options = {});
 
 } // namespace vkgi::gi

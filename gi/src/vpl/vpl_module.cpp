@@ -16,7 +16,8 @@ public:
     VplModule(std::unique_ptr<VplRenderer> renderer, const VplSettings& settings)
         : m_renderer(std::move(renderer)), m_settings(settings) {}
 
-    bool needsRsm() const override { return true; }
+    // Only spotlights make VPLs: without one the light passes leave the RSM out.
+    bool needsRsm() const override { return m_spots > 0; }
 
     // Everything addPasses could reject is checked here, where errors can still be returned.
     Result<void> sceneChanged(Context&, const Scene& scene, const GpuScene&, bool) override {
@@ -32,6 +33,7 @@ public:
         if (spots > kMaxVplLights)
             return makeError("scene '" + scene.name + "': " + std::to_string(spots) +
                              " spotlights exceed the VPL technique's maximum of " + std::to_string(kMaxVplLights));
+        m_spots = spots;
         return {};
     }
 
@@ -39,7 +41,13 @@ public:
         const FrameData& frame = bb.get<FrameData>();
         const GBufferData& gbuffer = bb.get<GBufferData>();
         const ShadowData& shadow = bb.get<ShadowData>();
-        const RsmData& rsm = bb.get<RsmData>();
+        const RsmData* rsmData = bb.tryGet<RsmData>();
+        if (!rsmData) {
+            bb.get<PassSelection>().leaveOut("vpl.*", LeftOutReason::NotNeeded, "no spotlight in the scene");
+            bb.add(IndirectData{});
+            return;
+        }
+        const RsmData& rsm = *rsmData;
         VplInputs in;
         in.gPosition = gbuffer.position;
         in.gNormal = gbuffer.normal;
@@ -73,6 +81,8 @@ public:
         if (in.spots.empty()) {
             // No spotlight with an RSM: nothing to bounce, so the technique adds no pass and no
             // indirect image; GiSystem then composites nothing (the frame is the direct image).
+            bb.get<PassSelection>().leaveOut("vpl.*", LeftOutReason::NotNeeded,
+                                             "no spotlight has shadow-atlas layers (past maxShadowLayers)");
             bb.add(IndirectData{});
             return;
         }
@@ -85,6 +95,7 @@ public:
 private:
     std::unique_ptr<VplRenderer> m_renderer;
     VplSettings m_settings;
+    uint32_t m_spots = 0; // spotlights of the current scene
 };
 
 } // namespace

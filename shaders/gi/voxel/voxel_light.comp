@@ -95,7 +95,9 @@ void main() {
         float v = visibility(pMarch, toLight, dist * pc.grid.scales.x, pc.info.y);
         irradiance += light.colorIntensity.rgb * (e * cosine * v);
     }
-    vec3 radiance = albedo.rgb / kPi * irradiance * pc.grid.scales.y + imageLoad(emissionVol, c).rgb;
+    vec3 radiance = albedo.rgb / kPi * irradiance * pc.grid.scales.y;
+    if ((pc.info.z & GI_VOXEL_LIGHT_EMISSION) != 0u) // off when the scene has no emissive material
+        radiance += imageLoad(emissionVol, c).rgb;
     // Half-float ceiling: radianceScale maps the brightest light to GI_VOXEL_RADIANCE_TARGET,
     // 16x below it; clamping keeps the volume finite whatever happens.
     imageStore(radianceOut, c, vec4(min(radiance, vec3(65000.0)), 1.0));

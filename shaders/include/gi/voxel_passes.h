@@ -51,9 +51,10 @@ GI_INLINE uvec3 voxelListUnpack(uint v) { return uvec3(v & 1023u, (v >> 10u) & 1
 // voxel_light.comp: direct light + emission per occupied voxel.
 GI_GPU_STRUCT(VoxelLightPush) {
     VoxelGridParams grid;
-    uvec4 info; // x light count, y occlusion mode (GI_VCT_OCCLUSION_*), z, w 0
+    uvec4 info; // x light count, y occlusion mode (GI_VCT_OCCLUSION_*), z flags (GI_VOXEL_LIGHT_*), w 0
 };
 GI_CHECK_SIZE(VoxelLightPush, 64);
+#define GI_VOXEL_LIGHT_EMISSION 1u // add the emission volume (the voxels' emission injection)
 
 // voxel_mip*.comp: builds level `info.x` (0 = first level of aniso, from the radiance volume).
 GI_GPU_STRUCT(VoxelMipPush) {

@@ -321,6 +321,8 @@ public:
     const CompiledGraph& compiled() const { return m_compiled; }
     std::vector<std::string> orderedPassNames() const;
     std::vector<std::string> culledPassNames() const { return m_compiled.culled; }
+    // Transients (or, with `persistent`, persistent imports) the live passes use, in first-use order.
+    std::vector<std::string> usedResourceNames(bool persistent) const;
     // Barriers before the named pass; null if the pass does not exist or was culled.
     const std::vector<BarrierInfo>* barriersBefore(std::string_view pass) const;
     // Description with the usage flags accumulated from the declared accesses (after compile).
