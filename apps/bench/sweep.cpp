@@ -66,6 +66,9 @@ Result<gi::BenchRecord> measure(Context& ctx, const Scene& scene, const std::str
     std::vector<double> totals;
     gi::FrameResult last;
     for (uint32_t frame = 0; frame <= opt.repeat; ++frame) { // frame 0 warms up lavapipe's JIT
+        // Every measured frame recomputes everything, as for a scene where everything moves:
+        // otherwise a static scene would reuse the persistent volumes and time only the lookups.
+        (*sys)->invalidate();
         auto r = (*sys)->renderFrame(cam, opt.width, opt.height, request);
         if (!r)
             return r.error();

@@ -338,8 +338,10 @@ Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, 
     for (uint32_t i = 0; i < 3; ++i)
         if (images[i].valid())
             addReadbackPass(graph, names[i], images[i], m->readbackBuffer(i, width, height));
-    if (auto ok = graph.compile(); !ok)
+    if (auto ok = graph.compile(); !ok) {
+        m->invalidate(); // nothing ran: what this frame skipped as clean may be stale
         return makeError("frame graph: " + ok.error().message);
+    }
     m->submitAndWait(graph);
 
     FrameResult r;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -113,4 +114,32 @@ TEST_F(Cli, SmallRenderWritesImageAndJson) {
     for (const auto& p : j["passes"])
         sum += p["ms"].get<double>();
     EXPECT_NEAR(j["total_ms"].get<double>(), sum, 1e-6 * (1.0 + sum));
+}
+
+TEST_F(Cli, JsonListsLeftOutPassesAndTheStaticFrame) {
+    fs::path dir = vkgi::test::outputDir() / "cli_left_out";
+    fs::remove_all(dir);
+    CliRun r = run("--scene cornell --technique lpv --lpv.grid 8 --lpv.iterations 2 --size 16x16 --out " +
+                   (dir / "img.exr").string() + " --json " + (dir / "report.json").string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::ifstream in(dir / "report.json");
+    auto j = nlohmann::json::parse(in);
+    std::map<std::string, std::string> leftOut;
+    for (const auto& p : j["left_out"])
+        leftOut[p["name"].get<std::string>()] = p["reason"].get<std::string>() + ": " + p["detail"].get<std::string>();
+    EXPECT_EQ(leftOut["gi.light[*].point"], "not-needed: no point light in the scene");
+    EXPECT_EQ(leftOut["gi.light[*].directional"], "not-needed: no directional light in the scene");
+    EXPECT_EQ(leftOut.count("gi.lpv.propagate*"), 0u) << "the measured frame recomputes everything";
+    // The static frame re-runs only the per-pixel work.
+    ASSERT_TRUE(j["static_frame"].is_object());
+    std::string passes;
+    for (const auto& p : j["static_frame"]["passes"])
+        passes += p["name"].get<std::string>() + " ";
+    EXPECT_EQ(passes, "gi.gbuffer gi.shadow.setup gi.direct gi.lpv.lookup gi.composite gi.readback.composite "
+                      "gi.readback.direct ");
+    std::string reasons;
+    for (const auto& p : j["static_frame"]["left_out"])
+        reasons += p["name"].get<std::string>() + "=" + p["reason"].get<std::string>() + " ";
+    EXPECT_EQ(reasons, "gi.light[*].directional=not-needed gi.light[*].point=not-needed gi.light[0].spot=not-dirty "
+                       "gi.lpv.inject*=not-dirty gi.lpv.gv.*=not-dirty gi.lpv.propagate*=not-dirty ");
 }

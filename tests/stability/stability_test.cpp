@@ -227,7 +227,7 @@ TEST_F(Stability, FurnaceWithAlbedo099StaysFiniteAndBelowItsBounceSum) {
         for (Technique t : kTechniques) {
             GiSettings settings = smallSettings(t);
             Frame f = renderOk(settings, furnace);
-            int bounces = std::max(1, modelledBounces(t));
+            int bounces = std::max(1, modelledBounces(settings));
             double bound = 0.0;
             for (int b = 0; b < bounces; ++b)
                 bound += std::pow(0.99, b);
