@@ -80,13 +80,11 @@ public:
             std::string why = "no light or object changed since the voxels were lit";
             selection.leaveOut("gi.vct.light", LeftOutReason::NotDirty, why);
             selection.leaveOut("gi.vct.mip[*]", LeftOutReason::NotDirty, why);
-            if (m_settings.bounces >= 2) {
-                selection.leaveOut("gi.vct.bounce", LeftOutReason::NotDirty, why);
-                selection.leaveOut("gi.vct.bounce.mip[*]", LeftOutReason::NotDirty, why);
-            }
+            if (m_settings.bounces >= 2)
+                selection.leaveOut("gi.vct.bounce*", LeftOutReason::NotDirty, why);
         }
         if (m_settings.bounces < 2)
-            selection.leaveOut("gi.vct.bounce", LeftOutReason::NotNeeded, "vct.bounces = 1");
+            selection.leaveOut("gi.vct.bounce*", LeftOutReason::NotNeeded, "vct.bounces = 1");
         if (relight && !selection.features.emissive)
             selection.leaveOut("gi.vct.light:emission", LeftOutReason::NotNeeded, "no emissive material");
         // The trace weights the glossy cone by metallic: without a metallic material it adds 0.
