@@ -383,3 +383,34 @@ TEST_F(PassSelectionTest, ModelledBouncesFollowTheBounceKnobs) {
     s.technique = Technique::Vpl;
     EXPECT_EQ(modelledBounces(s), 2);
 }
+
+TEST_F(PassSelectionTest, LpvMovedLightReinjectsAndMatchesAFreshSystem) {
+    auto scene = makeBuiltinScene("cornell");
+    ASSERT_TRUE(scene);
+    auto sys = system(smallSettings(Technique::Lpv), *scene);
+    ASSERT_TRUE(sys);
+    frame(*sys, *scene);
+    Scene moved = *scene;
+    moved.lights[0].position.x += 0.1f;
+    ASSERT_TRUE(sys->updateScene(moved));
+    FrameResult f = frame(*sys, moved);
+    EXPECT_EQ(viewIndependent(f), "gi.light[0].spot gi.lpv.inject.clear gi.lpv.inject.range gi.lpv.inject "
+                                  "gi.lpv.inject.resolve gi.lpv.gv.clear gi.lpv.gv.rsm gi.lpv.gv.camera "
+                                  "gi.lpv.gv.resolve gi.lpv.propagate[0] gi.lpv.propagate[1] gi.lpv.propagate[2] "
+                                  "gi.lpv.propagate[3]");
+    auto fresh = system(smallSettings(Technique::Lpv), moved);
+    ASSERT_TRUE(fresh);
+    EXPECT_TRUE(sameImage(f.composite, frame(*fresh, moved).composite));
+}
+
+TEST_F(PassSelectionTest, VplStaticFrameReusesTheShadowMapAndRsm) {
+    auto scene = makeBuiltinScene("cornell_spot");
+    ASSERT_TRUE(scene);
+    auto sys = system(smallSettings(Technique::Vpl), *scene);
+    ASSERT_TRUE(sys);
+    FrameResult first = frame(*sys, *scene);
+    FrameResult second = frame(*sys, *scene);
+    EXPECT_EQ(viewIndependent(second), "") << "VPL gathers per pixel every frame; only the RSM is kept";
+    EXPECT_TRUE(ran(second, "vpl.gather"));
+    EXPECT_TRUE(sameImage(first.composite, second.composite));
+}
