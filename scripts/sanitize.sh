@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# ASan + UBSan build (clang) of the whole project: runs the unit and GPU suites under the
+# ASan + UBSan build (clang) of the whole project: runs the unit, GPU and stability suites under the
 # sanitizers, then fuzzes the glTF loader for FUZZ_SECONDS (default 60) from the committed corpus.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -13,7 +13,7 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 # shader code allocates from anonymous code pages that LeakSanitizer cannot attribute or
 # suppress; leaked Vulkan objects are caught there by the validation layer's object tracker.
 (cd "$build" && ASAN_OPTIONS="detect_leaks=1:abort_on_error=1" ctest --output-on-failure -j "$(nproc)" -L unit)
-(cd "$build" && ASAN_OPTIONS="detect_leaks=0:abort_on_error=1" ctest --output-on-failure -j "$(nproc)" -L gpu)
+(cd "$build" && ASAN_OPTIONS="detect_leaks=0:abort_on_error=1" ctest --output-on-failure -j "$(nproc)" -L "gpu|stability")
 corpus="$build/fuzz-corpus"
 mkdir -p "$corpus"
 cp "$root"/tests/assets/gltf/*/*.gl* "$corpus"/ 2>/dev/null || true
