@@ -78,12 +78,15 @@ protected:
         auto ambientIndirect = compareImages(bestAmbient(zero, *refIndirect), *refIndirect);
         Errors e{full->relMse, indirect->relMse, ambient->relMse, ambientIndirect->relMse};
         EXPECT_EQ(countNonFinite(frame->composite), 0u) << sceneName;
-        double ms = 0.0;
-        for (const auto& p : frame->passes)
+        double ms = 0.0, lightMs = 0.0;
+        for (const auto& p : frame->passes) {
             if (p.name.rfind("gi.v", 0) == 0)
                 ms += p.ms;
-        std::printf("%s: relMSE full %.4f (best ambient %.4f), indirect %.4f (best constant %.4f); VCT passes %.1f ms\n",
-                    sceneName, e.full, e.ambientFull, e.indirect, e.ambientIndirect, ms);
+            if (p.name == "gi.vct.light")
+                lightMs = p.ms;
+        }
+        std::printf("%s: relMSE full %.4f (best ambient %.4f), indirect %.4f (best constant %.4f); VCT passes %.1f ms (voxel light %.1f)\n",
+                    sceneName, e.full, e.ambientFull, e.indirect, e.ambientIndirect, ms, lightMs);
         return e;
     }
 };
@@ -140,6 +143,20 @@ TEST_F(VctReference, HalfResolutionConesMatchFullResolution) {
     Errors full = measure("cornell", s);
     EXPECT_LT(std::abs(half.full - full.full), 0.03 * full.full);
     EXPECT_LT(std::abs(half.indirect - full.indirect), 0.03 * full.indirect);
+}
+
+// Voxel light occluded by the direct-light shadow atlas instead of the hard occupancy march, on
+// the spot-lit box. Measured: full 0.174 (march 0.192), indirect 0.352 (march 0.287); the
+// constants are 0.251 and 0.356. Bounds: the measurements + 20%, as above, and the full image
+// still beats the best constant.
+TEST_F(VctReference, ShadowMapOcclusionAgainstThePathTracer) {
+    VctSettings s;
+    s.gridResolution = 32;
+    s.occlusion = VctOcclusion::ShadowMap;
+    Errors e = measure("cornell", s);
+    EXPECT_LT(e.full, 1.2 * 0.174);
+    EXPECT_LT(e.indirect, 1.2 * 0.352);
+    EXPECT_LT(e.full, e.ambientFull);
 }
 
 TEST_F(VctReference, TechniqueIsRegisteredAndBadSettingsAreErrors) {

@@ -47,8 +47,8 @@ TEST(VctSettings, BadValuesAreReadableErrors) {
     s.refineThreshold = std::numeric_limits<float>::quiet_NaN();
     expectError(s, "refineThreshold");
     s = {};
-    s.occlusion = VctOcclusion::ShadowMap;
-    expectError(s, "not implemented");
+    s.occlusion = VctOcclusion(7);
+    expectError(s, "occlusion 7");
 }
 
 TEST(VoxelGridFit, LongestSideSpansNMinusOneVoxelsCentred) {

@@ -72,6 +72,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
         const char* shader;
     } shaders[] = {{&v->m_compact, "gi/voxel/voxel_compact.comp"},
                    {&v->m_light, "gi/voxel/voxel_light.comp"},
+                   {&v->m_lightShadowMap, "gi/voxel/voxel_light_shadow_map.comp"},
                    {&v->m_mipBase, "gi/voxel/voxel_mip_base.comp"},
                    {&v->m_mip, "gi/voxel/voxel_mip.comp"},
                    {&v->m_bounce, "gi/voxel/voxel_bounce.comp"},
@@ -105,7 +106,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
 
 VctVolumes::~VctVolumes() {
     destroyBuffer(m_ctx, m_list.buffer);
-    for (Pipeline* p : {&m_compact, &m_light, &m_mipBase, &m_mip, &m_bounce, &m_bounceApply, &m_trace, &m_traceRefine, &m_upsample})
+    for (Pipeline* p : {&m_compact, &m_light, &m_lightShadowMap, &m_mipBase, &m_mip, &m_bounce, &m_bounceApply, &m_trace, &m_traceRefine, &m_upsample})
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_radiance.image);
     destroyImage(m_ctx, m_bounced.image);
@@ -141,13 +142,23 @@ void VctVolumes::recordCompact(VkCommandBuffer cmd) const {
 }
 
 void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t lightCount, VctOcclusion occlusion,
-                             VkImageLayout sampledLayout, bool emission) const {
+                             VkImageLayout sampledLayout, bool emission, const VctShadowInputs* shadow) const {
     const VoxelVolumes& g = m_grid.volumes();
     uint32_t mode = occlusion == VctOcclusion::RayMarchSoft ? GI_VCT_OCCLUSION_SOFT : GI_VCT_OCCLUSION_HARD;
     gpu::VoxelLightPush push{m_grid.params(), glm::uvec4(lightCount, mode, emission ? GI_VOXEL_LIGHT_EMISSION : 0u, 0u)};
     DescriptorItem lightItem;
     lightItem.binding = 0;
     lightItem.buffer = {lights, 0, VK_WHOLE_SIZE};
+    if (shadow) {
+        dispatchIndirect(m_ctx, cmd, m_lightShadowMap, push,
+                         {lightItem, storage(2, g.normal.image.view), storage(3, g.emission.image.view),
+                          sampled(4, g.albedo.image, m_sampler, sampledLayout), storage(5, m_radiance.image.view),
+                          bufferItem(6, m_list.buffer.buffer), bufferItem(7, shadow->lightShadows),
+                          bufferItem(8, shadow->views),
+                          sampled(9, *shadow->atlas, shadow->compareSampler, shadow->atlasLayout)},
+                         m_list.buffer.buffer);
+        return;
+    }
     dispatchIndirect(m_ctx, cmd, m_light, push,
                      {lightItem, storage(2, g.normal.image.view), storage(3, g.emission.image.view),
                       sampled(4, g.albedo.image, m_sampler, sampledLayout), storage(5, m_radiance.image.view),

@@ -31,6 +31,15 @@ enum class VctTraceMode {
     Refine, // the pixels of targets.refineList into the full-resolution targets
 };
 
+// The direct-light shadow atlas for VctOcclusion::ShadowMap (gi/direct_types.h layouts).
+struct VctShadowInputs {
+    VkBuffer lightShadows = VK_NULL_HANDLE; // GpuLightShadow[light]
+    VkBuffer views = VK_NULL_HANDLE;        // GpuShadowView[layer]
+    const Image* atlas = nullptr;           // depth 2D array, sampled with `compareSampler`
+    VkSampler compareSampler = VK_NULL_HANDLE;
+    VkImageLayout atlasLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+};
+
 class VctVolumes {
 public:
     static Result<std::unique_ptr<VctVolumes>> create(Context& ctx, const VoxelGrid& grid);
@@ -67,8 +76,10 @@ public:
     void recordCompact(VkCommandBuffer cmd) const;
     // grid volumes + lights (+ the emission volume when `emission`) -> radiance() at the listed
     // voxels (indirect dispatch over the list).
+    // `shadow` (non-null) selects the shadow-atlas variant, else `occlusion` the ray march.
     void recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t lightCount, VctOcclusion occlusion,
-                     VkImageLayout sampledLayout, bool emission = true) const;
+                     VkImageLayout sampledLayout, bool emission = true,
+                     const VctShadowInputs* shadow = nullptr) const;
     // aniso level `level` from `source` (level 0) or from level - 1 of aniso.
     void recordMip(VkCommandBuffer cmd, uint32_t level, const Image& source) const;
     // Second bounce, both halves read the aniso chains built from radiance(). Blocks: the
@@ -97,7 +108,7 @@ private:
     bool m_listBuilt = false;
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;
-    Pipeline m_compact, m_light, m_mipBase, m_mip, m_bounce, m_bounceApply, m_trace, m_traceRefine, m_upsample;
+    Pipeline m_compact, m_light, m_lightShadowMap, m_mipBase, m_mip, m_bounce, m_bounceApply, m_trace, m_traceRefine, m_upsample;
 };
 
 } // namespace vkgi::gi

@@ -32,10 +32,8 @@ Result<void> validateVctSettings(const VctSettings& s) {
         return makeError("vct: aoDistance must be finite and >= 0");
     if (!std::isfinite(s.shadowAperture) || s.shadowAperture <= 0.0f || s.shadowAperture > 1.0f)
         return makeError("vct: shadowAperture must be a finite half-angle in (0, 1] radians");
-    // Declared in the settings but not wired into the voxel light pass yet: refuse it rather
-    // than fall back to the ray march silently.
-    if (s.occlusion == VctOcclusion::ShadowMap)
-        return makeError("vct: occlusion ShadowMap is not implemented yet (use RayMarchHard or RayMarchSoft)");
+    if (uint32_t(s.occlusion) > uint32_t(VctOcclusion::ShadowMap))
+        return makeError("vct: occlusion " + std::to_string(uint32_t(s.occlusion)) + " is not a VctOcclusion");
     if (s.gridBox && (!s.gridBox->valid() || !std::isfinite(s.gridBox->min.x + s.gridBox->min.y + s.gridBox->min.z +
                                                              s.gridBox->max.x + s.gridBox->max.y + s.gridBox->max.z)))
         return makeError("vct: gridBox must be a finite, non-empty box");

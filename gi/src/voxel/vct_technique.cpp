@@ -100,8 +100,14 @@ public:
         bb.add(grid);
         VctGBufferHandles g{gbuffer.position, gbuffer.normal, gbuffer.albedo, frame.width, frame.height,
                             frame.camera.position};
-        VctOutputs out = addVctPasses(graph, *m_volumes, grid, scene.lights, m_lightCount, settings, &g,
-                                      {relight, selection.features.emissive});
+        VctPassOptions options{relight, selection.features.emissive};
+        if (const ShadowData* sd = bb.tryGet<ShadowData>()) {
+            options.shadowAtlas = sd->atlas;
+            options.shadowViews = sd->views;
+            options.lightShadows = sd->lightShadows;
+            options.shadowSampler = sd->compareSampler;
+        }
+        VctOutputs out = addVctPasses(graph, *m_volumes, grid, scene.lights, m_lightCount, settings, &g, options);
         bb.add(IndirectData{out.indirect, {}});
         bb.add(out);
     }

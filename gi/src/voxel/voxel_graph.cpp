@@ -167,9 +167,15 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     }
     VctOcclusion occlusion = settings.occlusion;
     bool emission = options.emission;
+    bool useShadowMap = occlusion == VctOcclusion::ShadowMap && options.shadowAtlas.valid();
     graph.addPass(
         "gi.vct.light",
         [&](rg::PassBuilder& b) {
+            if (useShadowMap) {
+                b.read(options.shadowAtlas, Access::ComputeSampledRead);
+                b.read(options.shadowViews, Access::ComputeStorageRead);
+                b.read(options.lightShadows, Access::ComputeStorageRead);
+            }
             b.read(list, Access::IndirectRead);
             b.read(list, Access::ComputeStorageRead);
             b.read(lights, Access::ComputeStorageRead);
@@ -178,8 +184,13 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
             b.read(grid.emission, Access::ComputeStorageRead);
             radiance = b.write(radiance, Access::ComputeStorageWrite); // the listed voxels
         },
-        [v, lights, lightCount, occlusion, emission, albedo = grid.albedo](rg::PassContext& ctx) {
-            v->recordLight(ctx.cmd(), ctx.buffer(lights).buffer, lightCount, occlusion, ctx.layout(albedo), emission);
+        [v, lights, lightCount, occlusion, emission, albedo = grid.albedo, useShadowMap, options](rg::PassContext& ctx) {
+            VctShadowInputs in;
+            if (useShadowMap)
+                in = {ctx.buffer(options.lightShadows).buffer, ctx.buffer(options.shadowViews).buffer,
+                      &ctx.image(options.shadowAtlas), options.shadowSampler, ctx.layout(options.shadowAtlas)};
+            v->recordLight(ctx.cmd(), ctx.buffer(lights).buffer, lightCount, occlusion, ctx.layout(albedo), emission,
+                           useShadowMap ? &in : nullptr);
         });
     out.aniso = addMipPasses(graph, v, radiance, out.aniso, "gi.vct.mip");
     gpu::ConeParams cones = volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);

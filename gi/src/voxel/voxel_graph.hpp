@@ -69,6 +69,11 @@ struct VctPassOptions {
     bool relight = true;
     // false: the voxel light leaves out the emission volume (the scene has no emissive material).
     bool emission = true;
+    // VctOcclusion::ShadowMap reads this shadow atlas (ShadowData of gi/frame_data.hpp); without
+    // one (graphs built by hand, no direct-light passes) the voxel light ray-marches hard shadows.
+    rg::ImageHandle shadowAtlas;
+    rg::BufferHandle shadowViews, lightShadows;
+    VkSampler shadowSampler = VK_NULL_HANDLE;
 };
 VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
                         rg::BufferHandle lights, uint32_t lightCount, const VctSettings& settings,
