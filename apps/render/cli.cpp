@@ -1,6 +1,7 @@
 #include "cli.hpp"
 
-#include <charconv>
+#include <tuple>
+
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -9,41 +10,16 @@
 
 #include "gi/gi.hpp"
 #include "gi/knobs.hpp"
+#include "../common/args.hpp"
 
 namespace vkgi::render {
 
 namespace {
 
-// Largest image side: the path tracer's and GiSystem's limit.
-constexpr uint32_t kMaxSide = 16384;
 // More samples than this would run for days on the CPU path tracer.
 constexpr uint32_t kMaxSpp = 1u << 20;
 // Beyond this many reflections the path tracer's own cap (1024) applies anyway.
 constexpr int kMaxBounces = 1024;
-
-Result<uint64_t> parseWhole(const std::string& option, const std::string& text, uint64_t lo, uint64_t hi) {
-    uint64_t v = 0;
-    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-    if (text.empty() || ec != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
-        return makeError(option + ": '" + text + "' is not a whole number in " + std::to_string(lo) + ".." +
-                         std::to_string(hi));
-    return v;
-}
-
-Result<void> parseSize(const std::string& text, Options& o) {
-    size_t x = text.find('x');
-    if (x == std::string::npos)
-        return makeError("--size: '" + text + "' is not WIDTHxHEIGHT (e.g. 256x256)");
-    auto w = parseWhole("--size width", text.substr(0, x), 1, kMaxSide);
-    if (!w)
-        return w.error();
-    auto h = parseWhole("--size height", text.substr(x + 1), 1, kMaxSide);
-    if (!h)
-        return h.error();
-    o.width = uint32_t(*w);
-    o.height = uint32_t(*h);
-    return {};
-}
 
 Result<void> parseOutput(const std::string& text, Options& o) {
     std::string ext = std::filesystem::path(text).extension().string();
@@ -60,11 +36,14 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
     } else if (flag == "--technique") {
         o.technique = value;
     } else if (flag == "--size") {
-        return parseSize(value, o);
+        auto size = apps::parseSize("--size", value);
+        if (!size)
+            return size.error();
+        std::tie(o.width, o.height) = *size;
     } else if (flag == "--out") {
         return parseOutput(value, o);
     } else if (flag == "--spp") {
-        auto v = parseWhole("--spp", value, 1, kMaxSpp);
+        auto v = apps::parseWhole("--spp", value, 1, kMaxSpp);
         if (!v)
             return v.error();
         o.spp = uint32_t(*v);
@@ -73,16 +52,15 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
             o.bounces = -1;
             return {};
         }
-        auto v = parseWhole("--bounces", value, 0, kMaxBounces);
+        auto v = apps::parseWhole("--bounces", value, 0, kMaxBounces);
         if (!v)
             return makeError(v.error().message + " (or -1 = unbounded)");
         o.bounces = int(*v);
     } else if (flag == "--exposure") {
-        char* end = nullptr;
-        double e = std::strtod(value.c_str(), &end);
-        if (value.empty() || *end || !std::isfinite(e) || !(e > 0.0) || e > 1e12)
-            return makeError("--exposure: '" + value + "' is not a positive finite number");
-        o.exposure = float(e);
+        auto e = apps::parsePositive("--exposure", value, 1e12);
+        if (!e)
+            return e.error();
+        o.exposure = *e;
     } else if (flag == "--json") {
         if (value.empty())
             return makeError("--json: empty file name");
@@ -102,41 +80,20 @@ bool takesValue(const std::string& flag) {
 
 Result<Options> parseArgs(int argc, const char* const* argv) {
     Options o;
-    for (int i = 1; i < argc; ++i) {
-        std::string arg = argv[i];
-        std::string value;
-        bool inlineValue = false;
-        if (size_t eq = arg.find('='); arg.rfind("--", 0) == 0 && eq != std::string::npos) {
-            value = arg.substr(eq + 1);
-            arg = arg.substr(0, eq);
-            inlineValue = true;
-        }
-        if (arg == "--help" || arg == "-h") {
+    apps::CommandLine grammar;
+    grammar.takesValue = takesValue;
+    grammar.applyValue = [&](const std::string& flag, const std::string& value) { return applyValue(flag, value, o); };
+    grammar.applySwitch = [&](const std::string& flag) {
+        if (flag == "--help" || flag == "-h")
             o.help = true;
-        } else if (arg == "--compare") {
+        else if (flag == "--compare")
             o.compare = true;
-        } else if (takesValue(arg)) {
-            if (!inlineValue) {
-                if (i + 1 >= argc)
-                    return makeError(arg + " needs a value (see --help)");
-                value = argv[++i];
-            }
-            if (auto ok = applyValue(arg, value, o); !ok)
-                return ok.error();
-        } else if (gi::findKnob(arg.substr(2))) {
-            if (!inlineValue) {
-                if (i + 1 >= argc)
-                    return makeError(arg + " needs a value (see --help)");
-                value = argv[++i];
-            }
-            gi::GiSettings probe; // checked now so a bad value exits 2 before any work starts
-            if (auto ok = gi::setKnob(probe, arg.substr(2), value); !ok)
-                return makeError("--" + ok.error().message);
-            o.knobs.emplace_back(arg.substr(2), value);
-        } else {
-            return makeError("unknown option '" + arg + "' (see --help)");
-        }
-    }
+        else
+            return false;
+        return true;
+    };
+    if (auto ok = apps::parseCommandLine(argc, argv, grammar, o.knobs); !ok)
+        return ok.error();
     if (o.outputs.empty())
         o.outputs.push_back(std::filesystem::path("out") / (std::filesystem::path(o.scene).stem().string() + ".png"));
     return o;

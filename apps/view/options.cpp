@@ -1,40 +1,25 @@
 #include "options.hpp"
 
-#include <charconv>
 #include <cmath>
 #include <cstdlib>
 
 #include "gi/gi.hpp"
 #include "gi/knobs.hpp"
+#include "../common/args.hpp"
 
 namespace vkgi::view {
 
 namespace {
 
-constexpr uint32_t kMaxSide = 16384;
 constexpr uint32_t kMaxFrames = 1u << 24;
 
-Result<uint64_t> parseWhole(const std::string& option, const std::string& text, uint64_t lo, uint64_t hi) {
-    uint64_t v = 0;
-    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-    if (text.empty() || ec != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
-        return makeError(option + ": '" + text + "' is not a whole number in " + std::to_string(lo) + ".." +
-                         std::to_string(hi));
-    return v;
-}
-
+// "WIDTHxHEIGHT" into two fields.
 Result<void> parseSize(const std::string& flag, const std::string& value, uint32_t& width, uint32_t& height) {
-    size_t x = value.find('x');
-    if (x == std::string::npos)
-        return makeError(flag + ": '" + value + "' is not WIDTHxHEIGHT (e.g. 256x256)");
-    auto w = parseWhole(flag + " width", value.substr(0, x), 1, kMaxSide);
-    if (!w)
-        return w.error();
-    auto h = parseWhole(flag + " height", value.substr(x + 1), 1, kMaxSide);
-    if (!h)
-        return h.error();
-    width = uint32_t(*w);
-    height = uint32_t(*h);
+    auto size = apps::parseSize(flag, value);
+    if (!size)
+        return size.error();
+    width = size->first;
+    height = size->second;
     return {};
 }
 
@@ -51,7 +36,7 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
         size_t colon = value.find(':');
         if (colon == std::string::npos)
             return makeError("--resize-at: '" + value + "' is not FRAME:WIDTHxHEIGHT (e.g. 3:320x240)");
-        auto frame = parseWhole("--resize-at frame", value.substr(0, colon), 0, kMaxFrames);
+        auto frame = apps::parseWhole("--resize-at frame", value.substr(0, colon), 0, kMaxFrames);
         if (!frame)
             return frame.error();
         o.resizeFrame = uint32_t(*frame);
@@ -60,7 +45,7 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
         size_t colon = value.find(':');
         if (colon == std::string::npos)
             return makeError("--switch-at: '" + value + "' is not FRAME:TECHNIQUE (e.g. 3:vpl)");
-        auto frame = parseWhole("--switch-at frame", value.substr(0, colon), 0, kMaxFrames);
+        auto frame = apps::parseWhole("--switch-at frame", value.substr(0, colon), 0, kMaxFrames);
         if (!frame)
             return frame.error();
         if (auto t = gi::parseTechnique(value.substr(colon + 1)); !t)
@@ -68,11 +53,10 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
         o.switchFrame = uint32_t(*frame);
         o.switchTechnique = value.substr(colon + 1);
     } else if (flag == "--exposure") {
-        char* end = nullptr;
-        double e = std::strtod(value.c_str(), &end);
-        if (value.empty() || *end || !std::isfinite(e) || !(e > 0.0) || e > 1e12)
-            return makeError("--exposure: '" + value + "' is not a positive finite number");
-        o.exposure = float(e);
+        auto e = apps::parsePositive("--exposure", value, 1e12);
+        if (!e)
+            return e.error();
+        o.exposure = *e;
     } else if (flag == "--present") {
         if (value == "fifo")
             o.present = PresentMode::Fifo;
@@ -83,7 +67,7 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
         else
             return makeError("--present: '" + value + "' is not fifo, mailbox or immediate");
     } else if (flag == "--frames") {
-        auto n = parseWhole("--frames", value, 1, kMaxFrames);
+        auto n = apps::parseWhole("--frames", value, 1, kMaxFrames);
         if (!n)
             return n.error();
         o.frames = uint32_t(*n);
@@ -113,49 +97,26 @@ Result<Options> parseArgs(int argc, const char* const* argv) {
     Options o;
     if (const char* v = std::getenv("VKGI_VALIDATION"); v && std::string(v) != "0")
         o.validation = true;
-    for (int i = 1; i < argc; ++i) {
-        std::string arg = argv[i];
-        std::string value;
-        bool inlineValue = false;
-        if (size_t eq = arg.find('='); arg.rfind("--", 0) == 0 && eq != std::string::npos) {
-            value = arg.substr(eq + 1);
-            arg = arg.substr(0, eq);
-            inlineValue = true;
-        }
-        auto takeValue = [&]() -> Result<void> {
-            if (inlineValue)
-                return {};
-            if (i + 1 >= argc)
-                return makeError(arg + " needs a value (see --help)");
-            value = argv[++i];
-            return {};
-        };
-        if (arg == "--help" || arg == "-h") {
+    apps::CommandLine grammar;
+    grammar.takesValue = takesValue;
+    grammar.applyValue = [&](const std::string& flag, const std::string& value) { return applyValue(flag, value, o); };
+    grammar.applySwitch = [&](const std::string& flag) {
+        if (flag == "--help" || flag == "-h")
             o.help = true;
-        } else if (arg == "--validation") {
+        else if (flag == "--validation")
             o.validation = true;
-        } else if (arg == "--no-ui") {
+        else if (flag == "--no-ui")
             o.ui = false;
-        } else if (arg == "--animate") {
+        else if (flag == "--animate")
             o.animate = true;
-        } else if (arg == "--exit") {
+        else if (flag == "--exit")
             o.exitAfterFrames = true;
-        } else if (takesValue(arg)) {
-            if (auto ok = takeValue(); !ok)
-                return ok.error();
-            if (auto ok = applyValue(arg, value, o); !ok)
-                return ok.error();
-        } else if (arg.rfind("--", 0) == 0 && gi::findKnob(arg.substr(2))) {
-            if (auto ok = takeValue(); !ok)
-                return ok.error();
-            gi::GiSettings probe; // a bad value exits 2 before a window opens
-            if (auto ok = gi::setKnob(probe, arg.substr(2), value); !ok)
-                return makeError("--" + ok.error().message);
-            o.knobs.emplace_back(arg.substr(2), value);
-        } else {
-            return makeError("unknown option '" + arg + "' (see --help)");
-        }
-    }
+        else
+            return false;
+        return true;
+    };
+    if (auto ok = apps::parseCommandLine(argc, argv, grammar, o.knobs); !ok)
+        return ok.error();
     if (o.exitAfterFrames && !o.frames)
         return makeError("--exit needs --frames N");
     if (o.resizeFrame && (!o.frames || *o.resizeFrame >= *o.frames))
