@@ -81,32 +81,42 @@ float shadowVisibility(uint lightIndex, vec3 p, vec3 n, vec3 toLight) {
     vec3 row0 = vpT[0].xyz, row1 = vpT[1].xyz, row3 = vpT[3].xyz;
     vec3 w0 = cross(row0, row1), wx = cross(row1, row3), wy = cross(row3, row0);
     float planeDist = dot(n, q - view.eye.xyz);
+    // The (2r+1)^2 bilinear taps read the (2r+2)^2 texels from c.xy - r - 0.5 on; a texel's
+    // weight summed over the taps is separable: 1 - f on the first row/column, f on the last and
+    // 1 between. So each texel is gathered and compared once, (r+1)^2 gathers of 2x2 texels
+    // instead of 4 (2r+1)^2 compares.
     int r = int(pc.size.w);
+    vec2 st = c.xy - float(r) - 0.5; // texel (i, j) has its centre at (i + 0.5, j + 0.5)
+    vec2 origin = floor(st), f = st - origin;
+    float last = float(2 * r + 1);
+    float hi = view.texel.z - 0.5;
     float lit = 0.0;
-    for (int y = -r; y <= r; ++y)
-        for (int x = -r; x <= r; ++x) {
-            vec2 st = c.xy + vec2(x, y) - 0.5; // bilinear: texel (i, j) has its centre at (i + 0.5, j + 0.5)
-            vec2 base = floor(st), f = st - base;
+    for (int v = 0; v <= r; ++v)
+        for (int u = 0; u <= r; ++u) {
+            vec2 base = origin + vec2(2 * u, 2 * v);
             vec4 stored = textureGather(shadowDepth, vec3((base + 1.0) / view.texel.z, float(layer)));
             // Gather order: (0,1), (1,1), (1,0), (0,0) relative to base. Texel centres, clamped to
             // the layer as the sampler's clamp-to-edge does, relative to c.xy.
-            float hi = view.texel.z - 0.5;
             vec4 du = clamp(base.x + vec4(0.5, 1.5, 1.5, 0.5), 0.5, hi) - c.x;
             vec4 dv = clamp(base.y + vec4(1.5, 1.5, 0.5, 0.5), 0.5, hi) - c.y;
             vec4 plane;
             if (ortho) {
                 plane = c.z + grad.x * du + grad.y * dv;
             } else {
-                for (int k = 0; k < 4; ++k) {
-                    vec2 ndc = (c.xy + vec2(du[k], dv[k])) / view.texel.z * 2.0 - 1.0;
-                    vec3 w = w0 + ndc.x * wx + ndc.y * wy;
-                    float nw = dot(n, w);
-                    // A ray parallel to the plane never meets it: compare against the receiver's depth.
-                    plane[k] = abs(nw) > 1e-12 * length(w) ? abs(planeDist / nw) * length(w) / view.eye.w : c.z;
-                }
+                vec4 nx = (c.x + du) / view.texel.z * 2.0 - 1.0, ny = (c.y + dv) / view.texel.z * 2.0 - 1.0;
+                vec4 wX = w0.x + nx * wx.x + ny * wy.x, wY = w0.y + nx * wx.y + ny * wy.y;
+                vec4 wZ = w0.z + nx * wx.z + ny * wy.z;
+                vec4 nw = n.x * wX + n.y * wY + n.z * wZ;
+                vec4 len = sqrt(wX * wX + wY * wY + wZ * wZ);
+                // A ray parallel to the plane never meets it: compare against the receiver's depth.
+                plane = mix(vec4(c.z), abs(planeDist / nw) * len / view.eye.w, greaterThan(abs(nw), 1e-12 * len));
             }
             vec4 seen = vec4(greaterThanEqual(stored, plane - bias));
-            lit += mix(mix(seen.w, seen.z, f.x), mix(seen.x, seen.y, f.x), f.y);
+            // Column (row) index in the footprint of each gathered texel, and its summed weight.
+            vec4 col = vec4(2 * u) + vec4(0.0, 1.0, 1.0, 0.0), row = vec4(2 * v) + vec4(1.0, 1.0, 0.0, 0.0);
+            vec4 wcol = mix(mix(vec4(1.0), vec4(f.x), equal(col, vec4(last))), vec4(1.0 - f.x), equal(col, vec4(0.0)));
+            vec4 wrow = mix(mix(vec4(1.0), vec4(f.y), equal(row, vec4(last))), vec4(1.0 - f.y), equal(row, vec4(0.0)));
+            lit += dot(seen, wcol * wrow);
         }
     float taps = float((2 * r + 1) * (2 * r + 1));
     return lit / taps;
