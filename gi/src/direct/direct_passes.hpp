@@ -17,6 +17,9 @@ struct DirectPipelines {
     Pipeline gbuffer;
     Pipeline shadow;
     Pipeline rsm;
+    // The same two without the texture lookup, for scenes without textures (surface.h).
+    Pipeline gbufferUntextured;
+    Pipeline rsmUntextured;
     Pipeline deferred;
     Pipeline composite;
     Pipeline hostPosition; // host G-buffer path (host_gbuffer.cpp)

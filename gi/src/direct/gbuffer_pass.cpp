@@ -51,7 +51,7 @@ GBufferData addGBufferPass(rg::RenderGraph& graph, const DirectPipelines& p, con
             b.read(scene.materials, Access::FragmentStorageRead);
             b.read(scene.textures, Access::FragmentSampledRead);
             d.s = scene;
-            d.pipeline = &p.gbuffer;
+            d.pipeline = frame.scene->textures.empty() ? &p.gbufferUntextured : &p.gbuffer;
             d.scene = frame.gpuScene;
             d.push = {frame.viewProj, glm::vec4(frame.camera.position, 0.0f), glm::vec4(0.0f), glm::uvec4(0u)};
             d.extent = {frame.width, frame.height};

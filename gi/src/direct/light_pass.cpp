@@ -137,7 +137,8 @@ void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameD
                   const ShadowLayout& layout, const LightShadowPlan& plan, const ShadowTargets& targets, bool rsm,
                   AtlasHandles& h) {
     auto info = std::make_shared<LightPassInfo>();
-    info->pipeline = rsm ? &p.rsm : &p.shadow;
+    bool textured = !frame.scene->textures.empty();
+    info->pipeline = !rsm ? &p.shadow : textured ? &p.rsm : &p.rsmUntextured;
     info->scene = frame.gpuScene;
     info->textureSampler = frame.gpuScene->textureSampler;
     info->sceneHandles = scene;

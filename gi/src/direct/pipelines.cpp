@@ -7,8 +7,11 @@ namespace vkgi::gi {
 
 namespace {
 
-Result<Pipeline> rasterPipeline(Context& ctx, const char* fragment, std::vector<VkFormat> colors) {
+// `textured` = false removes the base-colour texture lookup (surface.h, constant_id 0).
+Result<Pipeline> rasterPipeline(Context& ctx, const char* fragment, std::vector<VkFormat> colors,
+                                bool textured = true) {
     GraphicsPipelineDesc d;
+    d.specialization = {{0, textured ? 1u : 0u}};
     d.vertexShader = "gi/direct/raster.vert";
     d.fragmentShader = fragment;
     d.colorFormats = std::move(colors);
@@ -30,6 +33,11 @@ Result<DirectPipelines> createDirectPipelines(Context& ctx) {
     if (!gbuffer)
         return fail(gbuffer.error());
     p.gbuffer = *gbuffer;
+    auto gbufferUntextured = rasterPipeline(ctx, "gi/direct/gbuffer.frag",
+                                            {kPositionFormat, kNormalFormat, kAlbedoFormat, kEmissionFormat}, false);
+    if (!gbufferUntextured)
+        return fail(gbufferUntextured.error());
+    p.gbufferUntextured = *gbufferUntextured;
     auto shadow = rasterPipeline(ctx, "gi/direct/shadow.frag", {});
     if (!shadow)
         return fail(shadow.error());
@@ -38,6 +46,10 @@ Result<DirectPipelines> createDirectPipelines(Context& ctx) {
     if (!rsm)
         return fail(rsm.error());
     p.rsm = *rsm;
+    auto rsmUntextured = rasterPipeline(ctx, "gi/direct/rsm.frag", {kPositionFormat, kNormalFormat, kRsmFluxFormat}, false);
+    if (!rsmUntextured)
+        return fail(rsmUntextured.error());
+    p.rsmUntextured = *rsmUntextured;
     auto deferred = createComputePipeline(ctx, {"gi/direct/deferred.comp", {}});
     if (!deferred)
         return fail(deferred.error());
@@ -62,7 +74,7 @@ Result<DirectPipelines> createDirectPipelines(Context& ctx) {
 }
 
 void destroyDirectPipelines(Context& ctx, DirectPipelines& p) {
-    for (Pipeline* pl : {&p.gbuffer, &p.shadow, &p.rsm, &p.deferred, &p.composite, &p.hostPosition})
+    for (Pipeline* pl : {&p.gbuffer, &p.gbufferUntextured, &p.shadow, &p.rsm, &p.rsmUntextured, &p.deferred, &p.composite, &p.hostPosition})
         if (pl->pipeline)
             destroyPipeline(ctx, *pl);
     for (VkSampler s : {p.pointSampler, p.shadowSampler})

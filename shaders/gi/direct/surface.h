@@ -11,10 +11,14 @@ layout(location = 1) in vec3 inNormal;
 layout(location = 2) in vec2 inUv;
 layout(location = 3) flat in uint inMaterial;
 
+// False for scenes without textures (a pipeline variant): lavapipe runs the texture branch
+// masked on every fragment whether or not any lane takes it, so only a constant removes it.
+layout(constant_id = 0) const bool kSceneHasTextures = true;
+
 // Lambertian albedo as the path tracer defines it: baseColor x texture, clamped to [0,1].
 vec3 surfaceAlbedo(GpuMaterial m) {
     vec4 base = m.baseColor;
-    if (m.params.z >= 0.0)
+    if (kSceneHasTextures && m.params.z >= 0.0)
         base *= texture(baseColorTextures, vec3(inUv, m.params.z));
     return clamp(base.rgb, 0.0, 1.0);
 }
