@@ -13,6 +13,7 @@
 #include "engine/progress.hpp"
 #include "gi/knobs.hpp"
 #include "gi/reference.hpp"
+#include "scaling.hpp"
 #include "stream.hpp"
 #include "sweep.hpp"
 
@@ -23,6 +24,7 @@ namespace {
 const char* kUsage =
     "usage: vkgi-bench [--scenes a,b] [--techniques a,b] [--size WxH] [--spp N] [--repeat N]\n"
     "                  [--budget-ms X] [--quick] [--passes] [--out DIR]\n"
+    "       vkgi-bench --scaling [--techniques a,b] [--repeat N] [--quick] [--out DIR]\n"
     "  --scenes      built-in names or glTF files (default cornell,room,atrium)\n"
     "  --techniques  subset of the library's techniques (default: all)\n"
     "  --size        image size (default 128x128)      --spp     reference paths/pixel (default 1024)\n"
@@ -30,7 +32,11 @@ const char* kUsage =
     "  --budget-ms   also print the least-error configuration within this GPU time per scene\n"
     "  --quick       one configuration per technique (smoke run)\n"
     "  --passes      also print every configuration's passes: GPU ms, MiB moved, x streaming rate\n"
-    "  --out         output folder (default out/bench): bench.csv, bench.json, plot-<scene>.svg\n";
+    "  --out         output folder (default out/bench): bench.csv, bench.json, plot-<scene>.svg\n"
+    "  --scaling     GPU time against pixels (cornell 64^2..512^2), voxels (cornell 128^2, vct.grid 32..128,\n"
+    "                lpv.grid 16..64) and triangles (bunny_box 128^2, 1.3k..82k triangles, static and\n"
+    "                re-voxelized per frame): scaling.csv, scaling.json, scaling-<axis>.svg, log-log slopes\n"
+    "                and voxelization triangles/s; --quick: tiny sizes, two points per axis\n";
 
 std::vector<std::string> split(const std::string& s) {
     std::vector<std::string> out;
@@ -52,8 +58,15 @@ bool parseUint(const char* s, uint32_t lo, uint32_t hi, uint32_t& out) {
 
 Result<bench::Options> parseArgs(int argc, char** argv) {
     bench::Options o;
+    std::vector<std::string> sweepOnly; // options of the error-vs-time sweep given on the command line
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
+        if (a == "--scaling") {
+            o.scaling = true;
+            continue;
+        }
+        if (a == "--scenes" || a == "--size" || a == "--spp" || a == "--budget-ms" || a == "--passes")
+            sweepOnly.push_back(a);
         if (a == "--help" || a == "-h") {
             std::fputs(kUsage, stdout);
             std::exit(0);
@@ -87,6 +100,8 @@ Result<bench::Options> parseArgs(int argc, char** argv) {
         } else if (a != "--spp" && a != "--repeat")
             return makeError("unknown option '" + a + "' (see --help)");
     }
+    if (o.scaling && !sweepOnly.empty())
+        return makeError(sweepOnly.front() + " does not apply to --scaling (it sweeps its own scenes and sizes)");
     if (o.techniques.empty())
         o.techniques = gi::techniqueNames();
     for (const auto& t : o.techniques)
@@ -108,6 +123,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "vkgi-bench: %s\n", ctx.error().message.c_str());
         return 1;
     }
+    if (opt->scaling)
+        return bench::runScaling(**ctx, *opt);
     // The streaming rate every pass is compared with, measured now on this device and load.
     auto streamGBs = bench::measureStreamGBs(**ctx);
     if (!streamGBs) {

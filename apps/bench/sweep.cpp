@@ -1,6 +1,7 @@
 #include "sweep.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <map>
 
 #include "engine/image_metrics.hpp"
@@ -50,30 +51,30 @@ std::vector<std::string> sweepFor(const std::string& technique, bool quick) {
     return s;
 }
 
-Result<gi::BenchRecord> measure(Context& ctx, const Scene& scene, const std::string& sceneName,
-                                const gi::GiSettings& settings, const std::string& knobs, const Options& opt,
-                                const HdrImage& refFull, const HdrImage& refIndirect) {
+Result<Timing> measureTiming(Context& ctx, const Scene& scene, const gi::GiSettings& settings, uint32_t width,
+                             uint32_t height, uint32_t repeat, const gi::FrameRequest& request,
+                             const std::function<Result<void>(gi::GiSystem&)>& beforeFrame, uint32_t warmup) {
     auto sys = gi::GiSystem::create(ctx, settings);
     if (!sys)
         return sys.error();
     if (auto ok = (*sys)->setScene(scene); !ok)
         return ok.error();
     Camera cam = scene.cameraOrDefault();
-    gi::FrameRequest request;
-    request.indirect = settings.technique != gi::Technique::None;
     std::map<std::string, std::vector<double>> passMs;
     std::vector<std::string> order;
-    std::vector<double> totals;
-    gi::FrameResult last;
-    for (uint32_t frame = 0; frame <= opt.repeat; ++frame) { // frame 0 warms up lavapipe's JIT
-        // Every measured frame recomputes everything, as for a scene where everything moves:
-        // otherwise a static scene would reuse the persistent volumes and time only the lookups.
-        (*sys)->invalidate();
-        auto r = (*sys)->renderFrame(cam, opt.width, opt.height, request);
+    std::vector<double> totals, walls;
+    Timing out;
+    for (uint32_t frame = 0; frame < warmup + repeat; ++frame) { // the first frames warm up lavapipe's JIT
+        if (beforeFrame)
+            if (auto ok = beforeFrame(**sys); !ok)
+                return ok.error();
+        auto t0 = std::chrono::steady_clock::now();
+        auto r = (*sys)->renderFrame(cam, width, height, request);
         if (!r)
             return r.error();
-        if (frame == 0)
+        if (frame < warmup)
             continue;
+        walls.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
         double total = 0.0;
         for (const auto& p : r->passes) {
             if (p.name.find(".readback") != std::string::npos)
@@ -84,20 +85,41 @@ Result<gi::BenchRecord> measure(Context& ctx, const Scene& scene, const std::str
             total += p.ms;
         }
         totals.push_back(total);
-        last = std::move(*r);
+        out.last = std::move(*r);
     }
+    for (const auto& name : order)
+        out.passMs.push_back({name, median(passMs[name])});
+    out.totalMs = median(totals);
+    out.wallMs = median(walls);
+    return out;
+}
+
+Result<gi::BenchRecord> measure(Context& ctx, const Scene& scene, const std::string& sceneName,
+                                const gi::GiSettings& settings, const std::string& knobs, const Options& opt,
+                                const HdrImage& refFull, const HdrImage& refIndirect) {
+    gi::FrameRequest request;
+    request.indirect = settings.technique != gi::Technique::None;
+    // Every measured frame recomputes everything, as for a scene where everything moves:
+    // otherwise a static scene would reuse the persistent volumes and time only the lookups.
+    auto invalidate = [](gi::GiSystem& sys) -> Result<void> {
+        sys.invalidate();
+        return {};
+    };
+    auto timing = measureTiming(ctx, scene, settings, opt.width, opt.height, opt.repeat, request, invalidate);
+    if (!timing)
+        return timing.error();
+    const gi::FrameResult& last = timing->last;
     gi::BenchRecord rec;
     rec.scene = sceneName;
     rec.technique = gi::toString(settings.technique);
     rec.knobs = knobs;
-    for (const auto& name : order)
-        rec.passMs.push_back({name, median(passMs[name])});
-    rec.totalMs = median(totals);
+    rec.passMs = timing->passMs;
+    rec.totalMs = timing->totalMs;
     rec.deviceMiB = double(last.persistentBytes + last.transientBytes) / (1024.0 * 1024.0);
-    for (const auto& name : order)
+    for (const auto& pass : rec.passMs)
         for (const rg::PassMemory& m : last.passMemory)
-            if (m.name == name) {
-                rec.passBytes.push_back({name, double(m.accessedBytes)});
+            if (m.name == pass.first) {
+                rec.passBytes.push_back({pass.first, double(m.accessedBytes)});
                 break;
             }
     auto full = compareImages(last.composite, refFull);

@@ -1,7 +1,9 @@
 #pragma once
 // vkgi-bench's measuring loop, kept out of main(): the sweep table per technique, one
 // measured configuration, and the reference each technique is compared with.
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/context.hpp"
@@ -20,6 +22,7 @@ struct Options {
     uint32_t repeat = 5;   // measured frames per configuration after one warm-up frame
     bool quick = false;    // first configuration of each technique only (smoke runs)
     bool passes = false;   // print per-pass ms, bytes moved and stream ratio of every configuration
+    bool scaling = false;  // --scaling: time against pixels, voxels and triangles instead (scaling.hpp)
     double budgetMs = 0.0; // > 0: report the best configuration within this GPU time
     std::string outDir = "out/bench";
 };
@@ -27,7 +30,22 @@ struct Options {
 // Knob assignments ("lpv.grid=32 lpv.iterations=8") to measure for `technique`.
 std::vector<std::string> sweepFor(const std::string& technique, bool quick);
 
-// Renders `scene` with `settings` 1 + repeat times and fills a record: median per-pass and
+// Median GPU times of `repeat` frames after `warmup` frames (lavapipe JITs each shader at its
+// first dispatch), readback passes excluded, and the last frame's result.
+struct Timing {
+    std::vector<std::pair<std::string, double>> passMs; // median per pass, first-seen order
+    double totalMs = 0.0;                               // median of the per-frame sums
+    double wallMs = 0.0; // median host time of renderFrame (record, submit, wait, readback)
+    gi::FrameResult last;
+};
+// Renders `scene` with `settings` 1 + repeat times. `beforeFrame`, when given, runs before every
+// frame (vkgi-bench --scaling re-voxelizes a dynamic instance through updateScene).
+Result<Timing> measureTiming(Context& ctx, const Scene& scene, const gi::GiSettings& settings, uint32_t width,
+                             uint32_t height, uint32_t repeat, const gi::FrameRequest& request,
+                             const std::function<Result<void>(gi::GiSystem&)>& beforeFrame = {},
+                             uint32_t warmup = 1);
+
+// Renders `scene` with `settings` 1 + repeat times (measureTiming) and fills a record: median per-pass and
 // total GPU ms (readback passes excluded), errors against the reference images.
 Result<gi::BenchRecord> measure(Context& ctx, const Scene& scene, const std::string& sceneName,
                                 const gi::GiSettings& settings, const std::string& knobs, const Options& opt,

@@ -253,13 +253,13 @@ float bunnyRadius(const glm::vec3& d) {
     return r * (1.0f + bumps + ears);
 }
 
-Scene makeBunnyBox() {
+Scene makeBunnyBox(const BuiltinSceneParams& p) {
     Scene s;
     s.name = "bunny_box";
     addCornellWalls(s);
     uint32_t clay = addMaterial(s, "bunny_clay", {0.80f, 0.60f, 0.45f});
     MeshBuilder b;
-    b.addIcosphere(glm::vec3(0.0f), 4, bunnyRadius); // 5120 triangles
+    b.addIcosphere(glm::vec3(0.0f), p.bunnySubdivisions, bunnyRadius); // 20 * 4^n triangles (4: 5120)
     Aabb bb = b.bounds();
     b.translate(glm::vec3(0.278f, 0.0f, 0.30f) - glm::vec3(bb.centre().x, bb.min.y, bb.centre().z)); // on the floor
     addMeshInstance(s, b, "bunny", clay);
@@ -374,7 +374,7 @@ const std::vector<Entry>& registry() {
         {"furnace", makeFurnace},
         {"sphere", makeSphere},
         {"room", [](const BuiltinSceneParams&) { return makeRoom(); }},
-        {"bunny_box", [](const BuiltinSceneParams&) { return makeBunnyBox(); }},
+        {"bunny_box", makeBunnyBox},
         {"atrium", [](const BuiltinSceneParams&) { return makeAtrium(); }},
     };
     return entries;
@@ -404,6 +404,9 @@ Result<void> checkParams(const BuiltinSceneParams& p) {
                          " must be finite and >= 0");
     if (p.sphereSubdivisions > 7) // 7 levels = 327680 triangles, already far more than any test needs
         return makeError("builtin scene parameter sphereSubdivisions = " + std::to_string(p.sphereSubdivisions) +
+                         " is outside [0, 7]");
+    if (p.bunnySubdivisions > 7)
+        return makeError("builtin scene parameter bunnySubdivisions = " + std::to_string(p.bunnySubdivisions) +
                          " is outside [0, 7]");
     return {};
 }

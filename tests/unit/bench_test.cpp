@@ -8,7 +8,9 @@
 #include "gi/bench.hpp"
 #include "support/test_env.hpp"
 
+#include <cmath>
 #include <fstream>
+#include <sstream>
 
 using namespace vkgi;
 using namespace vkgi::gi;
@@ -122,4 +124,91 @@ TEST(Bench, StreamRatioIsTimeOverStreamingTime) {
     EXPECT_DOUBLE_EQ(vkgi::gi::streamRatio(3.0, 15e6, 7.5), 1.5);
     EXPECT_EQ(vkgi::gi::streamRatio(3.0, 0.0, 7.5), 0.0);
     EXPECT_EQ(vkgi::gi::streamRatio(3.0, 15e6, 0.0), 0.0);
+}
+
+// ---- vkgi-bench --scaling ----------------------------------------------------------------
+
+namespace {
+ScalingRecord point(const char* axis, const char* series, double value, double ms) {
+    ScalingRecord r;
+    r.axis = axis;
+    r.series = series;
+    r.technique = series;
+    r.value = value;
+    r.totalMs = ms;
+    r.passMs = {{"gi.gbuffer", 0.5}, {std::string("gi.") + series + ".x", ms - 0.5}};
+    return r;
+}
+} // namespace
+
+// y = c x^k is a line of slope k in log-log: the fit returns k for any c and any x spacing.
+TEST(Scaling, LogLogSlopeOfAPowerLawIsItsExponent) {
+    std::vector<double> x = {2, 5, 11, 100, 4096};
+    for (double k : {1.0, 1.5, 0.0, -0.5, 3.0}) {
+        std::vector<double> y;
+        for (double v : x)
+            y.push_back(3.0 * std::pow(v, k));
+        EXPECT_NEAR(fitLogLogSlope(x, y), k, 1e-12) << "k = " << k;
+    }
+    // Points with x <= 0 or y <= 0 cannot be on a log axis: ignored, not NaN-poisoning.
+    EXPECT_NEAR(fitLogLogSlope({0, 1, 2, 4, -1}, {5, 1, 4, 16, 3}), 2.0, 1e-12);
+    EXPECT_TRUE(std::isnan(fitLogLogSlope({7, 7}, {1, 2}))); // one distinct x: no slope
+    EXPECT_TRUE(std::isnan(fitLogLogSlope({}, {})));
+}
+
+TEST(Scaling, TechniquePassesAreTheTechniquesOwn) {
+    EXPECT_TRUE(isTechniquePass("gi.vct.trace", "vct"));
+    EXPECT_TRUE(isTechniquePass("gi.voxel.voxelize.dynamic", "vct"));
+    EXPECT_TRUE(isTechniquePass("vpl.gather", "vpl"));
+    EXPECT_TRUE(isTechniquePass("gi.lpv.propagate[3]", "lpv"));
+    EXPECT_FALSE(isTechniquePass("gi.gbuffer", "vct"));
+    EXPECT_FALSE(isTechniquePass("gi.light[0].spot", "lpv"));
+    EXPECT_FALSE(isTechniquePass("gi.vctx", "vct"));
+    EXPECT_FALSE(isTechniquePass("gi.composite", "none"));
+}
+
+TEST(Scaling, CsvAndJsonHaveOneRowPerPoint) {
+    std::vector<ScalingRecord> r = {point("pixels", "vct", 4096, 10), point("pixels", "lpv", 4096, 20),
+                                    point("voxels", "vct", 32768, 5)};
+    r[2].knobs = "vct.grid=32";
+    r[2].wallMs = 7.5;
+    std::istringstream in(toScalingCsv(r));
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(in, line);)
+        lines.push_back(line);
+    ASSERT_EQ(lines.size(), 4u);
+    EXPECT_EQ(lines[0], "axis,value,series,technique,knobs,scene,width,height,triangles,total_ms,technique_ms,wall_ms,"
+                        "gi.gbuffer ms,gi.vct.x ms,gi.lpv.x ms");
+    EXPECT_EQ(lines[3].substr(0, 37), "voxels,32768,vct,vct,vct.grid=32,,0,0");
+    auto j = nlohmann::json::parse(toScalingJson(r));
+    ASSERT_EQ(j.size(), 3u);
+    EXPECT_EQ(j[1]["total_ms"].get<double>(), 20.0);
+    EXPECT_EQ(j[2]["wall_ms"].get<double>(), 7.5);
+    EXPECT_EQ(j[2]["passes"][1]["ms"].get<double>(), 4.5);
+}
+
+// On decades 10..1000 both axes span the plot exactly: x 10 -> 70 (left margin), 1000 -> 470,
+// y 10 -> 370 (bottom), 1000 -> 40 (top). A series y = x and the slope-1 reference line through
+// its first point are the same diagonal; y = x^2 / 10 is a second line with its fitted slope 2.
+TEST(Scaling, SvgDrawsOneLinePerSeriesAndTheLinearReference) {
+    std::vector<ScalingRecord> r = {point("pixels", "vct", 10, 10),  point("pixels", "vct", 100, 100),
+                                    point("pixels", "vct", 1000, 1000), point("pixels", "lpv", 100, 1000),
+                                    point("pixels", "lpv", 10, 10),  point("voxels", "vct", 5, 5)};
+    std::string svg = toScalingSvgPlot(r, "pixels");
+    auto count = [&](const std::string& what) {
+        size_t n = 0;
+        for (size_t p = svg.find(what); p != std::string::npos; p = svg.find(what, p + 1))
+            ++n;
+        return n;
+    };
+    EXPECT_EQ(count("<polyline"), 2u);
+    EXPECT_EQ(count("<circle"), 5u); // the voxels point belongs to another plot
+    EXPECT_NE(svg.find("points=\"70,370 270,205 470,40 \""), std::string::npos) << svg;
+    EXPECT_NE(svg.find("<line x1=\"70\" y1=\"370\" x2=\"470\" y2=\"40\" stroke=\"#888\""), std::string::npos);
+    EXPECT_NE(svg.find("vct (slope 1)"), std::string::npos);
+    EXPECT_NE(svg.find("lpv (slope 2)"), std::string::npos);
+    EXPECT_NE(svg.find("slope 1 (linear)"), std::string::npos);
+    EXPECT_EQ(svg.rfind("</svg>\n"), svg.size() - 7);
+    std::string empty = toScalingSvgPlot(r, "triangles");
+    EXPECT_NE(empty.find("no positive measurements"), std::string::npos);
 }

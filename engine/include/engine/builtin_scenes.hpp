@@ -12,7 +12,7 @@
 //   sphere            integrating sphere (r = 1 m, inward) with a point light at its centre
 //   room              closed 6 x 3 x 5 m room of solid walls; a 10^4 lux sun 40 deg high shines
 //                     through two windows onto floor patches only, the rest is lit indirectly
-//   bunny_box         a closed displaced-icosphere "bunny" (5120 triangles) in the open Cornell box
+//   bunny_box         a closed displaced-icosphere "bunny" (5120 triangles by default) in the open Cornell box
 //                     under a 1.5 cd spot
 //   atrium            procedural Sponza-like atrium (~8.6k triangles): two storeys of arcades,
 //                     red/green/blue banners, roofed galleries, open courtyard under a 10^4 lux sun
@@ -40,6 +40,9 @@ struct BuiltinSceneParams {
     // sphere: icosphere subdivision level; 4 -> 5120 triangles whose flat facets sag at most 0.12% of r
     // below the true sphere (facet centroids at >= 0.99886 r), so closed forms hold to ~0.1%.
     uint32_t sphereSubdivisions = 4;
+    // bunny_box: icosphere level of the bunny, 20 * 4^n triangles (4 -> 5120); the same displaced
+    // shape at every level, so vkgi-bench --scaling grows triangles with the lit geometry fixed.
+    uint32_t bunnySubdivisions = 4;
 };
 
 // Names accepted by makeBuiltinScene, the default ("cornell") first.

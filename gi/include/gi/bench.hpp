@@ -1,6 +1,7 @@
 #pragma once
 // Error-against-run-time records and what vkgi-bench makes of them: the Pareto front per
 // scene, the best configuration within a time budget, and CSV/JSON/SVG files.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -42,5 +43,38 @@ std::string toJson(const std::vector<BenchRecord>& records);
 // Log-log plot of relMSE against total ms for one scene, one colour per technique, the Pareto
 // front drawn as a line. Self-contained SVG (no external fonts or scripts).
 std::string toSvgPlot(const std::vector<BenchRecord>& records, const std::string& scene);
+
+// ---- Scaling (vkgi-bench --scaling): GPU time against one axis at a time ------------------
+
+// One measured point: `axis` ("pixels", "voxels", "triangles") at `value` (its count).
+struct ScalingRecord {
+    std::string axis;
+    double value = 0.0;
+    std::string series;    // the plot line: the technique, or e.g. "vct voxelize/frame"
+    std::string technique;
+    std::string knobs;     // knob assignments of the run ("vct.grid=64")
+    std::string scene;
+    uint32_t width = 0, height = 0;
+    uint64_t triangles = 0;
+    double totalMs = 0.0;     // median GPU ms of the frame (readbacks excluded)
+    double techniqueMs = 0.0; // the technique's own passes (gi.<technique>.*, <technique>.*, gi.voxel.*)
+    double wallMs = 0.0;      // median host time of the frame call (submit, wait, readback included)
+    std::vector<std::pair<std::string, double>> passMs; // median GPU ms per pass
+};
+
+// True for the passes a technique adds (gi.vct.*, gi.lpv.*, vpl.*, gi.voxel.*), false for the
+// frame the techniques share (G-buffer, shadow maps, direct light, composite).
+bool isTechniquePass(const std::string& pass, const std::string& technique);
+
+// Least-squares slope of log(y) against log(x) over the pairs with x > 0 and y > 0 (finite):
+// y = c x^k gives k. NaN with fewer than two distinct x.
+double fitLogLogSlope(const std::vector<double>& x, const std::vector<double>& y);
+
+std::string toScalingCsv(const std::vector<ScalingRecord>& records);
+std::string toScalingJson(const std::vector<ScalingRecord>& records);
+// Log-log plot of total GPU ms against `axis`'s value, one line per series (in first-seen order),
+// with a dashed line of slope 1 (cost proportional to the axis) through the first point of the
+// first series for reference. Self-contained SVG.
+std::string toScalingSvgPlot(const std::vector<ScalingRecord>& records, const std::string& axis);
 
 } // namespace vkgi::gi

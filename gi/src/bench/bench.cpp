@@ -142,10 +142,46 @@ std::string escapeXml(const std::string& s) {
     return o;
 }
 
+const char* const kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
+
+// The log-log plots' canvas (legend on the right) and the mapping of values onto it.
+struct PlotFrame {
+    static constexpr double W = 640, H = 420, L = 70, R = 170, T = 40, B = 50;
+    Axis ax, ay;
+    double X(double v) const { return ax.map(v, L, W - R); }
+    double Y(double v) const { return ay.map(v, H - B, T); }
+};
+
+void svgOpen(std::ostringstream& s, const std::string& title) {
+    s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << PlotFrame::W << "\" height=\"" << PlotFrame::H
+      << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+    s << "<text x=\"" << PlotFrame::L << "\" y=\"24\" font-size=\"15\">" << escapeXml(title) << "</text>\n";
+}
+
+// Decade grid lines with their labels (y as 1eN when `yExponent`) and the axis titles.
+void svgGrid(std::ostringstream& s, const PlotFrame& f, const std::string& xTitle, const std::string& yTitle,
+             bool yExponent) {
+    constexpr double W = PlotFrame::W, H = PlotFrame::H, L = PlotFrame::L, R = PlotFrame::R, T = PlotFrame::T,
+                     B = PlotFrame::B;
+    for (double d = f.ax.lo; d <= f.ax.hi; ++d)
+        s << "<line x1=\"" << f.X(std::pow(10, d)) << "\" y1=\"" << T << "\" x2=\"" << f.X(std::pow(10, d))
+          << "\" y2=\"" << H - B << "\" stroke=\"#ddd\"/><text x=\"" << f.X(std::pow(10, d)) << "\" y=\""
+          << H - B + 16 << "\" text-anchor=\"middle\">" << num(std::pow(10, d)) << "</text>\n";
+    for (double d = f.ay.lo; d <= f.ay.hi; ++d)
+        s << "<line x1=\"" << L << "\" y1=\"" << f.Y(std::pow(10, d)) << "\" x2=\"" << W - R << "\" y2=\""
+          << f.Y(std::pow(10, d)) << "\" stroke=\"#ddd\"/><text x=\"" << L - 6 << "\" y=\"" << f.Y(std::pow(10, d)) + 4
+          << "\" text-anchor=\"end\">" << (yExponent ? "1e" + std::to_string(int(d)) : num(std::pow(10, d)))
+          << "</text>\n";
+    s << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 12 << "\" text-anchor=\"middle\">" << escapeXml(xTitle)
+      << "</text>\n";
+    s << "<text x=\"16\" y=\"" << (T + H - B) / 2 << "\" transform=\"rotate(-90 16 " << (T + H - B) / 2
+      << ")\" text-anchor=\"middle\">" << escapeXml(yTitle) << "</text>\n";
+}
+
 } // namespace
 
 std::string toSvgPlot(const std::vector<BenchRecord>& records, const std::string& scene) {
-    constexpr double W = 640, H = 420, L = 70, R = 170, T = 40, B = 50; // canvas and margins (legend on the right)
+    constexpr double W = PlotFrame::W, L = PlotFrame::L, R = PlotFrame::R, T = PlotFrame::T;
     std::vector<size_t> pts;
     double tMin = INFINITY, tMax = 0, eMin = INFINITY, eMax = 0;
     for (size_t i = 0; i < records.size(); ++i) {
@@ -157,31 +193,17 @@ std::string toSvgPlot(const std::vector<BenchRecord>& records, const std::string
         eMin = std::min(eMin, r.relMse), eMax = std::max(eMax, r.relMse);
     }
     std::ostringstream s;
-    s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
-      << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-    s << "<text x=\"" << L << "\" y=\"24\" font-size=\"15\">" << escapeXml(scene)
-      << ": error against GPU time (log-log)</text>\n";
+    svgOpen(s, scene + ": error against GPU time (log-log)");
     if (pts.empty())
         return s.str() + "<text x=\"" + num(L) + "\" y=\"80\">no finite measurements</text>\n</svg>\n";
-    Axis ax = logAxis(tMin, tMax), ay = logAxis(eMin, eMax);
-    auto X = [&](double v) { return ax.map(v, L, W - R); };
-    auto Y = [&](double v) { return ay.map(v, H - B, T); };
-    for (double d = ax.lo; d <= ax.hi; ++d)
-        s << "<line x1=\"" << X(std::pow(10, d)) << "\" y1=\"" << T << "\" x2=\"" << X(std::pow(10, d)) << "\" y2=\""
-          << H - B << "\" stroke=\"#ddd\"/><text x=\"" << X(std::pow(10, d)) << "\" y=\"" << H - B + 16
-          << "\" text-anchor=\"middle\">" << num(std::pow(10, d)) << "</text>\n";
-    for (double d = ay.lo; d <= ay.hi; ++d)
-        s << "<line x1=\"" << L << "\" y1=\"" << Y(std::pow(10, d)) << "\" x2=\"" << W - R << "\" y2=\""
-          << Y(std::pow(10, d)) << "\" stroke=\"#ddd\"/><text x=\"" << L - 6 << "\" y=\"" << Y(std::pow(10, d)) + 4
-          << "\" text-anchor=\"end\">1e" << int(d) << "</text>\n";
-    s << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 12 << "\" text-anchor=\"middle\">total GPU ms</text>\n";
-    s << "<text x=\"16\" y=\"" << (T + H - B) / 2 << "\" transform=\"rotate(-90 16 " << (T + H - B) / 2
-      << ")\" text-anchor=\"middle\">relMSE</text>\n";
-    static const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
+    PlotFrame f{logAxis(tMin, tMax), logAxis(eMin, eMax)};
+    auto X = [&](double v) { return f.X(v); };
+    auto Y = [&](double v) { return f.Y(v); };
+    svgGrid(s, f, "total GPU ms", "relMSE", true);
     std::map<std::string, const char*> colourOf;
     for (size_t i : pts)
         if (!colourOf.count(records[i].technique))
-            colourOf[records[i].technique] = colours[colourOf.size() % 6];
+            colourOf[records[i].technique] = kColours[colourOf.size() % 6];
     auto front = paretoFront(records, scene);
     s << "<polyline fill=\"none\" stroke=\"black\" stroke-width=\"1.5\" stroke-dasharray=\"4 3\" points=\"";
     for (size_t i : front)
@@ -204,6 +226,132 @@ std::string toSvgPlot(const std::vector<BenchRecord>& records, const std::string
     s << "<line x1=\"" << W - R + 12 << "\" y1=\"" << ly << "\" x2=\"" << W - R + 28 << "\" y2=\"" << ly
       << "\" stroke=\"black\" stroke-dasharray=\"4 3\"/><text x=\"" << W - R + 32 << "\" y=\"" << ly + 4
       << "\">Pareto front</text>\n</svg>\n";
+    return s.str();
+}
+
+// ---- Scaling ----------------------------------------------------------------------------
+
+bool isTechniquePass(const std::string& pass, const std::string& technique) {
+    auto starts = [&](const std::string& prefix) { return pass.compare(0, prefix.size(), prefix) == 0; };
+    return starts("gi." + technique + ".") || starts(technique + ".") || starts("gi.voxel.");
+}
+
+double fitLogLogSlope(const std::vector<double>& x, const std::vector<double>& y) {
+    std::vector<std::pair<double, double>> p; // (log x, log y)
+    for (size_t i = 0; i < std::min(x.size(), y.size()); ++i)
+        if (x[i] > 0 && y[i] > 0 && std::isfinite(x[i]) && std::isfinite(y[i]))
+            p.push_back({std::log(x[i]), std::log(y[i])});
+    if (p.empty())
+        return NAN;
+    double mx = 0, my = 0;
+    for (const auto& [lx, ly] : p)
+        mx += lx, my += ly;
+    mx /= double(p.size()), my /= double(p.size());
+    double sxx = 0, sxy = 0;
+    for (const auto& [lx, ly] : p)
+        sxx += (lx - mx) * (lx - mx), sxy += (lx - mx) * (ly - my);
+    return sxx > 0 ? sxy / sxx : NAN;
+}
+
+std::string toScalingCsv(const std::vector<ScalingRecord>& records) {
+    std::vector<std::string> passes; // union of pass names, first-seen order
+    for (const auto& r : records)
+        for (const auto& entry : r.passMs)
+            if (std::find(passes.begin(), passes.end(), entry.first) == passes.end())
+                passes.push_back(entry.first);
+    std::ostringstream out;
+    out << "axis,value,series,technique,knobs,scene,width,height,triangles,total_ms,technique_ms,wall_ms";
+    for (const auto& p : passes)
+        out << "," << csvField(p + " ms");
+    out << "\n";
+    for (const auto& r : records) {
+        out << csvField(r.axis) << "," << num(r.value) << "," << csvField(r.series) << "," << csvField(r.technique)
+            << "," << csvField(r.knobs) << "," << csvField(r.scene) << "," << r.width << "," << r.height << ","
+            << r.triangles << "," << num(r.totalMs) << "," << num(r.techniqueMs) << "," << num(r.wallMs);
+        for (const auto& p : passes) {
+            auto it = std::find_if(r.passMs.begin(), r.passMs.end(), [&](const auto& e) { return e.first == p; });
+            out << "," << (it == r.passMs.end() ? std::string() : num(it->second));
+        }
+        out << "\n";
+    }
+    return out.str();
+}
+
+std::string toScalingJson(const std::vector<ScalingRecord>& records) {
+    nlohmann::json arr = nlohmann::json::array();
+    for (const auto& r : records) {
+        nlohmann::json passes = nlohmann::json::array();
+        for (const auto& entry : r.passMs)
+            passes.push_back({{"name", entry.first}, {"ms", entry.second}});
+        arr.push_back({{"axis", r.axis},
+                       {"value", r.value},
+                       {"series", r.series},
+                       {"technique", r.technique},
+                       {"knobs", r.knobs},
+                       {"scene", r.scene},
+                       {"width", r.width},
+                       {"height", r.height},
+                       {"triangles", r.triangles},
+                       {"total_ms", r.totalMs},
+                       {"technique_ms", r.techniqueMs},
+                       {"wall_ms", r.wallMs},
+                       {"passes", passes}});
+    }
+    return arr.dump(2) + "\n";
+}
+
+std::string toScalingSvgPlot(const std::vector<ScalingRecord>& records, const std::string& axis) {
+    constexpr double W = PlotFrame::W, L = PlotFrame::L, R = PlotFrame::R, T = PlotFrame::T;
+    std::vector<std::string> series; // first-seen order
+    std::map<std::string, std::vector<std::pair<double, double>>> pts;
+    double xMin = INFINITY, xMax = 0, yMin = INFINITY, yMax = 0;
+    for (const auto& r : records) {
+        if (r.axis != axis || !(r.value > 0) || !(r.totalMs > 0) || !std::isfinite(r.value) || !std::isfinite(r.totalMs))
+            continue;
+        if (!pts.count(r.series))
+            series.push_back(r.series);
+        pts[r.series].push_back({r.value, r.totalMs});
+        xMin = std::min(xMin, r.value), xMax = std::max(xMax, r.value);
+        yMin = std::min(yMin, r.totalMs), yMax = std::max(yMax, r.totalMs);
+    }
+    std::ostringstream s;
+    svgOpen(s, "GPU time against " + axis + " (log-log)");
+    if (series.empty())
+        return s.str() + "<text x=\"" + num(L) + "\" y=\"80\">no positive measurements</text>\n</svg>\n";
+    // The reference line of slope 1 through the first series' first point, over the x range:
+    // its y range joins the axis range so the line stays on the canvas.
+    auto [x0, y0] = pts[series[0]].front();
+    double refLo = y0 * xMin / x0, refHi = y0 * xMax / x0;
+    PlotFrame f{logAxis(xMin, xMax), logAxis(std::min(yMin, refLo), std::max(yMax, refHi))};
+    svgGrid(s, f, axis, "total GPU ms", false);
+    s << "<line x1=\"" << f.X(xMin) << "\" y1=\"" << f.Y(refLo) << "\" x2=\"" << f.X(xMax) << "\" y2=\"" << f.Y(refHi)
+      << "\" stroke=\"#888\" stroke-dasharray=\"4 3\"/>\n";
+    double ly = T + 10;
+    for (size_t k = 0; k < series.size(); ++k) {
+        auto& p = pts[series[k]];
+        std::sort(p.begin(), p.end());
+        const char* colour = kColours[k % 6];
+        s << "<polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"1.5\" points=\"";
+        for (const auto& [x, y] : p)
+            s << f.X(x) << "," << f.Y(y) << " ";
+        s << "\"/>\n";
+        std::vector<double> xs, ys;
+        for (const auto& [x, y] : p) {
+            xs.push_back(x), ys.push_back(y);
+            s << "<circle cx=\"" << f.X(x) << "\" cy=\"" << f.Y(y) << "\" r=\"3.5\" fill=\"" << colour << "\"><title>"
+              << escapeXml(series[k]) << ": " << num(x) << " " << escapeXml(axis) << ", " << num(y)
+              << " ms</title></circle>\n";
+        }
+        double slope = fitLogLogSlope(xs, ys);
+        s << "<line x1=\"" << W - R + 12 << "\" y1=\"" << ly << "\" x2=\"" << W - R + 28 << "\" y2=\"" << ly
+          << "\" stroke=\"" << colour << "\" stroke-width=\"2\"/><text x=\"" << W - R + 32 << "\" y=\"" << ly + 4
+          << "\">" << escapeXml(series[k]) << (std::isfinite(slope) ? " (slope " + num(std::round(slope * 100) / 100) + ")" : "")
+          << "</text>\n";
+        ly += 20;
+    }
+    s << "<line x1=\"" << W - R + 12 << "\" y1=\"" << ly << "\" x2=\"" << W - R + 28 << "\" y2=\"" << ly
+      << "\" stroke=\"#888\" stroke-dasharray=\"4 3\"/><text x=\"" << W - R + 32 << "\" y=\"" << ly + 4
+      << "\">slope 1 (linear)</text>\n</svg>\n";
     return s.str();
 }
 
