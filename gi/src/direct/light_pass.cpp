@@ -167,7 +167,7 @@ void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameD
                 h.flux = b.write(h.flux, Access::ColorAttachmentWrite, layers);
                 b.read(scene.materials, Access::FragmentStorageRead);
                 b.read(scene.textures, Access::FragmentSampledRead);
-                b.read(scene.lights, Access::FragmentStorageRead);
+                b.read(scene.lights, Access::VertexShaderStorageRead); // rsm.vert
             }
             b.read(scene.vertices, Access::VertexShaderStorageRead);
             b.read(scene.instances, Access::VertexShaderStorageRead);

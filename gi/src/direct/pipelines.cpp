@@ -9,10 +9,10 @@ namespace {
 
 // `textured` = false removes the base-colour texture lookup (surface.h, constant_id 0).
 Result<Pipeline> rasterPipeline(Context& ctx, const char* fragment, std::vector<VkFormat> colors,
-                                bool textured = true) {
+                                bool textured = true, const char* vertex = "gi/direct/raster.vert") {
     GraphicsPipelineDesc d;
     d.specialization = {{0, textured ? 1u : 0u}};
-    d.vertexShader = "gi/direct/raster.vert";
+    d.vertexShader = vertex;
     d.fragmentShader = fragment;
     d.colorFormats = std::move(colors);
     d.depthFormat = kDepthFormat;
@@ -42,11 +42,13 @@ Result<DirectPipelines> createDirectPipelines(Context& ctx) {
     if (!shadow)
         return fail(shadow.error());
     p.shadow = *shadow;
-    auto rsm = rasterPipeline(ctx, "gi/direct/rsm.frag", {kPositionFormat, kNormalFormat, kRsmFluxFormat});
+    auto rsm = rasterPipeline(ctx, "gi/direct/rsm.frag", {kPositionFormat, kNormalFormat, kRsmFluxFormat}, true,
+                              "gi/direct/rsm.vert");
     if (!rsm)
         return fail(rsm.error());
     p.rsm = *rsm;
-    auto rsmUntextured = rasterPipeline(ctx, "gi/direct/rsm.frag", {kPositionFormat, kNormalFormat, kRsmFluxFormat}, false);
+    auto rsmUntextured = rasterPipeline(ctx, "gi/direct/rsm.frag", {kPositionFormat, kNormalFormat, kRsmFluxFormat},
+                                        false, "gi/direct/rsm.vert");
     if (!rsmUntextured)
         return fail(rsmUntextured.error());
     p.rsmUntextured = *rsmUntextured;

@@ -7,14 +7,18 @@
 #include "surface.h"
 
 layout(push_constant) uniform PushBlock { RasterPush pc; };
-layout(set = 1, binding = 4, std430) readonly buffer Lights { GpuLight lights[]; };
+// The layer's light, read by rsm.vert.
+layout(location = 4) flat in vec4 inLightPositionType;
+layout(location = 5) flat in vec4 inLightDirectionRange;
+layout(location = 6) flat in vec4 inLightColorIntensity;
+layout(location = 7) flat in vec4 inLightCone;
 
 layout(location = 0) out vec4 outPosition; // xyz world position, w = 1 (0 = empty texel)
 layout(location = 1) out vec4 outNormal;   // xyz unit normal facing the light
 layout(location = 2) out vec4 outFlux;     // rgb reflected flux of this texel (lm-like units: cd sr)
 
 void main() {
-    GpuLight light = lights[pc.info.y];
+    GpuLight light = GpuLight(inLightPositionType, inLightDirectionRange, inLightColorIntensity, inLightCone);
     GpuMaterial m = materials[inMaterial];
     bool ortho = pc.eye.w <= 0.0;
     vec3 toLight = ortho ? -light.directionRange.xyz : light.positionType.xyz - inPosition;
