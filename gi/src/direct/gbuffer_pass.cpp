@@ -48,7 +48,7 @@ GBufferData addGBufferPass(rg::RenderGraph& graph, const DirectPipelines& p, con
             b.read(scene.vertices, Access::VertexShaderStorageRead);
             b.read(scene.instances, Access::VertexShaderStorageRead);
             b.read(scene.indices, Access::IndexBufferRead);
-            b.read(scene.materials, Access::FragmentStorageRead);
+            b.read(scene.materials, Access::VertexShaderStorageRead);
             b.read(scene.textures, Access::FragmentSampledRead);
             d.s = scene;
             d.pipeline = frame.scene->textures.empty() ? &p.gbufferUntextured : &p.gbuffer;

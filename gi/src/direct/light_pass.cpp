@@ -124,7 +124,8 @@ void recordLightPass(const LightPassInfo& info, rg::PassContext& pc) {
                                            pc.buffer(4, s.lights)};
                 pushDescriptors(pc.context(), cmd, *info.pipeline, items);
             } else {
-                DescriptorItem items[2] = {pc.buffer(0, s.vertices), pc.buffer(1, s.instances)};
+                DescriptorItem items[3] = {pc.buffer(0, s.vertices), pc.buffer(1, s.instances),
+                                           pc.buffer(2, s.materials)};
                 pushDescriptors(pc.context(), cmd, *info.pipeline, items);
             }
             drawScene(cmd, *info.pipeline, *info.scene, pc.buffer(s.indices).buffer, info.faces[f]);
@@ -165,12 +166,12 @@ void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameD
                 h.position = b.write(h.position, Access::ColorAttachmentWrite, layers);
                 h.normal = b.write(h.normal, Access::ColorAttachmentWrite, layers);
                 h.flux = b.write(h.flux, Access::ColorAttachmentWrite, layers);
-                b.read(scene.materials, Access::FragmentStorageRead);
                 b.read(scene.textures, Access::FragmentSampledRead);
                 b.read(scene.lights, Access::VertexShaderStorageRead); // rsm.vert
             }
             b.read(scene.vertices, Access::VertexShaderStorageRead);
             b.read(scene.instances, Access::VertexShaderStorageRead);
+            b.read(scene.materials, Access::VertexShaderStorageRead);
             b.read(scene.indices, Access::IndexBufferRead);
         },
         [info](rg::PassContext& pc) { recordLightPass(*info, pc); });

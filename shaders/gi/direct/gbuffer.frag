@@ -12,7 +12,7 @@ layout(location = 2) out vec4 outAlbedo;   // rgb Lambertian albedo, w = metalli
 layout(location = 3) out vec4 outEmission; // rgb nits, w = 1
 
 void main() {
-    GpuMaterial m = materials[inMaterial];
+    GpuMaterial m = surfaceMaterial();
     outPosition = vec4(inPosition, 1.0);
     outNormal = vec4(surfaceNormal(pc.eye.xyz), m.params.y);
     outAlbedo = vec4(surfaceAlbedo(m), m.params.x);

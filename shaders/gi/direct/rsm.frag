@@ -8,10 +8,10 @@
 
 layout(push_constant) uniform PushBlock { RasterPush pc; };
 // The layer's light, read by rsm.vert.
-layout(location = 4) flat in vec4 inLightPositionType;
-layout(location = 5) flat in vec4 inLightDirectionRange;
-layout(location = 6) flat in vec4 inLightColorIntensity;
-layout(location = 7) flat in vec4 inLightCone;
+layout(location = 7) flat in vec4 inLightPositionType;
+layout(location = 8) flat in vec4 inLightDirectionRange;
+layout(location = 9) flat in vec4 inLightColorIntensity;
+layout(location = 10) flat in vec4 inLightCone;
 
 layout(location = 0) out vec4 outPosition; // xyz world position, w = 1 (0 = empty texel)
 layout(location = 1) out vec4 outNormal;   // xyz unit normal facing the light
@@ -19,7 +19,7 @@ layout(location = 2) out vec4 outFlux;     // rgb reflected flux of this texel (
 
 void main() {
     GpuLight light = GpuLight(inLightPositionType, inLightDirectionRange, inLightColorIntensity, inLightCone);
-    GpuMaterial m = materials[inMaterial];
+    GpuMaterial m = surfaceMaterial();
     bool ortho = pc.eye.w <= 0.0;
     vec3 toLight = ortho ? -light.directionRange.xyz : light.positionType.xyz - inPosition;
     float dist = length(toLight);

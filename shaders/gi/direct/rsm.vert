@@ -6,10 +6,10 @@
 
 layout(set = 1, binding = 4, std430) readonly buffer Lights { GpuLight lights[]; };
 
-layout(location = 4) flat out vec4 outLightPositionType;
-layout(location = 5) flat out vec4 outLightDirectionRange;
-layout(location = 6) flat out vec4 outLightColorIntensity;
-layout(location = 7) flat out vec4 outLightCone;
+layout(location = 7) flat out vec4 outLightPositionType;
+layout(location = 8) flat out vec4 outLightDirectionRange;
+layout(location = 9) flat out vec4 outLightColorIntensity;
+layout(location = 10) flat out vec4 outLightCone;
 
 void main() {
     rasterVertex();

@@ -9,6 +9,9 @@ layout(location = 0) in vec3 inPosition;
 layout(location = 1) in vec3 inNormal;
 layout(location = 2) in vec2 inUv;
 layout(location = 3) flat in uint inMaterial;
+layout(location = 4) flat in vec4 inBaseColor;
+layout(location = 5) flat in vec4 inEmission;
+layout(location = 6) flat in vec4 inMaterialParams;
 
 void main() {
     gl_FragDepth = pc.eye.w > 0.0 ? distance(inPosition, pc.eye.xyz) / pc.eye.w : gl_FragCoord.z;

@@ -3,13 +3,19 @@
 #define VKGI_GI_DIRECT_SURFACE_H
 #include "engine/scene_types.h"
 
-layout(set = 1, binding = 2, std430) readonly buffer Materials { GpuMaterial materials[]; };
 layout(set = 1, binding = 3) uniform sampler2DArray baseColorTextures;
 
 layout(location = 0) in vec3 inPosition;
 layout(location = 1) in vec3 inNormal;
 layout(location = 2) in vec2 inUv;
 layout(location = 3) flat in uint inMaterial;
+layout(location = 4) flat in vec4 inBaseColor; // the material, read per vertex (raster.h)
+layout(location = 5) flat in vec4 inEmission;
+layout(location = 6) flat in vec4 inMaterialParams;
+
+GpuMaterial surfaceMaterial() {
+    return GpuMaterial(inBaseColor, inEmission, inMaterialParams);
+}
 
 // False for scenes without textures (a pipeline variant): lavapipe runs the texture branch
 // masked on every fragment whether or not any lane takes it, so only a constant removes it.
