@@ -209,6 +209,29 @@ int runScaling(Context& ctx, const Options& opt) {
             std::printf("  %s %s: slope %s (technique passes %s, frame wall time %s)\n", name.c_str(), axis.c_str(),
                         slopeText(gi::fitLogLogSlope(x, total)).c_str(), slopeText(gi::fitLogLogSlope(x, tech)).c_str(),
                         slopeText(gi::fitLogLogSlope(x, wall)).c_str());
+            // The passes that make up >= 10% of the frame at the axis's largest value, indexed
+            // passes summed (gi.lpv.propagate[*]): which part is linear and which is fixed.
+            std::vector<std::string> groups;
+            std::map<std::string, std::vector<double>> groupMs; // per point, same order as x
+            size_t k = 0;
+            for (const auto& r : records) {
+                if (r.axis != axis || r.series != name)
+                    continue;
+                for (const auto& [pass, ms] : r.passMs) {
+                    std::string g = pass.substr(0, pass.find('[')) + (pass.find('[') != std::string::npos ? "[*]" : "");
+                    auto& v = groupMs[g];
+                    if (v.empty())
+                        groups.push_back(g);
+                    v.resize(x.size(), 0.0);
+                    v[k] += ms;
+                }
+                ++k;
+            }
+            size_t largest = size_t(std::max_element(x.begin(), x.end()) - x.begin());
+            for (const auto& g : groups)
+                if (groupMs[g][largest] >= 0.1 * total[largest])
+                    std::printf("      %-24s slope %s (%.1f ms at %.0f)\n", g.c_str(),
+                                slopeText(gi::fitLogLogSlope(x, groupMs[g])).c_str(), groupMs[g][largest], x[largest]);
         }
     }
     // Voxelization per frame: the gi.voxel.voxelize pass of the invalidated runs against the
