@@ -77,6 +77,12 @@ protected:
             p = glm::vec3(0.0f);
         auto ambientIndirect = compareImages(bestAmbient(zero, *refIndirect), *refIndirect);
         Errors e{full->relMse, indirect->relMse, ambient->relMse, ambientIndirect->relMse};
+        double meanTest = 0.0, meanRef = 0.0;
+        for (size_t i = 0; i < testIndirect->pixels.size(); ++i) {
+            meanTest += double(testIndirect->pixels[i].x + testIndirect->pixels[i].y + testIndirect->pixels[i].z);
+            meanRef += double(refIndirect->pixels[i].x + refIndirect->pixels[i].y + refIndirect->pixels[i].z);
+        }
+        m_lastMeanRatio = meanTest / meanRef;
         EXPECT_EQ(countNonFinite(frame->composite), 0u) << sceneName;
         double ms = 0.0, lightMs = 0.0;
         for (const auto& p : frame->passes) {
@@ -89,6 +95,8 @@ protected:
                     sceneName, e.full, e.ambientFull, e.indirect, e.ambientIndirect, ms, lightMs);
         return e;
     }
+    // Mean indirect of the last measure() over the reference's (rgb summed over the pixels).
+    double m_lastMeanRatio = 0.0;
 };
 
 } // namespace
@@ -97,28 +105,27 @@ protected:
 // half resolution with the discontinuity refine, 64^2 pixels (relMSE with epsilon 0.01; the
 // reference has 3 reflections, as VCT: direct, voxel, bounce). "constant" is the best
 // constant colour: added to the direct image (full) or alone (indirect only).
-//   scene             full    constant   indirect  constant
-//   cornell           0.192   0.251      0.287     0.356
-//   cornell_point     0.669   0.267      2.14      0.579
-//   cornell_emissive  1.10    0.494      1.37      0.498
-//   room              945     9.05       936       0.944
-//   atrium            2.07    1.18       8.99      0.868
+//   scene             full    constant   indirect  constant  (before the cone fixes of 2026-11-23)
+//   cornell           0.0579  0.251      0.0842    0.356     (0.192 / 0.287)
+//   cornell_point     0.147   0.267      0.542     0.579     (0.669 / 2.14)
+//   cornell_emissive  0.324   0.494      0.325     0.498     (1.10 / 1.37)
+//   room              941     9.05       929       0.944     (945 / 936)
+//   atrium            2.61    1.18       14.3      0.868     (2.07 / 8.99)
 // Both renderers are deterministic, so the bounds only allow for driver/compiler changes: 20%
-// above the measurement. Only the spot-lit box beats the constant baselines. Causes
-// (docs/vct.md): next to a point light under the ceiling and at the small emitter, whose
-// emission is averaged with the ceiling behind it, the voxels are too bright or too dark; in
-// the sun-lit room and atrium the lit outer faces of roofs and walls one or two voxels thick
-// leak into the interior through the side views of the anisotropic mips.
+// above the measurement. The three Cornell boxes beat the constant baselines (the point-lit
+// box's indirect part only just). In the sun-lit room and atrium the lit outer faces of roofs
+// and walls one or two voxels thick leak into the interior through the side views of the
+// anisotropic mips (docs/vct.md); the atrium got worse with the extinction-weighted views.
 TEST_F(VctReference, BuiltinScenesAgainstThePathTracer) {
     struct Case {
         const char* scene;
         double full, indirect;
         bool beatsConstant;
-    } cases[] = {{"cornell", 0.192, 0.287, true},
-                 {"cornell_point", 0.669, 2.14, false},
-                 {"cornell_emissive", 1.10, 1.37, false},
-                 {"room", 945.0, 936.0, false},
-                 {"atrium", 2.07, 8.99, false}};
+    } cases[] = {{"cornell", 0.0579, 0.0842, true},
+                 {"cornell_point", 0.147, 0.542, true},
+                 {"cornell_emissive", 0.324, 0.325, true},
+                 {"room", 941.0, 929.0, false},
+                 {"atrium", 2.61, 14.3, false}};
     VctSettings s;
     s.gridResolution = 32;
     for (const Case& c : cases) {
@@ -133,30 +140,55 @@ TEST_F(VctReference, BuiltinScenesAgainstThePathTracer) {
 }
 
 // Full-resolution cones (lowResFactor 1) against the default half resolution on the spot-lit
-// box: the upsample with its discontinuity refine changes the error by under 3% (measured:
-// full 0.1918 vs 0.1913, indirect 0.2868 vs 0.2871).
+// box: the upsample with its discontinuity refine changes the error by under 5% (measured:
+// full 0.0579 at half vs 0.0601 at full resolution, indirect 0.0842 vs 0.0873).
 TEST_F(VctReference, HalfResolutionConesMatchFullResolution) {
     VctSettings s;
     s.gridResolution = 32;
     Errors half = measure("cornell", s);
     s.lowResFactor = 1;
     Errors full = measure("cornell", s);
-    EXPECT_LT(std::abs(half.full - full.full), 0.03 * full.full);
-    EXPECT_LT(std::abs(half.indirect - full.indirect), 0.03 * full.indirect);
+    EXPECT_LT(std::abs(half.full - full.full), 0.05 * full.full);
+    EXPECT_LT(std::abs(half.indirect - full.indirect), 0.05 * full.indirect);
 }
 
 // Voxel light occluded by the direct-light shadow atlas instead of the hard occupancy march, on
-// the spot-lit box. Measured: full 0.174 (march 0.192), indirect 0.352 (march 0.287); the
-// constants are 0.251 and 0.356. Bounds: the measurements + 20%, as above, and the full image
-// still beats the best constant.
+// the spot-lit box. Measured: full 0.0571 (march 0.0579), indirect 0.0866 (march 0.0842); the
+// constants are 0.251 and 0.356. Bounds: the measurements + 20%, as above, and both parts
+// still beat the best constant.
 TEST_F(VctReference, ShadowMapOcclusionAgainstThePathTracer) {
     VctSettings s;
     s.gridResolution = 32;
     s.occlusion = VctOcclusion::ShadowMap;
     Errors e = measure("cornell", s);
-    EXPECT_LT(e.full, 1.2 * 0.174);
-    EXPECT_LT(e.indirect, 1.2 * 0.352);
+    EXPECT_LT(e.full, 1.2 * 0.0571);
+    EXPECT_LT(e.indirect, 1.2 * 0.0866);
     EXPECT_LT(e.full, e.ambientFull);
+    EXPECT_LT(e.indirect, e.ambientIndirect);
+}
+
+// A consistent discretisation converges: on the spot-lit box the indirect error must not grow
+// when the grid is refined. Before the fixes of 2026-11-23 it doubled from 32^3 to 64^3
+// (indirect relMSE 0.287 -> 0.578, 128^3: 1.06): wide cones read their own surface through the
+// trilinear footprint of coarse levels, and the hard shadow march stopped at the light's own
+// voxel, which the ceiling 1 cm above the light occupies at 32^3 (mean indirect 0.56 of the
+// reference at 32^3, 1.12 at 128^3). Measured now (2 bounces, full-resolution cones, the
+// reference's mean indirect in brackets): 32^3 0.0873 (mean 1.055x), 64^3 0.0842 (1.048x),
+// 128^3 0.104 (0.78x; not run here: tests keep grids small). 5% above the 32^3 error allows
+// for driver changes; the mean must be within 10% of the reference at both grids.
+TEST_F(VctReference, IndirectErrorDoesNotGrowWithTheGrid) {
+    VctSettings s;
+    s.lowResFactor = 1;
+    s.gridResolution = 32;
+    Errors coarse = measure("cornell", s);
+    double coarseMean = m_lastMeanRatio;
+    s.gridResolution = 64;
+    Errors fine = measure("cornell", s);
+    double fineMean = m_lastMeanRatio;
+    EXPECT_LE(fine.indirect, 1.05 * coarse.indirect);
+    EXPECT_LT(coarse.indirect, 0.1);
+    EXPECT_NEAR(coarseMean, 1.0, 0.1);
+    EXPECT_NEAR(fineMean, 1.0, 0.1);
 }
 
 TEST_F(VctReference, TechniqueIsRegisteredAndBadSettingsAreErrors) {
@@ -199,3 +231,4 @@ TEST_F(VctReference, EmissiveOnlySceneGetsIndirectLight) {
     EXPECT_EQ(countNonFinite(frame->composite), 0u);
     EXPECT_GT(indirect / frame->composite.pixels.size(), 0.1); // measured 1.1 per pixel (sum of rgb)
 }
+

@@ -111,8 +111,13 @@ TEST(View, ScriptedLpvMatchesRender) {
     expectViewMatchesRender("lpv", "--lpv.grid 16", "--camera-script orbit --animate");
 }
 
+// The viewer's movable object is dynamic, and VCT voxelizes dynamic instances into their own
+// volume, merged under the static voxels: the grids differ where the two share voxels. Since
+// the cones read level 0 near their own surface (no coarse footprint reaching back onto it)
+// one voxel's difference shows more: measured 2.2e-2 x peak at one pixel, relMSE 1.5e-5
+// (before: 1.1e-3 x peak, relMSE 4.8e-6).
 TEST(View, ScriptedVctMatchesRenderUpToTheDynamicVolume) {
-    expectViewMatchesRender("vct", "--vct.grid 32", "--camera-script orbit --animate", 5e-3f, "64x64");
+    expectViewMatchesRender("vct", "--vct.grid 32", "--camera-script orbit --animate", 4e-2f, "64x64");
 }
 
 // Starts with LPV and switches to VPL at frame 3 (the GiSystem is rebuilt mid-run).

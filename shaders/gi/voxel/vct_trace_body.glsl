@@ -63,7 +63,8 @@ void main() {
         // mirror still gets a finite footprint of about a voxel at 50 voxels.
         float tanHalf = clamp(nr.w * nr.w, 0.01, 1.0);
         float unused;
-        glossy = traceCone(p, reflect(-v, normal), tanHalf, pc.cones.cone.y, 0.0, n, unused).rgb;
+        vec3 r = reflect(-v, normal);
+        glossy = traceCone(p, r, max(dot(r, normal), 0.0), tanHalf, pc.cones.cone.y, 0.0, n, unused).rgb;
     }
     float metallic = clamp(am.w, 0.0, 1.0);
     vec3 indirect = am.rgb * mix(diffuse, glossy, metallic) * pc.grid.scales.z;

@@ -61,13 +61,19 @@ const float kShadowStep = 0.5;
 // itself and its neighbours in the same wall do not shadow it.
 const float kShadowStart = 1.0;
 
-// Visibility along p + t * dir, t in [start, tMax) (voxel units).
+// Visibility along p + t * dir, t in [start, tMax) (voxel units), tMax at the light. The
+// light's own voxel never blocks it, as the receiver's own voxel does not (the march starts
+// off it): a surface inside that voxel lies within a voxel of the light, closer than the grid
+// resolves which side of it the light is on. The Cornell lights hang 1 cm under the ceiling;
+// at 32^3 (1.77 cm voxels) the ceiling's voxels hold the light and the march shadowed most
+// of the box (mean indirect 0.57 of the path tracer's, against 0.92 with the shadow map).
 float visibility(vec3 p, vec3 dir, float tMax, uint mode) {
     float n = float(pc.grid.dims.x);
     float transmit = 1.0;
+    ivec3 lightVoxel = ivec3(floor(p + tMax * dir));
     for (float t = kShadowStart; t < tMax; t += kShadowStep) {
         vec3 q = p + t * dir;
-        if (any(lessThan(q, vec3(0.0))) || any(greaterThanEqual(q, vec3(n))))
+        if (any(lessThan(q, vec3(0.0))) || any(greaterThanEqual(q, vec3(n))) || ivec3(floor(q)) == lightVoxel)
             break;
         if (mode == GI_VCT_OCCLUSION_HARD) {
             if (texelFetch(albedoVol, ivec3(q), 0).a > 0.0)
@@ -127,7 +133,7 @@ void main() {
 #ifdef GI_VOXEL_LIGHT_SHADOW_MAP
         float v = shadowMapVisibility(i, pWorld, normal, toLight);
 #else
-        float v = visibility(pMarch, toLight, dist * pc.grid.scales.x, pc.info.y);
+        float v = visibility(pMarch, toLight, dot(pGrid + dist * pc.grid.scales.x * toLight - pMarch, toLight), pc.info.y);
 #endif
         irradiance += light.colorIntensity.rgb * (e * cosine * v);
     }
