@@ -34,9 +34,10 @@ const char* kUsage =
     "  --passes      also print every configuration's passes: GPU ms, MiB moved, x streaming rate\n"
     "  --out         output folder (default out/bench): bench.csv, bench.json, plot-<scene>.svg\n"
     "  --scaling     GPU time against pixels (cornell 64^2..512^2), voxels (cornell 128^2, vct.grid 32..128,\n"
-    "                lpv.grid 16..64) and triangles (bunny_box 128^2, 1.3k..82k triangles, static and\n"
-    "                re-voxelized per frame): scaling.csv, scaling.json, scaling-<axis>.svg, log-log slopes\n"
-    "                and voxelization triangles/s; --quick: tiny sizes, two points per axis\n";
+    "                lpv.grid 16..64) and triangles (bunny_box 128^2, 1.3k..82k triangles; vct also\n"
+    "                re-voxelized every frame); every frame relights the scene. Writes scaling.csv,\n"
+    "                scaling.json, scaling-<axis>.svg; prints log-log slopes per technique and pass and\n"
+    "                the voxelization timing; --quick: tiny sizes, two points per axis\n";
 
 std::vector<std::string> split(const std::string& s) {
     std::vector<std::string> out;

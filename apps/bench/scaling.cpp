@@ -253,9 +253,10 @@ int runScaling(Context& ctx, const Options& opt) {
         double n = double(revox->triangles);
         double ms = voxelizeMs(*revox), extra = revox->wallMs - relit->wallMs;
         tris.push_back(n), voxMs.push_back(ms), extraMs.push_back(extra);
-        std::printf("  voxelize/frame: %6.0f triangles: gi.voxel.voxelize %8.3f ms = %8.3f M triangles/s; frame "
-                    "wall time %+8.2f ms over the relit frame\n",
-                    n, ms, ms > 0 ? n / (ms * 1e3) : 0.0, extra);
+        std::printf(
+            "  voxelize/frame: %6.0f triangles: gi.voxel.voxelize timestamp %8.3f ms (%8.3f M triangles/s); frame "
+            "wall time %+8.2f ms over the relit frame\n",
+            n, ms, ms > 0 ? n / (ms * 1e3) : 0.0, extra);
     }
     if (tris.size() >= 2) {
         double mt = 0, me = 0;
