@@ -119,7 +119,7 @@ protected:
 
     // Runs clear/range/inject/resolve (and the lookup when `gbuffer` is given) in one graph.
     void run(const std::vector<Surfel>& surfels, VkFormat format, float fluxScale, const Image* gbuffer = nullptr,
-             uint32_t gbufferWidth = 0, float damping = 0.0f) {
+             uint32_t gbufferWidth = 0, float damping = 0.0f, uint32_t reduce = 1) {
         std::vector<glm::vec4> pos(kRsm * kRsm, glm::vec4(0.0f)), nrm(kRsm * kRsm, glm::vec4(0.0f)),
             flux(kRsm * kRsm, glm::vec4(0.0f));
         for (const Surfel& s : surfels) {
@@ -148,6 +148,8 @@ protected:
         RsmInput rsm{g.importImage("rsm.position", *rsmPos, rg::Access::TransferWrite),
                      g.importImage("rsm.normal", *rsmNrm, rg::Access::TransferWrite),
                      g.importImage("rsm.flux", *rsmFlux, rg::Access::TransferWrite), kRsm, 1};
+        if (reduce > 1)
+            rsm = addRsmReducePass(g, m_injector, rsm, reduce);
         ShHandles wave, acc;
         for (int c = 0; c < 3; ++c) {
             wave.channel[c] = g.importImage("wave", m_volumes[0][c]);
@@ -260,6 +262,54 @@ TEST_F(LpvInject, SurfelsLandInTheCellInFrontOfThem) {
             worst = std::max(worst, glm::length(got[i] - expected[c][i]));
     }
     EXPECT_LE(worst, 1e-6f);
+    EXPECT_EQ(validation().count(), 0u);
+}
+
+TEST_F(LpvInject, ReducedRsmInjectsTheSameLight) {
+    // Two 2x2 blocks whose texels all land in one cell each. Block (0, 0): grey surfels of flux 1,
+    // 2, 3 on a corner (normals +y, +y, +x) and a NaN-flux texel; block (1, 0): four surfels
+    // facing +y with the same coloured flux. Reduced by 2, each block is one surfel (flux summed,
+    // flux-weighted mean position and unnormalised mean normal); since cosineLobe is linear in n,
+    // the injected SH (times M) must equal the full-resolution injection's. Block (0, 0)'s mean
+    // normal (0.5, 0.5, 0) puts it at (2.17, 3.1, 2.3) + 0.35 (1, 1, 0): cell (2, 3, 2), where
+    // the texels land too.
+    const std::vector<Surfel> surfels = {
+        {{0, 0}, {2.2f, 3.0f, 2.2f, 1.0f}, {0, 1, 0}, {1, 1, 1}},
+        {{1, 0}, {2.4f, 3.0f, 2.2f, 1.0f}, {0, 1, 0}, {2, 2, 2}},
+        {{0, 1}, {2.0f, 3.2f, 2.4f, 1.0f}, {1, 0, 0}, {3, 3, 3}},
+        {{1, 1}, {2.0f, 3.2f, 2.4f, 1.0f}, {1, 0, 0}, {kNan, 1, 1}},
+        {{2, 0}, {5.2f, 5.6f, 5.2f, 1.0f}, {0, 1, 0}, {1, 0.5f, 0.25f}},
+        {{3, 0}, {5.4f, 5.6f, 5.2f, 1.0f}, {0, 1, 0}, {1, 0.5f, 0.25f}},
+        {{2, 1}, {5.2f, 5.6f, 5.4f, 1.0f}, {0, 1, 0}, {1, 0.5f, 0.25f}},
+        {{3, 1}, {5.4f, 5.6f, 5.4f, 1.0f}, {0, 1, 0}, {1, 0.5f, 0.25f}},
+    };
+    std::vector<glm::vec4> full[3], reduced[3];
+    run(surfels, VK_FORMAT_R32G32B32A32_SFLOAT, 1.0f);
+    EXPECT_EQ(maxTexelFlux(), 3.0f);
+    for (int c = 0; c < 3; ++c) {
+        full[c] = accumulated(c);
+        for (glm::vec4& v : full[c])
+            v *= 3.0f;
+    }
+    run(surfels, VK_FORMAT_R32G32B32A32_SFLOAT, 1.0f, nullptr, 0, 0.0f, 2);
+    EXPECT_EQ(maxTexelFlux(), 6.0f); // block sums: (6, 6, 6) and (4, 2, 1)
+    for (int c = 0; c < 3; ++c) {
+        reduced[c] = accumulated(c);
+        for (glm::vec4& v : reduced[c])
+            v *= 6.0f;
+    }
+    // Band 0 is the flux: exact up to the fixed point (~1e-7). Band 1 goes through the RGBA16F
+    // mean normal (2^-11 relative).
+    float worst0 = 0.0f, worst1 = 0.0f;
+    for (int c = 0; c < 3; ++c)
+        for (size_t i = 0; i < full[c].size(); ++i) {
+            worst0 = std::max(worst0, std::abs(full[c][i].x - reduced[c][i].x));
+            worst1 = std::max(worst1, glm::length(glm::vec3(full[c][i]) - glm::vec3(reduced[c][i])));
+        }
+    const float b0 = 6.0f / kPi * gpu::kShCosineBand0; // block (0, 0)'s band 0
+    EXPECT_NEAR(full[0][cellIndex(2, 3, 2)].x, b0, 1e-5f * b0);
+    EXPECT_LE(worst0, 1e-5f * b0);
+    EXPECT_LE(worst1, 1e-3f * b0);
     EXPECT_EQ(validation().count(), 0u);
 }
 

@@ -35,7 +35,8 @@ TEST(Knobs, SetReachesTheField) {
     ASSERT_TRUE(setKnob(s, "shadow.pcf", "2"));
     EXPECT_EQ(s.pcfRadius, 2u);
     s.technique = Technique::Lpv;
-    EXPECT_EQ(describeKnobs(s), "grid=64 iterations=8 occlusion=off bounces=off damping=0.25 cascades=1 half=on");
+    EXPECT_EQ(describeKnobs(s),
+              "grid=64 iterations=8 occlusion=off bounces=off damping=0.25 cascades=1 half=on rsm_reduce=1");
 }
 
 TEST(Knobs, BadValuesAreOneLineErrorsNamingTheKnob) {

@@ -21,9 +21,14 @@ Result<Injector> Injector::create(Context& ctx) {
                  {&inj.resolve[1], "gi/lpv/inject_resolve_rgba32f.comp"},
                  {&inj.gvRsm, "gi/lpv/gv_inject_rsm.comp"},
                  {&inj.gvCamera, "gi/lpv/gv_inject_camera.comp"},
-                 {&inj.gvResolve, "gi/lpv/gv_resolve.comp"}};
+                 {&inj.gvResolve, "gi/lpv/gv_resolve.comp"},
+                 {&inj.reduce[0], "gi/lpv/inject_reduce.comp"},
+                 {&inj.reduce[1], "gi/lpv/inject_reduce.comp"}};
     for (const Item& item : items) {
-        auto p = createComputePipeline(ctx, {item.shader, {}});
+        std::vector<SpecConstant> spec;
+        if (item.pipeline == &inj.reduce[0] || item.pipeline == &inj.reduce[1])
+            spec.push_back({0, item.pipeline == &inj.reduce[0] ? 2u : 4u});
+        auto p = createComputePipeline(ctx, {item.shader, spec});
         if (!p) {
             inj.destroy(ctx);
             return p.error();
@@ -41,7 +46,8 @@ Result<Injector> Injector::create(Context& ctx) {
 }
 
 void Injector::destroy(Context& ctx) {
-    for (Pipeline* p : {&range, &inject, &lookup, &resolve[0], &resolve[1], &gvRsm, &gvCamera, &gvResolve})
+    for (Pipeline* p :
+         {&range, &inject, &lookup, &resolve[0], &resolve[1], &gvRsm, &gvCamera, &gvResolve, &reduce[0], &reduce[1]})
         if (p->pipeline != VK_NULL_HANDLE)
             destroyPipeline(ctx, *p);
     for (VkSampler* s : {&nearest, &linear})
@@ -53,6 +59,47 @@ void Injector::destroy(Context& ctx) {
 
 VkDeviceSize injectionBufferBytes(glm::ivec3 cells) {
     return VkDeviceSize(LPV_INJECT_HEADER_INTS + LPV_INJECT_CELL_INTS * size_t(cells.x) * cells.y * cells.z) * 4;
+}
+
+RsmInput addRsmReducePass(rg::RenderGraph& graph, const Injector& injector, const RsmInput& rsm, uint32_t factor,
+                          const std::string& prefix) {
+    RsmInput out;
+    out.resolution = (rsm.resolution + factor - 1) / factor;
+    out.layers = rsm.layers;
+    ImageDesc desc;
+    desc.width = desc.height = out.resolution;
+    desc.arrayLayers = std::max(rsm.layers, 2u); // more than one layer: the view is a 2D array
+    desc.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+    out.position = graph.createImage(prefix + ".rsm.position", desc);
+    out.flux = graph.createImage(prefix + ".rsm.flux", desc);
+    desc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    out.normal = graph.createImage(prefix + ".rsm.normal", desc);
+    gpu::LpvInjectPush push{};
+    push.rsm = glm::ivec4(int(rsm.resolution), int(rsm.layers), int(factor), int(out.resolution));
+    const Pipeline* pipeline = &injector.reduce[factor == 4];
+    const Injector* inj = &injector;
+    graph.addPass((prefix + ".inject.reduce"),
+                  [&](rg::PassBuilder& b) {
+                      b.read(rsm.position, Access::ComputeSampledRead);
+                      b.read(rsm.normal, Access::ComputeSampledRead);
+                      b.read(rsm.flux, Access::ComputeSampledRead);
+                      out.position = b.write(out.position, Access::ComputeStorageWriteDiscard);
+                      out.normal = b.write(out.normal, Access::ComputeStorageWriteDiscard);
+                      out.flux = b.write(out.flux, Access::ComputeStorageWriteDiscard);
+                  },
+                  [=](rg::PassContext& ctx) {
+                      ctx.dispatch(*pipeline,
+                                   rg::PassContext::groupsFor(*pipeline, {out.resolution, out.resolution, out.layers}),
+                                   push,
+                                   {ctx.sampled(LPV_INJECT_BINDING_POSITION, rsm.position, inj->nearest),
+                                    ctx.sampled(LPV_INJECT_BINDING_NORMAL, rsm.normal, inj->nearest),
+                                    ctx.sampled(LPV_INJECT_BINDING_FLUX, rsm.flux, inj->nearest),
+                                    ctx.storage(LPV_REDUCE_BINDING_POSITION, out.position),
+                                    ctx.storage(LPV_REDUCE_BINDING_NORMAL, out.normal),
+                                    ctx.storage(LPV_REDUCE_BINDING_FLUX, out.flux)});
+                  });
+    return out;
 }
 
 InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,

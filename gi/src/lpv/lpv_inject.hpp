@@ -25,6 +25,7 @@ public:
     Pipeline range, inject, lookup;
     Pipeline resolve[2]; // [RGBA32F?]
     Pipeline gvRsm, gvCamera, gvResolve;
+    Pipeline reduce[2];                 // factor 2, 4
     VkSampler nearest = VK_NULL_HANDLE; // texelFetch-only images still need a sampler
     VkSampler linear = VK_NULL_HANDLE;  // trilinear SH lookup, clamp to edge
 };
@@ -47,6 +48,13 @@ struct InjectionResult {
     ShHandles accumulation;
     rg::BufferHandle buffer; // header holds M, read by the lookup
 };
+
+// The RSM reduced by `factor` per axis (gi.lpv.inject.reduce, inject_reduce.comp): one surfel per
+// factor x factor block, flux summed, position and normal flux-weighted means (the normal not
+// renormalised). Injection and the geometry volume then read factor^2 fewer texels. Returns
+// transient images in the RSM's formats.
+RsmInput addRsmReducePass(rg::RenderGraph& graph, const Injector& injector, const RsmInput& rsm, uint32_t factor,
+                          const std::string& prefix = "gi.lpv");
 
 // Injects every RSM texel into `grid`, writing (fully) the given wavefront and accumulation
 // volumes. `buffer` may be a transient (invalid handle: one is created).

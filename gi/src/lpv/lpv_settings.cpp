@@ -20,6 +20,8 @@ Result<void> validate(const LpvSettings& s) {
         return makeError("LpvSettings.cascades = " + std::to_string(s.cascades) + ": must be in [1, 3]");
     if (!(s.damping >= 0.0f && s.damping <= 1.0f))
         return makeError("LpvSettings.damping = " + std::to_string(s.damping) + ": must be in [0, 1]");
+    if (s.rsmReduce != 1 && s.rsmReduce != 2 && s.rsmReduce != 4)
+        return makeError("LpvSettings.rsmReduce = " + std::to_string(s.rsmReduce) + ": must be 1, 2 or 4");
     return {};
 }
 

@@ -95,8 +95,8 @@ public:
             return;
         }
         const VkFormat format = m_settings.halfFloat ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
-        lpv::RsmInput rsm{rsmData->position, rsmData->normal, rsmData->flux, rsmData->resolution,
-                          uint32_t(rsmData->layers.size())};
+        lpv::RsmInput rsmFull{rsmData->position, rsmData->normal, rsmData->flux, rsmData->resolution,
+                              uint32_t(rsmData->layers.size())};
         PassSelection& selection = bb.get<PassSelection>();
         const SceneChanges& changes = selection.changes;
         // Pending re-voxelization: a moved static object invalidates the static bake.
@@ -129,7 +129,7 @@ public:
                                                             m_cache.accumulation[c]);
             rg::BufferHandle buffer = graph.importBuffer("gi.lpv.injection", m_cache.injection);
             if (rerun) {
-                addVolumePasses(graph, bb, grid, format, rsm, gb, accumulation, buffer);
+                addVolumePasses(graph, bb, grid, format, rsmFull, gb, accumulation, buffer);
                 m_cache.grid = grid;
                 m_cache.valid = true;
             } else {
@@ -147,6 +147,7 @@ public:
             return;
         }
         lpv::VoxelInput voxels = addVoxelPasses(graph, bb);
+        const lpv::RsmInput rsm = reducedRsm(graph, rsmFull);
         for (size_t k = 0; k < grids.size(); ++k) {
             const gpu::LpvGrid& grid = grids[k];
             const glm::ivec3 cells(grid.size);
@@ -192,11 +193,19 @@ private:
         return {grid.albedo, grid.normal, grid.params.originSize, grid.params.dims.x};
     }
 
+    // The RSM injection and the geometry volume read (gi.lpv.inject.reduce when rsmReduce > 1).
+    lpv::RsmInput reducedRsm(rg::RenderGraph& graph, const lpv::RsmInput& rsm) const {
+        if (m_settings.rsmReduce <= 1)
+            return rsm;
+        return lpv::addRsmReducePass(graph, m_injector, rsm, m_settings.rsmReduce);
+    }
+
     // Injection, geometry volume and propagation of one grid into `accumulation` (+ `buffer`).
     void addVolumePasses(rg::RenderGraph& graph, rg::Blackboard& bb, const gpu::LpvGrid& grid, VkFormat format,
-                         const lpv::RsmInput& rsm, const lpv::GBufferInput& gb, lpv::ShHandles& accumulation,
+                         const lpv::RsmInput& rsmFull, const lpv::GBufferInput& gb, lpv::ShHandles& accumulation,
                          rg::BufferHandle& buffer) {
         lpv::VoxelInput voxels = addVoxelPasses(graph, bb);
+        const lpv::RsmInput rsm = reducedRsm(graph, rsmFull);
         const glm::ivec3 cells(grid.size);
         lpv::InjectionResult injected = lpv::addInjectionPasses(
             graph, m_injector, grid, format, rsm, lpv::createShVolume(graph, "gi.lpv.wave.a", cells, format),

@@ -46,6 +46,10 @@ void main() {
         if (!(nn > 1e-12 && nn < 1e30) || !(abs(flux.r) + abs(flux.g) + abs(flux.b) < 1e30) ||
             !(abs(p.x) + abs(p.y) + abs(p.z) < 1e30))
             continue;
+        // A reduced RSM's normal is a mean of unit normals (inject_reduce.comp): shorter than 1,
+        // and the lobe of that length is the exact sum of its texels' lobes. The cell offset uses
+        // the unit normal.
+        vec3 lobeNormal = n * min(inversesqrt(nn), 1.0);
         n *= inversesqrt(nn);
         ivec3 c = lpvInjectionCell(pc.grid, p, n);
         if (c != cell) {
@@ -53,7 +57,7 @@ void main() {
             cell = c;
             r = g = b = vec4(0.0);
         }
-        vec4 lobe = shCosineLobe(n) * (1.0 / kShPi);
+        vec4 lobe = shCosineLobe(lobeNormal) * (1.0 / kShPi);
         r += flux.r * lobe;
         g += flux.g * lobe;
         b += flux.b * lobe;

@@ -22,6 +22,9 @@
 #define LPV_INJECT_BINDING_NORMAL 1   // RSM normal (RGBA16F 2D array)
 #define LPV_INJECT_BINDING_FLUX 2     // RSM reflected flux (RGBA32F 2D array)
 #define LPV_INJECT_BINDING_BUFFER 3   // injection buffer
+#define LPV_REDUCE_BINDING_POSITION 4 // reduced RSM written by inject_reduce.comp (same formats as the RSM)
+#define LPV_REDUCE_BINDING_NORMAL 5
+#define LPV_REDUCE_BINDING_FLUX 6
 #define LPV_RESOLVE_BINDING_BUFFER 0
 #define LPV_RESOLVE_BINDING_WAVE_R 1  // wavefront 0 (R, G, B at 1, 2, 3)
 #define LPV_RESOLVE_BINDING_ACC_R 4   // accumulation (R, G, B at 4, 5, 6)

@@ -1,0 +1,59 @@
+#version 460
+// LPV injection, optional pass 0 (LpvSettings::rsmReduce = F > 1): the RSM reduced by F per axis
+// before injection and the geometry volume, which then read F^2 fewer texels (their cost is
+// reading the RSM: docs/lpv.md). Each output texel is one surfel standing for the valid texels
+// of an F x F block: flux summed (energy exactly conserved), position the flux-weighted mean, and
+// normal the flux-weighted mean of the unit normals, not renormalised: cosineLobe is linear in n,
+// so (sum F_i / pi) cosineLobe(n_mean) is the sum of the texels' lobes when all channels carry
+// the same weights (inject.comp keeps normals shorter than 1 as they are). Weights are the sum of
+// the 3 flux channels; a block without flux weights its valid texels equally. w = 1 where the
+// block has a valid texel, 0 elsewhere. Bad texels are skipped as inject.comp skips them.
+#extension GL_GOOGLE_include_directive : require
+#include "gi/lpv_passes.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+// The factor, specialised (2 or 4): with a run-time trip count the block loop was ~3x slower.
+layout(constant_id = 0) const int kFactor = 2;
+layout(push_constant) uniform PushBlock { LpvInjectPush pc; }; // rsm: source texels per row, layers, F, output texels per row
+layout(set = 1, binding = LPV_INJECT_BINDING_POSITION) uniform sampler2DArray rsmPosition;
+layout(set = 1, binding = LPV_INJECT_BINDING_NORMAL) uniform sampler2DArray rsmNormal;
+layout(set = 1, binding = LPV_INJECT_BINDING_FLUX) uniform sampler2DArray rsmFlux;
+layout(set = 1, binding = LPV_REDUCE_BINDING_POSITION, rgba32f) uniform writeonly image2DArray outPosition;
+layout(set = 1, binding = LPV_REDUCE_BINDING_NORMAL, rgba16f) uniform writeonly image2DArray outNormal;
+layout(set = 1, binding = LPV_REDUCE_BINDING_FLUX, rgba32f) uniform writeonly image2DArray outFlux;
+
+void main() {
+    ivec3 o = ivec3(gl_GlobalInvocationID);
+    if (o.x >= pc.rsm.w || o.y >= pc.rsm.w || o.z >= pc.rsm.y)
+        return;
+    const int f = kFactor;
+    float weight = 0.0, count = 0.0;
+    vec3 flux = vec3(0.0), wp = vec3(0.0), wn = vec3(0.0), p = vec3(0.0), n = vec3(0.0);
+    for (int y = 0; y < f; ++y)
+        for (int x = 0; x < f; ++x) {
+            ivec3 t = ivec3(o.xy * f + ivec2(x, y), o.z);
+            if (t.x >= pc.rsm.x || t.y >= pc.rsm.x)
+                continue;
+            vec4 tp = texelFetch(rsmPosition, t, 0);
+            vec3 tn = texelFetch(rsmNormal, t, 0).xyz;
+            vec3 tf = texelFetch(rsmFlux, t, 0).rgb;
+            float nn = dot(tn, tn);
+            if (!(tp.w > 0.0) || !(nn > 1e-12 && nn < 1e30) || !(abs(tf.r) + abs(tf.g) + abs(tf.b) < 1e30) ||
+                !(abs(tp.x) + abs(tp.y) + abs(tp.z) < 1e30))
+                continue;
+            tn *= inversesqrt(nn);
+            float w = max(tf.r + tf.g + tf.b, 0.0);
+            flux += tf;
+            weight += w;
+            wp += w * tp.xyz;
+            wn += w * tn;
+            count += 1.0;
+            p += tp.xyz;
+            n += tn;
+        }
+    bool byFlux = weight > 0.0;
+    float inv = byFlux ? 1.0 / weight : 1.0 / max(count, 1.0);
+    imageStore(outPosition, o, vec4((byFlux ? wp : p) * inv, count > 0.0 ? 1.0 : 0.0));
+    imageStore(outNormal, o, vec4((byFlux ? wn : n) * inv, 0.0));
+    imageStore(outFlux, o, vec4(flux, 0.0));
+}
