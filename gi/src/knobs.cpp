@@ -99,6 +99,10 @@ std::vector<Knob> makeKnobs() {
                  [](GiSettings& s) -> bool& { return s.vct.ambientOcclusion; }),
         floatKnob("vct.ao_distance", 0, 1e6, vct, "AO decay distance in metres (0 = 1/8 of the grid)",
                   [](GiSettings& s) -> float& { return s.vct.aoDistance; }),
+        boolKnob("vct.soft_shadows", vct, "cone-traced shadows of the punctual lights replace the shadow map's",
+                 [](GiSettings& s) -> bool& { return s.vct.softShadows; }),
+        floatKnob("vct.shadow_aperture", 0.001, 1, vct, "half-angle of the shadow cones, radians",
+                  [](GiSettings& s) -> float& { return s.vct.shadowAperture; }),
     };
 }
 

@@ -1,7 +1,10 @@
 // VCT through GiSystem against the path tracer with the same bounce count, on built-in scenes
 // at 64^2: relMSE of the full image and of the indirect part (composite - direct against
 // reference - direct), compared with the best constant ambient term added to the direct image.
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 #include <cstdio>
 
 #include "engine/builtin_scenes.hpp"
@@ -232,3 +235,138 @@ TEST_F(VctReference, EmissiveOnlySceneGetsIndirectLight) {
     EXPECT_GT(indirect / frame->composite.pixels.size(), 0.1); // measured 1.1 per pixel (sum of rgb)
 }
 
+
+namespace {
+
+// Horizontal quad at height y over [cx - h, cx + h] x [-h, h], facing up.
+Mesh upQuad(const char* name, float y, float cx, float h, uint32_t material) {
+    Mesh m;
+    m.name = name;
+    m.positions = {{cx - h, y, -h}, {cx - h, y, h}, {cx + h, y, h}, {cx + h, y, -h}};
+    m.normals.assign(4, glm::vec3(0.0f, 1.0f, 0.0f));
+    m.indices = {0, 1, 2, 0, 2, 3};
+    m.material = material;
+    return m;
+}
+
+// A 2 x 2 m floor (albedo 0.5) under a point light at (1, 1.5, 0), with or without a 0.4 m
+// square occluder 0.5 m above the floor's centre, seen straight down from 3 m.
+Scene shadowScene(bool occluder) {
+    Scene s;
+    s.name = occluder ? "soft_shadow_occluded" : "soft_shadow_open";
+    Material floor;
+    floor.name = "floor";
+    floor.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+    s.materials.push_back(floor);
+    s.meshes.push_back(upQuad("floor", 0.0f, 0.0f, 1.0f, 0));
+    s.instances.push_back({0, glm::mat4(1.0f), false});
+    if (occluder) {
+        s.meshes.push_back(upQuad("occluder", 0.5f, 0.0f, 0.2f, 0));
+        s.instances.push_back({1, glm::mat4(1.0f), false});
+    }
+    Light l;
+    l.name = "point";
+    l.type = LightType::Point;
+    l.position = glm::vec3(1.0f, 1.5f, 0.0f);
+    l.intensity = 1.0f;
+    s.lights.push_back(l);
+    Camera c;
+    c.position = glm::vec3(0.0f, 3.0f, 0.0f);
+    c.forward = glm::vec3(0.0f, -1.0f, 0.0f);
+    c.up = glm::vec3(0.0f, 0.0f, -1.0f);
+    c.yfov = 0.7f;
+    s.camera = c;
+    return s;
+}
+
+} // namespace
+
+// Cone-traced soft shadows (vct.soft_shadows): the direct image of the occluded floor over that
+// of the open floor is the cones' visibility. The light at (1, 1.5, 0) projects the occluder
+// (x in [-0.2, 0.2] at 0.5 m) onto x in [-0.8, -0.2] of the floor; the
+// camera sees the occluder itself over |x| < 0.24; the umbra of the point light is x in
+// [-0.8, -0.2], the floor with x > 0.3 is lit. Along the image's middle row: far on the lit side
+// the visibility is 1, in the umbra 0, everything in [0, 1] and finite, and the penumbra
+// (1 / the steepest slope of the visibility at the umbra's outer edge x = -0.8) widens with the
+// aperture (the cone is 2 t tan(aperture) wide at t from the floor). The pass exists only with
+// the setting on, and then replaces gi.direct.
+TEST_F(VctReference, SoftShadowsFromConesThroughTheVoxelOpacity) {
+    constexpr uint32_t kPx = 64;
+    Aabb box;
+    box.extend(glm::vec3(-1.0f, -0.5f, -1.0f));
+    box.extend(glm::vec3(1.0f, 1.5f, 1.0f));
+    auto render = [&](bool occluder, bool soft, float aperture, std::vector<std::string>* passes) {
+        Scene scene = shadowScene(occluder);
+        GiSettings settings;
+        settings.technique = Technique::Vct;
+        settings.vct.gridResolution = 32;
+        settings.vct.gridBox = box;
+        settings.vct.softShadows = soft;
+        settings.vct.shadowAperture = aperture;
+        auto gi = GiSystem::create(ctx(), settings);
+        EXPECT_TRUE(gi.ok()) << gi.error().message;
+        EXPECT_TRUE((*gi)->setScene(scene).ok());
+        FrameRequest request;
+        request.direct = true;
+        auto frame = (*gi)->renderFrame(*scene.camera, kPx, kPx, request);
+        EXPECT_TRUE(frame.ok()) << frame.error().message;
+        if (passes)
+            for (const auto& p : frame->passes)
+                passes->push_back(p.name);
+        return frame->direct;
+    };
+    auto has = [](const std::vector<std::string>& v, const char* name) {
+        return std::find(v.begin(), v.end(), name) != v.end();
+    };
+    std::vector<std::string> offPasses, onPasses;
+    HdrImage open = render(false, true, 0.05f, nullptr);
+    HdrImage hard = render(true, false, 0.05f, &offPasses);
+    EXPECT_FALSE(has(offPasses, "gi.vct.shadow"));
+    EXPECT_TRUE(has(offPasses, "gi.direct"));
+    // Column -> floor x: the camera 3 m above, x = 3 tan(yfov/2) (2 (col + 0.5) / 64 - 1).
+    auto floorX = [&](uint32_t col) { return 3.0f * std::tan(0.35f) * (2.0f * (float(col) + 0.5f) / float(kPx) - 1.0f); };
+    uint32_t row = kPx / 2;
+    double width[2] = {0.0, 0.0}; // penumbra width estimate: 1 / the steepest visibility slope
+    float apertures[2] = {0.05f, 0.3f};
+    for (int k = 0; k < 2; ++k) {
+        onPasses.clear();
+        HdrImage soft = render(true, true, apertures[k], &onPasses);
+        EXPECT_TRUE(has(onPasses, "gi.vct.shadow"));
+        EXPECT_FALSE(has(onPasses, "gi.direct")); // replaced: nothing reads the deferred image
+        EXPECT_EQ(countNonFinite(soft), 0u);
+        double lit = 0.0, shadow = 1.0, minV = 1e30, maxV = -1e30, maxSlope = 0.0, prev = -1.0;
+        for (uint32_t col = 0; col < kPx; ++col) {
+            float x = floorX(col);
+            if (std::abs(x) < 0.26f || std::abs(x) > 0.97f)
+                continue; // the occluder's own pixels, the background
+            float o = open.pixels[row * kPx + col].y;
+            float v = soft.pixels[row * kPx + col].y / o;
+            minV = std::min(minV, double(v));
+            maxV = std::max(maxV, double(v));
+            if (x > 0.9f)
+                lit = std::max(lit, double(v));
+            if (x < -0.3f && x > -0.6f)
+                shadow = std::min(shadow, double(v));
+            if (prev >= 0.0 && x < -0.26f)
+                maxSlope = std::max(maxSlope, std::abs(double(v) - prev) / double(floorX(col) - floorX(col - 1)));
+            prev = x < -0.26f ? double(v) : -1.0;
+            if (k == 0 && x > 0.9f) { // lit side: the shadow map agrees
+                EXPECT_NEAR(hard.pixels[row * kPx + col].y, o, 0.02f * o) << col;
+            }
+        }
+        width[k] = 1.0 / std::max(maxSlope, 1e-6);
+        std::printf("soft shadows, aperture %.2f: visibility lit %.3f, umbra %.3f, range [%.3f, %.3f], penumbra %.3f m\n",
+                    apertures[k], lit, shadow, minV, maxV, width[k]);
+        EXPECT_GT(lit, 0.97);
+        EXPECT_LE(maxV, 1.0 + 1e-3);
+        EXPECT_GE(minV, 0.0);
+        if (k == 0) {
+            EXPECT_LT(shadow, 0.05);
+        }
+    }
+    // Cone width at the occluder's edge (0.78 m from the floor along the ray): 2 * 0.78 tan(a) =
+    // 0.08 m and 0.24 m, plus the voxels' blur (grid 32 over 2 m: 6.5 cm voxels). Measured
+    // 0.18 m and 0.57 m.
+    EXPECT_LT(width[0], 0.3);
+    EXPECT_GT(width[1], 1.5 * width[0]);
+}

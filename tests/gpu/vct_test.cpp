@@ -158,6 +158,7 @@ protected:
             VctGBufferHandles g{graph.importImage("t.gpos", m_g.position, rg::Access::ComputeStorageWrite),
                                 graph.importImage("t.gnormal", m_g.normal, rg::Access::ComputeStorageWrite),
                                 graph.importImage("t.galbedo", m_g.albedo, rg::Access::ComputeStorageWrite),
+                                {},
                                 width,
                                 height,
                                 eye};

@@ -79,7 +79,8 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
                    {&v->m_bounceApply, "gi/voxel/voxel_bounce_apply.comp"},
                    {&v->m_trace, "gi/voxel/vct_trace.comp"},
                    {&v->m_traceRefine, "gi/voxel/vct_trace_refine.comp"},
-                   {&v->m_upsample, "gi/voxel/vct_upsample.comp"}};
+                   {&v->m_upsample, "gi/voxel/vct_upsample.comp"},
+                   {&v->m_softShadow, "gi/voxel/vct_soft_shadow.comp"}};
     for (const Named& s : shaders) {
         auto p = createComputePipeline(ctx, {s.shader, {}});
         if (!p)
@@ -106,7 +107,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
 
 VctVolumes::~VctVolumes() {
     destroyBuffer(m_ctx, m_list.buffer);
-    for (Pipeline* p : {&m_compact, &m_light, &m_lightShadowMap, &m_mipBase, &m_mip, &m_bounce, &m_bounceApply, &m_trace, &m_traceRefine, &m_upsample})
+    for (Pipeline* p : {&m_compact, &m_light, &m_lightShadowMap, &m_mipBase, &m_mip, &m_bounce, &m_bounceApply, &m_trace, &m_traceRefine, &m_upsample, &m_softShadow})
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_radiance.image);
     destroyImage(m_ctx, m_bounced.image);
@@ -219,6 +220,15 @@ void VctVolumes::recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const Image
                               bufferItem(7, t.refineList)};
     pushDescriptors(m_ctx, cmd, m_traceRefine, std::span<const DescriptorItem>(items));
     vkCmdDispatchIndirect(cmd, t.refineList, sizeof(uint32_t));
+}
+
+void VctVolumes::recordSoftShadow(VkCommandBuffer cmd, const Image& level0, const gpu::VctShadowPush& push,
+                                  VkBuffer lights, const VctTraceTargets& t, VkImageLayout sampledLayout) const {
+    dispatch(m_ctx, cmd, m_softShadow, push,
+             {sampled(0, level0, m_sampler, sampledLayout), sampled(1, m_aniso.image, m_sampler, sampledLayout),
+              storage(2, t.position->view), storage(3, t.normal->view), storage(4, t.albedo->view),
+              storage(5, t.emission->view), bufferItem(6, lights), storage(7, t.direct->view)},
+             glm::uvec3(push.info.y, push.info.z, 1u));
 }
 
 void VctVolumes::recordUpsample(VkCommandBuffer cmd, const gpu::VctTracePush& push, const Image& lowIndirect,

@@ -23,6 +23,8 @@ struct VctTraceTargets {
     const Image* indirect = nullptr; // RGBA32F out: rgb indirect radiance (nits), a = AO
     const Image* glossy = nullptr;   // RGBA32F out: glossy cone radiance (nits)
     VkBuffer refineList = VK_NULL_HANDLE; // refine variant: the pixels to trace (upsample's list)
+    const Image* emission = nullptr; // RGBA32F G-buffer emission (soft shadows)
+    const Image* direct = nullptr;   // RGBA32F out: direct light with cone-traced shadows (soft shadows)
 };
 
 // Which pixels a trace dispatch covers.
@@ -92,6 +94,10 @@ public:
     // Per-pixel trace; `level0` is radiance() or bounced(), whichever the mips were built from.
     void recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const Image& level0, const gpu::VctTracePush& push,
                      const VctTraceTargets& targets, VkImageLayout sampledLayout) const;
+    // Direct light of `lightCount` lights with cone-traced visibility (vct_soft_shadow.comp):
+    // G-buffer position, normal, albedo, emission -> targets.direct, full resolution.
+    void recordSoftShadow(VkCommandBuffer cmd, const Image& level0, const gpu::VctShadowPush& push, VkBuffer lights,
+                          const VctTraceTargets& targets, VkImageLayout sampledLayout) const;
     // Low-res indirect + glossy -> full resolution (targets.indirect/glossy), appending the
     // pixels across discontinuities to `refineList` (count zeroed before). G-buffer position
     // and normal and the low-res images are read through a sampler in `sampledLayout`.
@@ -108,7 +114,7 @@ private:
     bool m_listBuilt = false;
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;
-    Pipeline m_compact, m_light, m_lightShadowMap, m_mipBase, m_mip, m_bounce, m_bounceApply, m_trace, m_traceRefine, m_upsample;
+    Pipeline m_compact, m_light, m_lightShadowMap, m_mipBase, m_mip, m_bounce, m_bounceApply, m_trace, m_traceRefine, m_upsample, m_softShadow;
 };
 
 } // namespace vkgi::gi

@@ -98,8 +98,8 @@ public:
         m_update = VoxelUpdate::None;
         m_lit = true;
         bb.add(grid);
-        VctGBufferHandles g{gbuffer.position, gbuffer.normal, gbuffer.albedo, frame.width, frame.height,
-                            frame.camera.position};
+        VctGBufferHandles g{gbuffer.position, gbuffer.normal, gbuffer.albedo, gbuffer.emission, frame.width,
+                            frame.height, frame.camera.position};
         VctPassOptions options{relight, selection.features.emissive};
         if (const ShadowData* sd = bb.tryGet<ShadowData>()) {
             options.shadowAtlas = sd->atlas;
@@ -108,6 +108,10 @@ public:
             options.shadowSampler = sd->compareSampler;
         }
         VctOutputs out = addVctPasses(graph, *m_volumes, grid, scene.lights, m_lightCount, settings, &g, options);
+        // Soft shadows: the cone-traced direct image replaces the deferred pass's (whose shadow-map
+        // visibility it replaces, vct_soft_shadow.comp); the composite and the direct output read it.
+        if (out.direct.valid())
+            bb.get<DirectData>().direct = out.direct;
         bb.add(IndirectData{out.indirect, {}});
         bb.add(out);
     }

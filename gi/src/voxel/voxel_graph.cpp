@@ -130,6 +130,45 @@ rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::Im
 VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, rg::ImageHandle radiance, VctOutputs out,
                           const VctSettings& settings, const VctGBufferHandles* gbuffer);
 
+// "gi.vct.shadow": direct light with cone-traced visibility through `radiance` (level 0) and
+// out.aniso into out.direct. Only with VctSettings::softShadows and a G-buffer with emission.
+VctOutputs addSoftShadowPass(rg::RenderGraph& graph, VctVolumes& volumes, rg::ImageHandle radiance, VctOutputs out,
+                             const VctSettings& settings, const VctGBufferHandles* gbuffer, rg::BufferHandle lights,
+                             uint32_t lightCount) {
+    if (!settings.softShadows || !gbuffer || !gbuffer->emission.valid())
+        return out;
+    const VctVolumes* v = &volumes;
+    VctGBufferHandles g = *gbuffer;
+    gpu::VctShadowPush push{volumes.grid().params(), volumes.coneParams(settings, g.width, g.height),
+                            glm::uvec4(lightCount, g.width, g.height, 0u)};
+    struct ShadowPassData {
+        rg::ImageHandle direct;
+    };
+    const ShadowPassData& data = graph.addPass<ShadowPassData>(
+        "gi.vct.shadow",
+        [&](rg::PassBuilder& b, ShadowPassData& d) {
+            b.read(radiance, Access::ComputeSampledRead);
+            b.read(out.aniso, Access::ComputeSampledRead);
+            b.read(g.position, Access::ComputeStorageRead);
+            b.read(g.normal, Access::ComputeStorageRead);
+            b.read(g.albedo, Access::ComputeStorageRead);
+            b.read(g.emission, Access::ComputeStorageRead);
+            b.read(lights, Access::ComputeStorageRead);
+            ImageDesc desc;
+            desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+            desc.width = g.width;
+            desc.height = g.height;
+            d.direct = b.write(b.create("gi.vct.direct_soft", desc), Access::ComputeStorageWriteDiscard);
+        },
+        [v, push, radiance, g, lights](const ShadowPassData& d, rg::PassContext& ctx) {
+            VctTraceTargets t{&ctx.image(g.position), &ctx.image(g.normal), &ctx.image(g.albedo), nullptr, nullptr,
+                              VK_NULL_HANDLE,         &ctx.image(g.emission), &ctx.image(d.direct)};
+            v->recordSoftShadow(ctx.cmd(), ctx.image(radiance), push, ctx.buffer(lights).buffer, t, ctx.layout(radiance));
+        });
+    out.direct = data.direct;
+    return out;
+}
+
 } // namespace
 
 VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
@@ -144,6 +183,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     if (!options.relight) {
         // Nothing the voxel light depends on changed: the trace reads the kept radiance and mips.
         out.radiance = settings.bounces >= 2 ? bounced : radiance;
+        out = addSoftShadowPass(graph, volumes, out.radiance, out, settings, gbuffer, lights, lightCount);
         return gbuffer ? addTracePasses(graph, volumes, out.radiance, out, settings, gbuffer) : out;
     }
     if (grid.changed || !volumes.listBuilt()) {
@@ -235,6 +275,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
         out.aniso = addMipPasses(graph, v, radiance, out.aniso, "gi.vct.bounce.mip");
     }
     out.radiance = radiance;
+    out = addSoftShadowPass(graph, volumes, radiance, out, settings, gbuffer, lights, lightCount);
     return gbuffer ? addTracePasses(graph, volumes, radiance, out, settings, gbuffer) : out;
 }
 

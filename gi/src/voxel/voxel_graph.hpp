@@ -49,6 +49,7 @@ struct VctGBufferHandles {
     rg::ImageHandle position; // RGBA32F
     rg::ImageHandle normal;   // RGBA16F, w = roughness
     rg::ImageHandle albedo;   // RGBA16F, w = metallic
+    rg::ImageHandle emission; // RGBA32F (read by the soft-shadow pass only)
     uint32_t width = 0;
     uint32_t height = 0;
     glm::vec3 eye{0.0f};
@@ -59,6 +60,9 @@ struct VctOutputs {
     rg::ImageHandle aniso;    // the packed directional mips the trace read
     rg::ImageHandle indirect; // RGBA32F: rgb indirect radiance (nits), a = AO (invalid without a G-buffer)
     rg::ImageHandle glossy;   // RGBA32F: glossy cone radiance (nits)
+    // RGBA32F direct light with cone-traced shadows ("gi.vct.shadow"; VctSettings::softShadows
+    // with a G-buffer that has emission, else invalid): replaces the deferred pass's image.
+    rg::ImageHandle direct;
 };
 
 // "gi.vct.light", "gi.vct.mip[k]", optionally "gi.vct.bounce" + "gi.vct.bounce.mip[k]", and

@@ -105,6 +105,30 @@ vec4 traceCone(vec3 origin, vec3 dir, float rise, float tanHalf, float stepFacto
     return acc;
 }
 
+// Visibility of a point light at distance tEnd (voxels) along dir through the voxel opacity,
+// with a cone of half-angle atan(tanHalf): exp of minus the optical depth accumulated as in
+// traceCone (same levels, level cap and steps), in [0, 1]. The march stops where the light's
+// own voxel begins (as the voxel light's march does): a surface within a voxel of the light
+// cannot be resolved as lying in front of it.
+float coneVisibility(vec3 origin, vec3 dir, float rise, float tanHalf, float stepFactor, float tEnd, float n) {
+    float maxLod = log2(n);
+    float depth = 0.0; // optical depth along the cone
+    ivec3 lightVoxel = ivec3(floor(origin + tEnd * dir));
+    for (float t = kConeStart; t < tEnd && depth < 7.0;) { // exp(-7) < 1e-3
+        float diameter = max(1.0, 2.0 * tanHalf * t);
+        vec3 p = origin + t * dir;
+        if (any(lessThan(p, vec3(-diameter))) || any(greaterThan(p, vec3(n + diameter))) ||
+            ivec3(floor(p)) == lightVoxel)
+            break;
+        float level = min(min(round(log2(diameter)), floor(log2(max(rise * t / 1.5, 1.0)))), maxLod);
+        float stepLength = stepFactor * min(diameter, exp2(level));
+        // Only the part of the step before the light occludes it.
+        depth += sampleVoxels(p, dir, level, n).a * min(stepLength, tEnd - t) * exp2(-level);
+        t += stepLength;
+    }
+    return exp(-depth);
+}
+
 // Direction i of n over the hemisphere around +z, cosine-distributed (Fibonacci spiral): each
 // cone then carries the same weight 1/n in the irradiance estimate E / pi = (1/n) sum L_i.
 vec3 hemisphereCone(uint i, uint count) {

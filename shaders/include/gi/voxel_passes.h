@@ -88,6 +88,15 @@ GI_GPU_STRUCT(VctTracePush) {
     uvec4 lowRes; // x factor f, y, z low-res width, height, w refine-list capacity (pixels)
 };
 GI_CHECK_SIZE(VctTracePush, 112);
+
+// vct_soft_shadow.comp: direct light of the punctual lights over the G-buffer with cone-traced
+// visibility (cones.cone.w = tan(shadow half-angle)) instead of the shadow atlas.
+GI_GPU_STRUCT(VctShadowPush) {
+    VoxelGridParams grid;
+    ConeParams cones;
+    uvec4 info; // x light count, y width, z height, w 0
+};
+GI_CHECK_SIZE(VctShadowPush, 96);
 // Refine list (vct_upsample.comp -> vct_trace_refine.comp): uint count, then the refine
 // trace's VkDispatchIndirectCommand (groups of GI_VCT_REFINE_GROUP), then packed pixels x | y << 16.
 #define GI_VCT_REFINE_GROUP 64u
