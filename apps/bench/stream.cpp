@@ -25,7 +25,7 @@ Result<double> measureStreamGBs(Context& ctx, uint32_t mib, uint32_t repeats) {
     const uint32_t groups = (elements + 63) / 64;
     const uint32_t gx = std::min(groups, 4096u), gy = (groups + gx - 1) / gx;
     rg::TransientPool pool(ctx);
-    TimestampPool timestamps(ctx, 2);
+    TimestampPool timestamps(ctx, 4); // the graph's frame scope + fill + copy
     std::vector<double> ms;
     for (uint32_t r = 0; r <= repeats; ++r) { // r = 0 pays the shader JIT
         rg::RenderGraph g;

@@ -147,6 +147,14 @@ std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalM
         std::snprintf(line, sizeof(line), "%-32s %10.3f\n", p.name.c_str(), p.ms);
         out << line;
     }
+    double sum = 0.0;
+    for (const rg::PassTiming& p : passes)
+        sum += p.ms;
+    // The frame's own timestamp scope covers the barriers too; what no pass's scope saw shows here.
+    if (totalMs > sum) {
+        std::snprintf(line, sizeof(line), "%-32s %10.3f\n", "(barriers, outside the passes)", totalMs - sum);
+        out << line;
+    }
     std::snprintf(line, sizeof(line), "%-32s %10.3f\n", "total", totalMs);
     out << line;
     for (const gi::LeftOutPass& p : leftOut)

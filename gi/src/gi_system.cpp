@@ -1,5 +1,6 @@
 // GiSystem: owns the GPU scene, the shared pass pipelines, the shadow/RSM atlases and the
 // technique module, and turns a camera into a frame graph (pipeline.cpp) it executes.
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -46,6 +47,14 @@ Result<void> checkCamera(const Camera& c, uint32_t width, uint32_t height) {
         !(c.znear > 0.0f && c.zfar > c.znear))
         return makeError("camera: position/forward must be finite, yfov in (0, pi), 0 < znear < zfar");
     return {};
+}
+
+// The whole graph's GPU time (barriers included), or the sum of the passes without timestamps.
+double frameTotalMs(const rg::RenderGraph& graph, const std::vector<rg::PassTiming>& passes) {
+    double sum = 0.0;
+    for (const rg::PassTiming& t : passes)
+        sum += t.ms;
+    return std::max(graph.frameMs(), sum);
 }
 
 } // namespace
@@ -350,8 +359,7 @@ Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, 
         if (images[i].valid())
             *targets[i] = readbackToImage(m->readback[i], width, height);
     r.passes = graph.timings();
-    for (const rg::PassTiming& t : r.passes)
-        r.totalMs += t.ms;
+    r.totalMs = frameTotalMs(graph, r.passes);
     r.culledPasses = graph.culledPassNames();
     r.leftOut = bb.get<PassSelection>().leftOut;
     for (const std::string& name : r.culledPasses)
@@ -413,8 +421,7 @@ Result<FrameResult> GiSystem::renderIndirect(const Camera& camera, const HostFra
     if (host.readback)
         r.indirect = readbackToImage(m->readback[2], width, height);
     r.passes = graph.timings();
-    for (const rg::PassTiming& t : r.passes)
-        r.totalMs += t.ms;
+    r.totalMs = frameTotalMs(graph, r.passes);
     r.culledPasses = graph.culledPassNames();
     r.transientBytes = graph.memoryReport().transientBytes;
     r.persistentBytes = persistentBytes();

@@ -113,7 +113,8 @@ TEST_F(Cli, SmallRenderWritesImageAndJson) {
     ASSERT_FALSE(j["passes"].empty());
     for (const auto& p : j["passes"])
         sum += p["ms"].get<double>();
-    EXPECT_NEAR(j["total_ms"].get<double>(), sum, 1e-6 * (1.0 + sum));
+    // The frame's timestamp scope encloses every pass's scope (and the barriers between them).
+    EXPECT_GE(j["total_ms"].get<double>(), sum - 1e-6 * (1.0 + sum));
 }
 
 TEST_F(Cli, JsonListsLeftOutPassesAndTheStaticFrame) {

@@ -35,14 +35,20 @@ void RenderGraph::execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool
     acquireTransients(ctx, pool);
     m_timestamps = timestamps;
     m_timedPasses.clear();
-    if (timestamps)
+    // Scope 0 spans the whole graph, barriers included: on lavapipe part of the work lands
+    // outside every pass's scope (it completes inside the barriers that follow), so the sum of
+    // the pass times understates the frame; frameMs() does not.
+    uint32_t frameScope = 0;
+    if (timestamps) {
         timestamps->reset(cmd);
+        frameScope = timestamps->begin(cmd);
+    }
     for (const CompiledPass& compiled : m_compiled.passes) {
         const detail::PassNode& node = m_passes[compiled.pass];
         ctx.beginLabel(cmd, node.name.c_str());
         recordBarriers(cmd, compiled.barriers);
         // Passes beyond the pool's capacity run untimed rather than failing the frame.
-        bool timed = timestamps && m_timedPasses.size() < timestamps->capacity();
+        bool timed = timestamps && m_timedPasses.size() + 1 < timestamps->capacity();
         uint32_t scope = timed ? timestamps->begin(cmd) : 0;
         if (node.execute) {
             PassContext passCtx(*this, compiled.pass, cmd, ctx);
@@ -55,6 +61,8 @@ void RenderGraph::execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool
         ctx.endLabel(cmd);
     }
     recordBarriers(cmd, m_compiled.finalBarriers);
+    if (timestamps)
+        timestamps->end(cmd, frameScope);
     buildMemoryReport();
     storeFinalStates();
 }
@@ -192,9 +200,16 @@ std::vector<PassTiming> RenderGraph::timings() const {
     if (!m_timestamps)
         return out;
     std::vector<double> ms = m_timestamps->resolveMs();
-    for (size_t i = 0; i < m_timedPasses.size() && i < ms.size(); ++i)
-        out.push_back({m_passes[m_timedPasses[i]].name, ms[i]});
+    for (size_t i = 0; i < m_timedPasses.size() && i + 1 < ms.size(); ++i)
+        out.push_back({m_passes[m_timedPasses[i]].name, ms[i + 1]});
     return out;
+}
+
+double RenderGraph::frameMs() const {
+    if (!m_timestamps)
+        return 0.0;
+    std::vector<double> ms = m_timestamps->resolveMs();
+    return ms.empty() ? 0.0 : ms[0];
 }
 
 } // namespace vkgi::rg

@@ -87,7 +87,10 @@ struct FrameResult {
     HdrImage direct;
     HdrImage indirect;
     std::vector<rg::PassTiming> passes;  // executed passes in order, GPU milliseconds
-    double totalMs = 0.0;                // sum of `passes`
+    // GPU ms of the whole frame graph, barriers included (rg::RenderGraph::frameMs). On lavapipe
+    // this exceeds the sum of `passes`: part of the work completes inside barriers, outside
+    // every pass's timestamp scope.
+    double totalMs = 0.0;
     std::vector<std::string> culledPasses;
     std::vector<rg::PassMemory> passMemory; // per executed pass: transients created/touched, bytes accessed
     std::vector<LeftOutPass> leftOut;           // culled + not needed + not dirty, with the reason

@@ -311,6 +311,10 @@ public:
     void execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool, TimestampPool* timestamps = nullptr);
     // Per-pass GPU time of the last execute(); call after its submit has finished.
     std::vector<PassTiming> timings() const;
+    // GPU time of the whole last execute(), from before the first barrier to after the export
+    // barriers: what the frame costs. On lavapipe it exceeds the sum of timings(), as some work
+    // completes inside barriers, outside every pass's scope.
+    double frameMs() const;
     // Set 0 (FrameConstants) for this frame: PassContext::dispatch binds it for every pipeline
     // whose shaders read the frame constants; graphics passes call PassContext::bindFrameSet.
     void setFrameSet(VkDescriptorSet set) { m_frameSet = set; }
