@@ -35,32 +35,42 @@ void RenderGraph::execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool
     acquireTransients(ctx, pool);
     m_timestamps = timestamps;
     m_timedPasses.clear();
-    // Scope 0 spans the whole graph, barriers included: on lavapipe part of the work lands
-    // outside every pass's scope (it completes inside the barriers that follow), so the sum of
-    // the pass times understates the frame; frameMs() does not.
+    // Scope 0 spans the whole graph, barriers included. A pass's own scope closes after the
+    // barriers recorded for the pass that follows it (or the export barriers): on lavapipe part of
+    // a pass's work completes inside the next barrier, so closing before it would leave that work
+    // outside every scope. The barriers of the first pass are outside every pass scope (nothing
+    // before them to finish).
     uint32_t frameScope = 0;
     if (timestamps) {
         timestamps->reset(cmd);
         frameScope = timestamps->begin(cmd);
     }
+    constexpr uint32_t kNoScope = ~0u;
+    uint32_t open = kNoScope; // scope of the previous pass, closed after the next barriers
+    auto closeOpen = [&] {
+        if (open != kNoScope)
+            timestamps->end(cmd, open);
+        open = kNoScope;
+    };
     for (const CompiledPass& compiled : m_compiled.passes) {
         const detail::PassNode& node = m_passes[compiled.pass];
         ctx.beginLabel(cmd, node.name.c_str());
         recordBarriers(cmd, compiled.barriers);
+        closeOpen();
         // Passes beyond the pool's capacity run untimed rather than failing the frame.
         bool timed = timestamps && m_timedPasses.size() + 1 < timestamps->capacity();
-        uint32_t scope = timed ? timestamps->begin(cmd) : 0;
+        if (timed) {
+            open = timestamps->begin(cmd);
+            m_timedPasses.push_back(compiled.pass);
+        }
         if (node.execute) {
             PassContext passCtx(*this, compiled.pass, cmd, ctx);
             node.execute(passCtx);
         }
-        if (timed) {
-            timestamps->end(cmd, scope);
-            m_timedPasses.push_back(compiled.pass);
-        }
         ctx.endLabel(cmd);
     }
     recordBarriers(cmd, m_compiled.finalBarriers);
+    closeOpen();
     if (timestamps)
         timestamps->end(cmd, frameScope);
     buildMemoryReport();
