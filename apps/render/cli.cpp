@@ -137,7 +137,7 @@ Exit codes: 0 success, 1 scene/render/output failure, 2 bad arguments.
 }
 
 std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalMs,
-                        const std::vector<gi::LeftOutPass>& leftOut, uint64_t memoryBytes,
+                        const std::vector<gi::LeftOutPass>& leftOut, const std::optional<MemoryUse>& memory,
                         const std::optional<StaticFrame>& staticFrame) {
     std::ostringstream out;
     char line[160];
@@ -164,8 +164,14 @@ std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalM
                       staticFrame->passes.size());
         out << line;
     }
-    if (memoryBytes > 0) {
-        std::snprintf(line, sizeof(line), "device memory: %.2f MiB\n", double(memoryBytes) / (1024.0 * 1024.0));
+    if (memory) {
+        const double mib = 1024.0 * 1024.0;
+        std::snprintf(line, sizeof(line),
+                      "device memory: %.2f MiB (scene %.2f, shadow atlas %.2f, technique %.2f, readback %.2f, "
+                      "frame transients %.2f)\n",
+                      double(memory->total()) / mib, double(memory->persistent.scene) / mib,
+                      double(memory->persistent.shadows) / mib, double(memory->persistent.technique) / mib,
+                      double(memory->persistent.readback) / mib, double(memory->transientBytes) / mib);
         out << line;
     }
     return out.str();
@@ -191,7 +197,7 @@ nlohmann::json leftOutJson(const std::vector<gi::LeftOutPass>& leftOut) {
 
 std::string jsonReport(const Options& o, const std::vector<rg::PassTiming>& passes, double totalMs,
                        const std::vector<gi::LeftOutPass>& leftOut, const std::optional<StaticFrame>& staticFrame,
-                       const std::optional<Errors>& errors) {
+                       const std::optional<MemoryUse>& memory, const std::optional<Errors>& errors) {
     nlohmann::json j;
     j["scene"] = o.scene;
     j["technique"] = o.technique;
@@ -206,6 +212,24 @@ std::string jsonReport(const Options& o, const std::vector<rg::PassTiming>& pass
                              {"left_out", leftOutJson(staticFrame->leftOut)}};
     else
         j["static_frame"] = nullptr;
+    if (memory) {
+        nlohmann::json passMemory = nlohmann::json::array();
+        for (const rg::PassMemory& p : memory->passes)
+            passMemory.push_back({{"name", p.name},
+                                  {"created_bytes", p.createdBytes},
+                                  {"touched_bytes", p.touchedBytes},
+                                  {"accessed_bytes", p.accessedBytes}});
+        j["memory"] = {{"total_bytes", memory->total()},
+                       {"persistent",
+                        {{"scene", memory->persistent.scene},
+                         {"shadows", memory->persistent.shadows},
+                         {"readback", memory->persistent.readback},
+                         {"technique", memory->persistent.technique}}},
+                       {"transient_bytes", memory->transientBytes},
+                       {"passes", passMemory}};
+    } else {
+        j["memory"] = nullptr;
+    }
     // JSON has no infinity: a non-finite error (broken pixels) is reported as null.
     auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
     if (errors)

@@ -46,15 +46,26 @@ struct StaticFrame {
     std::vector<gi::LeftOutPass> leftOut;
 };
 
+// Device memory of the measured frame: what the GiSystem keeps (by owner) and the render graph's
+// transients of that frame, with the transient bytes each pass first used and touched.
+struct MemoryUse {
+    gi::PersistentMemory persistent;
+    uint64_t transientBytes = 0;
+    std::vector<rg::PassMemory> passes;
+    uint64_t total() const { return persistent.total() + transientBytes; }
+};
+
 // The per-pass GPU time table (plus total, the passes left out with their reason, memory, and
 // the static frame's total) for stdout.
 std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalMs,
-                        const std::vector<gi::LeftOutPass>& leftOut, uint64_t memoryBytes,
+                        const std::vector<gi::LeftOutPass>& leftOut, const std::optional<MemoryUse>& memory,
                         const std::optional<StaticFrame>& staticFrame);
 // The --json report: scene, technique, size, passes, total_ms, left_out[{name, reason, detail}],
-// static_frame {passes, total_ms, left_out} or null, error (null without --compare).
+// static_frame {passes, total_ms, left_out} or null, memory {total_bytes, persistent{scene, shadows,
+// readback, technique}, transient_bytes, passes[{name, created_bytes, touched_bytes, accessed_bytes}]}
+// or null (path tracer), error (null without --compare).
 std::string jsonReport(const Options& o, const std::vector<rg::PassTiming>& passes, double totalMs,
                        const std::vector<gi::LeftOutPass>& leftOut, const std::optional<StaticFrame>& staticFrame,
-                       const std::optional<Errors>& errors);
+                       const std::optional<MemoryUse>& memory, const std::optional<Errors>& errors);
 
 } // namespace vkgi::render

@@ -24,7 +24,7 @@ struct Rendered {
     std::vector<rg::PassTiming> passes;
     double totalMs = 0.0;
     std::vector<gi::LeftOutPass> leftOut;
-    uint64_t memoryBytes = 0;
+    std::optional<render::MemoryUse> memory; // none for the path tracer
     // GPU times and passes of a third frame with nothing changed (GI techniques only): what a
     // static scene costs once the persistent volumes are valid.
     std::optional<render::StaticFrame> staticFrame;
@@ -78,7 +78,7 @@ Result<Rendered> renderGi(const Scene& scene, const Camera& camera, const render
                     frame->passes,
                     frame->totalMs,
                     frame->leftOut,
-                    frame->transientBytes + frame->persistentBytes,
+                    render::MemoryUse{frame->persistentByOwner, frame->transientBytes, frame->passMemory},
                     render::StaticFrame{still->passes, still->totalMs, still->leftOut}};
 }
 
@@ -87,7 +87,7 @@ Result<Rendered> renderPathTraced(const Scene& scene, const Camera& camera, cons
     if (!ref)
         return ref.error();
     double ms = ref->seconds * 1000.0;
-    return Rendered{std::move(ref->full), std::move(ref->direct), {{"reference (CPU wall time)", ms}}, ms, {}, 0, {}};
+    return Rendered{std::move(ref->full), std::move(ref->direct), {{"reference (CPU wall time)", ms}}, ms, {}, std::nullopt, {}};
 }
 
 // Errors of the full image and of its indirect part (full - direct) against the reference.
@@ -146,7 +146,7 @@ int main(int argc, char** argv) {
     if (!rendered)
         return fail(1, rendered.error().message);
     std::printf("%s %ux%u, technique %s\n", o.scene.c_str(), o.width, o.height, o.technique.c_str());
-    std::fputs(render::timingTable(rendered->passes, rendered->totalMs, rendered->leftOut, rendered->memoryBytes,
+    std::fputs(render::timingTable(rendered->passes, rendered->totalMs, rendered->leftOut, rendered->memory,
                                    rendered->staticFrame).c_str(),
                stdout);
 
@@ -167,7 +167,8 @@ int main(int argc, char** argv) {
     }
     if (o.json) {
         if (auto ok = writeFileAtomic(*o.json, render::jsonReport(o, rendered->passes, rendered->totalMs, rendered->leftOut,
-                                                                   rendered->staticFrame, errors)); !ok)
+                                                                   rendered->staticFrame, rendered->memory, errors));
+            !ok)
             return fail(1, ok.error().message);
         std::printf("wrote %s\n", o.json->string().c_str());
     }

@@ -368,7 +368,8 @@ Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, 
     r.persistentResources = graph.usedResourceNames(true);
     r.transientBytes = graph.memoryReport().transientBytes;
     r.passMemory = graph.memoryReport().passes;
-    r.persistentBytes = persistentBytes();
+    r.persistentByOwner = persistentMemory();
+    r.persistentBytes = r.persistentByOwner.total();
     return r;
 }
 
@@ -424,19 +425,25 @@ Result<FrameResult> GiSystem::renderIndirect(const Camera& camera, const HostFra
     r.totalMs = frameTotalMs(graph, r.passes);
     r.culledPasses = graph.culledPassNames();
     r.transientBytes = graph.memoryReport().transientBytes;
-    r.persistentBytes = persistentBytes();
+    r.persistentByOwner = persistentMemory();
+    r.persistentBytes = r.persistentByOwner.total();
     return r;
 }
 
 uint64_t GiSystem::persistentBytes() const {
-    uint64_t n = m->shadows.bytes();
+    return persistentMemory().total();
+}
+
+PersistentMemory GiSystem::persistentMemory() const {
+    PersistentMemory p;
+    p.shadows = m->shadows.bytes();
     if (m->gpu)
-        n += m->gpu->bytes();
+        p.scene = m->gpu->bytes();
     for (const Buffer& b : m->readback)
-        n += b ? b.desc.size : 0;
+        p.readback += b ? b.desc.size : 0;
     if (m->technique)
-        n += m->technique->persistentBytes();
-    return n;
+        p.technique = m->technique->persistentBytes();
+    return p;
 }
 
 } // namespace vkgi::gi

@@ -115,6 +115,25 @@ TEST_F(Cli, SmallRenderWritesImageAndJson) {
         sum += p["ms"].get<double>();
     // The frame's timestamp scope encloses every pass's scope (and the barriers between them).
     EXPECT_GE(j["total_ms"].get<double>(), sum - 1e-6 * (1.0 + sum));
+
+    // Memory, counted by owner: two RGBA32F readback images of 24x16, the point light's six
+    // 256^2 D32 shadow faces (default shadow.size), no technique volumes for `none`; every
+    // transient is first used by exactly one pass.
+    const auto& mem = j["memory"];
+    ASSERT_TRUE(mem.is_object());
+    EXPECT_EQ(mem["persistent"]["readback"].get<uint64_t>(), 2u * 24u * 16u * 16u);
+    EXPECT_EQ(mem["persistent"]["shadows"].get<uint64_t>(), 6u * 256u * 256u * 4u);
+    EXPECT_EQ(mem["persistent"]["technique"].get<uint64_t>(), 0u);
+    EXPECT_GT(mem["persistent"]["scene"].get<uint64_t>(), 0u);
+    uint64_t created = 0;
+    for (const auto& p : mem["passes"])
+        created += p["created_bytes"].get<uint64_t>();
+    EXPECT_EQ(created, mem["transient_bytes"].get<uint64_t>());
+    EXPECT_GT(created, 0u);
+    uint64_t persistent = 0;
+    for (const auto& [owner, bytes] : mem["persistent"].items())
+        persistent += bytes.get<uint64_t>();
+    EXPECT_EQ(mem["total_bytes"].get<uint64_t>(), persistent + created);
 }
 
 TEST_F(Cli, JsonListsLeftOutPassesAndTheStaticFrame) {

@@ -82,6 +82,15 @@ struct LeftOutPass {
     std::string detail; // the scene property, request or change that decided it
 };
 
+// Device memory the GiSystem keeps between frames, by owner; the sum is FrameResult::persistentBytes.
+struct PersistentMemory {
+    uint64_t scene = 0;     // vertex/index/material buffers
+    uint64_t shadows = 0;   // shadow-map / RSM atlas
+    uint64_t readback = 0;  // host-visible result buffers
+    uint64_t technique = 0; // the GI technique's volumes (voxel grid and mips, LPV volumes, VPL buffers)
+    uint64_t total() const { return scene + shadows + readback + technique; }
+};
+
 struct FrameResult {
     HdrImage composite; // linear radiance (nits); empty unless requested
     HdrImage direct;
@@ -98,6 +107,7 @@ struct FrameResult {
     std::vector<std::string> persistentResources; // imported persistent resources the executed passes used
     uint64_t transientBytes = 0;  // render-graph transients of this frame
     uint64_t persistentBytes = 0; // scene, shadow/RSM atlases, technique volumes, readback buffers
+    PersistentMemory persistentByOwner; // persistentBytes split by owner
 };
 
 // One image owned by the host, given to vkgi for one frame (docs/embedding.md). `view` covers
@@ -208,6 +218,7 @@ public:
 
     // Scene + atlases + technique state currently allocated, in bytes.
     uint64_t persistentBytes() const;
+    PersistentMemory persistentMemory() const;
 
 private:
     struct Impl;
