@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "engine/file_util.hpp"
@@ -151,8 +152,23 @@ int main(int argc, char** argv) {
         const std::string& sceneName = opt->scenes[si];
         const Scene* scene = &scenes[si];
         std::map<int, gi::ReferenceImages> refs; // by bounce count
+        auto reference = [&](int bounces) -> Result<const gi::ReferenceImages*> {
+            if (!refs.count(bounces)) {
+                gi::ReferenceSettings rs;
+                rs.spp = opt->spp;
+                rs.maxBounces = bounces;
+                auto ref = gi::renderReferenceCached(*scene, scene->cameraOrDefault(), opt->width, opt->height, rs);
+                if (!ref)
+                    return ref.error();
+                refs[bounces] = std::move(*ref);
+            }
+            return &refs[bounces];
+        };
+        std::set<std::string> notApplicable; // techniques this scene does not need: measured once
         for (const auto& [tech, knobs] : jobs) {
             progress.add(1);
+            if (notApplicable.count(tech))
+                continue;
             gi::GiSettings s;
             s.technique = *gi::parseTechnique(tech);
             std::string err;
@@ -161,33 +177,34 @@ int main(int argc, char** argv) {
                 if (auto ok = gi::applyKnob(s, kv); !ok)
                     err = ok.error().message;
             if (!err.empty()) { // a knob of a technique that is not built yet: skip, say so
-                std::fprintf(stderr, "vkgi-bench: skipped %s [%s]: %s\n", tech.c_str(), knobs.c_str(), err.c_str());
+                progress.note("vkgi-bench: skipped " + tech + " [" + knobs + "]: " + err);
                 continue;
             }
             // The bounce count each technique models, but at least one indirect bounce: then "none" shows
             // the error of having no GI, and the techniques share one reference and one Pareto front.
             int bounces = gi::modelledBounces(s);
             bounces = bounces < 0 ? -1 : std::max(bounces, 2);
-            if (!refs.count(bounces)) {
-                gi::ReferenceSettings rs;
-                rs.spp = opt->spp;
-                rs.maxBounces = bounces;
-                auto ref = gi::renderReferenceCached(*scene, scene->cameraOrDefault(), opt->width, opt->height, rs);
-                if (!ref) {
-                    std::fprintf(stderr, "vkgi-bench: %s\n", ref.error().message.c_str());
-                    return 1;
-                }
-                refs[bounces] = std::move(*ref);
-            }
-            auto rec = bench::measure(**ctx, *scene, sceneName, s, knobs, *opt, refs[bounces].full,
-                                      refs[bounces].indirect);
-            if (!rec) {
-                std::fprintf(stderr, "vkgi-bench: %s %s [%s]: %s\n", sceneName.c_str(), tech.c_str(), knobs.c_str(),
-                             rec.error().message.c_str());
+            auto matched = reference(bounces);
+            auto all = matched ? reference(-1) : matched;
+            if (!all) {
+                std::fprintf(stderr, "vkgi-bench: %s\n", all.error().message.c_str());
                 return 1;
             }
-            rec->streamGBs = *streamGBs;
-            records.push_back(std::move(*rec));
+            bench::References r{&(*matched)->full, &(*matched)->indirect, bounces, &(*all)->full, &(*all)->indirect};
+            auto m = bench::measure(**ctx, *scene, sceneName, s, knobs, *opt, r);
+            if (!m) {
+                std::fprintf(stderr, "vkgi-bench: %s %s [%s]: %s\n", sceneName.c_str(), tech.c_str(), knobs.c_str(),
+                             m.error().message.c_str());
+                return 1;
+            }
+            if (!m->notApplicable.empty()) {
+                // Every configuration would render the direct image again: one line instead of rows.
+                progress.note("vkgi-bench: " + sceneName + ": " + tech + " left out (" + m->notApplicable + ")");
+                notApplicable.insert(tech);
+                continue;
+            }
+            m->record.streamGBs = *streamGBs;
+            records.push_back(std::move(m->record));
         }
     }
     progress.finish();
@@ -204,10 +221,14 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "vkgi-bench: %s\n", ok.error().message.c_str());
         return 1;
     }
-    std::printf("%-10s %-6s %-44s %9s %9s %12s\n", "scene", "tech", "knobs", "total ms", "relMSE", "relMSE ind.");
+    // Errors against the reference with the technique's bounce count ("ref": reflections, -1 =
+    // unbounded), then the indirect-only errors against the unbounded reference (the truth).
+    std::printf("%-8s %-5s %-40s %9s %3s %10s %10s %10s | %10s %10s\n", "scene", "tech", "knobs", "total ms", "ref",
+                "relMSE", "relMSE ind", "RMSE ind", "all: r.ind", "RMSE ind");
     for (const auto& r : records)
-        std::printf("%-10s %-6s %-44s %9.2f %9.4f %12.4f\n", r.scene.c_str(), r.technique.c_str(), r.knobs.c_str(),
-                    r.totalMs, r.relMse, r.relMseIndirect);
+        std::printf("%-8s %-5s %-40s %9.2f %3d %10.4g %10.4g %10.4g | %10.4g %10.4g\n", r.scene.c_str(),
+                    r.technique.c_str(), r.knobs.c_str(), r.totalMs, r.referenceBounces, r.relMse, r.relMseIndirect,
+                    r.rmseIndirect, r.relMseIndirectAll, r.rmseIndirectAll);
     std::printf("streaming rate (compute copy, 64 MiB): %.2f GB/s\n", *streamGBs);
     if (opt->passes)
         for (const auto& r : records) {

@@ -97,9 +97,8 @@ Result<Timing> measureTiming(Context& ctx, const Scene& scene, const gi::GiSetti
     return out;
 }
 
-Result<gi::BenchRecord> measure(Context& ctx, const Scene& scene, const std::string& sceneName,
-                                const gi::GiSettings& settings, const std::string& knobs, const Options& opt,
-                                const HdrImage& refFull, const HdrImage& refIndirect) {
+Result<Measured> measure(Context& ctx, const Scene& scene, const std::string& sceneName, const gi::GiSettings& settings,
+                         const std::string& knobs, const Options& opt, const References& refs) {
     gi::FrameRequest request;
     request.indirect = settings.technique != gi::Technique::None;
     // Every measured frame recomputes everything, as for a scene where everything moves:
@@ -125,19 +124,31 @@ Result<gi::BenchRecord> measure(Context& ctx, const Scene& scene, const std::str
                 rec.passBytes.push_back({pass.first, double(m.accessedBytes)});
                 break;
             }
-    auto full = compareImages(last.composite, refFull);
-    if (!full)
-        return full.error();
-    rec.relMse = full->relMse;
-    rec.rmse = full->rmse;
     // Without a technique the indirect estimate is zero: its error is that of "no GI".
     HdrImage indirect = last.indirect.empty() ? HdrImage(opt.width, opt.height) : last.indirect;
-    auto ind = compareImages(indirect, refIndirect);
-    if (!ind)
-        return ind.error();
+    auto full = compareImages(last.composite, *refs.full);
+    auto ind = compareImages(indirect, *refs.indirect);
+    auto fullAll = compareImages(last.composite, *refs.fullAll);
+    auto indAll = compareImages(indirect, *refs.indirectAll);
+    for (const auto* e : {&full, &ind, &fullAll, &indAll})
+        if (!*e)
+            return e->error();
+    rec.relMse = full->relMse;
+    rec.rmse = full->rmse;
     rec.relMseIndirect = ind->relMse;
     rec.rmseIndirect = ind->rmse;
-    return rec;
+    rec.referenceBounces = refs.bounces;
+    rec.relMseAll = fullAll->relMse;
+    rec.rmseAll = fullAll->rmse;
+    rec.relMseIndirectAll = indAll->relMse;
+    rec.rmseIndirectAll = indAll->rmse;
+    Measured out{std::move(rec), {}};
+    // A technique whose passes were all left out as not needed names itself "gi.<t>.*" or "<t>.*".
+    const std::string t = out.record.technique;
+    for (const gi::LeftOutPass& p : last.leftOut)
+        if (p.reason == gi::LeftOutReason::NotNeeded && (p.name == t + ".*" || p.name == "gi." + t + ".*"))
+            out.notApplicable = p.detail;
+    return out;
 }
 
 } // namespace vkgi::bench

@@ -45,10 +45,26 @@ Result<Timing> measureTiming(Context& ctx, const Scene& scene, const gi::GiSetti
                              const std::function<Result<void>(gi::GiSystem&)>& beforeFrame = {},
                              uint32_t warmup = 1);
 
+// The path-traced images a configuration is compared with: the bounce count it models and all
+// bounces (the same images when the technique models unbounded light paths).
+struct References {
+    const HdrImage* full = nullptr;
+    const HdrImage* indirect = nullptr;
+    int bounces = 0;
+    const HdrImage* fullAll = nullptr;
+    const HdrImage* indirectAll = nullptr;
+};
+
+struct Measured {
+    gi::BenchRecord record;
+    // Non-empty when the scene does not need the technique at all (its passes were left out as
+    // not needed, e.g. VPL without a spotlight): the record is then the direct image's.
+    std::string notApplicable;
+};
+
 // Renders `scene` with `settings` 1 + repeat times (measureTiming) and fills a record: median per-pass and
 // total GPU ms (readback passes excluded), errors against the reference images.
-Result<gi::BenchRecord> measure(Context& ctx, const Scene& scene, const std::string& sceneName,
-                                const gi::GiSettings& settings, const std::string& knobs, const Options& opt,
-                                const HdrImage& refFull, const HdrImage& refIndirect);
+Result<Measured> measure(Context& ctx, const Scene& scene, const std::string& sceneName, const gi::GiSettings& settings,
+                         const std::string& knobs, const Options& opt, const References& refs);
 
 } // namespace vkgi::bench

@@ -23,6 +23,15 @@ void Progress::add(uint64_t done) {
     }
 }
 
+void Progress::note(const std::string& line) {
+    std::lock_guard lock(m_mutex);
+    if (m_visible && !m_finished)
+        std::fputs("\r\033[K", stderr); // carriage return, erase the bar's line
+    std::fprintf(stderr, "%s\n", line.c_str());
+    if (m_visible && !m_finished)
+        draw(false);
+}
+
 void Progress::finish() {
     std::lock_guard lock(m_mutex);
     if (m_finished)

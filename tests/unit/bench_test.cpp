@@ -62,8 +62,8 @@ TEST(Bench, CsvHasOneRowPerRecordAndOneColumnPerPass) {
     std::getline(in, header);
     std::getline(in, row1);
     std::getline(in, row2);
-    EXPECT_EQ(header, "scene,technique,knobs,total_ms,relmse,rmse,relmse_indirect,rmse_indirect,device_mib,"
-                      "gi.a ms,gi.b ms,gi.c ms");
+    EXPECT_EQ(header, "scene,technique,knobs,total_ms,relmse,rmse,relmse_indirect,rmse_indirect,reference_bounces,"
+                      "relmse_all,rmse_all,relmse_indirect_all,rmse_indirect_all,device_mib,gi.a ms,gi.b ms,gi.c ms");
     EXPECT_EQ(row1.substr(0, 22), "cornell,vct,k=10.00000");
     EXPECT_NE(row2.find("\"grid=32,steps=8\""), std::string::npos);
     EXPECT_EQ(row1.back(), ','); // record 0 has no gi.c pass: empty last field
@@ -72,11 +72,15 @@ TEST(Bench, CsvHasOneRowPerRecordAndOneColumnPerPass) {
 TEST(Bench, JsonRoundTripsTheNumbers) {
     std::vector<BenchRecord> r = {rec("cornell", "vct", 12.5, 0.125)};
     r[0].rmseIndirect = 0.0625;
+    r[0].referenceBounces = 3;
+    r[0].rmseIndirectAll = 0.25;
     auto j = nlohmann::json::parse(toJson(r));
     ASSERT_EQ(j.size(), 1u);
     EXPECT_EQ(j[0]["total_ms"].get<double>(), 12.5);
     EXPECT_EQ(j[0]["error"]["relmse"].get<double>(), 0.125);
     EXPECT_EQ(j[0]["error"]["rmse_indirect"].get<double>(), 0.0625);
+    EXPECT_EQ(j[0]["error"]["reference_bounces"].get<int>(), 3);
+    EXPECT_EQ(j[0]["error_all_bounces"]["rmse_indirect"].get<double>(), 0.25);
     EXPECT_EQ(j[0]["passes"][1]["name"].get<std::string>(), "gi.b");
 }
 

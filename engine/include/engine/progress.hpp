@@ -19,6 +19,8 @@ public:
     // Thread-safe; redraws at most every 100 ms.
     void add(uint64_t done);
     void finish();
+    // Prints one line on stderr without breaking the bar (it is redrawn below the line).
+    void note(const std::string& line);
     bool visible() const { return m_visible; }
 
 private:

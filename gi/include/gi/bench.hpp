@@ -19,6 +19,12 @@ struct BenchRecord {
     double totalMs = 0.0;                               // median GPU ms of the whole frame
     double relMse = 0.0, rmse = 0.0;                    // full image vs reference
     double relMseIndirect = 0.0, rmseIndirect = 0.0;    // indirect-only vs reference indirect
+    // The reference above has the bounce count the technique models (at least 2, -1 = unbounded).
+    // The same errors against the unbounded reference (all light paths) compare every technique
+    // with one truth, whatever it models.
+    int referenceBounces = 0;
+    double relMseAll = 0.0, rmseAll = 0.0;
+    double relMseIndirectAll = 0.0, rmseIndirectAll = 0.0;
     double deviceMiB = 0.0;                             // device memory of the module
     // Bytes each pass's declared accesses move (rg::PassMemory::accessedBytes), same order as
     // passMs, and the device's measured streaming rate (compute copy, GB/s) of the same run:

@@ -73,14 +73,16 @@ std::string toCsv(const std::vector<BenchRecord>& records) {
             if (std::find(passes.begin(), passes.end(), name) == passes.end())
                 passes.push_back(name);
     std::ostringstream out;
-    out << "scene,technique,knobs,total_ms,relmse,rmse,relmse_indirect,rmse_indirect,device_mib";
+    out << "scene,technique,knobs,total_ms,relmse,rmse,relmse_indirect,rmse_indirect,reference_bounces,relmse_all,"
+           "rmse_all,relmse_indirect_all,rmse_indirect_all,device_mib";
     for (const auto& p : passes)
         out << "," << csvField(p + " ms");
     out << "\n";
     for (const auto& r : records) {
         out << csvField(r.scene) << "," << csvField(r.technique) << "," << csvField(r.knobs) << "," << num(r.totalMs)
             << "," << num(r.relMse) << "," << num(r.rmse) << "," << num(r.relMseIndirect) << ","
-            << num(r.rmseIndirect) << "," << num(r.deviceMiB);
+            << num(r.rmseIndirect) << "," << r.referenceBounces << "," << num(r.relMseAll) << "," << num(r.rmseAll)
+            << "," << num(r.relMseIndirectAll) << "," << num(r.rmseIndirectAll) << "," << num(r.deviceMiB);
         for (const auto& p : passes) {
             auto it = std::find_if(r.passMs.begin(), r.passMs.end(), [&](const auto& e) { return e.first == p; });
             out << "," << (it == r.passMs.end() ? std::string() : num(it->second));
@@ -116,7 +118,13 @@ std::string toJson(const std::vector<BenchRecord>& records) {
                         {{"relmse", r.relMse},
                          {"rmse", r.rmse},
                          {"relmse_indirect", r.relMseIndirect},
-                         {"rmse_indirect", r.rmseIndirect}}}});
+                         {"rmse_indirect", r.rmseIndirect},
+                         {"reference_bounces", r.referenceBounces}}},
+                       {"error_all_bounces",
+                        {{"relmse", r.relMseAll},
+                         {"rmse", r.rmseAll},
+                         {"relmse_indirect", r.relMseIndirectAll},
+                         {"rmse_indirect", r.rmseIndirectAll}}}});
     }
     return arr.dump(2) + "\n";
 }
