@@ -1,6 +1,6 @@
 // vkgi-bench: error against run time. For each scene x technique x knob configuration it
 // measures median per-pass GPU ms on this device and the error against the path-traced
-// reference with the matching bounce count, then writes bench.csv, bench.json and one
+// reference with the matching bounce count, then writes bench.csv, bench.json, bench.md and one
 // error-vs-time plot per scene (Pareto front marked) into --out.
 #include <algorithm>
 #include <cstdio>
@@ -33,7 +33,7 @@ const char* kUsage =
     "  --budget-ms   also print the least-error configuration within this GPU time per scene\n"
     "  --quick       one configuration per technique (smoke run)\n"
     "  --passes      also print every configuration's passes: GPU ms, MiB moved, x streaming rate\n"
-    "  --out         output folder (default out/bench): bench.csv, bench.json, plot-<scene>.svg\n"
+    "  --out         output folder (default out/bench): bench.csv, bench.json, bench.md, plot-<scene>.svg\n"
     "  --scaling     GPU time against pixels (cornell 64^2..512^2), voxels (cornell 128^2, vct.grid 32..128,\n"
     "                lpv.grid 16..64) and triangles (bunny_box 128^2, 1.3k..82k triangles; vct also\n"
     "                re-voxelized every frame); every frame relights the scene. Writes scaling.csv,\n"
@@ -213,6 +213,8 @@ int main(int argc, char** argv) {
     Result<void> ok = writeFileAtomic(std::filesystem::path(opt->outDir) / "bench.csv", csv);
     if (ok)
         ok = writeFileAtomic(std::filesystem::path(opt->outDir) / "bench.json", gi::toJson(records));
+    if (ok)
+        ok = writeFileAtomic(std::filesystem::path(opt->outDir) / "bench.md", gi::toMarkdown(records));
     for (const auto& sceneName : opt->scenes)
         if (ok)
             ok = writeFileAtomic(std::filesystem::path(opt->outDir) / ("plot-" + std::filesystem::path(sceneName).stem().string() + ".svg"),
@@ -249,6 +251,6 @@ int main(int argc, char** argv) {
                             records[size_t(best)].technique.c_str(), records[size_t(best)].knobs.c_str(),
                             records[size_t(best)].totalMs, records[size_t(best)].relMse);
         }
-    std::printf("wrote %s/bench.csv, bench.json and plots\n", opt->outDir.c_str());
+    std::printf("wrote %s/bench.csv, bench.json, bench.md and plots\n", opt->outDir.c_str());
     return 0;
 }

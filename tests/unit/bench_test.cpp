@@ -84,6 +84,25 @@ TEST(Bench, JsonRoundTripsTheNumbers) {
     EXPECT_EQ(j[0]["passes"][1]["name"].get<std::string>(), "gi.b");
 }
 
+TEST(Bench, MarkdownHasOneTablePerSceneAndMarksTheFront) {
+    std::vector<BenchRecord> r = {rec("cornell", "vct", 10, 0.5), rec("room", "lpv", 8, 0.25),
+                                  rec("cornell", "lpv", 15, 0.6)};
+    r[1].referenceBounces = -1;
+    r[1].knobs = "a|b";
+    std::string md = toMarkdown(r);
+    auto cornell = md.find("### cornell"), room = md.find("### room");
+    ASSERT_NE(cornell, std::string::npos);
+    ASSERT_NE(room, std::string::npos);
+    EXPECT_LT(cornell, room);
+    EXPECT_NE(md.find("| vct * | k=10.000000 | 10 |"), std::string::npos) << md; // on cornell's front
+    EXPECT_NE(md.find("| lpv | k=15.000000 | 15 |"), std::string::npos) << md;    // dominated by vct
+    EXPECT_NE(md.find("| lpv * | a/b | 8 | 0 | all | 0.25 |"), std::string::npos) << md; // '|' kept out of cells
+    size_t rows = 0;
+    for (size_t p = md.find("\n| "); p != std::string::npos; p = md.find("\n| ", p + 1))
+        ++rows;
+    EXPECT_EQ(rows, 2u * 1u + 3u); // a header per scene + one row per record
+}
+
 TEST(Bench, SvgMarksEveryPointAndTheFront) {
     std::vector<BenchRecord> r = {rec("cornell", "vct", 10, 0.5), rec("cornell", "vct", 20, 0.2),
                                   rec("cornell", "lpv", 15, 0.6)};

@@ -46,6 +46,10 @@ long bestWithinBudget(const std::vector<BenchRecord>& records, const std::string
 
 std::string toCsv(const std::vector<BenchRecord>& records);
 std::string toJson(const std::vector<BenchRecord>& records);
+// One Markdown table per scene (scenes in first-seen order, rows in record order): technique,
+// knobs, GPU ms, device MiB, the reference's bounce count, relMSE full and indirect, RMSE indirect
+// against it and against the unbounded reference; rows on the Pareto front are marked "*".
+std::string toMarkdown(const std::vector<BenchRecord>& records);
 // Log-log plot of relMSE against total ms for one scene, one colour per technique, the Pareto
 // front drawn as a line. Self-contained SVG (no external fonts or scripts).
 std::string toSvgPlot(const std::vector<BenchRecord>& records, const std::string& scene);

@@ -129,6 +129,41 @@ std::string toJson(const std::vector<BenchRecord>& records) {
     return arr.dump(2) + "\n";
 }
 
+std::string toMarkdown(const std::vector<BenchRecord>& records) {
+    std::vector<std::string> scenes;
+    for (const auto& r : records)
+        if (std::find(scenes.begin(), scenes.end(), r.scene) == scenes.end())
+            scenes.push_back(r.scene);
+    std::ostringstream out;
+    auto g = [](double v) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.3g", v);
+        return std::string(buf);
+    };
+    for (const auto& scene : scenes) {
+        std::vector<size_t> front = paretoFront(records, scene);
+        out << "### " << scene << "\n\n"
+            << "| technique | knobs | GPU ms | MiB | ref. bounces | relMSE | relMSE ind. | RMSE ind. | "
+               "all bounces: relMSE ind. | RMSE ind. |\n"
+            << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        for (size_t i = 0; i < records.size(); ++i) {
+            const BenchRecord& r = records[i];
+            if (r.scene != scene)
+                continue;
+            bool onFront = std::find(front.begin(), front.end(), i) != front.end();
+            std::string knobs = r.knobs.empty() ? "(defaults)" : r.knobs;
+            for (char& c : knobs)
+                c = c == '|' ? '/' : c;
+            out << "| " << r.technique << (onFront ? " *" : "") << " | " << knobs << " | " << g(r.totalMs) << " | "
+                << g(r.deviceMiB) << " | " << (r.referenceBounces < 0 ? std::string("all") : std::to_string(r.referenceBounces))
+                << " | " << g(r.relMse) << " | " << g(r.relMseIndirect) << " | " << g(r.rmseIndirect) << " | "
+                << g(r.relMseIndirectAll) << " | " << g(r.rmseIndirectAll) << " |\n";
+        }
+        out << "\n";
+    }
+    return out.str();
+}
+
 namespace {
 
 struct Axis {
