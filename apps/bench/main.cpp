@@ -4,6 +4,7 @@
 // error-vs-time plot per scene (Pareto front marked) into --out.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <set>
@@ -14,6 +15,7 @@
 #include "engine/progress.hpp"
 #include "gi/knobs.hpp"
 #include "gi/reference.hpp"
+#include "jit.hpp"
 #include "scaling.hpp"
 #include "stream.hpp"
 #include "sweep.hpp"
@@ -26,6 +28,7 @@ const char* kUsage =
     "usage: vkgi-bench [--scenes a,b] [--techniques a,b] [--size WxH] [--spp N] [--repeat N]\n"
     "                  [--budget-ms X] [--quick] [--passes] [--out DIR]\n"
     "       vkgi-bench --scaling [--techniques a,b] [--repeat N] [--quick] [--out DIR]\n"
+    "       vkgi-bench --jit [--techniques a,b] [--repeat N] [--out DIR]\n"
     "  --scenes      built-in names or glTF files (default cornell,room,atrium)\n"
     "  --techniques  subset of the library's techniques (default: all)\n"
     "  --size        image size (default 128x128)      --spp     reference paths/pixel (default 1024)\n"
@@ -38,7 +41,10 @@ const char* kUsage =
     "                lpv.grid 16..64) and triangles (bunny_box 128^2, 1.3k..82k triangles; vct also\n"
     "                re-voxelized every frame); every frame relights the scene. Writes scaling.csv,\n"
     "                scaling.json, scaling-<axis>.svg; prints log-log slopes per technique and pass and\n"
-    "                the voxelization timing; --quick: tiny sizes, two points per axis\n";
+    "                the voxelization timing; --quick: tiny sizes, two points per axis\n"
+    "  --jit         lavapipe's first-dispatch shader compilation per pass (Mesa's disk cache off): the\n"
+    "                first frame of a fresh GiSystem minus warm frames, for configurations covering every\n"
+    "                pass at 128x128; writes jit.csv, prints passes by cost and those over 1 s\n";
 
 std::vector<std::string> split(const std::string& s) {
     std::vector<std::string> out;
@@ -63,8 +69,8 @@ Result<bench::Options> parseArgs(int argc, char** argv) {
     std::vector<std::string> sweepOnly; // options of the error-vs-time sweep given on the command line
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--scaling") {
-            o.scaling = true;
+        if (a == "--scaling" || a == "--jit") {
+            (a == "--scaling" ? o.scaling : o.jit) = true;
             continue;
         }
         if (a == "--scenes" || a == "--size" || a == "--spp" || a == "--budget-ms" || a == "--passes")
@@ -102,8 +108,11 @@ Result<bench::Options> parseArgs(int argc, char** argv) {
         } else if (a != "--spp" && a != "--repeat")
             return makeError("unknown option '" + a + "' (see --help)");
     }
-    if (o.scaling && !sweepOnly.empty())
-        return makeError(sweepOnly.front() + " does not apply to --scaling (it sweeps its own scenes and sizes)");
+    if (o.scaling && o.jit)
+        return makeError("--scaling and --jit are separate runs: give one");
+    if ((o.scaling || o.jit) && !sweepOnly.empty())
+        return makeError(sweepOnly.front() + " does not apply to " + (o.scaling ? "--scaling" : "--jit") +
+                         " (it uses its own scenes and sizes)");
     if (o.techniques.empty())
         o.techniques = gi::techniqueNames();
     for (const auto& t : o.techniques)
@@ -120,6 +129,10 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "vkgi-bench: %s\n", opt.error().message.c_str());
         return 2;
     }
+    // Compilation is what --jit measures: Mesa's disk cache would serve shaders compiled by an
+    // earlier run. Must be set before the driver loads.
+    if (opt->jit)
+        setenv("MESA_SHADER_CACHE_DISABLE", "true", 1);
     auto ctx = defaultDeviceBuilder().build();
     if (!ctx) {
         std::fprintf(stderr, "vkgi-bench: %s\n", ctx.error().message.c_str());
@@ -127,6 +140,8 @@ int main(int argc, char** argv) {
     }
     if (opt->scaling)
         return bench::runScaling(**ctx, *opt);
+    if (opt->jit)
+        return bench::runJit(**ctx, *opt);
     // The streaming rate every pass is compared with, measured now on this device and load.
     auto streamGBs = bench::measureStreamGBs(**ctx);
     if (!streamGBs) {

@@ -23,6 +23,7 @@ struct Options {
     bool quick = false;    // first configuration of each technique only (smoke runs)
     bool passes = false;   // print per-pass ms, bytes moved and stream ratio of every configuration
     bool scaling = false;  // --scaling: time against pixels, voxels and triangles instead (scaling.hpp)
+    bool jit = false;      // --jit: first-dispatch shader compilation per pass instead (jit.hpp)
     double budgetMs = 0.0; // > 0: report the best configuration within this GPU time
     std::string outDir = "out/bench";
 };
