@@ -180,13 +180,15 @@ TEST(LpvPropagationCpu, StableOverAThousandSteps) {
 // space. Closed form: in front of a Lambertian plane of exitance M the irradiance on a receiver
 // facing it is M at every distance (the 32-cell square seen from 1-3 cells in front of its
 // centre: form factor > 0.99), and the plane receives nothing from itself. Lookup as in
-// lookup.comp: E = dot(acc, cosineLobe(-n_receiver)) (cell size 1, M = 1).
+// lookup.comp: E = integral of max(0, I(w)) max(0, -n_receiver.w) (cell size 1, M = 1); here the
+// accumulated light is non-negative over the receivers' hemispheres, so it equals the plain
+// dot(acc, cosineLobe(-n_receiver)) (both printed).
 TEST(LpvPropagationCpu, ALitWallLightsWhatFacesItAtEveryDistance) {
     const int w = 32, depth = 12;
     const glm::ivec3 size(w, w, depth);
     const GeometryVolume none;
     const vec4 lobe = shCosineLobe(vec3(0, 0, 1)) / float(kPi);
-    auto run = [&](int steps, float* facing, float* self) {
+    auto run = [&](int steps, float* facing, float* self, float* selfDot) {
         ShVolume cur(size), next(size), acc(size);
         for (int y = 0; y < w; ++y)
             for (int x = 0; x < w; ++x)
@@ -196,15 +198,17 @@ TEST(LpvPropagationCpu, ALitWallLightsWhatFacesItAtEveryDistance) {
             std::swap(cur, next);
         }
         for (int z = 0; z < 4; ++z)
-            facing[z] = glm::dot(acc.channel[0][acc.index({w / 2, w / 2, z})], shCosineLobe(vec3(0, 0, 1)));
-        *self = glm::dot(acc.channel[0][acc.index({w / 2, w / 2, 0})], shCosineLobe(vec3(0, 0, -1)));
+            facing[z] = shClampedCosineIntegralOfPositivePart(acc.channel[0][acc.index({w / 2, w / 2, z})], vec3(0, 0, 1));
+        *self = shClampedCosineIntegralOfPositivePart(acc.channel[0][acc.index({w / 2, w / 2, 0})], vec3(0, 0, -1));
+        if (selfDot)
+            *selfDot = glm::dot(acc.channel[0][acc.index({w / 2, w / 2, 0})], shCosineLobe(vec3(0, 0, -1)));
     };
-    float e16[4], e32[4], self16 = 0.0f, self32 = 0.0f;
-    run(16, e16, &self16);
-    run(32, e32, &self32);
+    float e16[4], e32[4], self16 = 0.0f, self32 = 0.0f, dot16 = 0.0f, dot32 = 0.0f;
+    run(16, e16, &self16, &dot16);
+    run(32, e32, &self32, &dot32);
     std::printf("[lpv] wall: E/M at 0..3 cells after 16 steps %.3f %.3f %.3f %.3f, 32 steps %.3f %.3f %.3f %.3f; "
-                "self %.3f / %.3f\n",
-                e16[0], e16[1], e16[2], e16[3], e32[0], e32[1], e32[2], e32[3], self16, self32);
+                "self %.3f / %.3f (plain dot product %.3f / %.3f)\n",
+                e16[0], e16[1], e16[2], e16[3], e32[0], e32[1], e32[2], e32[3], self16, self32, dot16, dot32);
     // Measured 1.19 / 1.10 / 1.03 / 0.96 after 32 steps. With Lambertian reprojection at the exit
     // faces (Kaplanyan's; 40-cell wall) it was 1.75 / 1.40 / 1.02 / 0.70 and still growing near
     // the wall (1.37 / 0.79 / 0.35 / 0.13 after 8 steps): light random-walked.

@@ -1,8 +1,9 @@
 #version 460
 // LPV lookup: indirect radiance per G-buffer pixel from the accumulated SH volume, sampled
 // trilinearly. Radiance in a cell is intensity / cellSize^2 (docs/lpv.md); the irradiance on a
-// surface with normal n is the clamped-cosine integral of the light travelling towards it
-// (direction -n), and a Lambertian surface sends albedo / pi of it back. The volume is sampled
+// surface with normal n is the clamped-cosine integral of the non-negative part of the light
+// travelling towards it (direction -n; the 2-band lobes' negative ringing behind emitters would
+// cancel real light: docs/lpv.md "Lookup"), and a Lambertian surface sends albedo / pi of it back. The volume is sampled
 // half a cell in front of the surface: at the surface itself trilinear filtering mixes in the
 // cells behind it, which the geometry volume keeps dark (measured on the integrating sphere:
 // 0.48x of the closed-form second bounce at the surface, 0.93x half a cell in front).
@@ -29,9 +30,9 @@ vec3 irradiance(vec3 p, vec3 n) {
     vec3 uvw = (p - pc.grid.origin.xyz) / (pc.grid.origin.w * vec3(pc.grid.size.xyz));
     if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0))))
         return vec3(0.0);
-    vec4 lobe = shCosineLobe(-n);
-    return max(vec3(dot(texture(accR, uvw), lobe), dot(texture(accG, uvw), lobe), dot(texture(accB, uvw), lobe)),
-               vec3(0.0));
+    // Irradiance from the light travelling towards the surface (directions around -n), counting
+    // only the non-negative part of the 2-band intensity (gi/sh.h, docs/lpv.md "Lookup").
+    return shClampedCosineIntegralOfPositivePart(texture(accR, uvw), texture(accG, uvw), texture(accB, uvw), -n);
 }
 
 void main() {

@@ -61,6 +61,51 @@ GI_INLINE float shHemisphereIntegral(vec4 sh, vec3 n) {
     return dot(sh, vec4(2.0f * kShPi * kShY00, (kShPi * kShY1) * n));
 }
 
+// Integral of max(0, f(w)) * max(0, u.w) over all w, for three functions at once (r, g, b):
+// like shClampedCosineIntegral, but only the non-negative part of f counts. A 2-band f is
+// a + b.w, negative wherever b.w < -a; for radiance that is truncation ringing (a Lambertian
+// lobe (1/pi)(1/4 + cos/2) is negative behind its emitter, and its dot product with a receiver
+// facing the emitter's own direction is -1/3 of the lobe's head-on value, which cancels real light
+// arriving there). Equal to shClampedCosineIntegral wherever f >= 0 over the hemisphere around
+// u. Quadrature: kShPositiveQuadrature directions w_k = rr (cos phi t + sin phi t2) +
+// sqrt(1 - rr^2) u, rr = sqrt((k + 1/2) / K), phi = k times the golden angle (a cosine-weighted
+// Fibonacci spiral; the angle advances by a fixed rotation, so with the constant trip count the
+// directions fold to constants), weight pi / K each. The kink of max(0, f) limits it to ~1% of
+// the head-on value (sh_test.cpp: 0.94% worst over random f at K = 32, 2.6% at 16).
+const int kShPositiveQuadrature = 32;
+const float kShGoldenCos = -0.73736888f; // cos(pi (3 - sqrt 5))
+const float kShGoldenSin = 0.67549029f;
+GI_INLINE vec3 shClampedCosineIntegralOfPositivePart(vec4 r, vec4 g, vec4 b, vec3 u) {
+    // Orthonormal basis (t, t2, u) without branches on u (Duff et al. 2017).
+    float s = u.z >= 0.0f ? 1.0f : -1.0f;
+    float a = -1.0f / (s + u.z);
+    float bb = u.x * u.y * a;
+    vec3 t = vec3(1.0f + s * u.x * u.x * a, s * bb, -s * u.x);
+    vec3 t2 = vec3(bb, s + u.y * u.y * a, -u.y);
+    // Band 1 of each channel in the (t, t2, u) frame; band 0 as the constant term.
+    mat3 frame = transpose(mat3(t, t2, u));
+    vec3 lr = kShY1 * (frame * vec3(r.y, r.z, r.w)), lg = kShY1 * (frame * vec3(g.y, g.z, g.w)),
+         lb = kShY1 * (frame * vec3(b.y, b.z, b.w));
+    vec3 c0 = kShY00 * vec3(r.x, g.x, b.x);
+    vec3 sum = vec3(0.0f);
+    float cp = 1.0f, sp = 0.0f;
+    for (int k = 0; k < kShPositiveQuadrature; ++k) {
+        float q = (float(k) + 0.5f) / float(kShPositiveQuadrature);
+        float rr = sqrt(q);
+        vec3 w = vec3(rr * cp, rr * sp, sqrt(1.0f - q));
+        sum += max(c0 + vec3(dot(lr, w), dot(lg, w), dot(lb, w)), vec3(0.0f));
+        float c = cp * kShGoldenCos - sp * kShGoldenSin;
+        sp = cp * kShGoldenSin + sp * kShGoldenCos;
+        cp = c;
+    }
+    return sum * (kShPi / float(kShPositiveQuadrature));
+}
+
+// One function: shClampedCosineIntegralOfPositivePart(sh, sh, sh, u).x.
+GI_INLINE float shClampedCosineIntegralOfPositivePart(vec4 sh, vec3 u) {
+    return shClampedCosineIntegralOfPositivePart(sh, sh, sh, u).x;
+}
+
 GI_NAMESPACE_END
 
 #endif
