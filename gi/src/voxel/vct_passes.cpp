@@ -73,10 +73,10 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     } shaders[] = {{&v->m_compact, "gi/voxel/voxel_compact.comp"},
                    {&v->m_light, "gi/voxel/voxel_light.comp"},
                    {&v->m_lightShadowMap, "gi/voxel/voxel_light_shadow_map.comp"},
-                   {&v->m_mipBase, "gi/voxel/voxel_mip_base.comp"},
                    {&v->m_mip, "gi/voxel/voxel_mip.comp"},
                    {&v->m_bounce, "gi/voxel/voxel_bounce.comp"},
                    {&v->m_bounceApply, "gi/voxel/voxel_bounce_apply.comp"},
+                   {&v->m_bounceAdd, "gi/voxel/voxel_bounce_add.comp"},
                    {&v->m_trace, "gi/voxel/vct_trace.comp"},
                    {&v->m_traceRefine, "gi/voxel/vct_trace_refine.comp"},
                    {&v->m_upsample, "gi/voxel/vct_upsample.comp"},
@@ -88,10 +88,8 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
         *s.pipeline = std::move(*p);
     }
     uint32_t n = grid.resolution();
-    v->m_levels = uint32_t(std::countr_zero(n)); // (N/2)^3 down to 1^3
-    v->m_radiance.image = createRadianceVolume(ctx, n, n, 1, "vct.radiance");
-    v->m_bounced.image = createRadianceVolume(ctx, n, n, 1, "vct.radiance.bounced");
-    v->m_aniso.image = createRadianceVolume(ctx, n / 2, 6 * (n / 2), v->m_levels, "vct.aniso");
+    v->m_levels = uint32_t(std::countr_zero(n)) + 1; // N^3 down to 1^3
+    v->m_aniso.image = createRadianceVolume(ctx, n, GI_VOXEL_ANISO_DIRECTIONS * n, v->m_levels, "vct.aniso");
     BufferDesc list;
     list.size = VkDeviceSize(GI_VOXEL_LIST_HEADER + n * n * n + (n / 2) * (n / 2) * (n / 2)) * sizeof(uint32_t);
     list.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
@@ -107,19 +105,16 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
 
 VctVolumes::~VctVolumes() {
     destroyBuffer(m_ctx, m_list.buffer);
-    for (Pipeline* p : {&m_compact, &m_light, &m_lightShadowMap, &m_mipBase, &m_mip, &m_bounce, &m_bounceApply, &m_trace, &m_traceRefine, &m_upsample, &m_softShadow})
+    for (Pipeline* p : {&m_compact, &m_light, &m_lightShadowMap, &m_mip, &m_bounce, &m_bounceApply, &m_bounceAdd,
+                        &m_trace, &m_traceRefine, &m_upsample, &m_softShadow})
         destroyPipeline(m_ctx, *p);
-    destroyImage(m_ctx, m_radiance.image);
-    destroyImage(m_ctx, m_bounced.image);
     destroyImage(m_ctx, m_aniso.image);
     if (m_sampler)
         vkDestroySampler(m_ctx.device(), m_sampler, nullptr);
 }
 
 VkDeviceSize VctVolumes::bytes() const {
-    VkDeviceSize total = imageBytes(m_radiance.image.desc) + imageBytes(m_bounced.image.desc);
-    total += imageBytes(m_aniso.image.desc) + m_list.buffer.desc.size;
-    return total;
+    return imageBytes(m_aniso.image.desc) + m_list.buffer.desc.size;
 }
 
 gpu::ConeParams VctVolumes::coneParams(const VctSettings& s, uint32_t width, uint32_t height) const {
@@ -138,7 +133,7 @@ void VctVolumes::recordCompact(VkCommandBuffer cmd) const {
     gpu::VoxelGridPush push{m_grid.params()};
     dispatch(m_ctx, cmd, m_compact, push,
              {storage(0, m_grid.volumes().albedo.image.view), bufferItem(1, m_list.buffer.buffer),
-              storage(2, m_radiance.image.view), storage(3, m_bounced.image.view)},
+              storage(2, m_aniso.image.mipViews[0])},
              glm::uvec3(m_grid.resolution()));
 }
 
@@ -152,56 +147,62 @@ void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t ligh
     lightItem.buffer = {lights, 0, VK_WHOLE_SIZE};
     if (shadow) {
         dispatchIndirect(m_ctx, cmd, m_lightShadowMap, push,
-                         {lightItem, storage(2, g.normal.image.view), storage(3, g.emission.image.view),
-                          sampled(4, g.albedo.image, m_sampler, sampledLayout), storage(5, m_radiance.image.view),
+                         {lightItem, storage(3, g.emission.image.view),
+                          sampled(4, g.albedo.image, m_sampler, sampledLayout), storage(5, m_aniso.image.mipViews[0]),
                           bufferItem(6, m_list.buffer.buffer), bufferItem(7, shadow->lightShadows),
                           bufferItem(8, shadow->views),
-                          sampled(9, *shadow->atlas, shadow->compareSampler, shadow->atlasLayout)},
+                          sampled(9, *shadow->atlas, shadow->compareSampler, shadow->atlasLayout),
+                          storage(10, g.faces.image.view)},
                          m_list.buffer.buffer);
         return;
     }
     dispatchIndirect(m_ctx, cmd, m_light, push,
-                     {lightItem, storage(2, g.normal.image.view), storage(3, g.emission.image.view),
-                      sampled(4, g.albedo.image, m_sampler, sampledLayout), storage(5, m_radiance.image.view),
-                      bufferItem(6, m_list.buffer.buffer)},
+                     {lightItem, storage(3, g.emission.image.view),
+                      sampled(4, g.albedo.image, m_sampler, sampledLayout), storage(5, m_aniso.image.mipViews[0]),
+                      bufferItem(6, m_list.buffer.buffer), storage(10, g.faces.image.view)},
                      m_list.buffer.buffer);
 }
 
-void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level, const Image& source) const {
-    uint32_t size = std::max(1u, (m_grid.resolution() / 2) >> level);
+void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level) const {
+    uint32_t size = std::max(1u, m_grid.resolution() >> level);
     gpu::VoxelMipPush push{m_grid.params(), glm::uvec4(level, size, 0u, 0u)};
-    VkImageView src = level == 0 ? source.view : m_aniso.image.mipViews[level - 1];
-    dispatch(m_ctx, cmd, level == 0 ? m_mipBase : m_mip, push,
-             {storage(0, src), storage(1, m_aniso.image.mipViews[level])}, glm::uvec3(size));
+    dispatch(m_ctx, cmd, m_mip, push,
+             {storage(0, m_aniso.image.mipViews[level - 1]), storage(1, m_aniso.image.mipViews[level])},
+             glm::uvec3(size));
 }
 
 void VctVolumes::recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& cones, const Image& gathered,
                                     VkImageLayout sampledLayout) const {
     gpu::VoxelBouncePush push{m_grid.params(), cones};
     dispatchIndirect(m_ctx, cmd, m_bounce, push,
-                     {sampled(0, m_radiance.image, m_sampler, sampledLayout),
-                      sampled(1, m_aniso.image, m_sampler, sampledLayout), storage(2, m_grid.volumes().normal.image.view),
+                     {sampled(1, m_aniso.image, m_sampler, sampledLayout), storage(2, m_grid.volumes().normal.image.view),
                       storage(3, gathered.view), bufferItem(4, m_list.buffer.buffer)},
                      m_list.buffer.buffer, GI_VOXEL_LIST_BLOCKS * sizeof(uint32_t));
 }
 
 void VctVolumes::recordBounceApply(VkCommandBuffer cmd, const gpu::ConeParams& cones, const Image& gathered,
-                                   VkImageLayout sampledLayout) const {
+                                   const Image& bounce, VkImageLayout sampledLayout) const {
     const VoxelVolumes& g = m_grid.volumes();
     gpu::VoxelBouncePush push{m_grid.params(), cones};
     dispatchIndirect(m_ctx, cmd, m_bounceApply, push,
-                     {sampled(0, m_radiance.image, m_sampler, sampledLayout),
-                      sampled(1, m_aniso.image, m_sampler, sampledLayout), storage(2, g.albedo.image.view),
-                      storage(3, g.normal.image.view), storage(4, gathered.view), storage(5, m_bounced.image.view),
+                     {sampled(1, m_aniso.image, m_sampler, sampledLayout), storage(2, g.albedo.image.view),
+                      storage(3, g.normal.image.view), storage(4, gathered.view), storage(5, bounce.view),
                       bufferItem(6, m_list.buffer.buffer)},
                      m_list.buffer.buffer);
 }
 
-void VctVolumes::recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const Image& level0,
-                             const gpu::VctTracePush& push, const VctTraceTargets& t,
-                             VkImageLayout sampledLayout) const {
-    DescriptorItem common[] = {sampled(0, level0, m_sampler, sampledLayout),
-                               sampled(1, m_aniso.image, m_sampler, sampledLayout),
+void VctVolumes::recordBounceAdd(VkCommandBuffer cmd, const Image& bounce) const {
+    const VoxelVolumes& g = m_grid.volumes();
+    gpu::VoxelGridPush push{m_grid.params()};
+    dispatchIndirect(m_ctx, cmd, m_bounceAdd, push,
+                     {storage(0, g.normal.image.view), storage(1, g.faces.image.view), storage(2, bounce.view),
+                      storage(3, m_aniso.image.mipViews[0]), bufferItem(4, m_list.buffer.buffer)},
+                     m_list.buffer.buffer);
+}
+
+void VctVolumes::recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const gpu::VctTracePush& push,
+                             const VctTraceTargets& t, VkImageLayout sampledLayout) const {
+    DescriptorItem common[] = {sampled(1, m_aniso.image, m_sampler, sampledLayout),
                                storage(2, t.position->view),
                                storage(3, t.normal->view),
                                storage(4, t.albedo->view),
@@ -209,23 +210,23 @@ void VctVolumes::recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const Image
                                storage(6, t.glossy->view)};
     if (mode == VctTraceMode::Grid) {
         dispatch(m_ctx, cmd, m_trace, push,
-                 {common[0], common[1], common[2], common[3], common[4], common[5], common[6]},
+                 {common[0], common[1], common[2], common[3], common[4], common[5]},
                  glm::uvec3(push.lowRes.y, push.lowRes.z, 1u));
         return;
     }
     // Work groups counted by the upsample (header words 1..3, voxel_passes.h).
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_traceRefine.pipeline);
     pushConstants(cmd, m_traceRefine, &push, sizeof(push));
-    DescriptorItem items[] = {common[0], common[1], common[2], common[3], common[4], common[5], common[6],
+    DescriptorItem items[] = {common[0], common[1], common[2], common[3], common[4], common[5],
                               bufferItem(7, t.refineList)};
     pushDescriptors(m_ctx, cmd, m_traceRefine, std::span<const DescriptorItem>(items));
     vkCmdDispatchIndirect(cmd, t.refineList, sizeof(uint32_t));
 }
 
-void VctVolumes::recordSoftShadow(VkCommandBuffer cmd, const Image& level0, const gpu::VctShadowPush& push,
-                                  VkBuffer lights, const VctTraceTargets& t, VkImageLayout sampledLayout) const {
+void VctVolumes::recordSoftShadow(VkCommandBuffer cmd, const gpu::VctShadowPush& push, VkBuffer lights,
+                                  const VctTraceTargets& t, VkImageLayout sampledLayout) const {
     dispatch(m_ctx, cmd, m_softShadow, push,
-             {sampled(0, level0, m_sampler, sampledLayout), sampled(1, m_aniso.image, m_sampler, sampledLayout),
+             {sampled(1, m_aniso.image, m_sampler, sampledLayout),
               storage(2, t.position->view), storage(3, t.normal->view), storage(4, t.albedo->view),
               storage(5, t.emission->view), bufferItem(6, lights), storage(7, t.direct->view)},
              glm::uvec3(push.info.y, push.info.z, 1u));

@@ -1,6 +1,7 @@
 #pragma once
-// Voxel cone tracing passes on top of the shared VoxelGrid: voxel direct light, anisotropic
-// radiance mips (one pass per level), the per-voxel second bounce and the per-pixel trace.
+// Voxel cone tracing passes on top of the shared VoxelGrid: voxel direct light into the six
+// level-0 views, anisotropic radiance mips (one pass per level), the per-voxel second bounce
+// and the per-pixel trace.
 // Pass bodies only record dispatches; the render graph orders them and places the barriers.
 // Volume layouts: shaders/include/gi/voxel_passes.h.
 #include <array>
@@ -49,14 +50,9 @@ public:
     VctVolumes(const VctVolumes&) = delete;
     VctVolumes& operator=(const VctVolumes&) = delete;
 
-    // Level 0: isotropic radiance after direct light (and after the bounce in bounced()).
-    const Image& radiance() const { return m_radiance.image; }
-    const Image& bounced() const { return m_bounced.image; }
-    // Packed +X, -X, +Y, -Y, +Z, -Z tiles (voxel_passes.h), levels (N/2)^3 .. 1^3.
+    // Packed +X, -X, +Y, -Y, +Z, -Z view tiles (voxel_passes.h), levels N^3 (the voxels) .. 1^3.
     const Image& aniso() const { return m_aniso.image; }
-    // Persistent state for the graph imports.
-    rg::PersistentImage& radianceState() { return m_radiance; }
-    rg::PersistentImage& bouncedState() { return m_bounced; }
+    // Persistent state for the graph import.
     rg::PersistentImage& anisoState() { return m_aniso; }
     // Occupied-voxel list + its indirect dispatch header (voxel_passes.h); `listBuilt` says
     // whether it holds the current grid's voxels (cleared when the grid is re-voxelized).
@@ -73,30 +69,32 @@ public:
 
     // Storage layouts are GENERAL; `sampledLayout` is the layout of the images read through a
     // sampler (GENERAL in hand-recorded tests, what the graph chose inside a pass).
-    // Occupied voxels of the grid -> list (its header zeroed before, transfer); zero radiance()
-    // and bounced() at the empty voxels (storage write).
+    // Occupied voxels of the grid -> list (its header zeroed before, transfer); zero level 0 of
+    // aniso() at the empty voxels (storage write).
     void recordCompact(VkCommandBuffer cmd) const;
-    // grid volumes + lights (+ the emission volume when `emission`) -> radiance() at the listed
-    // voxels (indirect dispatch over the list).
+    // grid volumes + lights (+ the emission volume when `emission`) -> the six level-0 views of
+    // aniso() at the listed voxels (indirect dispatch over the list).
     // `shadow` (non-null) selects the shadow-atlas variant, else `occlusion` the ray march.
     void recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t lightCount, VctOcclusion occlusion,
                      VkImageLayout sampledLayout, bool emission = true,
                      const VctShadowInputs* shadow = nullptr) const;
-    // aniso level `level` from `source` (level 0) or from level - 1 of aniso.
-    void recordMip(VkCommandBuffer cmd, uint32_t level, const Image& source) const;
-    // Second bounce, both halves read the aniso chains built from radiance(). Blocks: the
+    // aniso level `level` (>= 1) from level - 1.
+    void recordMip(VkCommandBuffer cmd, uint32_t level) const;
+    // Second bounce; the gathers read aniso() (direct light and its mips). Blocks: the
     // diffuse gather of every listed 2^3 block -> `gathered` ((N/2)^3 RGBA16F, storage write).
     void recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& cones, const Image& gathered,
                             VkImageLayout sampledLayout) const;
-    // Apply: radiance() + albedo * (block or own gather) -> bounced() at the listed voxels.
+    // Apply: albedo * (block or own gather) -> `bounce` (N^3 RGBA16F) at the listed voxels.
     void recordBounceApply(VkCommandBuffer cmd, const gpu::ConeParams& cones, const Image& gathered,
-                           VkImageLayout sampledLayout) const;
-    // Per-pixel trace; `level0` is radiance() or bounced(), whichever the mips were built from.
-    void recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const Image& level0, const gpu::VctTracePush& push,
+                           const Image& bounce, VkImageLayout sampledLayout) const;
+    // Add: `bounce` joins level 0 of aniso() at the listed voxels (storage read-write).
+    void recordBounceAdd(VkCommandBuffer cmd, const Image& bounce) const;
+    // Per-pixel trace through aniso().
+    void recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const gpu::VctTracePush& push,
                      const VctTraceTargets& targets, VkImageLayout sampledLayout) const;
     // Direct light of `lightCount` lights with cone-traced visibility (vct_soft_shadow.comp):
     // G-buffer position, normal, albedo, emission -> targets.direct, full resolution.
-    void recordSoftShadow(VkCommandBuffer cmd, const Image& level0, const gpu::VctShadowPush& push, VkBuffer lights,
+    void recordSoftShadow(VkCommandBuffer cmd, const gpu::VctShadowPush& push, VkBuffer lights,
                           const VctTraceTargets& targets, VkImageLayout sampledLayout) const;
     // Low-res indirect + glossy -> full resolution (targets.indirect/glossy), appending the
     // pixels across discontinuities to `refineList` (count zeroed before). G-buffer position
@@ -108,13 +106,13 @@ private:
     VctVolumes(Context& ctx, const VoxelGrid& grid) : m_ctx(ctx), m_grid(grid) {}
     Context& m_ctx;
     const VoxelGrid& m_grid;
-    rg::PersistentImage m_radiance, m_bounced;
     rg::PersistentImage m_aniso;
     rg::PersistentBuffer m_list;
     bool m_listBuilt = false;
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;
-    Pipeline m_compact, m_light, m_lightShadowMap, m_mipBase, m_mip, m_bounce, m_bounceApply, m_trace, m_traceRefine, m_upsample, m_softShadow;
+    Pipeline m_compact, m_light, m_lightShadowMap, m_mip, m_bounce, m_bounceApply, m_bounceAdd, m_trace, m_traceRefine,
+        m_upsample, m_softShadow;
 };
 
 } // namespace vkgi::gi

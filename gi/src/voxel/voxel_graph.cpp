@@ -9,13 +9,13 @@ using rg::Access;
 namespace {
 
 struct VolumeHandles {
-    rg::ImageHandle albedo, normal, emission;
+    rg::ImageHandle albedo, normal, emission, faces;
 };
 
 VolumeHandles importVolumes(rg::RenderGraph& graph, VoxelVolumes& v, const char* prefix) {
     std::string p = prefix;
     return {graph.importImage(p + ".albedo", v.albedo), graph.importImage(p + ".normal", v.normal),
-            graph.importImage(p + ".emission", v.emission)};
+            graph.importImage(p + ".emission", v.emission), graph.importImage(p + ".faces", v.faces)};
 }
 
 rg::ImageHandle addClear(rg::RenderGraph& graph, const VoxelGrid* grid, rg::ImageHandle accum, const char* name) {
@@ -36,6 +36,7 @@ void addResolve(rg::RenderGraph& graph, const VoxelGrid* grid, rg::ImageHandle a
             target.albedo = b.write(target.albedo, Access::ComputeStorageWriteDiscard);
             target.normal = b.write(target.normal, Access::ComputeStorageWriteDiscard);
             target.emission = b.write(target.emission, Access::ComputeStorageWriteDiscard);
+            target.faces = b.write(target.faces, Access::ComputeStorageWriteDiscard);
         },
         [grid, physical](rg::PassContext& ctx) { grid->recordResolve(ctx.cmd(), *physical); });
 }
@@ -63,7 +64,7 @@ rg::ImageHandle addVoxelize(rg::RenderGraph& graph, const VoxelGrid* grid, const
 VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHandles& scene,
                                  VoxelUpdate update) {
     VolumeHandles out = importVolumes(graph, grid.volumesState(), "gi.voxel.grid");
-    VoxelGridData data{out.albedo, out.normal, out.emission, grid.params()};
+    VoxelGridData data{out.albedo, out.normal, out.emission, out.faces, grid.params()};
     bool anyDynamic = false;
     for (const VoxelDraw& d : scene.draws)
         anyDynamic = anyDynamic || (d.dynamic && d.triangleCount > 0);
@@ -77,7 +78,7 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
         accum = addClear(graph, g, accum, "gi.voxel.clear");
         accum = addVoxelize(graph, g, scene, accum, VoxelDrawSet::All, "gi.voxel.voxelize");
         addResolve(graph, g, accum, out, &g->volumes(), "gi.voxel.resolve");
-        return {out.albedo, out.normal, out.emission, grid.params(), true};
+        return {out.albedo, out.normal, out.emission, out.faces, grid.params(), true};
     }
     VolumeHandles st = importVolumes(graph, grid.staticState(), "gi.voxel.static");
     if (update == VoxelUpdate::Full) {
@@ -94,9 +95,11 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
             b.read(st.albedo, Access::ComputeStorageRead);
             b.read(st.normal, Access::ComputeStorageRead);
             b.read(st.emission, Access::ComputeStorageRead);
+            b.read(st.faces, Access::ComputeStorageRead);
             data.albedo = b.write(data.albedo, Access::ComputeStorageWriteDiscard);
             data.normal = b.write(data.normal, Access::ComputeStorageWriteDiscard);
             data.emission = b.write(data.emission, Access::ComputeStorageWriteDiscard);
+            data.faces = b.write(data.faces, Access::ComputeStorageWriteDiscard);
         },
         [g](rg::PassContext& ctx) { g->recordResolveMerge(ctx.cmd()); });
     data.changed = true;
@@ -105,36 +108,29 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
 
 namespace {
 
-// Adds one pass per anisotropic level, built from `level0`; returns the newest aniso version.
-rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::ImageHandle level0,
-                             rg::ImageHandle aniso, const char* prefix) {
-    for (uint32_t level = 0; level < v->anisoLevels(); ++level) {
+// Adds one pass per level k >= 1 of aniso, built from level k - 1; returns the newest version.
+rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::ImageHandle aniso, const char* prefix) {
+    for (uint32_t level = 1; level < v->anisoLevels(); ++level) {
         graph.addPass(
-            std::string(prefix) + "[" + std::to_string(level + 1) + "]",
+            std::string(prefix) + "[" + std::to_string(level) + "]",
             [&](rg::PassBuilder& b) {
-                if (level == 0)
-                    b.read(level0, Access::ComputeStorageRead);
-                else
-                    b.read(aniso, Access::ComputeStorageRead, rg::SubresourceRange::mip(level - 1));
+                b.read(aniso, Access::ComputeStorageRead, rg::SubresourceRange::mip(level - 1));
                 aniso = b.write(aniso, Access::ComputeStorageWriteDiscard, rg::SubresourceRange::mip(level));
             },
-            [v, level, l0 = level0](rg::PassContext& ctx) {
-                v->recordMip(ctx.cmd(), level, level == 0 ? ctx.image(l0) : v->radiance()); // source unused above 0
-            });
+            [v, level](rg::PassContext& ctx) { v->recordMip(ctx.cmd(), level); });
     }
     return aniso;
 }
 
 // The per-pixel passes ("gi.vct.trace" and, at low resolution, the upsample and refine) through
-// `radiance` (level 0) and out.aniso.
-VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, rg::ImageHandle radiance, VctOutputs out,
-                          const VctSettings& settings, const VctGBufferHandles* gbuffer);
+// out.aniso.
+VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, VctOutputs out, const VctSettings& settings,
+                          const VctGBufferHandles* gbuffer);
 
-// "gi.vct.shadow": direct light with cone-traced visibility through `radiance` (level 0) and
-// out.aniso into out.direct. Only with VctSettings::softShadows and a G-buffer with emission.
-VctOutputs addSoftShadowPass(rg::RenderGraph& graph, VctVolumes& volumes, rg::ImageHandle radiance, VctOutputs out,
-                             const VctSettings& settings, const VctGBufferHandles* gbuffer, rg::BufferHandle lights,
-                             uint32_t lightCount) {
+// "gi.vct.shadow": direct light with cone-traced visibility through out.aniso into out.direct.
+// Only with VctSettings::softShadows and a G-buffer with emission.
+VctOutputs addSoftShadowPass(rg::RenderGraph& graph, VctVolumes& volumes, VctOutputs out, const VctSettings& settings,
+                             const VctGBufferHandles* gbuffer, rg::BufferHandle lights, uint32_t lightCount) {
     if (!settings.softShadows || !gbuffer || !gbuffer->emission.valid())
         return out;
     const VctVolumes* v = &volumes;
@@ -147,7 +143,6 @@ VctOutputs addSoftShadowPass(rg::RenderGraph& graph, VctVolumes& volumes, rg::Im
     const ShadowPassData& data = graph.addPass<ShadowPassData>(
         "gi.vct.shadow",
         [&](rg::PassBuilder& b, ShadowPassData& d) {
-            b.read(radiance, Access::ComputeSampledRead);
             b.read(out.aniso, Access::ComputeSampledRead);
             b.read(g.position, Access::ComputeStorageRead);
             b.read(g.normal, Access::ComputeStorageRead);
@@ -160,10 +155,10 @@ VctOutputs addSoftShadowPass(rg::RenderGraph& graph, VctVolumes& volumes, rg::Im
             desc.height = g.height;
             d.direct = b.write(b.create("gi.vct.direct_soft", desc), Access::ComputeStorageWriteDiscard);
         },
-        [v, push, radiance, g, lights](const ShadowPassData& d, rg::PassContext& ctx) {
+        [v, push, aniso = out.aniso, g, lights](const ShadowPassData& d, rg::PassContext& ctx) {
             VctTraceTargets t{&ctx.image(g.position), &ctx.image(g.normal), &ctx.image(g.albedo), nullptr, nullptr,
                               VK_NULL_HANDLE,         &ctx.image(g.emission), &ctx.image(d.direct)};
-            v->recordSoftShadow(ctx.cmd(), ctx.image(radiance), push, ctx.buffer(lights).buffer, t, ctx.layout(radiance));
+            v->recordSoftShadow(ctx.cmd(), push, ctx.buffer(lights).buffer, t, ctx.layout(aniso));
         });
     out.direct = data.direct;
     return out;
@@ -176,16 +171,14 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                         const VctGBufferHandles* gbuffer, VctPassOptions options) {
     const VctVolumes* v = &volumes;
     VctOutputs out;
-    rg::ImageHandle radiance = graph.importImage("gi.vct.radiance", volumes.radianceState());
-    rg::ImageHandle bounced = graph.importImage("gi.vct.radiance.bounced", volumes.bouncedState());
     rg::BufferHandle list = graph.importBuffer("gi.vct.voxel_list", volumes.listState());
     out.aniso = graph.importImage("gi.vct.aniso", volumes.anisoState());
     if (!options.relight) {
-        // Nothing the voxel light depends on changed: the trace reads the kept radiance and mips.
-        out.radiance = settings.bounces >= 2 ? bounced : radiance;
-        out = addSoftShadowPass(graph, volumes, out.radiance, out, settings, gbuffer, lights, lightCount);
-        return gbuffer ? addTracePasses(graph, volumes, out.radiance, out, settings, gbuffer) : out;
+        // Nothing the voxel light depends on changed: the trace reads the kept volume and mips.
+        out = addSoftShadowPass(graph, volumes, out, settings, gbuffer, lights, lightCount);
+        return gbuffer ? addTracePasses(graph, volumes, out, settings, gbuffer) : out;
     }
+    const rg::SubresourceRange level0 = rg::SubresourceRange::mip(0);
     if (grid.changed || !volumes.listBuilt()) {
         // Once per voxelization: the occupied-voxel list the light and bounce passes run over.
         graph.addPass(
@@ -199,8 +192,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
             [&](rg::PassBuilder& b) {
                 b.read(grid.albedo, Access::ComputeStorageRead);
                 list = b.write(list, Access::ComputeStorageReadWrite);
-                radiance = b.write(radiance, Access::ComputeStorageWrite);
-                bounced = b.write(bounced, Access::ComputeStorageWrite);
+                out.aniso = b.write(out.aniso, Access::ComputeStorageWrite, level0); // the empty voxels
             },
             [v](rg::PassContext& ctx) { v->recordCompact(ctx.cmd()); });
         volumes.setListBuilt(true);
@@ -220,9 +212,9 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
             b.read(list, Access::ComputeStorageRead);
             b.read(lights, Access::ComputeStorageRead);
             b.read(grid.albedo, Access::ComputeSampledRead);
-            b.read(grid.normal, Access::ComputeStorageRead);
+            b.read(grid.faces, Access::ComputeStorageRead);
             b.read(grid.emission, Access::ComputeStorageRead);
-            radiance = b.write(radiance, Access::ComputeStorageWrite); // the listed voxels
+            out.aniso = b.write(out.aniso, Access::ComputeStorageWrite, level0); // the listed voxels
         },
         [v, lights, lightCount, occlusion, emission, albedo = grid.albedo, useShadowMap, options](rg::PassContext& ctx) {
             VctShadowInputs in;
@@ -232,7 +224,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
             v->recordLight(ctx.cmd(), ctx.buffer(lights).buffer, lightCount, occlusion, ctx.layout(albedo), emission,
                            useShadowMap ? &in : nullptr);
         });
-    out.aniso = addMipPasses(graph, v, radiance, out.aniso, "gi.vct.mip");
+    out.aniso = addMipPasses(graph, v, out.aniso, "gi.vct.mip");
     gpu::ConeParams cones = volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
     if (settings.bounces >= 2) {
         ImageDesc gatheredDesc;
@@ -247,42 +239,52 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
             [&](rg::PassBuilder& b, Gathered& d) {
                 b.read(list, Access::IndirectRead);
                 b.read(list, Access::ComputeStorageRead);
-                b.read(radiance, Access::ComputeSampledRead);
                 b.read(out.aniso, Access::ComputeSampledRead);
                 b.read(grid.normal, Access::ComputeStorageRead);
                 // Only the listed blocks are written; the apply pass reads no others.
                 d.image = b.write(b.create("gi.vct.bounce.gathered", gatheredDesc), Access::ComputeStorageWriteDiscard);
             },
-            [v, cones, radiance](const Gathered& d, rg::PassContext& ctx) {
-                v->recordBounceBlocks(ctx.cmd(), cones, ctx.image(d.image), ctx.layout(radiance));
+            [v, cones, aniso = out.aniso](const Gathered& d, rg::PassContext& ctx) {
+                v->recordBounceBlocks(ctx.cmd(), cones, ctx.image(d.image), ctx.layout(aniso));
             });
-        graph.addPass(
+        ImageDesc bounceDesc = gatheredDesc;
+        bounceDesc.width = bounceDesc.height = bounceDesc.depth = volumes.grid().resolution();
+        const Gathered& bounce = graph.addPass<Gathered>(
             "gi.vct.bounce",
-            [&](rg::PassBuilder& b) {
+            [&](rg::PassBuilder& b, Gathered& d) {
                 b.read(list, Access::IndirectRead);
                 b.read(list, Access::ComputeStorageRead);
-                b.read(radiance, Access::ComputeSampledRead);
                 b.read(out.aniso, Access::ComputeSampledRead);
                 b.read(grid.albedo, Access::ComputeStorageRead);
                 b.read(grid.normal, Access::ComputeStorageRead);
                 b.read(blocks.image, Access::ComputeStorageRead);
-                bounced = b.write(bounced, Access::ComputeStorageWrite); // the listed voxels
+                // Only the listed voxels are written; the add pass reads no others.
+                d.image = b.write(b.create("gi.vct.bounce.light", bounceDesc), Access::ComputeStorageWriteDiscard);
             },
-            [v, cones, radiance, gathered = blocks.image](rg::PassContext& ctx) {
-                v->recordBounceApply(ctx.cmd(), cones, ctx.image(gathered), ctx.layout(radiance));
+            [v, cones, aniso = out.aniso, gathered = blocks.image](const Gathered& d, rg::PassContext& ctx) {
+                v->recordBounceApply(ctx.cmd(), cones, ctx.image(gathered), ctx.image(d.image), ctx.layout(aniso));
             });
-        radiance = bounced;
-        out.aniso = addMipPasses(graph, v, radiance, out.aniso, "gi.vct.bounce.mip");
+        graph.addPass(
+            "gi.vct.bounce.add",
+            [&](rg::PassBuilder& b) {
+                b.read(list, Access::IndirectRead);
+                b.read(list, Access::ComputeStorageRead);
+                b.read(grid.normal, Access::ComputeStorageRead);
+                b.read(grid.faces, Access::ComputeStorageRead);
+                b.read(bounce.image, Access::ComputeStorageRead);
+                out.aniso = b.write(out.aniso, Access::ComputeStorageReadWrite, level0); // the listed voxels
+            },
+            [v, light = bounce.image](rg::PassContext& ctx) { v->recordBounceAdd(ctx.cmd(), ctx.image(light)); });
+        out.aniso = addMipPasses(graph, v, out.aniso, "gi.vct.bounce.mip");
     }
-    out.radiance = radiance;
-    out = addSoftShadowPass(graph, volumes, radiance, out, settings, gbuffer, lights, lightCount);
-    return gbuffer ? addTracePasses(graph, volumes, radiance, out, settings, gbuffer) : out;
+    out = addSoftShadowPass(graph, volumes, out, settings, gbuffer, lights, lightCount);
+    return gbuffer ? addTracePasses(graph, volumes, out, settings, gbuffer) : out;
 }
 
 namespace {
 
-VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, rg::ImageHandle radiance, VctOutputs out,
-                          const VctSettings& settings, const VctGBufferHandles* gbuffer) {
+VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, VctOutputs out, const VctSettings& settings,
+                          const VctGBufferHandles* gbuffer) {
     const VctVolumes* v = &volumes;
     gpu::ConeParams cones = volumes.coneParams(settings, gbuffer->width, gbuffer->height);
     VctGBufferHandles g = *gbuffer;
@@ -304,7 +306,6 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, rg::Image
     const TraceData& data = graph.addPass<TraceData>(
         "gi.vct.trace",
         [&](rg::PassBuilder& b, TraceData& d) {
-            b.read(radiance, Access::ComputeSampledRead);
             b.read(out.aniso, Access::ComputeSampledRead);
             b.read(g.position, Access::ComputeStorageRead);
             b.read(g.normal, Access::ComputeStorageRead);
@@ -315,10 +316,10 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, rg::Image
             d.glossy = b.write(b.create(f == 1 ? "gi.vct.glossy" : "gi.vct.glossy.low", desc),
                                Access::ComputeStorageWriteDiscard);
         },
-        [v, push, radiance, g](const TraceData& d, rg::PassContext& ctx) {
+        [v, push, aniso = out.aniso, g](const TraceData& d, rg::PassContext& ctx) {
             VctTraceTargets t{&ctx.image(g.position), &ctx.image(g.normal),   &ctx.image(g.albedo),
                               &ctx.image(d.indirect), &ctx.image(d.glossy), VK_NULL_HANDLE};
-            v->recordTrace(ctx.cmd(), VctTraceMode::Grid, ctx.image(radiance), push, t, ctx.layout(radiance));
+            v->recordTrace(ctx.cmd(), VctTraceMode::Grid, push, t, ctx.layout(aniso));
         });
     if (f == 1) {
         out.indirect = data.indirect;
@@ -363,7 +364,6 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, rg::Image
     const UpsampleData& rf = graph.addPass<UpsampleData>(
         "gi.vct.refine",
         [&](rg::PassBuilder& b, UpsampleData& d) {
-            b.read(radiance, Access::ComputeSampledRead);
             b.read(out.aniso, Access::ComputeSampledRead);
             b.read(g.position, Access::ComputeStorageRead);
             b.read(g.normal, Access::ComputeStorageRead);
@@ -373,10 +373,10 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, rg::Image
             d.indirect = b.write(us.indirect, Access::ComputeStorageWrite);
             d.glossy = b.write(us.glossy, Access::ComputeStorageWrite);
         },
-        [v, push, radiance, g, list = us.list](const UpsampleData& d, rg::PassContext& ctx) {
+        [v, push, aniso = out.aniso, g, list = us.list](const UpsampleData& d, rg::PassContext& ctx) {
             VctTraceTargets t{&ctx.image(g.position), &ctx.image(g.normal),   &ctx.image(g.albedo),
                               &ctx.image(d.indirect), &ctx.image(d.glossy), ctx.buffer(list).buffer};
-            v->recordTrace(ctx.cmd(), VctTraceMode::Refine, ctx.image(radiance), push, t, ctx.layout(radiance));
+            v->recordTrace(ctx.cmd(), VctTraceMode::Refine, push, t, ctx.layout(aniso));
         });
     out.indirect = rf.indirect;
     out.glossy = rf.glossy;

@@ -18,6 +18,7 @@ struct VoxelGridData {
     rg::ImageHandle albedo;   // RGBA8: mean albedo, a = occupancy
     rg::ImageHandle normal;   // RGBA8: voxelNormalEncode(mean normal), a = occupancy
     rg::ImageHandle emission; // RGBA16F: emission * radianceScale
+    rg::ImageHandle faces;    // R32UI: voxelFacesPack, the coverage of the six facing directions
     gpu::VoxelGridParams params{};
     bool changed = false; // this frame re-voxelized the grid (occupancy may differ from the last frame)
 };
@@ -56,8 +57,9 @@ struct VctGBufferHandles {
 };
 
 struct VctOutputs {
-    rg::ImageHandle radiance; // level 0 the trace read (after the bounce when bounces = 2)
-    rg::ImageHandle aniso;    // the packed directional mips the trace read
+    // The packed directional volume the trace read (voxel_passes.h): level 0 the voxels' own
+    // six views, levels 1.. the mips (after the bounce when bounces = 2).
+    rg::ImageHandle aniso;
     rg::ImageHandle indirect; // RGBA32F: rgb indirect radiance (nits), a = AO (invalid without a G-buffer)
     rg::ImageHandle glossy;   // RGBA32F: glossy cone radiance (nits)
     // RGBA32F direct light with cone-traced shadows ("gi.vct.shadow"; VctSettings::softShadows

@@ -30,6 +30,7 @@ VoxelVolumes createVolumes(Context& ctx, uint32_t n, const char* prefix) {
     v.albedo.image = createVolume(ctx, n, n, VK_FORMAT_R8G8B8A8_UNORM, (p + ".albedo").c_str());
     v.normal.image = createVolume(ctx, n, n, VK_FORMAT_R8G8B8A8_UNORM, (p + ".normal").c_str());
     v.emission.image = createVolume(ctx, n, n, VK_FORMAT_R16G16B16A16_SFLOAT, (p + ".emission").c_str());
+    v.faces.image = createVolume(ctx, n, n, VK_FORMAT_R32_UINT, (p + ".faces").c_str());
     return v;
 }
 
@@ -37,6 +38,7 @@ void destroyVolumes(Context& ctx, VoxelVolumes& v) {
     destroyImage(ctx, v.albedo.image);
     destroyImage(ctx, v.normal.image);
     destroyImage(ctx, v.emission.image);
+    destroyImage(ctx, v.faces.image);
 }
 
 DescriptorItem storageImage(uint32_t binding, const Image& image) {
@@ -131,7 +133,8 @@ VoxelGrid::~VoxelGrid() {
 VkDeviceSize VoxelGrid::bytes() const {
     VkDeviceSize total = imageBytes(m_accum.image.desc);
     for (const VoxelVolumes* v : {&m_volumes, &m_static})
-        total += imageBytes(v->albedo.image.desc) + imageBytes(v->normal.image.desc) + imageBytes(v->emission.image.desc);
+        total += imageBytes(v->albedo.image.desc) + imageBytes(v->normal.image.desc) +
+                 imageBytes(v->emission.image.desc) + imageBytes(v->faces.image.desc);
     return total;
 }
 
@@ -169,7 +172,8 @@ void VoxelGrid::recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target) c
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_resolve, &push, sizeof(push));
     DescriptorItem items[] = {storageImage(0, m_accum.image), storageImage(1, target.albedo.image),
-                              storageImage(2, target.normal.image), storageImage(3, target.emission.image)};
+                              storageImage(2, target.normal.image), storageImage(3, target.emission.image),
+                              storageImage(4, target.faces.image)};
     pushDescriptors(m_ctx, cmd, m_resolve, items);
     vkCmdDispatch(cmd, groupCount(n, m_resolve.localSize[0]), groupCount(n, m_resolve.localSize[1]),
                   groupCount(n, m_resolve.localSize[2]));
@@ -180,10 +184,11 @@ void VoxelGrid::recordResolveMerge(VkCommandBuffer cmd) const {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_resolveMerge.pipeline);
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_resolveMerge, &push, sizeof(push));
-    DescriptorItem items[] = {storageImage(0, m_accum.image),           storageImage(1, m_volumes.albedo.image),
-                              storageImage(2, m_volumes.normal.image),  storageImage(3, m_volumes.emission.image),
-                              storageImage(4, m_static.albedo.image),   storageImage(5, m_static.normal.image),
-                              storageImage(6, m_static.emission.image)};
+    DescriptorItem items[] = {storageImage(0, m_accum.image),          storageImage(1, m_volumes.albedo.image),
+                              storageImage(2, m_volumes.normal.image), storageImage(3, m_volumes.emission.image),
+                              storageImage(4, m_volumes.faces.image),  storageImage(5, m_static.albedo.image),
+                              storageImage(6, m_static.normal.image),  storageImage(7, m_static.emission.image),
+                              storageImage(8, m_static.faces.image)};
     pushDescriptors(m_ctx, cmd, m_resolveMerge, items);
     vkCmdDispatch(cmd, groupCount(n, m_resolveMerge.localSize[0]), groupCount(n, m_resolveMerge.localSize[1]),
                   groupCount(n, m_resolveMerge.localSize[2]));

@@ -54,6 +54,7 @@ struct VoxelVolumes {
     rg::PersistentImage albedo;   // RGBA8: mean albedo, a = occupancy
     rg::PersistentImage normal;   // RGBA8: voxelNormalEncode(mean normal), a = occupancy
     rg::PersistentImage emission; // RGBA16F: emission * radianceScale
+    rg::PersistentImage faces;    // R32UI: voxelFacesPack(coverage of the six facing directions)
 };
 
 // Which draws a voxelize pass takes.

@@ -1,9 +1,15 @@
-// Voxel direct light (Villegas & Ramirez's deferred voxel shading): every occupied voxel
-// reflects the punctual lights as a Lambertian surface with the voxel's mean normal,
-//   L = albedo / pi * sum_l E_l * max(n . l, 0) * V_l + Le,
+// Voxel direct light (Villegas & Ramirez's deferred voxel shading), per facing direction:
+// the faces of an occupied voxel that look towards direction d (+X, -X, +Y, -Y, +Z, -Z; the
+// faces volume says which are present) reflect the punctual lights as a Lambertian surface,
+//   L_d = albedo / pi * sum_l E_l * max(n_d . l, 0) * V_l(n_d) + Le,
 // with E_l the light's illuminance at the voxel centre (KHR_lights_punctual: I / d^2 for
-// point/spot, lux for directional) and V_l its visibility, marched through the occupancy, or
-// (voxel_light_shadow_map.comp, GI_VOXEL_LIGHT_SHADOW_MAP) looked up in the shadow atlas.
+// point/spot, lux for directional) and V_l its visibility, marched through the occupancy from
+// one voxel off along n_d, or (voxel_light_shadow_map.comp, GI_VOXEL_LIGHT_SHADOW_MAP) looked up
+// in the shadow atlas. n_d is the voxel's mean normal where its faces agree (one-sided surface,
+// |mean normal| >= 1/2) and d points to that side; otherwise (both faces of a thin wall or roof,
+// or the far side of a corner) the axis itself. The level-0 views of the directional volume
+// then show each side's own light: a roof voxel lit from above looks lit from above and dark
+// from below, where the isotropic voxel of before showed the interior its sunlit top.
 #include "engine/lights.h"
 #include "engine/scene_types.h"
 #include "gi/voxel_passes.h"
@@ -15,11 +21,11 @@ layout(local_size_x = GI_VOXEL_LIST_GROUP) in; // one invocation per occupied vo
 layout(push_constant) uniform Push { VoxelLightPush pc; };
 
 layout(set = 1, binding = 0, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(set = 1, binding = 2, rgba8) uniform readonly image3D normalVol;
 layout(set = 1, binding = 3, rgba16f) uniform readonly image3D emissionVol;
 layout(set = 1, binding = 4) uniform sampler3D albedoVol; // a = occupancy; linear filtering for soft shadows
-layout(set = 1, binding = 5, rgba16f) uniform writeonly image3D radianceOut;
+layout(set = 1, binding = 5, rgba16f) uniform writeonly image3D anisoOut; // level 0 of the directional volume
 layout(set = 1, binding = 6, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint voxels[]; };
+layout(set = 1, binding = 10, r32ui) uniform readonly uimage3D facesVol;
 #ifdef GI_VOXEL_LIGHT_SHADOW_MAP
 layout(set = 1, binding = 7, std430) readonly buffer LightShadows { GpuLightShadow lightShadows[]; };
 layout(set = 1, binding = 8, std430) readonly buffer ShadowViews { GpuShadowView shadowViews[]; };
@@ -52,9 +58,6 @@ float shadowMapVisibility(uint i, vec3 p, vec3 n, vec3 toLight) {
 #endif
 
 const float kPi = 3.14159265358979;
-// Mean |cos| between a fixed axis and uniformly distributed directions: the cosine factor of a
-// voxel whose normals cancel (a wall seen from both sides), where the facing is unknown.
-const float kMeanAbsCos = 0.5;
 // March step (voxels): half a voxel samples every voxel a ray crosses at least once.
 const float kShadowStep = 0.5;
 // The march starts this far (voxels) off the voxel centre along the normal, so that the voxel
@@ -88,19 +91,9 @@ float visibility(vec3 p, vec3 dir, float tMax, uint mode) {
     return transmit;
 }
 
-void main() {
-    if (gl_GlobalInvocationID.x >= header[3])
-        return;
-    ivec3 c = ivec3(voxelListUnpack(voxels[gl_GlobalInvocationID.x]));
-    vec4 albedo = texelFetch(albedoVol, c, 0);
-    vec4 nEnc = imageLoad(normalVol, c);
-    vec3 normal = voxelNormalDecode(nEnc.xyz);
-    bool hasNormal = dot(normal, normal) > 0.25; // encoded zero normals decode to |n| ~ 0
-    normal = hasNormal ? normalize(normal) : vec3(0.0);
-    vec3 pGrid = vec3(c) + 0.5;
-    vec3 pWorld = pc.grid.originSize.xyz + pGrid * pc.grid.originSize.w;
+// Irradiance (rgb) of a surface with unit normal `normal` at voxel centre pGrid / pWorld.
+vec3 irradianceAt(vec3 pGrid, vec3 pWorld, vec3 normal) {
     vec3 pMarch = pGrid + normal * kShadowStart;
-
     vec3 irradiance = vec3(0.0);
     for (uint i = 0u; i < pc.info.x; ++i) {
         GpuLight light = lights[i];
@@ -127,7 +120,7 @@ void main() {
             if (type == GI_LIGHT_SPOT)
                 e *= spotConeAttenuation(dot(light.directionRange.xyz, -toLight), light.cone.x, light.cone.y);
         }
-        float cosine = hasNormal ? max(dot(normal, toLight), 0.0) : kMeanAbsCos;
+        float cosine = max(dot(normal, toLight), 0.0);
         if (e * cosine <= 0.0)
             continue;
 #ifdef GI_VOXEL_LIGHT_SHADOW_MAP
@@ -137,10 +130,65 @@ void main() {
 #endif
         irradiance += light.colorIntensity.rgb * (e * cosine * v);
     }
-    vec3 radiance = albedo.rgb / kPi * irradiance * pc.grid.scales.y;
-    if ((pc.info.z & GI_VOXEL_LIGHT_EMISSION) != 0u) // off when the scene has no emissive material
-        radiance += imageLoad(emissionVol, c).rgb;
-    // Half-float ceiling: radianceScale maps the brightest light to GI_VOXEL_RADIANCE_TARGET,
-    // 16x below it; clamping keeps the volume finite whatever happens.
-    imageStore(radianceOut, c, vec4(min(radiance, vec3(65000.0)), 1.0));
+    return irradiance;
+}
+
+void main() {
+    if (gl_GlobalInvocationID.x >= header[3])
+        return;
+    ivec3 c = ivec3(voxelListUnpack(voxels[gl_GlobalInvocationID.x]));
+    vec3 albedo = texelFetch(albedoVol, c, 0).rgb;
+    uint faces = imageLoad(facesVol, c).x;
+    float cover[6];
+    for (uint d = 0u; d < 6u; ++d)
+        cover[d] = voxelFaceCoverage(faces, d);
+    vec3 meanNormal = vec3(cover[0] - cover[1], cover[2] - cover[3], cover[4] - cover[5]);
+    // One-sided: the faces mostly agree (a flat or gently curved surface, a box edge seen from
+    // outside); the mean normal then lights every direction on its side, as a single surface.
+    bool oneSided = dot(meanNormal, meanNormal) >= 0.25;
+    vec3 mean = oneSided ? normalize(meanNormal) : vec3(0.0);
+    vec3 pGrid = vec3(c) + 0.5;
+    vec3 pWorld = pc.grid.originSize.xyz + pGrid * pc.grid.originSize.w;
+    vec3 emission = (pc.info.z & GI_VOXEL_LIGHT_EMISSION) != 0u ? imageLoad(emissionVol, c).rgb : vec3(0.0);
+    vec3 scale = albedo / kPi * pc.grid.scales.y;
+
+    // Radiance of the faces looking towards each direction (those present).
+    vec3 radiance[6];
+    vec3 meanRadiance = vec3(-1.0); // computed once, on first use
+    for (uint d = 0u; d < 6u; ++d) {
+        radiance[d] = vec3(0.0);
+        if (cover[d] == 0.0)
+            continue;
+        vec3 axis = vec3(0.0);
+        axis[d >> 1u] = (d & 1u) == 0u ? 1.0 : -1.0;
+        bool useMean = dot(axis, mean) > 0.0;
+        if (useMean && meanRadiance.x >= 0.0) {
+            radiance[d] = meanRadiance;
+            continue;
+        }
+        radiance[d] = scale * irradianceAt(pGrid, pWorld, useMean ? mean : axis) + emission;
+        if (useMean)
+            meanRadiance = radiance[d];
+    }
+
+    // Level-0 views. A ray travelling along direction v crosses the sheets perpendicular to
+    // its axis k; their opacity is the faces' coverage along k relative to the voxel's largest
+    // (a flat sheet is opaque seen face-on and transparent edge-on; one at 45 degrees opaque from
+    // both axes it spans: its projection fills both). The ray sees the faces looking back at
+    // it (direction v ^ 1), in proportion to their share of that axis's coverage: a closed thin
+    // wall (equal front and back) shows its front, a one-sided sheet seen from behind is black
+    // (its back is the inside of a closed surface), like the path tracer's one-sided faces.
+    float maxCover = max(max(cover[0] + cover[1], cover[2] + cover[3]), cover[4] + cover[5]);
+    int n = int(pc.grid.dims.x);
+    for (uint v = 0u; v < 6u; ++v) {
+        uint k = v >> 1u;
+        float axisCover = cover[2u * k] + cover[2u * k + 1u];
+        float alpha = maxCover > 0.0 ? axisCover / maxCover : 1.0;
+        float front = cover[v ^ 1u];
+        float shown = front > 0.0 ? min(1.0, 2.0 * front / axisCover) : 0.0;
+        // Half-float ceiling: radianceScale maps the brightest light to GI_VOXEL_RADIANCE_TARGET,
+        // 16x below it; clamping keeps the volume finite whatever happens.
+        vec3 rgb = min(radiance[v ^ 1u], vec3(65000.0)) * (alpha * shown);
+        imageStore(anisoOut, c + ivec3(0, 0, int(v) * n), vec4(rgb, alpha));
+    }
 }

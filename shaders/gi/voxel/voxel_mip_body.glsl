@@ -1,14 +1,14 @@
 // One level of the anisotropic radiance mips (Crassin's pre-integration): each output voxel
 // covers 2x2x2 source voxels; for each of the six viewing directions the two source voxels
 // along that direction are composited front to back (premultiplied, c = c_f + (1 - a_f) c_b),
-// then the four resulting columns are averaged. Level 0 reads the isotropic radiance volume
-// (GI_VOXEL_MIP_FROM_RADIANCE), later levels the same direction's tile one level finer.
-// The six directions are tiles stacked along z of one image (see voxel_passes.h).
+// then the four resulting columns are averaged, each from the same direction's tile one level
+// finer (level 0: the voxels' own views). The six directions are tiles stacked along z of one
+// image (see voxel_passes.h).
 #include "gi/voxel_passes.h"
 
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(push_constant) uniform Push { VoxelMipPush pc; };
-layout(set = 1, binding = 0, rgba16f) uniform readonly image3D src; // radiance, or aniso level - 1
+layout(set = 1, binding = 0, rgba16f) uniform readonly image3D src; // aniso level - 1
 layout(set = 1, binding = 1, rgba16f) uniform writeonly image3D dst; // aniso level
 
 vec4 over(vec4 front, vec4 back) { return front + (1.0 - front.a) * back; }
@@ -38,13 +38,7 @@ void main() {
     if (any(greaterThanEqual(c, ivec3(size))))
         return;
     ivec3 base = 2 * c;
-#ifdef GI_VOXEL_MIP_FROM_RADIANCE
-    vec4 t[8] = gather(base);
-    for (int d = 0; d < 6; ++d)
-        imageStore(dst, c + ivec3(0, 0, d * size), integrate(t, d >> 1, (d & 1) == 0));
-#else
     for (int d = 0; d < 6; ++d)
         imageStore(dst, c + ivec3(0, 0, d * size), integrate(gather(base + ivec3(0, 0, 2 * d * size)), d >> 1,
                                                              (d & 1) == 0));
-#endif
 }

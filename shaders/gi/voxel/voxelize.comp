@@ -2,8 +2,9 @@
 #extension GL_GOOGLE_include_directive : require
 // Conservative compute voxelization, one invocation per triangle: every voxel whose closed box
 // the triangle touches (separating-axis test, so slivers and sub-voxel triangles count too)
-// receives the triangle's albedo, face normal and emission as fixed-point integer
-// sums. Integer atomics make the result independent of the execution order.
+// receives the triangle's albedo, its face coverages (max(0, +-n_axis) for the six axis
+// directions, which way it faces) and emission as fixed-point integer sums. Integer atomics
+// make the result independent of the execution order.
 #include "engine/scene_types.h"
 #include "gi/voxel_passes.h"
 
@@ -43,7 +44,6 @@ bool overlapsUnitBox(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
 }
 
 uint toFixed(float v) { return uint(clamp(v, 0.0, 1.0) * GI_VOXEL_FIXED_ONE + 0.5); }
-uint toFixedSigned(float v) { return uint(int(round(clamp(v, -1.0, 1.0) * GI_VOXEL_FIXED_ONE))); }
 
 void splat(ivec3 c, int n, vec3 albedo, vec3 normal, vec3 emission, bool emissive) {
     uint old = imageAtomicAdd(accum, c, 1u);
@@ -51,7 +51,10 @@ void splat(ivec3 c, int n, vec3 albedo, vec3 normal, vec3 emission, bool emissiv
         return;
     for (int k = 0; k < 3; ++k) {
         imageAtomicAdd(accum, c + ivec3(0, 0, n * (GI_VOXEL_ACC_ALBEDO + k)), toFixed(albedo[k]));
-        imageAtomicAdd(accum, c + ivec3(0, 0, n * (GI_VOXEL_ACC_NORMAL + k)), toFixedSigned(normal[k]));
+        // The face is seen from the side its normal points to: +axis channel for n_k > 0.
+        int side = normal[k] > 0.0 ? 0 : 1;
+        if (normal[k] != 0.0)
+            imageAtomicAdd(accum, c + ivec3(0, 0, n * (GI_VOXEL_ACC_FACES + 2 * k + side)), toFixed(abs(normal[k])));
         if (emissive)
             imageAtomicAdd(accum, c + ivec3(0, 0, n * (GI_VOXEL_ACC_EMISSION + k)), toFixed(emission[k]));
     }

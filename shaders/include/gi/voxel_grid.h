@@ -9,6 +9,12 @@
 //   normal   RGBA8_UNORM   rgb = voxelNormalEncode(mean face normal) (0.5 = zero vector when the
 //                          normals cancel, e.g. both sides of a thin wall), a = occupancy
 //   emission RGBA16F       rgb = mean emitted radiance (nits) * radianceScale, a = 0
+//   faces    R32UI         which way the voxel's surfaces face: for each of the six axis
+//                          directions +X, -X, +Y, -Y, +Z, -Z the mean over its triangles of
+//                          max(0, +-n_axis) (the share of a triangle's area seen from that side),
+//                          quantised to 5 bits each (voxelFacesPack). A roof voxel holding only
+//                          the sunlit top has +Y only; one holding both faces of a thin wall has
+//                          +Y and -Y. The mean normal is (+X - -X, +Y - -Y, +Z - -Z).
 // Empty voxels are all zero. Radiance is stored pre-multiplied by `radianceScale`, a power of
 // two that maps the brightest radiance the scene can put in a voxel to about
 // GI_VOXEL_RADIANCE_TARGET, so that scenes from 1e-6 to 1e9 nits use the same half-float range;
@@ -36,16 +42,16 @@ GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 // depend on the order in which triangles arrive: two runs give bit-identical grids). Each
 // contribution adds value * GI_VOXEL_FIXED_ONE, rounded; the resolve divides by count.
 #define GI_VOXEL_FIXED_ONE 65536.0
-// Contributions per voxel are capped so that a signed normal sum (|n_i| <= 1) cannot overflow
-// int32: 32767 * 65536 < 2^31. A voxel touched by more triangles keeps the first 32767 (only
+// Contributions per voxel are capped so that a sum (each term <= 1) stays below 2^31:
+// 32767 * 65536 < 2^31 (the resolve takes differences of face sums as int32). A voxel touched by more triangles keeps the first 32767 (only
 // then does the order matter; no real mesh gets close).
 #define GI_VOXEL_MAX_CONTRIBUTIONS 32767u
 // Accumulation channels, stacked along z in one R32UI image of N x N x (N * channels).
 #define GI_VOXEL_ACC_COUNT 0
 #define GI_VOXEL_ACC_ALBEDO 1   // 3 channels: r, g, b
-#define GI_VOXEL_ACC_NORMAL 4   // 3 channels: x, y, z (two's-complement int sums)
-#define GI_VOXEL_ACC_EMISSION 7 // 3 channels: r, g, b (emission * radianceScale / GI_VOXEL_RADIANCE_TARGET, <= 1)
-#define GI_VOXEL_ACC_CHANNELS 10u
+#define GI_VOXEL_ACC_FACES 4    // 6 channels: max(0, n.x), max(0, -n.x), max(0, n.y), ... (unsigned)
+#define GI_VOXEL_ACC_EMISSION 10 // 3 channels: r, g, b (emission * radianceScale / GI_VOXEL_RADIANCE_TARGET, <= 1)
+#define GI_VOXEL_ACC_CHANNELS 13u
 
 // Supported grid resolutions (powers of two).
 #define GI_VOXEL_MIN_RESOLUTION 16u
@@ -53,6 +59,19 @@ GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 
 GI_INLINE vec3 voxelNormalEncode(vec3 n) { return n * 0.5f + 0.5f; }
 GI_INLINE vec3 voxelNormalDecode(vec3 e) { return e * 2.0f - 1.0f; }
+
+// Face coverages (each in [0, 1]) <-> the faces volume: 5 bits per direction, +X in the low bits.
+#define GI_VOXEL_FACE_LEVELS 31.0f
+GI_INLINE uint voxelFacesPack(vec3 pos, vec3 neg) {
+    uint v = 0u;
+    for (int k = 0; k < 3; ++k) {
+        v |= uint(clamp(pos[k], 0.0f, 1.0f) * GI_VOXEL_FACE_LEVELS + 0.5f) << uint(10 * k);
+        v |= uint(clamp(neg[k], 0.0f, 1.0f) * GI_VOXEL_FACE_LEVELS + 0.5f) << uint(10 * k + 5);
+    }
+    return v;
+}
+// Coverage of the faces looking towards direction d (0..5 = +X, -X, +Y, -Y, +Z, -Z).
+GI_INLINE float voxelFaceCoverage(uint packed, uint d) { return float((packed >> (5u * d)) & 31u) / GI_VOXEL_FACE_LEVELS; }
 
 GI_NAMESPACE_END
 #endif

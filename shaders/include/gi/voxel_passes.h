@@ -19,15 +19,18 @@ GI_GPU_STRUCT(VoxelizePush) {
 };
 GI_CHECK_SIZE(VoxelizePush, 64);
 
-// Voxel radiance volumes written by the VCT passes:
-//   radiance  RGBA16F N^3: rgb = outgoing radiance * radianceScale (Lambertian, so the same in
-//             every direction), a = occupancy. Premultiplied: empty voxels are 0.
-//   aniso     RGBA16F S x S x 6S (S = N/2) with log2(N) mips: six tiles stacked along z, one per
+// The directional radiance volume written by the VCT passes:
+//   aniso     RGBA16F N x N x 6N with log2(N) + 1 mips: six tiles stacked along z, one per
 //             viewing direction in the order +X, -X, +Y, -Y, +Z, -Z (tile d of level k spans
-//             z in [d s_k, (d+1) s_k), s_k = S >> k). Level k holds the 2^(k+1)-voxel blocks as
-//             seen by a ray travelling along that direction (front-to-back composited,
-//             Crassin's pre-integration). One image instead of six lets a cone pick its three
-//             tiles by arithmetic, without divergent branches.
+//             z in [d s_k, (d+1) s_k), s_k = N >> k). Texel = what a ray travelling along that
+//             direction sees of the 2^k-voxel block: rgb = outgoing radiance * radianceScale,
+//             premultiplied by a = opacity. Level 0 holds the voxels themselves (the voxel light
+//             writes it per facing direction, voxel_light_body.glsl), level k >= 1 the blocks,
+//             front-to-back composited from level k - 1 (Crassin's pre-integration). One image
+//             instead of six lets a cone pick its three tiles by arithmetic, without divergent
+//             branches. Empty voxels are 0.
+//   bounce    RGBA16F N^3 (transient): the second bounce's albedo * E / pi per voxel, added to
+//             the level-0 views that look at the voxel's normal side (voxel_bounce_add.comp).
 #define GI_VOXEL_ANISO_DIRECTIONS 6
 
 // Occupied-voxel list (voxel_compact.comp, rebuilt once per voxelization): a storage buffer of
@@ -56,7 +59,7 @@ GI_GPU_STRUCT(VoxelLightPush) {
 GI_CHECK_SIZE(VoxelLightPush, 64);
 #define GI_VOXEL_LIGHT_EMISSION 1u // add the emission volume (the voxels' emission injection)
 
-// voxel_mip*.comp: builds level `info.x` (0 = first level of aniso, from the radiance volume).
+// voxel_mip.comp: builds level `info.x` >= 1 of aniso from level info.x - 1.
 GI_GPU_STRUCT(VoxelMipPush) {
     VoxelGridParams grid;
     uvec4 info; // x destination level of the aniso chain, y its resolution, z, w 0
