@@ -211,6 +211,7 @@ Result<void> RenderGraph::deriveBarriers() {
             states[r][0] = res.persistentBuffer->state;
     }
     m_firstUser.assign(m_resources.size(), kNone);
+    m_lastUser.assign(m_resources.size(), kNone);
     for (uint32_t p = 0; p < m_passes.size(); ++p) {
         if (m_passes[p].culled)
             continue;
@@ -255,6 +256,7 @@ Result<void> RenderGraph::derivePassBarriers(uint32_t pass, std::vector<std::vec
         const ResourceNode& res = m_resources[r];
         if (m_firstUser[r] == kNone)
             m_firstUser[r] = pass;
+        m_lastUser[r] = pass;
         for (uint32_t i = 0; i < subs.size(); ++i) {
             if (!subs[i].used)
                 continue;
@@ -296,7 +298,14 @@ void RenderGraph::deriveFinalBarriers(std::vector<std::vector<AccessState>>& sta
 void RenderGraph::storeFinalStates() {
     if (!m_isCompiled)
         return;
-    for (uint32_t r = 0; r < m_resources.size(); ++r) {
+    // Transients sharing a pool entry store in the order they used it: the last occupant's
+    // states win where it touched the entry, the earlier ones' elsewhere.
+    std::vector<uint32_t> order;
+    for (uint32_t r = 0; r < m_resources.size(); ++r)
+        if (r >= m_boundImages.size() || (!m_boundImages[r] && !m_boundBuffers[r]))
+            order.push_back(r);
+    order.insert(order.end(), m_transientOrder.begin(), m_transientOrder.end());
+    for (uint32_t r : order) {
         ResourceNode& res = m_resources[r];
         PersistentImage* image = r < m_boundImages.size() && m_boundImages[r] ? m_boundImages[r] : res.persistentImage;
         PersistentBuffer* buffer =

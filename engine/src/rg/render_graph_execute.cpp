@@ -15,16 +15,21 @@ using detail::ResourceNode;
 namespace {
 
 // The union of what earlier users of a pool entry did to `range`: the first use in this graph
-// must wait on it, since the same memory may still be in use by the previous graph.
-void addPreviousUse(const std::vector<AccessState>& state, uint32_t mips, const SubresourceRange& range,
-                    VkPipelineStageFlags2& stages, VkAccessFlags2& access) {
+// must wait on it, since the same memory may still be in use by the previous graph, or by an
+// earlier transient of this graph that shared the entry (`earlier`, its final states; where it
+// did not touch a subresource the entry's stored state still applies).
+void addPreviousUse(const std::vector<AccessState>& state, const std::vector<AccessState>* earlier, uint32_t mips,
+                    const SubresourceRange& range, VkPipelineStageFlags2& stages, VkAccessFlags2& access) {
     for (uint32_t l = range.baseLayer; l < range.baseLayer + range.layerCount; ++l)
         for (uint32_t m = range.baseMip; m < range.baseMip + range.mipCount; ++m) {
             size_t i = size_t(l) * mips + m;
-            if (i >= state.size())
+            const AccessState* s = earlier && i < earlier->size() && !((*earlier)[i] == AccessState{}) ? &(*earlier)[i]
+                                   : i < state.size()                                                 ? &state[i]
+                                                                                                      : nullptr;
+            if (!s)
                 continue;
-            stages |= state[i].writeStages | state[i].readStages;
-            access |= state[i].writeAccess;
+            stages |= s->writeStages | s->readStages;
+            access |= s->writeAccess;
         }
 }
 
@@ -78,6 +83,8 @@ void RenderGraph::execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool
 }
 
 // Only transients of live passes are created; everything else binds to what was imported.
+// Transients are bound in first-use order with their pass span, so two of equal description
+// whose spans do not overlap share one pool entry (an exported transient lives to the end).
 void RenderGraph::acquireTransients(Context& ctx, TransientPool& pool) {
     (void)ctx;
     pool.beginGraph();
@@ -86,6 +93,8 @@ void RenderGraph::acquireTransients(Context& ctx, TransientPool& pool) {
     m_boundBuffers.assign(n, nullptr);
     m_physImages.assign(n, nullptr);
     m_physBuffers.assign(n, nullptr);
+    m_previousOccupant.assign(n, kNone);
+    m_transientOrder.clear();
     for (uint32_t r = 0; r < n; ++r) {
         ResourceNode& res = m_resources[r];
         if (res.origin == Origin::Persistent) {
@@ -94,12 +103,32 @@ void RenderGraph::acquireTransients(Context& ctx, TransientPool& pool) {
         } else if (res.origin == Origin::External) {
             m_physImages[r] = res.image ? &res.externalImage : nullptr;
             m_physBuffers[r] = res.image ? nullptr : &res.externalBuffer;
-        } else if (m_firstUser[r] != kNone && res.image) {
-            m_boundImages[r] = &pool.acquireImage(res.imageDesc, res.name.c_str());
-            m_physImages[r] = &m_boundImages[r]->image;
         } else if (m_firstUser[r] != kNone) {
-            m_boundBuffers[r] = &pool.acquireBuffer(res.bufferDesc, res.name.c_str());
+            m_transientOrder.push_back(r);
+        }
+    }
+    std::stable_sort(m_transientOrder.begin(), m_transientOrder.end(),
+                     [&](uint32_t a, uint32_t b) { return m_firstUser[a] < m_firstUser[b]; });
+    std::vector<std::pair<const void*, uint32_t>> occupant; // pool entry -> its latest transient
+    for (uint32_t r : m_transientOrder) {
+        ResourceNode& res = m_resources[r];
+        uint32_t last = res.exported ? TransientPool::kAlways : m_lastUser[r];
+        const void* entry = nullptr;
+        if (res.image) {
+            m_boundImages[r] = &pool.acquireImage(res.imageDesc, res.name.c_str(), m_firstUser[r], last);
+            m_physImages[r] = &m_boundImages[r]->image;
+            entry = m_boundImages[r];
+        } else {
+            m_boundBuffers[r] = &pool.acquireBuffer(res.bufferDesc, res.name.c_str(), m_firstUser[r], last);
             m_physBuffers[r] = &m_boundBuffers[r]->buffer;
+            entry = m_boundBuffers[r];
+        }
+        auto it = std::find_if(occupant.begin(), occupant.end(), [&](const auto& o) { return o.first == entry; });
+        if (it == occupant.end()) {
+            occupant.push_back({entry, r});
+        } else {
+            m_previousOccupant[r] = it->second;
+            it->second = r;
         }
     }
 }
@@ -111,10 +140,12 @@ void RenderGraph::recordBarriers(VkCommandBuffer cmd, const std::vector<BarrierI
         VkPipelineStageFlags2 srcStages = b.srcStages;
         VkAccessFlags2 srcAccess = b.srcAccess;
         const ResourceNode& res = m_resources[b.resource];
+        const uint32_t earlier = b.firstUse ? m_previousOccupant[b.resource] : kNone;
+        const std::vector<AccessState>* earlierStates = earlier != kNone ? &m_finalStates[earlier] : nullptr;
         if (b.firstUse && b.image && m_boundImages[b.resource])
-            addPreviousUse(m_boundImages[b.resource]->state, res.mips(), b.range, srcStages, srcAccess);
+            addPreviousUse(m_boundImages[b.resource]->state, earlierStates, res.mips(), b.range, srcStages, srcAccess);
         if (b.firstUse && !b.image && m_boundBuffers[b.resource])
-            addPreviousUse({m_boundBuffers[b.resource]->state}, 1, {0, 1, 0, 1}, srcStages, srcAccess);
+            addPreviousUse({m_boundBuffers[b.resource]->state}, earlierStates, 1, {0, 1, 0, 1}, srcStages, srcAccess);
         if (srcStages == 0 && b.oldLayout == b.newLayout)
             continue; // a first use with nothing before it
         if (b.image) {
@@ -181,10 +212,14 @@ void RenderGraph::buildMemoryReport() {
             return m_boundImages[r]->image.alloc.size;
         return m_boundBuffers[r] ? m_boundBuffers[r]->buffer.alloc.size : 0;
     };
+    // A pool entry shared by several transients counts once, at its first occupant.
+    auto firstOccupant = [&](uint32_t r) { return m_previousOccupant[r] == kNone; };
     for (uint32_t r = 0; r < m_resources.size(); ++r)
-        if (m_boundImages[r] || m_boundBuffers[r]) {
+        if ((m_boundImages[r] || m_boundBuffers[r]) && firstOccupant(r)) {
             m_memory.transientBytes += bytesOf(r);
             m_memory.transientCount++;
+        } else if (m_boundImages[r] || m_boundBuffers[r]) {
+            m_memory.sharedCount++;
         }
     for (const CompiledPass& compiled : m_compiled.passes) {
         PassMemory pm{compiled.name, 0, 0, 0};
@@ -198,7 +233,8 @@ void RenderGraph::buildMemoryReport() {
                 continue;
             seen.push_back(u.resource);
             pm.touchedBytes += bytesOf(u.resource);
-            if (m_firstUser[u.resource] == compiled.pass)
+            if (m_firstUser[u.resource] == compiled.pass && (m_boundImages[u.resource] || m_boundBuffers[u.resource]) &&
+                firstOccupant(u.resource))
                 pm.createdBytes += bytesOf(u.resource);
         }
         m_memory.passes.push_back(pm);

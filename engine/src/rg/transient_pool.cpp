@@ -1,4 +1,6 @@
-// Descriptor-keyed transient pool (kajiya's TransientResourceCache, v1 without aliasing).
+// Descriptor-keyed transient pool (kajiya's TransientResourceCache) with lifetime-based reuse
+// within one execution: resources of equal description whose pass spans do not overlap share
+// one entry (aliasing of equal descriptions only; no placed sub-allocation).
 #include "engine/rg/transient_pool.hpp"
 
 #include <algorithm>
@@ -30,36 +32,53 @@ void TransientPool::beginGraph() {
         e->busy = false;
 }
 
-PersistentImage& TransientPool::acquireImage(const ImageDesc& desc, const char* name) {
-    for (auto& e : m_images)
-        if (!e->busy && e->resource.image.desc == desc) {
-            e->busy = true;
-            e->lastUsed = m_execution;
-            m_ctx.setName(VK_OBJECT_TYPE_IMAGE, uint64_t(e->resource.image.image), name);
-            return e->resource;
+template <typename T, typename D, typename Create>
+T& TransientPool::acquire(std::vector<std::unique_ptr<Entry<T>>>& entries, const D& desc, const char* name,
+                          uint32_t first, uint32_t last, Create create) {
+    // Any free equal entry: the graph asks in order of first use, and first-fit colouring of
+    // intervals taken by start is optimal, so the choice among free entries does not matter.
+    Entry<T>* best = nullptr;
+    for (auto& e : entries)
+        if (e->freeFrom(first) && create.matches(e->resource, desc)) {
+            best = e.get();
+            break;
         }
-    auto entry = std::make_unique<Entry<PersistentImage>>();
-    entry->resource.image = createImage(m_ctx, desc, name);
-    entry->busy = true;
-    entry->lastUsed = m_execution;
-    m_images.push_back(std::move(entry));
-    return m_images.back()->resource;
+    if (!best) {
+        entries.push_back(std::make_unique<Entry<T>>());
+        best = entries.back().get();
+        create.make(best->resource, desc, name);
+    } else {
+        create.rename(best->resource, name);
+    }
+    best->busy = true;
+    best->busyUntil = last;
+    best->lastUsed = m_execution;
+    return best->resource;
 }
 
-PersistentBuffer& TransientPool::acquireBuffer(const BufferDesc& desc, const char* name) {
-    for (auto& e : m_buffers)
-        if (!e->busy && e->resource.buffer.desc == desc) {
-            e->busy = true;
-            e->lastUsed = m_execution;
-            m_ctx.setName(VK_OBJECT_TYPE_BUFFER, uint64_t(e->resource.buffer.buffer), name);
-            return e->resource;
+PersistentImage& TransientPool::acquireImage(const ImageDesc& desc, const char* name, uint32_t first, uint32_t last) {
+    struct {
+        Context& ctx;
+        bool matches(const PersistentImage& r, const ImageDesc& d) const { return r.image.desc == d; }
+        void make(PersistentImage& r, const ImageDesc& d, const char* n) const { r.image = createImage(ctx, d, n); }
+        void rename(PersistentImage& r, const char* n) const {
+            ctx.setName(VK_OBJECT_TYPE_IMAGE, uint64_t(r.image.image), n);
         }
-    auto entry = std::make_unique<Entry<PersistentBuffer>>();
-    entry->resource.buffer = createBuffer(m_ctx, desc, name);
-    entry->busy = true;
-    entry->lastUsed = m_execution;
-    m_buffers.push_back(std::move(entry));
-    return m_buffers.back()->resource;
+    } ops{m_ctx};
+    return acquire(m_images, desc, name, first, last, ops);
+}
+
+PersistentBuffer& TransientPool::acquireBuffer(const BufferDesc& desc, const char* name, uint32_t first,
+                                               uint32_t last) {
+    struct {
+        Context& ctx;
+        bool matches(const PersistentBuffer& r, const BufferDesc& d) const { return r.buffer.desc == d; }
+        void make(PersistentBuffer& r, const BufferDesc& d, const char* n) const { r.buffer = createBuffer(ctx, d, n); }
+        void rename(PersistentBuffer& r, const char* n) const {
+            ctx.setName(VK_OBJECT_TYPE_BUFFER, uint64_t(r.buffer.buffer), n);
+        }
+    } ops{m_ctx};
+    return acquire(m_buffers, desc, name, first, last, ops);
 }
 
 void TransientPool::clear() {

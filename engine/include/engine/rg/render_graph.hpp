@@ -122,7 +122,9 @@ struct PassTiming {
 
 struct PassMemory {
     std::string name;
-    VkDeviceSize createdBytes = 0; // transients first used by this pass (no aliasing yet)
+    // Transients first used by this pass that take a pool entry no earlier transient of this
+    // execution used (a transient reusing an entry freed earlier in the frame adds nothing).
+    VkDeviceSize createdBytes = 0;
     VkDeviceSize touchedBytes = 0; // all transients this pass declares
     // Bytes the pass's declared accesses move, imports included: each declared subresource range
     // counted once if read and once if written (read-modify-write twice). Exact for streaming
@@ -131,8 +133,11 @@ struct PassMemory {
 };
 struct MemoryReport {
     std::vector<PassMemory> passes;
-    VkDeviceSize transientBytes = 0; // sum over live transients = peak, as nothing aliases yet
-    uint32_t transientCount = 0;
+    // Pool entries bound this execution: transients of equal description whose pass spans do not
+    // overlap share one entry, so this is the sum over distinct entries.
+    VkDeviceSize transientBytes = 0;
+    uint32_t transientCount = 0; // distinct pool entries
+    uint32_t sharedCount = 0;    // transients that reused an entry an earlier transient freed
 };
 
 class RenderGraph;
@@ -378,6 +383,11 @@ private:
     bool m_isCompiled = false;
     std::vector<std::vector<AccessState>> m_finalStates; // per resource, after the final barriers
     std::vector<uint32_t> m_firstUser;                   // first live pass using each resource
+    std::vector<uint32_t> m_lastUser;                    // last live pass using each resource
+    // Execute: transients in first-use order, and for each the transient that used its pool
+    // entry earlier in this execution (kNone: the entry was free or new).
+    std::vector<uint32_t> m_transientOrder;
+    std::vector<uint32_t> m_previousOccupant;
     // Physical resources bound in execute(): persistent imports and pool entries share the
     // PersistentImage/PersistentBuffer form, so final states go back the same way.
     std::vector<PersistentImage*> m_boundImages;
