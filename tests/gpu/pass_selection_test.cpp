@@ -394,7 +394,7 @@ TEST_F(PassSelectionTest, LpvMovedLightReinjectsAndMatchesAFreshSystem) {
     moved.lights[0].position.x += 0.1f;
     ASSERT_TRUE(sys->updateScene(moved));
     FrameResult f = frame(*sys, moved);
-    EXPECT_EQ(viewIndependent(f), "gi.light[0].spot gi.lpv.inject.clear gi.lpv.inject.range gi.lpv.inject "
+    EXPECT_EQ(viewIndependent(f), "gi.light[0].spot gi.lpv.inject.reduce gi.lpv.inject.clear gi.lpv.inject.range gi.lpv.inject "
                                   "gi.lpv.inject.resolve gi.lpv.gv.clear gi.lpv.gv.rsm gi.lpv.gv.camera "
                                   "gi.lpv.gv.resolve gi.lpv.propagate[0] gi.lpv.propagate[1] gi.lpv.propagate[2] "
                                   "gi.lpv.propagate[3]");

@@ -36,7 +36,7 @@ TEST(Knobs, SetReachesTheField) {
     EXPECT_EQ(s.pcfRadius, 2u);
     s.technique = Technique::Lpv;
     EXPECT_EQ(describeKnobs(s),
-              "grid=64 iterations=8 occlusion=off bounces=off damping=0.25 cascades=1 half=on rsm_reduce=1");
+              "grid=64 iterations=8 occlusion=off bounces=off damping=0.25 cascades=1 half=on rsm_reduce=4");
 }
 
 TEST(Knobs, BadValuesAreOneLineErrorsNamingTheKnob) {
