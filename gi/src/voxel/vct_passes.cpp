@@ -18,7 +18,8 @@ Image createRadianceVolume(Context& ctx, uint32_t n, uint32_t depth, uint32_t mi
     d.width = d.height = n;
     d.depth = depth;
     d.mipLevels = mips;
-    d.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    d.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+              VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     return createImage(ctx, d, name);
 }
 
@@ -132,9 +133,14 @@ gpu::ConeParams VctVolumes::coneParams(const VctSettings& s, uint32_t width, uin
 void VctVolumes::recordCompact(VkCommandBuffer cmd) const {
     gpu::VoxelGridPush push{m_grid.params()};
     dispatch(m_ctx, cmd, m_compact, push,
-             {storage(0, m_grid.volumes().albedo.image.view), bufferItem(1, m_list.buffer.buffer),
-              storage(2, m_aniso.image.mipViews[0])},
+             {storage(0, m_grid.volumes().albedo.image.view), bufferItem(1, m_list.buffer.buffer)},
              glm::uvec3(m_grid.resolution()));
+}
+
+void VctVolumes::recordClearLevel0(VkCommandBuffer cmd, VkImageLayout layout) const {
+    VkClearColorValue zero{};
+    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdClearColorImage(cmd, m_aniso.image.image, layout, &zero, 1, &range);
 }
 
 void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t lightCount, VctOcclusion occlusion,

@@ -69,9 +69,10 @@ public:
 
     // Storage layouts are GENERAL; `sampledLayout` is the layout of the images read through a
     // sampler (GENERAL in hand-recorded tests, what the graph chose inside a pass).
-    // Occupied voxels of the grid -> list (its header zeroed before, transfer); zero level 0 of
-    // aniso() at the empty voxels (storage write).
+    // Occupied voxels of the grid -> list (its header zeroed before, transfer).
     void recordCompact(VkCommandBuffer cmd) const;
+    // Level 0 of aniso() := 0 (transfer write, the image in `layout`).
+    void recordClearLevel0(VkCommandBuffer cmd, VkImageLayout layout) const;
     // grid volumes + lights (+ the emission volume when `emission`) -> the six level-0 views of
     // aniso() at the listed voxels (indirect dispatch over the list).
     // `shadow` (non-null) selects the shadow-atlas variant, else `occlusion` the ray march.

@@ -20,8 +20,8 @@ VolumeHandles importVolumes(rg::RenderGraph& graph, VoxelVolumes& v, const char*
 
 rg::ImageHandle addClear(rg::RenderGraph& graph, const VoxelGrid* grid, rg::ImageHandle accum, const char* name) {
     graph.addPass(
-        name, [&](rg::PassBuilder& b) { accum = b.write(accum, Access::ComputeStorageWriteDiscard); },
-        [grid](rg::PassContext& ctx) { grid->recordClear(ctx.cmd()); });
+        name, [&](rg::PassBuilder& b) { accum = b.write(accum, Access::TransferWrite); },
+        [grid, accum](rg::PassContext& ctx) { grid->recordClear(ctx.cmd(), ctx.layout(accum)); });
     return accum;
 }
 
@@ -181,18 +181,23 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     const rg::SubresourceRange level0 = rg::SubresourceRange::mip(0);
     if (grid.changed || !volumes.listBuilt()) {
         // Once per voxelization: the occupied-voxel list the light and bounce passes run over.
+        // The list header and level 0 (the voxel light writes only the listed voxels; the rest
+        // must read empty) are zeroed by transfer clears, which stream at memset speed.
         graph.addPass(
             "gi.vct.list.clear",
-            [&](rg::PassBuilder& b) { list = b.write(list, Access::TransferWrite); },
-            [list](rg::PassContext& ctx) {
+            [&](rg::PassBuilder& b) {
+                list = b.write(list, Access::TransferWrite);
+                out.aniso = b.write(out.aniso, Access::TransferWrite, level0);
+            },
+            [v, list, aniso = out.aniso](rg::PassContext& ctx) {
                 vkCmdFillBuffer(ctx.cmd(), ctx.buffer(list).buffer, 0, GI_VOXEL_LIST_HEADER * sizeof(uint32_t), 0);
+                v->recordClearLevel0(ctx.cmd(), ctx.layout(aniso));
             });
         graph.addPass(
             "gi.vct.list",
             [&](rg::PassBuilder& b) {
                 b.read(grid.albedo, Access::ComputeStorageRead);
                 list = b.write(list, Access::ComputeStorageReadWrite);
-                out.aniso = b.write(out.aniso, Access::ComputeStorageWrite, level0); // the empty voxels
             },
             [v](rg::PassContext& ctx) { v->recordCompact(ctx.cmd()); });
         volumes.setListBuilt(true);

@@ -81,8 +81,8 @@ public:
     VkDeviceSize bytes() const;
 
     // Pass bodies (all images in GENERAL layout; the graph passes in voxel_graph.cpp declare
-    // the accesses). clear: accumulation := 0 (storage write).
-    void recordClear(VkCommandBuffer cmd) const;
+    // the accesses). clear: accumulation := 0 (transfer write, the image in `layout`).
+    void recordClear(VkCommandBuffer cmd, VkImageLayout layout) const;
     // Adds the chosen draws to the accumulation (storage read-write, scene buffers read).
     void recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set) const;
     // accumulation -> `target` (storage write).
@@ -96,7 +96,7 @@ private:
     gpu::VoxelGridParams m_params{};
     VoxelVolumes m_volumes, m_static;
     rg::PersistentImage m_accum;
-    Pipeline m_clear, m_voxelize, m_resolve, m_resolveMerge;
+    Pipeline m_voxelize, m_resolve, m_resolveMerge;
 };
 
 } // namespace vkgi::gi

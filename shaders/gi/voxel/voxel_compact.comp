@@ -1,9 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Once per voxelization: appends every occupied voxel and every 2^3 block holding one to the
-// occupied lists (headers = indirect dispatch arguments, voxel_passes.h) and zeroes the six
-// level-0 views of the directional volume at the empty voxels, so the passes that then run
-// over the list alone leave a complete level 0 behind.
+// occupied lists (headers = indirect dispatch arguments, voxel_passes.h). Level 0 of the
+// directional volume is cleared by a transfer before, so the passes that then run over the
+// list alone leave a complete level 0 behind.
 // The list order depends on scheduling; its consumers write per voxel, so results do not.
 #include "gi/voxel_passes.h"
 
@@ -11,7 +11,6 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 4) in;
 layout(push_constant) uniform Push { VoxelGridPush pc; };
 layout(set = 1, binding = 0, rgba8) uniform readonly image3D albedoVol; // a = occupancy
 layout(set = 1, binding = 1, std430) buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint entries[]; };
-layout(set = 1, binding = 2, rgba16f) uniform writeonly image3D anisoLevel0;
 
 void main() {
     uvec3 c = gl_GlobalInvocationID;
@@ -33,11 +32,8 @@ void main() {
                 atomicAdd(header[GI_VOXEL_LIST_BLOCKS], 1u);
         }
     }
-    if (imageLoad(albedoVol, ivec3(c)).a == 0.0) {
-        for (uint v = 0u; v < GI_VOXEL_ANISO_DIRECTIONS; ++v)
-            imageStore(anisoLevel0, ivec3(c + uvec3(0u, 0u, v * n)), vec4(0.0));
+    if (imageLoad(albedoVol, ivec3(c)).a == 0.0)
         return;
-    }
     uint slot = atomicAdd(header[3], 1u);
     entries[slot] = voxelListPack(c);
     // The first voxel of each group of GI_VOXEL_LIST_GROUP adds that group: x = ceil(count / group).
