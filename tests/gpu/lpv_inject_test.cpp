@@ -388,11 +388,13 @@ namespace {
 
 // A wall of surfels on the plane x = 4 covering y, z in [0, 8) at 0.25 spacing (32 x 32),
 // normals facing -x: every interior GV corner on the plane gets 16 surfels of 1/16 cell area.
-std::vector<glm::vec4> wallPositions() {
+// A wall at x = 4 covering the grid's cross-section, sampled by n x n texels.
+std::vector<glm::vec4> wallPositions(int n = 32) {
     std::vector<glm::vec4> p;
-    for (int j = 0; j < 32; ++j)
-        for (int i = 0; i < 32; ++i)
-            p.push_back({4.0f, 0.125f + 0.25f * float(i), 0.125f + 0.25f * float(j), 1.0f});
+    const float d = float(kGrid) / float(n);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+            p.push_back({4.0f, d * (0.5f + float(i)), d * (0.5f + float(j)), 1.0f});
     return p;
 }
 
@@ -486,4 +488,59 @@ TEST_F(LpvInject, GeometryVolumeCountsASurfaceSeenTwiceOnceAndStopsLight) {
     // meets the wall head-on: measured 26.2% (18.3% with Lambertian reprojection, which turned
     // light sideways before it reached the wall).
     EXPECT_LE(blocked, 0.3 * open);
+}
+
+TEST_F(LpvInject, CameraGeometryVolumeIsTheSameWhenTheGBufferIsSampledSparsely) {
+    // The wall of GeometryVolumeCountsASurfaceSeenTwiceOnce as a 64 x 64 camera G-buffer over an
+    // 8^3 grid: 8 pixels per cell, so the camera pass samples every 2nd pixel (>= 4 samples per
+    // cell per axis, gi/src/lpv/lpv_inject.cpp), each standing for 2 x 2 pixels' area. Interior
+    // corners: 4 x 4 samples of 1/16 of a cell face = coverage 1, as with every pixel.
+    const std::vector<glm::vec4> pos = wallPositions(64);
+    const std::vector<glm::vec4> nrm(pos.size(), glm::vec4(-1, 0, 0, 0));
+    Image* camPos = uploaded(pos, VK_FORMAT_R32G32B32A32_SFLOAT, 64, 64, false);
+    Image* camNrm = uploaded(nrm, VK_FORMAT_R16G16B16A16_SFLOAT, 64, 64, false);
+    const int corners = kGrid + 1;
+    Buffer host = createBuffer(ctx(), {VkDeviceSize(corners * corners * corners * 8), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                       MemoryUsage::GpuToCpu},
+                               "lpv.test.gv.host");
+    rg::RenderGraph g;
+    GBufferInput cam{g.importImage("cam.position", *camPos, rg::Access::TransferWrite),
+                     g.importImage("cam.normal", *camNrm, rg::Access::TransferWrite), {}, 64, 64};
+    rg::ImageHandle gv = addGeometryVolumePasses(g, m_injector, grid(), RsmInput{}, cam);
+    rg::BufferHandle hostHandle = g.importBuffer("gv.host", host, rg::Access::None);
+    g.addPass(
+        "test.gv.readback",
+        [&](rg::PassBuilder& b) {
+            b.read(gv, rg::Access::TransferRead);
+            hostHandle = b.write(hostHandle, rg::Access::TransferWrite);
+        },
+        [=](rg::PassContext& pc) {
+            VkBufferImageCopy region{};
+            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.imageExtent = {uint32_t(corners), uint32_t(corners), uint32_t(corners)};
+            vkCmdCopyImageToBuffer(pc.cmd(), pc.image(gv).image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                   pc.buffer(hostHandle).buffer, 1, &region);
+        });
+    g.exportBuffer(hostHandle, rg::Access::HostRead);
+    auto compiled = g.compile();
+    ASSERT_TRUE(compiled) << compiled.error().message;
+    ctx().submitAndWait([&](VkCommandBuffer cmd) { g.execute(cmd, ctx(), *m_pool); });
+    std::vector<uint8_t> bytes(size_t(corners * corners * corners * 8));
+    std::memcpy(bytes.data(), host.mapped(), bytes.size());
+    destroyBuffer(ctx(), host);
+    const std::vector<vec4> blocking = texelsOf(bytes, VK_FORMAT_R16G16B16A16_SFLOAT);
+    const vec4 full = gpu::shCosineLobe(vec3(1, 0, 0));
+    float worst = 0.0f, off = 0.0f;
+    for (int z = 0; z < corners; ++z)
+        for (int y = 0; y < corners; ++y)
+            for (int x = 0; x < corners; ++x) {
+                vec4 b = blocking[size_t(x + corners * (y + corners * z))];
+                if (x != 4)
+                    off = std::max(off, glm::length(b));
+                else if (y > 0 && y < kGrid && z > 0 && z < kGrid)
+                    worst = std::max(worst, glm::length(b - full));
+            }
+    EXPECT_LE(worst, 1e-3f);
+    EXPECT_EQ(off, 0.0f);
+    EXPECT_EQ(validation().count(), 0u);
 }

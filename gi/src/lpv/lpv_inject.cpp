@@ -203,11 +203,25 @@ rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& 
                      {rsm.resolution, rsm.resolution, rsm.layers}},
                     {(prefix + ".gv.camera"), gbuffer.position, gbuffer.normal, &injector.gvCamera,
                      {gbuffer.width, gbuffer.height, 1}}};
+    // The camera's G-buffer is sampled every `stride` pixels per axis, each sample's area estimated
+    // from the samples `stride` pixels away (the same area estimator, stride^2 times the area, so
+    // the coverage sum is unchanged). The stride keeps at least 4 samples per LPV cell per axis
+    // when the whole grid spans the image (kGvCameraSamplesPerCell); closer views sample denser.
+    // Cornell 256^2 with 32^3: stride 2 (4x fewer G-buffer surfels); 64^2 images: stride 1.
+    constexpr uint32_t kGvCameraSamplesPerCell = 4;
+    const uint32_t cells = uint32_t(std::max({grid.size.x, grid.size.y, grid.size.z, 1}));
+    const uint32_t cameraStride =
+        std::clamp(std::max(gbuffer.width, gbuffer.height) / (kGvCameraSamplesPerCell * cells), 1u, 4u);
+    sources[1].texels = glm::uvec3((gbuffer.width + cameraStride - 1) / cameraStride,
+                                   (gbuffer.height + cameraStride - 1) / cameraStride, 1);
     for (int slot = 0; slot < 2; ++slot) {
         const Source src = sources[slot];
         if (!src.position.valid())
             continue;
-        push.rsm = glm::ivec4(int(src.texels.x), int(src.texels.z), slot, int(src.texels.y));
+        const uint32_t stride = slot == 1 ? cameraStride : 1u;
+        push.rsm = slot == 1 ? glm::ivec4(int(gbuffer.width), 1, slot, int(gbuffer.height))
+                             : glm::ivec4(int(src.texels.x), int(src.texels.z), slot, int(src.texels.y));
+        push.params.y = float(stride);
         graph.addPass(
             src.name,
             [&](rg::PassBuilder& b) {

@@ -2,7 +2,7 @@
 // potential (A / s^2) * cosineLobe(-n) (the fraction of light travelling in direction w that
 // it stops, Kaplanyan's fuzzy occlusion) to the GV cell nearest to it (GV cells are centred on
 // LPV cell corners). A is the surfel's world area, estimated from the positions of its next
-// (or previous) neighbours in x and y and capped at one cell face (at depth discontinuities). Sums use integer
+// (or previous) sampled neighbours in x and y and capped at one cell face (at depth discontinuities). Sums use integer
 // atomics in slot `pc.rsm.z` of the GV buffer, so the RSM and the camera's surfels fill separate
 // volumes that the resolve combines by max (a surface seen by both must not count twice).
 // Included by gv_inject_rsm.comp (2D-array RSM) and gv_inject_camera.comp (2D G-buffer).
@@ -42,7 +42,10 @@ vec3 edge(ivec3 t, ivec3 step, vec3 p, float cell) {
 }
 
 void main() {
-    ivec3 t = ivec3(gl_GlobalInvocationID);
+    // Every `stride`-th texel per axis (pc.params.y; the camera G-buffer at high resolution): the
+    // area estimate below then spans stride texels, so the summed coverage stays the same.
+    int stride = max(int(pc.params.y), 1);
+    ivec3 t = ivec3(ivec2(gl_GlobalInvocationID.xy) * stride, gl_GlobalInvocationID.z);
     if (t.x >= pc.rsm.x || t.y >= pc.rsm.w || t.z >= pc.rsm.y)
         return;
     vec4 position = texelFetch(gvPosition, GV_TEXEL(t), 0);
@@ -52,7 +55,7 @@ void main() {
         return;
     n *= inversesqrt(nn);
     float cell = pc.grid.origin.w;
-    vec3 a = edge(t, ivec3(1, 0, 0), position.xyz, cell), b = edge(t, ivec3(0, 1, 0), position.xyz, cell);
+    vec3 a = edge(t, ivec3(stride, 0, 0), position.xyz, cell), b = edge(t, ivec3(0, stride, 0), position.xyz, cell);
     float coverage = min(length(cross(a, b)) / (cell * cell), 1.0);
     if (!(coverage > 0.0))
         return;
