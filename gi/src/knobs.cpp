@@ -69,7 +69,7 @@ std::vector<Knob> makeKnobs() {
         uintKnob("lpv.rsm_reduce", 1, 4, lpv,
                  "inject from the RSM reduced by 1, 2 or 4 per axis (flux-weighted surfels)",
                  [](GiSettings& s) -> uint32_t& { return s.lpv.rsmReduce; }),
-        uintKnob("vpl.count", 1, kMaxVplsPerLight, vpl, "VPLs per spotlight (Halton points in the cone)",
+        uintKnob("vpl.count", 1, kMaxVplsPerLight, vpl, "VPLs per light (Halton points in the spot cone, the sphere or the sun's window)",
                  [](GiSettings& s) -> uint32_t& { return s.vpl.vplCount; }),
         uintKnob("vpl.negative", 0, kMaxNegativeVpls, vpl, "negative VPLs for occlusion (0 = off)",
                  [](GiSettings& s) -> uint32_t& { return s.vpl.negativeVplCount; }),

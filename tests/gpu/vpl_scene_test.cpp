@@ -325,26 +325,134 @@ TEST_F(VplScene, OddSizesWithLowResolutionAndNegativeVpls) {
     EXPECT_NEAR(mean[2], mean[0], 0.05 * mean[0]);
 }
 
-// Without a spotlight (point light only; emission only) the technique leaves its passes out:
-// no VPL pass runs, no indirect image exists and the frame is exactly the direct image.
-TEST_F(VplScene, NoSpotlightLeavesEveryVplPassOut) {
-    for (const char* name : {"cornell_point", "cornell_emissive"}) {
-        Scene scene = builtin(name);
-        auto sys = makeSystem({});
-        ASSERT_TRUE(sys && sys->setScene(scene));
-        FrameRequest request;
-        request.direct = true;
-        request.indirect = true;
-        auto frame = sys->renderFrame(scene.cameraOrDefault(), kSize, kSize, request);
-        ASSERT_TRUE(frame) << frame.error().message;
-        EXPECT_TRUE(frame->indirect.empty()) << name;
-        ASSERT_EQ(frame->composite.pixels.size(), size_t(kSize) * kSize);
-        EXPECT_EQ(frame->composite.pixels, frame->direct.pixels) << name;
-        for (const rg::PassTiming& p : frame->passes) {
-            EXPECT_EQ(p.name.rfind("vpl.", 0), std::string::npos) << name << ": " << p.name;
-            EXPECT_NE(p.name, "gi.composite") << name << ": a composite pass without indirect light";
-        }
+// Without a light (emission only) the technique leaves its passes out: no VPL pass runs, no
+// indirect image exists and the frame is exactly the direct image.
+TEST_F(VplScene, NoLightLeavesEveryVplPassOut) {
+    Scene scene = builtin("cornell_emissive");
+    auto sys = makeSystem({});
+    ASSERT_TRUE(sys && sys->setScene(scene));
+    FrameRequest request;
+    request.direct = true;
+    request.indirect = true;
+    auto frame = sys->renderFrame(scene.cameraOrDefault(), kSize, kSize, request);
+    ASSERT_TRUE(frame) << frame.error().message;
+    EXPECT_TRUE(frame->indirect.empty());
+    ASSERT_EQ(frame->composite.pixels.size(), size_t(kSize) * kSize);
+    EXPECT_EQ(frame->composite.pixels, frame->direct.pixels);
+    for (const rg::PassTiming& p : frame->passes) {
+        EXPECT_EQ(p.name.rfind("vpl.", 0), std::string::npos) << p.name;
+        EXPECT_NE(p.name, "gi.composite") << "a composite pass without indirect light";
     }
+}
+
+namespace {
+// A 20 m plane y = 0 of albedo 0.5 lit by one light, camera above it.
+Scene litPlane(const Light& light) {
+    Scene s;
+    s.name = "lit_plane";
+    Mesh m;
+    const float h = 10.0f;
+    m.positions = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
+    m.normals.assign(4, glm::vec3(0, 1, 0));
+    m.indices = {0, 2, 1, 0, 3, 2};
+    s.meshes.push_back(m);
+    Material mat;
+    mat.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+    s.materials.push_back(mat);
+    s.instances.push_back({});
+    s.lights.push_back(light);
+    Camera c;
+    c.position = {0.0f, 3.0f, 0.0f};
+    c.forward = {0.0f, -1.0f, 0.0f};
+    c.up = {0.0f, 0.0f, -1.0f};
+    s.camera = c;
+    return s;
+}
+} // namespace
+
+// A point light is a spot whose cone is the whole sphere (six cube layers): each of its N
+// Halton directions that meets the plane gives a VPL on the plane, facing up, carrying
+// albedo * I * 4 pi / N, and the share of directions that meet it is the solid angle the
+// plane subtends from 1 m above its centre over 4 pi (a square of half-side 10: 0.4686, the
+// closed form 4 atan(h^2 / (d sqrt(2 h^2 + d^2))) / 4 pi with h = 10, d = 1).
+TEST_F(VplScene, PointLightVplsCoverTheSphereWithExactFlux) {
+    Light light;
+    light.type = LightType::Point;
+    light.position = {0.0f, 1.0f, 0.0f};
+    light.intensity = 100.0f;
+    Scene scene = litPlane(light);
+    VplSettings v;
+    v.vplCount = 512;
+    auto sys = makeSystem(v);
+    ASSERT_TRUE(sys && sys->setScene(scene));
+    std::vector<gpu::VplRecord> vpls = vplRecords(*sys, *scene.camera);
+    ASSERT_EQ(vpls.size(), 512u);
+    const double expectedFlux = 0.5 * 100.0 * 4.0 * 3.14159265358979 / 512.0;
+    uint32_t valid = 0;
+    for (const gpu::VplRecord& r : vpls) {
+        if (r.position.w == 0.0f)
+            continue;
+        ++valid;
+        EXPECT_NEAR(r.position.y, 0.0f, 1e-4f);
+        EXPECT_LE(std::max(std::abs(r.position.x), std::abs(r.position.z)), 10.0f + 1e-3f);
+        EXPECT_NEAR(r.direction.y, 1.0f, 1e-4f);
+        EXPECT_NEAR(r.flux.x, expectedFlux, 2e-3 * expectedFlux) << "at " << r.position.x << ", " << r.position.z;
+    }
+    const double h = 10.0, d = 1.0;
+    const double share = 4.0 * std::atan(h * h / (d * std::sqrt(2.0 * h * h + d * d))) / (4.0 * 3.14159265358979);
+    EXPECT_NEAR(double(valid) / 512.0, share, 0.01) << valid << " VPLs on the plane";
+}
+
+// A directional light's VPLs are Halton points of its orthographic RSM window: each one on the
+// plane carries albedo * E * A_window / N (A_window perpendicular to the light), so together
+// they carry what the plane reflects, albedo * E * cos(theta) * 400 m^2 = 600 cos(theta), up to
+// the Halton points' discrepancy.
+TEST_F(VplScene, DirectionalLightVplsSampleItsWindowWithExactFlux) {
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+    sun.intensity = 3.0f;
+    Scene scene = litPlane(sun);
+    VplSettings v;
+    v.vplCount = 1024;
+    auto sys = makeSystem(v);
+    ASSERT_TRUE(sys && sys->setScene(scene));
+    std::vector<gpu::VplRecord> vpls = vplRecords(*sys, *scene.camera);
+    ASSERT_EQ(vpls.size(), 1024u);
+    double total = 0.0, first = 0.0;
+    uint32_t valid = 0;
+    for (const gpu::VplRecord& r : vpls) {
+        if (r.position.w == 0.0f)
+            continue;
+        ++valid;
+        EXPECT_NEAR(r.position.y, 0.0f, 1e-3f);
+        EXPECT_LE(std::max(std::abs(r.position.x), std::abs(r.position.z)), 10.0f + 0.1f);
+        EXPECT_NEAR(r.direction.y, 1.0f, 1e-4f);
+        first = first == 0.0 ? r.flux.x : first;
+        EXPECT_NEAR(r.flux.x, first, 1e-4 * first) << "every VPL stands for the same window area";
+        total += r.flux.x;
+    }
+    EXPECT_GT(valid, 512u) << "the window is fitted to the scene: most points meet the plane";
+    const double reflected = 600.0 * double(-sun.direction.y); // cos(theta) = n . (-direction)
+    EXPECT_NEAR(total, reflected, 0.02 * reflected);
+}
+
+// Integrating sphere (r = 1, albedo 0.5, 1 cd point light at the centre): between two points of
+// a sphere cos(vpl) cos(receiver) / d^2 = 1 / (4 r^2) wherever the VPLs lie, so the one-bounce
+// radiance is exact for any VPL placement: albedo/pi * sum(flux)/pi / (4 r^2) with sum(flux) =
+// albedo * I * 4 pi, i.e. rho^2 I / (pi r^2) = 0.0796 nits on every pixel. Only the 1/d^2 clamp
+// (radius 2% of the diagonal) removes a little where a VPL lies within it.
+TEST_F(VplScene, IntegratingSphereGetsTheClosedFormBounceFromAPointLight) {
+    Scene scene = builtin("sphere");
+    auto sys = makeSystem({});
+    ASSERT_TRUE(sys && sys->setScene(scene));
+    HdrImage img = indirect(*sys, scene);
+    ASSERT_EQ(img.pixels.size(), size_t(kSize) * kSize);
+    const double expected = 0.25 / 3.14159265358979;
+    double worst = 0.0;
+    for (const glm::vec3& p : img.pixels)
+        worst = std::max(worst, std::abs(double(p.g) - expected) / expected);
+    EXPECT_LT(worst, 0.015) << "worst pixel off by " << worst * 100.0 << "%";
 }
 
 TEST_F(VplScene, BadSettingsAreClearErrors) {

@@ -19,7 +19,7 @@ class Context;
 
 namespace vkgi::gi {
 
-// Most VPLs per spotlight, negative VPLs and spotlights (mirror GI_VPL_MAX_* in gi/vpl.h).
+// Most VPLs per light, negative VPLs and lights (mirror GI_VPL_MAX_* in gi/vpl.h).
 constexpr uint32_t kMaxVplsPerLight = 4096;
 constexpr uint32_t kMaxNegativeVpls = 4096;
 constexpr uint32_t kMaxVplLights = 8;
@@ -29,7 +29,7 @@ constexpr uint32_t kMaxHaltonSearch = 1u << 22;
 
 // The knobs of the VPL technique (what vkgi-bench sweeps).
 struct VplSettings {
-    uint32_t vplCount = 200;         // positive VPLs per spotlight, 1..kMaxVplsPerLight
+    uint32_t vplCount = 200;         // positive VPLs per light, 1..kMaxVplsPerLight
     uint32_t negativeVplCount = 0;   // negative VPLs (0 = off), 0..kMaxNegativeVpls
     uint32_t lowResFactor = 1;       // indirect light at 1/factor resolution per axis: 1 (off), 2 or 4
     float refineThreshold = 0.1f;    // discontinuity test: 1 - dot(normals) or |dp| / depth above it refines
@@ -59,14 +59,22 @@ glm::mat3 spotFrame(const glm::vec3& direction);
 // Solid angle of a cone of half-angle acos(cosOuter): 2 pi (1 - cosOuter).
 inline float coneSolidAngle(float cosOuter) { return 6.28318530718f * (1.0f - cosOuter); }
 
-// One spotlight that owns RSM layers.
+// One light that owns RSM layers: a spotlight (the paper's case), a point light (a spot whose
+// cone is the whole sphere, cosOuter = -1, on its six cube layers) or a directional light
+// (`directional`: one orthographic layer; position, direction and cosOuter are unused, the VPLs
+// are Halton points of the layer's window, docs/vpl.md).
 struct VplSpot {
     glm::vec3 position{0.0f};
     glm::vec3 direction{0.0f, -1.0f, 0.0f}; // unit spot axis
     float cosOuter = 0.7071068f;            // cosine of the outer cone half-angle
     uint32_t firstLayer = 0;                // its layers in the RSM arrays and the shadow views table
-    uint32_t layerCount = 1;                // 1 (perspective layer) or 6 (cube, wide spots)
+    uint32_t layerCount = 1;                // 1 (perspective or orthographic layer) or 6 (cube)
+    bool directional = false;
 };
+
+// The `count` first Halton points (bases 2 and 3, index 1, 2, ...) of the square [-1, 1]^2,
+// as (x, y, 0): where a directional light's VPLs sample its orthographic RSM window.
+std::vector<glm::vec3> windowSamplePoints(uint32_t count);
 
 // What the VPL passes read. Image layouts as documented in gi/frame_data.hpp.
 struct VplInputs {
@@ -102,7 +110,7 @@ public:
 
     // Adds the VPL passes (upload, generate, gather, [negative VPLs], [upsample + refine]).
     // Without spots it adds one pass that clears `indirect` (GiSystem's module does not call it
-    // then: a scene with no spotlight gets no VPL pass at all). Errors: bad settings, too many spots, a cone too
+    // then: a scene with no light gets no VPL pass at all). Errors: bad settings, too many spots, a cone too
     // narrow for the requested VPL count.
     Result<VplOutputs> addPasses(rg::RenderGraph& graph, const VplInputs& inputs, const VplSettings& settings);
 

@@ -1,4 +1,6 @@
-// Technique::Vpl inside GiSystem: the spotlights of the scene with RSM layers become VplSpots.
+// Technique::Vpl inside GiSystem: every light of the scene with RSM layers becomes a VplSpot
+// (spotlights as in the paper; point lights as spots with the whole sphere for a cone;
+// directional lights sample their orthographic RSM window).
 #include "vpl/vpl_module.hpp"
 
 #include <cmath>
@@ -16,24 +18,24 @@ public:
     VplModule(std::unique_ptr<VplRenderer> renderer, const VplSettings& settings)
         : m_renderer(std::move(renderer)), m_settings(settings) {}
 
-    // Only spotlights make VPLs: without one the light passes leave the RSM out.
-    bool needsRsm() const override { return m_spots > 0; }
+    // Without a light there is nothing to bounce: the light passes then leave the RSM out.
+    bool needsRsm() const override { return m_lights > 0; }
 
     // Everything addPasses could reject is checked here, where errors can still be returned.
     Result<void> sceneChanged(Context&, const Scene& scene, const GpuScene&, bool) override {
-        uint32_t spots = 0;
+        uint32_t lights = 0;
         for (const Light& l : scene.lights) {
+            ++lights;
             if (l.type != LightType::Spot)
                 continue;
-            ++spots;
             auto dirs = spotSampleDirections(m_settings.vplCount, std::cos(l.outerConeAngle));
             if (!dirs)
                 return makeError("scene '" + scene.name + "', spot '" + l.name + "': " + dirs.error().message);
         }
-        if (spots > kMaxVplLights)
-            return makeError("scene '" + scene.name + "': " + std::to_string(spots) +
-                             " spotlights exceed the VPL technique's maximum of " + std::to_string(kMaxVplLights));
-        m_spots = spots;
+        if (lights > kMaxVplLights)
+            return makeError("scene '" + scene.name + "': " + std::to_string(lights) +
+                             " lights exceed the VPL technique's maximum of " + std::to_string(kMaxVplLights));
+        m_lights = lights;
         return {};
     }
 
@@ -43,7 +45,7 @@ public:
         const ShadowData& shadow = bb.get<ShadowData>();
         const RsmData* rsmData = bb.tryGet<RsmData>();
         if (!rsmData) {
-            bb.get<PassSelection>().leaveOut("vpl.*", LeftOutReason::NotNeeded, "no spotlight in the scene");
+            bb.get<PassSelection>().leaveOut("vpl.*", LeftOutReason::NotNeeded, "no light in the scene");
             bb.add(IndirectData{});
             return;
         }
@@ -64,9 +66,7 @@ public:
         in.sceneDiagonal = bounds.valid() ? glm::length(bounds.extent()) : 1.0f;
         for (uint32_t i = 0; i < scene.lights.size(); ++i) {
             const Light& l = scene.lights[i];
-            if (l.type != LightType::Spot)
-                continue;
-            // The light's layers in the atlas (a spot past the atlas's layer limit has none and
+            // The light's layers in the atlas (a light past the atlas's layer limit has none and
             // gets no VPLs, as it gets no shadow).
             uint32_t first = ~0u, count = 0;
             for (uint32_t k = 0; k < rsm.layers.size(); ++k)
@@ -76,13 +76,28 @@ public:
                 }
             if (count == 0)
                 continue;
-            in.spots.push_back({l.position, glm::normalize(l.direction), std::cos(l.outerConeAngle), first, count});
+            switch (l.type) {
+            case LightType::Spot:
+                in.spots.push_back({l.position, glm::normalize(l.direction), std::cos(l.outerConeAngle), first, count});
+                break;
+            case LightType::Point: // a spot whose cone is the whole sphere, on the cube's six layers
+                in.spots.push_back({l.position, glm::vec3(0.0f, -1.0f, 0.0f), -1.0f, first, count});
+                break;
+            case LightType::Directional: {
+                VplSpot sun;
+                sun.firstLayer = first;
+                sun.layerCount = count;
+                sun.directional = true;
+                in.spots.push_back(sun);
+                break;
+            }
+            }
         }
         if (in.spots.empty()) {
-            // No spotlight with an RSM: nothing to bounce, so the technique adds no pass and no
+            // No light with an RSM: nothing to bounce, so the technique adds no pass and no
             // indirect image; GiSystem then composites nothing (the frame is the direct image).
             bb.get<PassSelection>().leaveOut("vpl.*", LeftOutReason::NotNeeded,
-                                             "no spotlight has shadow-atlas layers (past maxShadowLayers)");
+                                             "no light has shadow-atlas layers (past maxShadowLayers)");
             bb.add(IndirectData{});
             return;
         }
@@ -95,7 +110,7 @@ public:
 private:
     std::unique_ptr<VplRenderer> m_renderer;
     VplSettings m_settings;
-    uint32_t m_spots = 0; // spotlights of the current scene
+    uint32_t m_lights = 0; // lights of the current scene
 };
 
 } // namespace

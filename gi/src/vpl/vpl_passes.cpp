@@ -109,7 +109,7 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
         return makeError("VplRenderer: image size " + std::to_string(in.width) + "x" + std::to_string(in.height) +
                          " is outside 1..65535 (refine list packs 16-bit coordinates)");
     if (in.spots.size() > kMaxVplLights)
-        return makeError("VplRenderer: " + std::to_string(in.spots.size()) + " spotlights exceed the maximum " +
+        return makeError("VplRenderer: " + std::to_string(in.spots.size()) + " lights exceed the maximum " +
                          std::to_string(kMaxVplLights));
     VplOutputs out;
     const ImageDesc fullDesc = image2D(in.width, in.height);
@@ -139,21 +139,32 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
     std::vector<glm::vec4> dirs;
     for (const VplSpot& spot : in.spots) {
         if (spot.layerCount != 1 && spot.layerCount != 6)
-            return makeError("VplRenderer: a spot's RSM layer count must be 1 or 6, got " +
+            return makeError("VplRenderer: a light's RSM layer count must be 1 or 6, got " +
                              std::to_string(spot.layerCount));
-        auto local = m->directions(s.vplCount, spot.cosOuter);
-        if (!local)
-            return local.error();
-        glm::mat3 frame = spotFrame(spot.direction);
         gpu::VplLight l{};
-        l.position = glm::vec4(spot.position, coneSolidAngle(spot.cosOuter) / float(s.vplCount));
-        l.axisX = glm::vec4(frame[0], 0.0f);
-        l.axisY = glm::vec4(frame[1], 0.0f);
-        l.axisZ = glm::vec4(frame[2], 0.0f);
         l.info = glm::uvec4(uint32_t(dirs.size()), s.vplCount, spot.firstLayer, spot.layerCount);
+        if (spot.directional) {
+            // Halton points of the orthographic window; each VPL stands for 1/N of its area
+            // (the shader turns that into flux with the layer's texel area, vpl_generate.comp).
+            if (spot.layerCount != 1)
+                return makeError("VplRenderer: a directional light has one orthographic RSM layer, got " +
+                                 std::to_string(spot.layerCount));
+            l.position = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f / float(s.vplCount));
+            for (const glm::vec3& p : windowSamplePoints(s.vplCount))
+                dirs.emplace_back(p, 0.0f);
+        } else {
+            auto local = m->directions(s.vplCount, spot.cosOuter);
+            if (!local)
+                return local.error();
+            glm::mat3 frame = spotFrame(spot.direction);
+            l.position = glm::vec4(spot.position, coneSolidAngle(spot.cosOuter) / float(s.vplCount));
+            l.axisX = glm::vec4(frame[0], 0.0f);
+            l.axisY = glm::vec4(frame[1], 0.0f);
+            l.axisZ = glm::vec4(frame[2], 0.0f);
+            for (const glm::vec3& d : **local)
+                dirs.emplace_back(d, 0.0f);
+        }
         lights.push_back(l);
-        for (const glm::vec3& d : **local)
-            dirs.emplace_back(d, 0.0f);
     }
     const uint32_t vplTotal = uint32_t(dirs.size());
     out.vplCount = vplTotal;

@@ -46,6 +46,15 @@ Result<std::vector<glm::vec3>> spotSampleDirections(uint32_t count, float cosOut
     return dirs;
 }
 
+std::vector<glm::vec3> windowSamplePoints(uint32_t count) {
+    std::vector<glm::vec3> points;
+    points.reserve(count);
+    for (uint32_t i = 1; i <= count; ++i)
+        points.emplace_back(2.0f * gpu::vplRadicalInverse(i, 2u) - 1.0f, 2.0f * gpu::vplRadicalInverse(i, 3u) - 1.0f,
+                            0.0f);
+    return points;
+}
+
 glm::mat3 spotFrame(const glm::vec3& direction) {
     // Double precision: the rotation loses ~1/(1 + c) of its accuracy as d approaches +Y.
     const glm::dvec3 a(0.0, -1.0, 0.0);

@@ -5,6 +5,10 @@
 // becomes the VPL: position on that surface's plane along the exact Halton ray (so it moves
 // continuously with the light), its normal, and the flux of the solid angle it stands for,
 //     flux = rsmFlux / texelSolidAngle * (coneSolidAngle / N) = albedo * I(w) * coneSolidAngle / N.
+// A directional light's layer is orthographic (view.eye.w = 0): its sample is a Halton point of
+// the window in normalised device coordinates, the ray starts there on the near plane and runs
+// along the light, and the VPL stands for 1/N of the window's area A = texelArea * res^2:
+//     flux = rsmFlux / texelArea * (A / N) = rsmFlux * res^2 / N = albedo * E * A / N.
 #include "gi/direct_types.h"
 #include "gi/vpl.h"
 
@@ -28,10 +32,20 @@ void main() {
         ++l;
     VplLight light = lights[l];
     vec3 local = directions[i].xyz;
-    vec3 dir = normalize(light.axisX.xyz * local.x + light.axisY.xyz * local.y + light.axisZ.xyz * local.z);
-    uint layer = light.info.z + (light.info.w == 6u ? cubeFace(dir) : 0u);
+    uint layer = light.info.z;
     GpuShadowView view = shadowViews[layer];
-    vec3 origin = light.position.xyz;
+    bool ortho = view.eye.w == 0.0;
+    vec3 origin, dir;
+    if (ortho) {
+        vec4 nearPoint = inverse(view.viewProj) * vec4(local.xy, 0.0, 1.0);
+        origin = nearPoint.xyz / nearPoint.w;
+        dir = view.axisArea.xyz;
+    } else {
+        dir = normalize(light.axisX.xyz * local.x + light.axisY.xyz * local.y + light.axisZ.xyz * local.z);
+        layer += light.info.w == 6u ? cubeFace(dir) : 0u;
+        view = shadowViews[layer];
+        origin = light.position.xyz;
+    }
     vec4 clip = view.viewProj * vec4(origin + dir, 1.0);
     VplRecord vpl;
     vpl.position = vec4(origin, 0.0);
@@ -46,17 +60,23 @@ void main() {
             vec3 n = normalize(texelFetch(rsmNormal, ivec3(texel, layer), 0).xyz);
             vec3 flux = texelFetch(rsmFlux, ivec3(texel, layer), 0).rgb;
             // The texel's surface plane along the exact ray; fall back to the texel centre when
-            // the ray grazes the plane or lands more than ~2 texels away from it.
-            float texelDist = distance(p.xyz, origin);
+            // the ray grazes the plane or lands more than ~2 texels away from it (texel.x is a
+            // size per metre of distance in a perspective layer, in metres in an orthographic one).
+            float texelDist = ortho ? 1.0 : distance(p.xyz, origin);
             float denom = dot(dir, n);
             float t = abs(denom) > 1e-4 ? dot(p.xyz - origin, n) / denom : -1.0;
             float tolerance = 2.0 * view.texel.x * texelDist + 1e-6;
             vec3 hit = (t > 0.0 && distance(origin + t * dir, p.xyz) < tolerance) ? origin + t * dir : p.xyz;
-            float cosAxis = max(dot(normalize(p.xyz - origin), view.axisArea.xyz), 1e-3);
-            float texelOmega = rsmTexelSolidAngle(view.axisArea.w, cosAxis);
+            float scale;
+            if (ortho) {
+                scale = light.position.w * res * res;
+            } else {
+                float cosAxis = max(dot(normalize(p.xyz - origin), view.axisArea.xyz), 1e-3);
+                scale = light.position.w / rsmTexelSolidAngle(view.axisArea.w, cosAxis);
+            }
             vpl.position = vec4(hit, 1.0);
             vpl.direction = vec4(n, 0.0);
-            vpl.flux = vec4(flux * (light.position.w / texelOmega), 0.0);
+            vpl.flux = vec4(flux * scale, 0.0);
         }
     }
     vpls[i] = vpl;

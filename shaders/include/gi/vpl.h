@@ -8,10 +8,10 @@
 #define VKGI_GI_VPL_H
 #include "../shared/bridge.h"
 
-// Most positive VPLs one spotlight may own: the gather is O(pixels * VPLs) and 4096 VPLs at
+// Most positive VPLs one light may own: the gather is O(pixels * VPLs) and 4096 VPLs at
 // 256^2 already cost seconds per frame on lavapipe, far past any useful setting.
 #define GI_VPL_MAX_PER_LIGHT 4096u
-// Most spotlights that get VPLs in one frame (the per-light parameter table is sized by it).
+// Most lights that get VPLs in one frame (the per-light parameter table is sized by it).
 #define GI_VPL_MAX_LIGHTS 8u
 // Most negative VPLs (paper section 3.3); same cost argument as above.
 #define GI_VPL_MAX_NEGATIVE 4096u
@@ -33,10 +33,12 @@ GI_GPU_STRUCT(VplRecord) {
 };
 GI_CHECK_SIZE(VplRecord, 48);
 
-// Per-spotlight parameters of the generation pass, one table entry per light. The RSM layer
-// projections come from the shadow views table (GpuShadowView, gi/direct_types.h).
+// Per-light parameters of the generation pass, one table entry per light. The RSM layer
+// projections come from the shadow views table (GpuShadowView, gi/direct_types.h). A
+// directional light (orthographic layer) uses only position.w (1/N) and info.
 GI_GPU_STRUCT(VplLight) {
-    vec4 position; // xyz light position, w = solid angle each VPL stands for (cone solid angle / N)
+    vec4 position; // xyz light position, w = solid angle each VPL stands for (cone solid angle / N),
+                   // or for a directional light the share of the RSM window (1 / N)
     vec4 axisX;    // spot frame: world-space images of the local x, y, z axes (z = spot axis)
     vec4 axisY;
     vec4 axisZ;
