@@ -221,3 +221,34 @@ TEST(LpvPropagationCpu, ALitWallLightsWhatFacesItAtEveryDistance) {
     // 0.97 after 32 steps.
     EXPECT_LT(self32, 0.6f);
 }
+
+// Why a lit plane lights itself (docs/lpv.md, "In the room"): light that crossed a front face is
+// re-emitted as (Y00, Y1 0.967 d), and the next step splits it by the near faces' integrals,
+// which give every lateral near face exactly 1/6 of the flux whatever the light's direction
+// (band 1 along d integrates to zero over a face whose mean direction is perpendicular to d),
+// the forward face 1/6 + Y1^2 |V_near| 0.967 and the rear face as much less (negative). A receiver
+// facing across the beam (normal perpendicular to d) reads Y00 * 0.886 = 1/4 of its flux, where a
+// beam within 21 degrees of d would give it 0 when it travels along the receiver's plane.
+TEST(LpvPropagationCpu, GrazingLightSpreadsSidewaysAndAFloorReadsIt) {
+    const vec4 beam = lpvFaceReprojection(0, 0); // flux 1 along +x
+    EXPECT_NEAR(shIntegral(beam), 1.0f, 1e-6f);
+    const float r = kLpvFrontAxial / kLpvFrontSolidAngle; // mean direction length 0.967
+    const float nearBand1 = float(kShY1 * kShY1) * (kLpvFrontAxial + 4.0f * kLpvSideAxial) * r;
+    for (int i = 0; i < 6; ++i) {
+        float nearFlux = 0.0f;
+        for (int f = 0; f < 5; ++f)
+            nearFlux += glm::dot(beam, lpvFaceWeight(i, f));
+        const float expected = i == 0 ? 1.0f / 6.0f + nearBand1 : i == 1 ? 1.0f / 6.0f - nearBand1 : 1.0f / 6.0f;
+        EXPECT_NEAR(nearFlux, expected, 1e-5f) << "gather direction " << i;
+    }
+    EXPECT_NEAR(1.0f / 6.0f - nearBand1, -0.235f, 1e-3f); // negative light sent backwards
+    // A floor (normal +y) under the beam: the lookup integrates the travel directions w with
+    // -n.w > 0 (u = -y). The plain product reads Y00 * 0.886 = 1/4 of the flux; the lookup's
+    // non-negative part more, since the beam's lobe 0.0796 + 0.2309 x.w is negative for x.w < -0.345
+    // and that part no longer cancels: 0.309 (measured). The price of not letting negative lobes
+    // cancel real light (LookupGivesTheClosedFormIrradianceAndDamping).
+    EXPECT_NEAR(shClampedCosineIntegral(beam, vec3(0, -1, 0)), 0.25f, 1e-5f);
+    const float positive = shClampedCosineIntegralOfPositivePart(beam, vec3(0, -1, 0));
+    std::printf("[lpv] grazing beam: floor reads %.4f of its flux (plain product 0.25)\n", positive);
+    EXPECT_NEAR(positive, 0.309f, 0.01f);
+}
