@@ -189,6 +189,10 @@ void main() {
         // Half-float ceiling: radianceScale maps the brightest light to GI_VOXEL_RADIANCE_TARGET,
         // 16x below it; clamping keeps the volume finite whatever happens.
         vec3 rgb = min(radiance[v ^ 1u], vec3(65000.0)) * (alpha * shown);
-        imageStore(anisoOut, c + ivec3(0, 0, int(v) * n), vec4(rgb, alpha));
+        // A view the voxel's sheets are edge-on to stays (0, 0): the level-0 clear at every
+        // re-voxelization wrote that, and it depends on the geometry alone. Skipping its store
+        // saves four of six scattered half-float stores for a flat wall.
+        if (alpha > 0.0)
+            imageStore(anisoOut, c + ivec3(0, 0, int(v) * n), vec4(rgb, alpha));
     }
 }
