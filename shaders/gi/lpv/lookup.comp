@@ -35,6 +35,19 @@ vec3 irradiance(vec3 p, vec3 n) {
     return shClampedCosineIntegralOfPositivePart(texture(accR, uvw), texture(accG, uvw), texture(accB, uvw), -n);
 }
 
+// Channel-summed SH at world position p (zero outside the grid).
+vec4 shSum(vec3 p) {
+    vec3 uvw = (p - pc.grid.origin.xyz) / (pc.grid.origin.w * vec3(pc.grid.size.xyz));
+    if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0))))
+        return vec4(0.0);
+    return texture(accR, uvw) + texture(accG, uvw) + texture(accB, uvw);
+}
+
+// Irradiance of the channel-summed light at p and q for normal n (non-negative part, as irradiance()).
+vec2 irradianceSum2(vec3 p, vec3 q, vec3 n) {
+    return shClampedCosineIntegralOfPositivePart(shSum(p), shSum(q), vec4(0.0), -n).xy;
+}
+
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(px, pc.image.xy)))
@@ -49,10 +62,10 @@ void main() {
         vec3 x = position.xyz + 0.5 * cell * n;
         vec3 e = irradiance(x, n);
         if (pc.params.x > 0.0) {
-            vec3 ef = irradiance(x + 0.5 * cell * n, n);
-            vec3 eb = irradiance(x - 0.5 * cell * n, n);
-            float f = ef.r + ef.g + ef.b, b = eb.r + eb.g + eb.b;
-            e *= clamp(1.0 - pc.params.x * max(b - f, 0.0) / max(b + f, 1e-30), 0.0, 1.0);
+            // The damping compares the summed channels: one SH (R + G + B) per point and both
+            // points in one quadrature instead of three channels at each.
+            vec2 fb = irradianceSum2(x + 0.5 * cell * n, x - 0.5 * cell * n, n);
+            e *= clamp(1.0 - pc.params.x * max(fb.y - fb.x, 0.0) / max(fb.x + fb.y, 1e-30), 0.0, 1.0);
         }
         float m = uintBitsToFloat(injection.header[0]);
         vec3 albedo = clamp(texelFetch(gAlbedo, px, 0).rgb, 0.0, 1.0);
