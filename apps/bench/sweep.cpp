@@ -40,7 +40,7 @@ std::vector<std::string> sweepFor(const std::string& technique, bool quick) {
         s.push_back("lpv.grid=16 lpv.iterations=16 lpv.bounces=on");
     } else if (technique == "vct") {
         s = product("vct.grid", {"32", "64", "128"}, "vct.cones", {"4", "6", "16"});
-        for (const char* t : {"vct.step=0.5", "vct.step=2", "vct.bounces=1", "vct.lowres=1", "vct.lowres=4"})
+        for (const char* t : {"vct.step=0.5", "vct.step=2", "vct.bounces=1", "vct.lowres=1", "vct.lowres=2"})
             s.push_back(std::string("vct.grid=64 vct.cones=6 ") + t);
     } else if (technique == "vpl") {
         for (const char* n : {"50", "100", "200", "400"})

@@ -112,7 +112,8 @@ protected:
 } // namespace
 
 // Measured on lavapipe (Mesa 22.3.6), 32^3 grid, 6 cones of 30 degrees, 2 bounces, cones at
-// half resolution with the discontinuity refine, 64^2 pixels (relMSE with epsilon 0.01; the
+// half resolution (lowResFactor 2; the default 4 is meant for 128^2 and larger images) with the
+// discontinuity refine, 64^2 pixels (relMSE with epsilon 0.01; the
 // reference has 3 reflections, as VCT: direct, voxel, bounce, and 4096 samples per pixel).
 // "indirect" is composite - direct against reference - direct (the raster direct image);
 // "PT indirect" against the path tracer's own paths of >= 2 reflections (what vkgi-render
@@ -151,6 +152,7 @@ TEST_F(VctReference, BuiltinScenesAgainstThePathTracer) {
                  {"atrium", 1.85, 36.5, 1.21, false, false}};
     VctSettings s;
     s.gridResolution = 32;
+    s.lowResFactor = 2; // 64^2 test images: the default 4 would trace 16^2 (docs/vct.md)
     for (const Case& c : cases) {
         Errors e = measure(c.scene, s, 4096);
         EXPECT_LT(e.full, 1.2 * c.full) << c.scene;
@@ -166,13 +168,14 @@ TEST_F(VctReference, BuiltinScenesAgainstThePathTracer) {
     }
 }
 
-// Full-resolution cones (lowResFactor 1) against the default half resolution on the spot-lit
+// Full-resolution cones (lowResFactor 1) against half resolution (2) on the spot-lit
 // box (256-sample reference): the upsample with its discontinuity refine changes the error by
 // under 10% (measured: full 0.0617 at half vs 0.0662 at full resolution, indirect 0.0794 vs
 // 0.0854; before the directional level 0 0.0579 vs 0.0601 and 0.0842 vs 0.0873).
 TEST_F(VctReference, HalfResolutionConesMatchFullResolution) {
     VctSettings s;
     s.gridResolution = 32;
+    s.lowResFactor = 2; // 64^2 test images: the default 4 would trace 16^2 (docs/vct.md)
     Errors half = measure("cornell", s);
     s.lowResFactor = 1;
     Errors full = measure("cornell", s);
@@ -187,6 +190,7 @@ TEST_F(VctReference, HalfResolutionConesMatchFullResolution) {
 TEST_F(VctReference, ShadowMapOcclusionAgainstThePathTracer) {
     VctSettings s;
     s.gridResolution = 32;
+    s.lowResFactor = 2; // 64^2 test images: the default 4 would trace 16^2 (docs/vct.md)
     s.occlusion = VctOcclusion::ShadowMap;
     Errors e = measure("cornell", s);
     EXPECT_LT(e.full, 1.2 * 0.0575);
