@@ -161,5 +161,6 @@ TEST_F(Cli, JsonListsLeftOutPassesAndTheStaticFrame) {
     for (const auto& p : j["static_frame"]["left_out"])
         reasons += p["name"].get<std::string>() + "=" + p["reason"].get<std::string>() + " ";
     EXPECT_EQ(reasons, "gi.light[*].directional=not-needed gi.light[*].point=not-needed gi.light[0].spot=not-dirty "
-                       "gi.lpv.inject*=not-dirty gi.lpv.gv.*=not-dirty gi.lpv.propagate*=not-dirty ");
+                       "gi.lpv.inject*=not-dirty gi.lpv.gv.*=not-dirty gi.lpv.propagate*=not-dirty "
+                       "gi.lpv.lookup.sum=not-dirty ");
 }

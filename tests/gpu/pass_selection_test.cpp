@@ -337,9 +337,10 @@ TEST_F(PassSelectionTest, LpvStaticFrameRunsOnlyTheLookup) {
     EXPECT_EQ(join(names(second.passes)), "gi.gbuffer gi.shadow.setup gi.direct gi.lpv.lookup gi.composite "
                                           "gi.readback.composite gi.readback.indirect");
     EXPECT_EQ(viewIndependent(second), "");
-    // Only injection reads the RSM: the kept volume and its injection header are all the lookup needs.
-    EXPECT_EQ(join(second.persistentResources),
-              "gi.shadow.atlas gi.lpv.accumulation.r gi.lpv.accumulation.g gi.lpv.accumulation.b gi.lpv.injection");
+    // Only injection reads the RSM: the kept volume, its channel sum (the damping's input) and its
+    // injection header are all the lookup needs.
+    EXPECT_EQ(join(second.persistentResources), "gi.shadow.atlas gi.lpv.accumulation.r gi.lpv.accumulation.g "
+                                                "gi.lpv.accumulation.b gi.lpv.accumulation.sum gi.lpv.injection");
     EXPECT_GT(sum(second.indirect), 0.0);
     EXPECT_TRUE(sameImage(first.indirect, second.indirect));
     EXPECT_TRUE(sameImage(first.composite, second.composite));

@@ -23,7 +23,9 @@ Result<Injector> Injector::create(Context& ctx) {
                  {&inj.gvCamera, "gi/lpv/gv_inject_camera.comp"},
                  {&inj.gvResolve, "gi/lpv/gv_resolve.comp"},
                  {&inj.reduce[0], "gi/lpv/inject_reduce.comp"},
-                 {&inj.reduce[1], "gi/lpv/inject_reduce.comp"}};
+                 {&inj.reduce[1], "gi/lpv/inject_reduce.comp"},
+                 {&inj.sum[0], "gi/lpv/lookup_sum_rgba16f.comp"},
+                 {&inj.sum[1], "gi/lpv/lookup_sum_rgba32f.comp"}};
     for (const Item& item : items) {
         std::vector<SpecConstant> spec;
         if (item.pipeline == &inj.reduce[0] || item.pipeline == &inj.reduce[1])
@@ -47,7 +49,8 @@ Result<Injector> Injector::create(Context& ctx) {
 
 void Injector::destroy(Context& ctx) {
     for (Pipeline* p :
-         {&range, &inject, &lookup, &resolve[0], &resolve[1], &gvRsm, &gvCamera, &gvResolve, &reduce[0], &reduce[1]})
+         {&range, &inject, &lookup, &resolve[0], &resolve[1], &gvRsm, &gvCamera, &gvResolve, &reduce[0], &reduce[1],
+          &sum[0], &sum[1]})
         if (p->pipeline != VK_NULL_HANDLE)
             destroyPipeline(ctx, *p);
     for (VkSampler* s : {&nearest, &linear})
@@ -249,10 +252,37 @@ rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& 
     return gv;
 }
 
+rg::ImageHandle addAccumulationSumPass(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
+                                      const ShHandles& accumulation, rg::ImageHandle sum, const std::string& prefix) {
+    const ImageDesc& accDesc = graph.imageDesc(accumulation.channel[0]);
+    const glm::uvec3 cells(accDesc.width, accDesc.height, accDesc.depth);
+    if (!sum.valid())
+        sum = graph.createImage(prefix + ".accumulation.sum", shImageDesc(glm::ivec3(cells), accDesc.format));
+    const Pipeline* pipeline = &injector.sum[accDesc.format == VK_FORMAT_R32G32B32A32_SFLOAT];
+    gpu::LpvInjectPush push{};
+    push.grid = grid;
+    ShHandles acc = accumulation;
+    graph.addPass(
+        (prefix + ".lookup.sum"),
+        [&](rg::PassBuilder& b) {
+            for (int c = 0; c < 3; ++c)
+                b.read(acc.channel[c], Access::ComputeStorageRead);
+            sum = b.write(sum, Access::ComputeStorageWriteDiscard);
+        },
+        [=](rg::PassContext& ctx) {
+            ctx.dispatch(*pipeline, rg::PassContext::groupsFor(*pipeline, cells), push,
+                         {ctx.storage(LPV_SUM_BINDING_ACC_R + 0, acc.channel[0]),
+                          ctx.storage(LPV_SUM_BINDING_ACC_R + 1, acc.channel[1]),
+                          ctx.storage(LPV_SUM_BINDING_ACC_R + 2, acc.channel[2]),
+                          ctx.storage(LPV_SUM_BINDING_OUTPUT, sum)});
+        });
+    return sum;
+}
+
 rg::ImageHandle addLookupPass(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
                               const ShHandles& accumulation, rg::BufferHandle buffer, const GBufferInput& gbuffer,
                               float damping, rg::ImageHandle output, const CascadeBlend& blend,
-                              const std::string& prefix) {
+                              const std::string& prefix, rg::ImageHandle sum) {
     if (!output.valid()) {
         ImageDesc desc;
         desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
@@ -272,6 +302,9 @@ rg::ImageHandle addLookupPass(rg::RenderGraph& graph, const Injector& injector, 
     const Injector* inj = &injector;
     rg::ImageHandle out = output;
     ShHandles acc = accumulation;
+    // The channel sum the damping reads (one fetch per damping point instead of three).
+    if (damping > 0.0f && !sum.valid())
+        sum = addAccumulationSumPass(graph, injector, grid, acc, {}, prefix);
     graph.addPass(
         (prefix + ".lookup"),
         [&](rg::PassBuilder& b) {
@@ -280,6 +313,7 @@ rg::ImageHandle addLookupPass(rg::RenderGraph& graph, const Injector& injector, 
             b.read(gbuffer.albedo, Access::ComputeSampledRead);
             for (int c = 0; c < 3; ++c)
                 b.read(acc.channel[c], Access::ComputeSampledRead);
+            b.read(sum.valid() ? sum : acc.channel[0], Access::ComputeSampledRead);
             b.read(buffer, Access::ComputeStorageRead);
             out = b.write(out, outAccess);
         },
@@ -291,6 +325,7 @@ rg::ImageHandle addLookupPass(rg::RenderGraph& graph, const Injector& injector, 
                           ctx.sampled(LPV_LOOKUP_BINDING_ACC_R + 0, acc.channel[0], inj->linear),
                           ctx.sampled(LPV_LOOKUP_BINDING_ACC_R + 1, acc.channel[1], inj->linear),
                           ctx.sampled(LPV_LOOKUP_BINDING_ACC_R + 2, acc.channel[2], inj->linear),
+                          ctx.sampled(LPV_LOOKUP_BINDING_SUM, sum.valid() ? sum : acc.channel[0], inj->linear),
                           ctx.buffer(LPV_LOOKUP_BINDING_BUFFER, buffer),
                           ctx.storage(LPV_LOOKUP_BINDING_OUTPUT, out)});
         });

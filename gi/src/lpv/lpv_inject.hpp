@@ -5,6 +5,7 @@
 //   gi.lpv.inject          surfels -> fixed-point SH sums per cell (integer atomics)
 //   gi.lpv.inject.resolve  sums -> first wavefront and accumulation volumes
 //   gi.lpv.gv.*            geometry volume from RSM and camera surfels, combined by max
+//   gi.lpv.lookup.sum      channel sum R + G + B of the accumulated SH (the damping's input)
 //   gi.lpv.lookup          accumulated SH -> indirect radiance per G-buffer pixel
 #include <string>
 #include <vector>
@@ -26,6 +27,7 @@ public:
     Pipeline resolve[2]; // [RGBA32F?]
     Pipeline gvRsm, gvCamera, gvResolve;
     Pipeline reduce[2];                 // factor 2, 4
+    Pipeline sum[2];                    // lookup_sum: [RGBA32F?]
     VkSampler nearest = VK_NULL_HANDLE; // texelFetch-only images still need a sampler
     VkSampler linear = VK_NULL_HANDLE;  // trilinear SH lookup, clamp to edge
 };
@@ -81,11 +83,18 @@ struct CascadeBlend {
     std::vector<gpu::LpvGrid> finer; // at most 2
 };
 
+// The channel sum R + G + B of the accumulated SH volume (`<prefix>.lookup.sum`, same size and
+// format), which the lookup's damping reads, written into `sum` (invalid: a transient is created).
+rg::ImageHandle addAccumulationSumPass(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
+                                      const ShHandles& accumulation, rg::ImageHandle sum = {},
+                                      const std::string& prefix = "gi.lpv");
+
 // Indirect radiance (RGBA32F, G-buffer size) written into `output` (invalid: a transient is
-// created). `damping` is the light-bleeding damping strength (0 = off).
+// created). `damping` is the light-bleeding damping strength (0 = off); it reads `sum`, the
+// accumulation's channel sum (addAccumulationSumPass), which is added as a transient when invalid.
 rg::ImageHandle addLookupPass(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
                               const ShHandles& accumulation, rg::BufferHandle buffer, const GBufferInput& gbuffer,
                               float damping, rg::ImageHandle output = {}, const CascadeBlend& blend = {},
-                              const std::string& prefix = "gi.lpv");
+                              const std::string& prefix = "gi.lpv", rg::ImageHandle sum = {});
 
 } // namespace vkgi::gi::lpv

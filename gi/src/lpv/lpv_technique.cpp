@@ -128,8 +128,13 @@ public:
                 accumulation.channel[c] = graph.importImage("gi.lpv.accumulation." + std::string(1, "rgb"[c]),
                                                             m_cache.accumulation[c]);
             rg::BufferHandle buffer = graph.importBuffer("gi.lpv.injection", m_cache.injection);
+            rg::ImageHandle sum; // the damping's channel sum of the kept volume, kept with it
+            if (m_cache.sum.image.image)
+                sum = graph.importImage("gi.lpv.accumulation.sum", m_cache.sum);
             if (rerun) {
                 addVolumePasses(graph, bb, grid, format, rsmFull, gb, accumulation, buffer);
+                if (sum.valid())
+                    sum = lpv::addAccumulationSumPass(graph, m_injector, grid, accumulation, sum);
                 m_cache.grid = grid;
                 m_cache.valid = true;
             } else {
@@ -139,10 +144,13 @@ public:
                 if (m_settings.occlusion)
                     selection.leaveOut("gi.lpv.gv.*", LeftOutReason::NotDirty, why);
                 selection.leaveOut("gi.lpv.propagate*", LeftOutReason::NotDirty, why);
+                if (sum.valid())
+                    selection.leaveOut("gi.lpv.lookup.sum", LeftOutReason::NotDirty, why);
                 if (m_voxels)
                     selection.leaveOut("gi.voxel.*", LeftOutReason::NotDirty, why);
             }
-            indirect = lpv::addLookupPass(graph, m_injector, grid, accumulation, buffer, gb, m_settings.damping);
+            indirect = lpv::addLookupPass(graph, m_injector, grid, accumulation, buffer, gb, m_settings.damping, {}, {},
+                                          "gi.lpv", sum);
             bb.add(IndirectData{indirect, {}});
             return;
         }
@@ -178,6 +186,8 @@ public:
         uint64_t n = m_voxels ? uint64_t(m_voxels->bytes()) : 0;
         for (const rg::PersistentImage& img : m_cache.accumulation)
             n += img.image.alloc.size;
+        if (m_cache.sum.image.image)
+            n += m_cache.sum.image.alloc.size;
         return n + m_cache.injection.buffer.alloc.size;
     }
 
@@ -232,6 +242,8 @@ private:
             std::string name = "gi.lpv.accumulation." + std::string(1, "rgb"[c]);
             m_cache.accumulation[c].image = createImage(m_ctx, lpv::shImageDesc(cells, format), name.c_str());
         }
+        if (m_settings.damping > 0.0f)
+            m_cache.sum.image = createImage(m_ctx, lpv::shImageDesc(cells, format), "gi.lpv.accumulation.sum");
         BufferDesc desc{lpv::injectionBufferBytes(cells), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT};
         m_cache.injection.buffer = createBuffer(m_ctx, desc, "gi.lpv.injection");
         m_cache.cells = cells;
@@ -244,6 +256,8 @@ private:
         for (rg::PersistentImage& img : m_cache.accumulation)
             if (img.image.image)
                 destroyImage(m_ctx, img.image);
+        if (m_cache.sum.image.image)
+            destroyImage(m_ctx, m_cache.sum.image);
         if (m_cache.injection.buffer.buffer)
             destroyBuffer(m_ctx, m_cache.injection.buffer);
         m_cache = {};
@@ -280,6 +294,7 @@ private:
     // single-grid case, kept across frames.
     struct Cache {
         std::array<rg::PersistentImage, 3> accumulation;
+        rg::PersistentImage sum; // R + G + B of `accumulation` (the damping's input; only with damping)
         rg::PersistentBuffer injection;
         glm::ivec3 cells{0};
         VkFormat format = VK_FORMAT_UNDEFINED;

@@ -24,6 +24,7 @@ layout(set = 1, binding = LPV_LOOKUP_BINDING_ACC_R + 1) uniform sampler3D accG;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_ACC_R + 2) uniform sampler3D accB;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_BUFFER, std430) readonly buffer Injection { uint header[LPV_INJECT_HEADER_INTS]; } injection;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_OUTPUT, rgba32f) uniform image2D outIndirect;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_SUM) uniform sampler3D accSum; // R + G + B (lookup_sum.glsl)
 
 // Normalised irradiance (R, G, B) at world position p for normal n; zero outside the grid.
 vec3 irradiance(vec3 p, vec3 n) {
@@ -40,7 +41,7 @@ vec4 shSum(vec3 p) {
     vec3 uvw = (p - pc.grid.origin.xyz) / (pc.grid.origin.w * vec3(pc.grid.size.xyz));
     if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0))))
         return vec4(0.0);
-    return texture(accR, uvw) + texture(accG, uvw) + texture(accB, uvw);
+    return texture(accSum, uvw);
 }
 
 // Irradiance of the channel-summed light at p and q for normal n (non-negative part, as irradiance()).
@@ -62,8 +63,8 @@ void main() {
         vec3 x = position.xyz + 0.5 * cell * n;
         vec3 e = irradiance(x, n);
         if (pc.params.x > 0.0) {
-            // The damping compares the summed channels: one SH (R + G + B) per point and both
-            // points in one quadrature instead of three channels at each.
+            // The damping compares the summed channels: one fetch of the channel-sum volume per
+            // point, and both points in one quadrature instead of three channels at each.
             vec2 fb = irradianceSum2(x + 0.5 * cell * n, x - 0.5 * cell * n, n);
             e *= clamp(1.0 - pc.params.x * max(fb.y - fb.x, 0.0) / max(fb.x + fb.y, 1e-30), 0.0, 1.0);
         }

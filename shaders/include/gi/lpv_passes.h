@@ -34,6 +34,9 @@
 #define LPV_LOOKUP_BINDING_ACC_R 3    // accumulated SH, sampled trilinearly (R, G, B at 3, 4, 5)
 #define LPV_LOOKUP_BINDING_BUFFER 6   // injection buffer (for M)
 #define LPV_LOOKUP_BINDING_OUTPUT 7   // indirect radiance (RGBA32F)
+#define LPV_LOOKUP_BINDING_SUM 8      // channel sum R + G + B of the accumulated SH (the damping's input)
+#define LPV_SUM_BINDING_ACC_R 0       // lookup_sum: accumulated SH (R, G, B at 0, 1, 2), storage images
+#define LPV_SUM_BINDING_OUTPUT 3      // lookup_sum: their channel sum, same format
 
 #define LPV_GV_BINDING_POSITION 0   // surfel positions (RSM: 2D array; camera: 2D), w = 1 where valid
 #define LPV_GV_BINDING_NORMAL 1     // surfel normals
