@@ -70,8 +70,8 @@ GI_INLINE float shHemisphereIntegral(vec4 sh, vec3 n) {
 // u. Quadrature: kShPositiveQuadrature directions w_k = rr (cos phi t + sin phi t2) +
 // sqrt(1 - rr^2) u, rr = sqrt((k + 1/2) / K), phi = k times the golden angle (a cosine-weighted
 // Fibonacci spiral; the angle advances by a fixed rotation, so with the constant trip count the
-// directions fold to constants), weight pi / K each. The kink of max(0, f) limits it to ~1% of
-// the head-on value (sh_test.cpp: 0.94% worst over random f at K = 32, 2.6% at 16).
+// directions fold to constants), weight pi / K each. The kink of max(0, f) limits it to ~2% of
+// the head-on value (sh_test.cpp: 1.8% worst over random f at K = 32).
 const int kShPositiveQuadrature = 32;
 const float kShGoldenCos = -0.73736888f; // cos(pi (3 - sqrt 5))
 const float kShGoldenSin = 0.67549029f;
