@@ -99,7 +99,7 @@ protected:
         desc.format = format;
         desc.width = w;
         desc.height = h;
-        desc.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
+        desc.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT; // as the shared RSM and G-buffer
         auto* img = new Image(createImage(ctx(), desc, array ? "lpv.test.rsm" : "lpv.test.gbuffer"));
         if (array) { // a 1-layer array view is what sampler2DArray needs
             vkDestroyImageView(ctx().device(), img->view, nullptr);

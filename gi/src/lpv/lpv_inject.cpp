@@ -81,12 +81,11 @@ RsmInput addRsmReducePass(rg::RenderGraph& graph, const Injector& injector, cons
     gpu::LpvInjectPush push{};
     push.rsm = glm::ivec4(int(rsm.resolution), int(rsm.layers), int(factor), int(out.resolution));
     const Pipeline* pipeline = &injector.reduce[factor == 4];
-    const Injector* inj = &injector;
-    graph.addPass((prefix + ".inject.reduce"),
+        graph.addPass((prefix + ".inject.reduce"),
                   [&](rg::PassBuilder& b) {
-                      b.read(rsm.position, Access::ComputeSampledRead);
-                      b.read(rsm.normal, Access::ComputeSampledRead);
-                      b.read(rsm.flux, Access::ComputeSampledRead);
+                      b.read(rsm.position, Access::ComputeStorageRead);
+                      b.read(rsm.normal, Access::ComputeStorageRead);
+                      b.read(rsm.flux, Access::ComputeStorageRead);
                       out.position = b.write(out.position, Access::ComputeStorageWriteDiscard);
                       out.normal = b.write(out.normal, Access::ComputeStorageWriteDiscard);
                       out.flux = b.write(out.flux, Access::ComputeStorageWriteDiscard);
@@ -95,9 +94,9 @@ RsmInput addRsmReducePass(rg::RenderGraph& graph, const Injector& injector, cons
                       ctx.dispatch(*pipeline,
                                    rg::PassContext::groupsFor(*pipeline, {out.resolution, out.resolution, out.layers}),
                                    push,
-                                   {ctx.sampled(LPV_INJECT_BINDING_POSITION, rsm.position, inj->nearest),
-                                    ctx.sampled(LPV_INJECT_BINDING_NORMAL, rsm.normal, inj->nearest),
-                                    ctx.sampled(LPV_INJECT_BINDING_FLUX, rsm.flux, inj->nearest),
+                                   {ctx.storage(LPV_INJECT_BINDING_POSITION, rsm.position),
+                                    ctx.storage(LPV_INJECT_BINDING_NORMAL, rsm.normal),
+                                    ctx.storage(LPV_INJECT_BINDING_FLUX, rsm.flux),
                                     ctx.storage(LPV_REDUCE_BINDING_POSITION, out.position),
                                     ctx.storage(LPV_REDUCE_BINDING_NORMAL, out.normal),
                                     ctx.storage(LPV_REDUCE_BINDING_FLUX, out.flux)});

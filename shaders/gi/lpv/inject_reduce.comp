@@ -15,9 +15,10 @@ layout(local_size_x = 8, local_size_y = 8) in;
 // The factor, specialised (2 or 4): with a run-time trip count the block loop was ~3x slower.
 layout(constant_id = 0) const int kFactor = 2;
 layout(push_constant) uniform PushBlock { LpvInjectPush pc; }; // rsm: source texels per row, layers, F, output texels per row
-layout(set = 1, binding = LPV_INJECT_BINDING_POSITION) uniform sampler2DArray rsmPosition;
-layout(set = 1, binding = LPV_INJECT_BINDING_NORMAL) uniform sampler2DArray rsmNormal;
-layout(set = 1, binding = LPV_INJECT_BINDING_FLUX) uniform sampler2DArray rsmFlux;
+// Storage images, not samplers: on lavapipe imageLoad is cheaper than texelFetch through a sampler.
+layout(set = 1, binding = LPV_INJECT_BINDING_POSITION, rgba32f) uniform readonly image2DArray rsmPosition;
+layout(set = 1, binding = LPV_INJECT_BINDING_NORMAL, rgba16f) uniform readonly image2DArray rsmNormal;
+layout(set = 1, binding = LPV_INJECT_BINDING_FLUX, rgba32f) uniform readonly image2DArray rsmFlux;
 layout(set = 1, binding = LPV_REDUCE_BINDING_POSITION, rgba32f) uniform writeonly image2DArray outPosition;
 layout(set = 1, binding = LPV_REDUCE_BINDING_NORMAL, rgba16f) uniform writeonly image2DArray outNormal;
 layout(set = 1, binding = LPV_REDUCE_BINDING_FLUX, rgba32f) uniform writeonly image2DArray outFlux;
@@ -34,9 +35,9 @@ void main() {
             ivec3 t = ivec3(o.xy * f + ivec2(x, y), o.z);
             if (t.x >= pc.rsm.x || t.y >= pc.rsm.x)
                 continue;
-            vec4 tp = texelFetch(rsmPosition, t, 0);
-            vec3 tn = texelFetch(rsmNormal, t, 0).xyz;
-            vec3 tf = texelFetch(rsmFlux, t, 0).rgb;
+            vec4 tp = imageLoad(rsmPosition, t);
+            vec3 tn = imageLoad(rsmNormal, t).xyz;
+            vec3 tf = imageLoad(rsmFlux, t).rgb;
             float nn = dot(tn, tn);
             if (!(tp.w > 0.0) || !(nn > 1e-12 && nn < 1e30) || !(abs(tf.r) + abs(tf.g) + abs(tf.b) < 1e30) ||
                 !(abs(tp.x) + abs(tp.y) + abs(tp.z) < 1e30))
