@@ -37,10 +37,6 @@ Result<Injector> Injector::create(Context& ctx) {
         }
         *item.pipeline = *p;
     }
-    SamplerDesc nearest;
-    nearest.filter = VK_FILTER_NEAREST;
-    nearest.mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-    inj.nearest = createSampler(ctx, nearest);
     SamplerDesc linear;
     linear.mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST;
     inj.linear = createSampler(ctx, linear);
@@ -53,11 +49,10 @@ void Injector::destroy(Context& ctx) {
           &sum[0], &sum[1]})
         if (p->pipeline != VK_NULL_HANDLE)
             destroyPipeline(ctx, *p);
-    for (VkSampler* s : {&nearest, &linear})
-        if (*s != VK_NULL_HANDLE) {
-            vkDestroySampler(ctx.device(), *s, nullptr);
-            *s = VK_NULL_HANDLE;
-        }
+    if (linear != VK_NULL_HANDLE) {
+        vkDestroySampler(ctx.device(), linear, nullptr);
+        linear = VK_NULL_HANDLE;
+    }
 }
 
 VkDeviceSize injectionBufferBytes(glm::ivec3 cells) {
@@ -123,31 +118,31 @@ InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injec
     graph.addPass(
         (prefix + ".inject.range"),
         [&](rg::PassBuilder& b) {
-            b.read(rsm.position, Access::ComputeSampledRead);
-            b.read(rsm.flux, Access::ComputeSampledRead);
+            b.read(rsm.position, Access::ComputeStorageRead);
+            b.read(rsm.flux, Access::ComputeStorageRead);
             buf = b.write(buf, Access::ComputeStorageReadWrite);
         },
         [=](rg::PassContext& ctx) {
             ctx.dispatch(inj->range, rg::PassContext::groupsFor(inj->range, {rsm.resolution, rsm.resolution, rsm.layers}),
                          push,
-                         {ctx.sampled(LPV_INJECT_BINDING_POSITION, rsm.position, inj->nearest),
-                          ctx.sampled(LPV_INJECT_BINDING_FLUX, rsm.flux, inj->nearest),
+                         {ctx.storage(LPV_INJECT_BINDING_POSITION, rsm.position),
+                          ctx.storage(LPV_INJECT_BINDING_FLUX, rsm.flux),
                           ctx.buffer(LPV_INJECT_BINDING_BUFFER, buf)});
         });
     graph.addPass(
         prefix + ".inject",
         [&](rg::PassBuilder& b) {
-            b.read(rsm.position, Access::ComputeSampledRead);
-            b.read(rsm.normal, Access::ComputeSampledRead);
-            b.read(rsm.flux, Access::ComputeSampledRead);
+            b.read(rsm.position, Access::ComputeStorageRead);
+            b.read(rsm.normal, Access::ComputeStorageRead);
+            b.read(rsm.flux, Access::ComputeStorageRead);
             buf = b.write(buf, Access::ComputeStorageReadWrite);
         },
         [=](rg::PassContext& ctx) {
             uint32_t runs = (rsm.resolution + LPV_INJECT_RUN - 1) / LPV_INJECT_RUN;
             ctx.dispatch(inj->inject, rg::PassContext::groupsFor(inj->inject, {runs, rsm.resolution, rsm.layers}), push,
-                         {ctx.sampled(LPV_INJECT_BINDING_POSITION, rsm.position, inj->nearest),
-                          ctx.sampled(LPV_INJECT_BINDING_NORMAL, rsm.normal, inj->nearest),
-                          ctx.sampled(LPV_INJECT_BINDING_FLUX, rsm.flux, inj->nearest),
+                         {ctx.storage(LPV_INJECT_BINDING_POSITION, rsm.position),
+                          ctx.storage(LPV_INJECT_BINDING_NORMAL, rsm.normal),
+                          ctx.storage(LPV_INJECT_BINDING_FLUX, rsm.flux),
                           ctx.buffer(LPV_INJECT_BINDING_BUFFER, buf)});
         });
     const Pipeline* resolve = &injector.resolve[format == VK_FORMAT_R32G32B32A32_SFLOAT];
@@ -227,14 +222,14 @@ rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& 
         graph.addPass(
             src.name,
             [&](rg::PassBuilder& b) {
-                b.read(src.position, Access::ComputeSampledRead);
-                b.read(src.normal, Access::ComputeSampledRead);
+                b.read(src.position, Access::ComputeStorageRead);
+                b.read(src.normal, Access::ComputeStorageRead);
                 buf = b.write(buf, Access::ComputeStorageReadWrite);
             },
             [=](rg::PassContext& ctx) {
                 ctx.dispatch(*src.pipeline, rg::PassContext::groupsFor(*src.pipeline, src.texels), push,
-                             {ctx.sampled(LPV_GV_BINDING_POSITION, src.position, inj->nearest),
-                              ctx.sampled(LPV_GV_BINDING_NORMAL, src.normal, inj->nearest),
+                             {ctx.storage(LPV_GV_BINDING_POSITION, src.position),
+                              ctx.storage(LPV_GV_BINDING_NORMAL, src.normal),
                               ctx.buffer(LPV_GV_BINDING_BUFFER, buf)});
             });
     }
@@ -307,9 +302,9 @@ rg::ImageHandle addLookupPass(rg::RenderGraph& graph, const Injector& injector, 
     graph.addPass(
         (prefix + ".lookup"),
         [&](rg::PassBuilder& b) {
-            b.read(gbuffer.position, Access::ComputeSampledRead);
-            b.read(gbuffer.normal, Access::ComputeSampledRead);
-            b.read(gbuffer.albedo, Access::ComputeSampledRead);
+            b.read(gbuffer.position, Access::ComputeStorageRead);
+            b.read(gbuffer.normal, Access::ComputeStorageRead);
+            b.read(gbuffer.albedo, Access::ComputeStorageRead);
             for (int c = 0; c < 3; ++c)
                 b.read(acc.channel[c], Access::ComputeSampledRead);
             b.read(sum.valid() ? sum : acc.channel[0], Access::ComputeSampledRead);
@@ -318,9 +313,9 @@ rg::ImageHandle addLookupPass(rg::RenderGraph& graph, const Injector& injector, 
         },
         [=](rg::PassContext& ctx) {
             ctx.dispatch(inj->lookup, rg::PassContext::groupsFor(inj->lookup, {gbuffer.width, gbuffer.height, 1}), push,
-                         {ctx.sampled(LPV_LOOKUP_BINDING_POSITION, gbuffer.position, inj->nearest),
-                          ctx.sampled(LPV_LOOKUP_BINDING_NORMAL, gbuffer.normal, inj->nearest),
-                          ctx.sampled(LPV_LOOKUP_BINDING_ALBEDO, gbuffer.albedo, inj->nearest),
+                         {ctx.storage(LPV_LOOKUP_BINDING_POSITION, gbuffer.position),
+                          ctx.storage(LPV_LOOKUP_BINDING_NORMAL, gbuffer.normal),
+                          ctx.storage(LPV_LOOKUP_BINDING_ALBEDO, gbuffer.albedo),
                           ctx.sampled(LPV_LOOKUP_BINDING_ACC_R + 0, acc.channel[0], inj->linear),
                           ctx.sampled(LPV_LOOKUP_BINDING_ACC_R + 1, acc.channel[1], inj->linear),
                           ctx.sampled(LPV_LOOKUP_BINDING_ACC_R + 2, acc.channel[2], inj->linear),

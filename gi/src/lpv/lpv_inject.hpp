@@ -28,8 +28,7 @@ public:
     Pipeline gvRsm, gvCamera, gvResolve;
     Pipeline reduce[2];                 // factor 2, 4
     Pipeline sum[2];                    // lookup_sum: [RGBA32F?]
-    VkSampler nearest = VK_NULL_HANDLE; // texelFetch-only images still need a sampler
-    VkSampler linear = VK_NULL_HANDLE;  // trilinear SH lookup, clamp to edge
+    VkSampler linear = VK_NULL_HANDLE;  // trilinear SH lookup, clamp to edge (RSM and G-buffer: imageLoad)
 };
 
 // The reflective shadow map as the direct-lighting module publishes it (gi/frame_data.hpp):

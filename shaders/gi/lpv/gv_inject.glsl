@@ -12,12 +12,12 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform PushBlock { LpvInjectPush pc; };
 #if GV_ARRAY
-layout(set = 1, binding = LPV_GV_BINDING_POSITION) uniform sampler2DArray gvPosition;
-layout(set = 1, binding = LPV_GV_BINDING_NORMAL) uniform sampler2DArray gvNormal;
+layout(set = 1, binding = LPV_GV_BINDING_POSITION, rgba32f) uniform readonly image2DArray gvPosition;
+layout(set = 1, binding = LPV_GV_BINDING_NORMAL, rgba16f) uniform readonly image2DArray gvNormal;
 #define GV_TEXEL(t) (t)
 #else
-layout(set = 1, binding = LPV_GV_BINDING_POSITION) uniform sampler2D gvPosition;
-layout(set = 1, binding = LPV_GV_BINDING_NORMAL) uniform sampler2D gvNormal;
+layout(set = 1, binding = LPV_GV_BINDING_POSITION, rgba32f) uniform readonly image2D gvPosition;
+layout(set = 1, binding = LPV_GV_BINDING_NORMAL, rgba16f) uniform readonly image2D gvNormal;
 #define GV_TEXEL(t) (t).xy
 #endif
 layout(set = 1, binding = LPV_GV_BINDING_BUFFER, std430) buffer GeometryVolumeSums { int data[]; } sums;
@@ -33,7 +33,7 @@ vec3 edge(ivec3 t, ivec3 step, vec3 p, float cell) {
         ivec3 u = side == 0 ? t + step : t - step;
         if (u.x < 0 || u.y < 0 || u.x >= pc.rsm.x || u.y >= pc.rsm.w)
             continue;
-        vec4 q = texelFetch(gvPosition, GV_TEXEL(u), 0);
+        vec4 q = imageLoad(gvPosition, GV_TEXEL(u));
         vec3 e = q.xyz - p;
         if (q.w > 0.0 && finite3(q.xyz) && dot(e, e) < cell * cell)
             return e;
@@ -48,8 +48,8 @@ void main() {
     ivec3 t = ivec3(ivec2(gl_GlobalInvocationID.xy) * stride, gl_GlobalInvocationID.z);
     if (t.x >= pc.rsm.x || t.y >= pc.rsm.w || t.z >= pc.rsm.y)
         return;
-    vec4 position = texelFetch(gvPosition, GV_TEXEL(t), 0);
-    vec3 n = texelFetch(gvNormal, GV_TEXEL(t), 0).xyz;
+    vec4 position = imageLoad(gvPosition, GV_TEXEL(t));
+    vec3 n = imageLoad(gvNormal, GV_TEXEL(t)).xyz;
     float nn = dot(n, n);
     if (position.w <= 0.0 || !finite3(position.xyz) || !(nn > 1e-12 && nn < 1e30))
         return;

@@ -8,9 +8,9 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform PushBlock { LpvInjectPush pc; };
-layout(set = 1, binding = LPV_INJECT_BINDING_POSITION) uniform sampler2DArray rsmPosition;
-layout(set = 1, binding = LPV_INJECT_BINDING_NORMAL) uniform sampler2DArray rsmNormal;
-layout(set = 1, binding = LPV_INJECT_BINDING_FLUX) uniform sampler2DArray rsmFlux;
+layout(set = 1, binding = LPV_INJECT_BINDING_POSITION, rgba32f) uniform readonly image2DArray rsmPosition;
+layout(set = 1, binding = LPV_INJECT_BINDING_NORMAL, rgba16f) uniform readonly image2DArray rsmNormal;
+layout(set = 1, binding = LPV_INJECT_BINDING_FLUX, rgba32f) uniform readonly image2DArray rsmFlux;
 layout(set = 1, binding = LPV_INJECT_BINDING_BUFFER, std430) buffer Injection { int data[]; } injection;
 
 void flush(ivec3 cell, vec4 r, vec4 g, vec4 b) {
@@ -36,11 +36,11 @@ void main() {
     vec4 r = vec4(0.0), g = vec4(0.0), b = vec4(0.0);
     int end = min(start.x + LPV_INJECT_RUN, pc.rsm.x);
     for (ivec3 t = start; t.x < end; ++t.x) {
-        if (texelFetch(rsmPosition, t, 0).w <= 0.0)
+        if (imageLoad(rsmPosition, t).w <= 0.0)
             continue;
-        vec3 p = texelFetch(rsmPosition, t, 0).xyz;
-        vec3 n = texelFetch(rsmNormal, t, 0).xyz;
-        vec3 flux = texelFetch(rsmFlux, t, 0).rgb / m;
+        vec3 p = imageLoad(rsmPosition, t).xyz;
+        vec3 n = imageLoad(rsmNormal, t).xyz;
+        vec3 flux = imageLoad(rsmFlux, t).rgb / m;
         float nn = dot(n, n);
         // Bad input (zero-length normal, NaN/Inf anywhere) is skipped rather than spread.
         if (!(nn > 1e-12 && nn < 1e30) || !(abs(flux.r) + abs(flux.g) + abs(flux.b) < 1e30) ||

@@ -16,9 +16,9 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform PushBlock { LpvLookupPush pc; };
-layout(set = 1, binding = LPV_LOOKUP_BINDING_POSITION) uniform sampler2D gPosition;
-layout(set = 1, binding = LPV_LOOKUP_BINDING_NORMAL) uniform sampler2D gNormal;
-layout(set = 1, binding = LPV_LOOKUP_BINDING_ALBEDO) uniform sampler2D gAlbedo;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_NORMAL, rgba16f) uniform readonly image2D gNormal;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_ALBEDO, rgba16f) uniform readonly image2D gAlbedo;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_ACC_R + 0) uniform sampler3D accR;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_ACC_R + 1) uniform sampler3D accG;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_ACC_R + 2) uniform sampler3D accB;
@@ -53,8 +53,8 @@ void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(px, pc.image.xy)))
         return;
-    vec4 position = texelFetch(gPosition, px, 0);
-    vec3 n = texelFetch(gNormal, px, 0).xyz;
+    vec4 position = imageLoad(gPosition, px);
+    vec3 n = imageLoad(gNormal, px).xyz;
     float nn = dot(n, n);
     vec3 radiance = vec3(0.0);
     if (position.w > 0.0 && nn > 1e-12 && nn < 1e30) {
@@ -69,7 +69,7 @@ void main() {
             e *= clamp(1.0 - pc.params.x * max(fb.y - fb.x, 0.0) / max(fb.x + fb.y, 1e-30), 0.0, 1.0);
         }
         float m = uintBitsToFloat(injection.header[0]);
-        vec3 albedo = clamp(texelFetch(gAlbedo, px, 0).rgb, 0.0, 1.0);
+        vec3 albedo = clamp(imageLoad(gAlbedo, px).rgb, 0.0, 1.0);
         radiance = albedo * (1.0 / kShPi) * e * (m / (cell * cell));
         if (any(isnan(radiance)) || any(isinf(radiance)))
             radiance = vec3(0.0);
