@@ -168,6 +168,33 @@ TEST_F(VctReference, BuiltinScenesAgainstThePathTracer) {
     }
 }
 
+// The default 64^3 grid on the sun-lit scenes (same 64^2 images, cones at half resolution and
+// 4096-sample references as above). At 32^3 the atrium's columns, arches and 0.3 m slabs are
+// sub-voxel (0.92 m voxels) and its PT indirect does not beat the constant; at 64^3 (0.45 m)
+// it does. Measured (2026-11-24, lavapipe):
+//   scene    full   constant  PT indirect  constant
+//   room     4.21   4.35      0.490        0.947
+//   atrium   1.35   1.11      0.690        0.868
+// Bounds: the measurements + 20% as above (both renderers are deterministic); for the atrium
+// 1.2 x 0.690 = 0.828 is still below its constant, and the PT indirect is also checked against
+// the constant computed in the run. The full images are dominated by the raster/path-traced
+// sun-shadow penumbrae (README, "room"), so only their regression bound is checked.
+TEST_F(VctReference, DefaultGridBeatsTheConstantInTheSunLitScenes) {
+    struct Case {
+        const char* scene;
+        double full, indirectPt;
+    } cases[] = {{"room", 4.21, 0.490}, {"atrium", 1.35, 0.690}};
+    VctSettings s; // gridResolution 64 by default
+    s.lowResFactor = 2;
+    ASSERT_EQ(s.gridResolution, 64u);
+    for (const Case& c : cases) {
+        Errors e = measure(c.scene, s, 4096);
+        EXPECT_LT(e.full, 1.2 * c.full) << c.scene;
+        EXPECT_LT(e.indirectPt, 1.2 * c.indirectPt) << c.scene;
+        EXPECT_LT(e.indirectPt, e.ambientIndirectPt) << c.scene;
+    }
+}
+
 // Full-resolution cones (lowResFactor 1) against half resolution (2) on the spot-lit
 // box (256-sample reference): the upsample with its discontinuity refine changes the error by
 // under 10% (measured: full 0.0617 at half vs 0.0662 at full resolution, indirect 0.0794 vs
