@@ -51,6 +51,10 @@ PropagationVolumes addPropagationPasses(rg::RenderGraph& graph, const Propagator
     const Propagator* prop = &propagator;
     for (uint32_t k = 0; k < iterations; ++k) {
         ShHandles src = volumes.wavefront, dst = volumes.scratch, acc = volumes.accumulation;
+        // Steps accumulate in pairs: the second of each adds both wavefronts; an unpaired last step its own.
+        const uint32_t accumulate = k % 2 == 1 ? LPV_ACCUMULATE_PAIR
+                                    : k + 1 == iterations ? LPV_ACCUMULATE_OWN
+                                                          : LPV_ACCUMULATE_NONE;
         graph.addPass(
             prefix + ".propagate[" + std::to_string(k) + "]",
             [&](rg::PassBuilder& b) {
@@ -72,6 +76,7 @@ PropagationVolumes addPropagationPasses(rg::RenderGraph& graph, const Propagator
                     a.channel[c] = ctx.view(acc.channel[c]);
                 }
                 PropagateStep bound = step;
+                bound.accumulate = accumulate;
                 bound.geometryVolume = ctx.view(gv);
                 bound.voxelAlbedo = ctx.view(voxelAlbedo);
                 bound.voxelNormal = ctx.view(voxelNormal);

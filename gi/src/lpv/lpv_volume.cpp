@@ -32,15 +32,17 @@ Result<Propagator> Propagator::create(Context& ctx) {
     const char* shaders[2] = {"gi/lpv/propagate_rgba16f.comp", "gi/lpv/propagate_rgba32f.comp"};
     for (int f = 0; f < 2; ++f)
         for (uint32_t occlusion = 0; occlusion < 2; ++occlusion)
-            for (uint32_t bounce = 0; bounce < 2; ++bounce) {
-                auto pipeline = createComputePipeline(
-                    ctx, {shaders[f], {{LPV_SPEC_OCCLUSION, occlusion}, {LPV_SPEC_BOUNCE, bounce}}});
-                if (!pipeline) {
-                    p.destroy(ctx);
-                    return pipeline.error();
+            for (uint32_t bounce = 0; bounce < 2; ++bounce)
+                for (uint32_t acc = 0; acc < 3; ++acc) {
+                    auto pipeline = createComputePipeline(
+                        ctx, {shaders[f],
+                              {{LPV_SPEC_OCCLUSION, occlusion}, {LPV_SPEC_BOUNCE, bounce}, {LPV_SPEC_ACCUMULATE, acc}}});
+                    if (!pipeline) {
+                        p.destroy(ctx);
+                        return pipeline.error();
+                    }
+                    p.m_pipelines[f][occlusion][bounce][acc] = *pipeline;
                 }
-                p.m_pipelines[f][occlusion][bounce] = *pipeline;
-            }
     ImageDesc desc;
     desc.type = VK_IMAGE_TYPE_3D;
     desc.format = kGeometryVolumeFormat;
@@ -61,9 +63,10 @@ Result<Propagator> Propagator::create(Context& ctx) {
 void Propagator::destroy(Context& ctx) {
     for (auto& byFormat : m_pipelines)
         for (auto& byOcclusion : byFormat)
-            for (Pipeline& pipeline : byOcclusion)
-                if (pipeline.pipeline != VK_NULL_HANDLE)
-                    destroyPipeline(ctx, pipeline);
+            for (auto& byBounce : byOcclusion)
+                for (Pipeline& pipeline : byBounce)
+                    if (pipeline.pipeline != VK_NULL_HANDLE)
+                        destroyPipeline(ctx, pipeline);
     if (m_noGeometry)
         destroyImage(ctx, m_noGeometry);
     if (m_noVoxels)
@@ -78,7 +81,7 @@ void Propagator::record(const Context& ctx, VkCommandBuffer cmd, const Propagate
                         const ShViews& dst, const ShViews& acc) const {
     GI_ASSERT(isSupportedShFormat(step.format), "lpv::Propagator::record: SH format must be RGBA16F or RGBA32F");
     const Pipeline& pipeline =
-        m_pipelines[step.format == VK_FORMAT_R32G32B32A32_SFLOAT][step.occlusion][step.bounce];
+        m_pipelines[step.format == VK_FORMAT_R32G32B32A32_SFLOAT][step.occlusion][step.bounce][step.accumulate];
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline);
     gpu::LpvPropagatePush push{};
     push.gridSize = glm::ivec4(step.cells, 0);

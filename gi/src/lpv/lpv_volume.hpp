@@ -10,6 +10,7 @@
 #include "engine/pipeline.hpp"
 #include "engine/resources.hpp"
 #include "engine/result.hpp"
+#include "gi/lpv.h"
 
 namespace vkgi::gi::lpv {
 
@@ -41,6 +42,7 @@ struct PropagateStep {
     VkFormat format = VK_FORMAT_R16G16B16A16_SFLOAT;
     bool occlusion = false;  // read the geometry volume (cells + 1 texels per axis, RGBA16F)
     bool bounce = false;     // reflect at occupied voxels of the shared voxel grid
+    uint32_t accumulate = LPV_ACCUMULATE_OWN; // what the step adds to acc (LPV_ACCUMULATE_*, gi/lpv.h)
     glm::vec4 lpvOrigin{0};  // xyz world min corner, w cell size (bounce only)
     glm::vec4 voxelOrigin{0}; // xyz world min corner, w 1 / (voxel size * N) (bounce only)
     VkImageView geometryVolume = VK_NULL_HANDLE; // noGeometry() when !occlusion
@@ -55,7 +57,8 @@ public:
     static Result<Propagator> create(Context& ctx);
     void destroy(Context& ctx);
 
-    // One gather step dst = propagate(src), acc += dst. Earlier writes must be visible.
+    // One gather step dst = propagate(src); acc += dst, src + dst or nothing (step.accumulate).
+    // Earlier writes must be visible.
     void record(const Context& ctx, VkCommandBuffer cmd, const PropagateStep& step, const ShViews& src,
                 const ShViews& dst, const ShViews& acc) const;
 
@@ -66,7 +69,7 @@ public:
     const Image& noVoxels() const { return m_noVoxels; }
 
 private:
-    Pipeline m_pipelines[2][2][2]; // [RGBA32F?][occlusion?][bounce?]
+    Pipeline m_pipelines[2][2][2][3]; // [RGBA32F?][occlusion?][bounce?][accumulate]
     Image m_noGeometry;
     Image m_noVoxels;
     VkSampler m_linear = VK_NULL_HANDLE;

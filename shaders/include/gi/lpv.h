@@ -27,6 +27,12 @@
 // Specialization constant ids of lpv/propagate.comp.
 #define LPV_SPEC_OCCLUSION 0 // bool: attenuate by the geometry volume
 #define LPV_SPEC_BOUNCE 1    // bool: reflect at occupied voxels (Gaitatzes et al.)
+// int: what the step adds to the accumulation (one read-modify-write per two steps):
+// LPV_ACCUMULATE_NONE, _OWN (the new wavefront), _PAIR (the source wavefront and the new one).
+#define LPV_SPEC_ACCUMULATE 2
+#define LPV_ACCUMULATE_NONE 0
+#define LPV_ACCUMULATE_OWN 1
+#define LPV_ACCUMULATE_PAIR 2
 
 #define LPV_LOCAL_SIZE_X 8 // 8x8x4 measured 2x faster than 4x4x4 on lavapipe (../shared/LAVAPIPE.md)
 #define LPV_LOCAL_SIZE_Y 8
