@@ -283,6 +283,17 @@ TEST_F(Vct, VoxelDirectLightMatchesTheClosedForm) {
     EXPECT_GT(at({0.4f, 0.5f, 0.4f}).r, 0.0f);
     // Empty space stays empty.
     EXPECT_EQ(at({0.5f, 0.5f, 0.5f}), glm::vec4(0.0f));
+
+    // The soft march (trilinear occupancy through a sampler; the hard one loads texels from a
+    // storage image): same light where nothing is in the way, shadow under the blocker.
+    s.occlusion = VctOcclusion::RayMarchSoft;
+    runVoxels(s);
+    rad = readHalf4(ctx(), m_volumes->aniso(), 0);
+    std::printf("soft march: lit %.4f (hard %.4f), under the blocker %.4f, beside %.4f\n", at(floorPoint).r, lit.r,
+                at({0.25f, 0.0f, 0.25f}).r, at({0.25f, 0.0f, 0.8f}).r);
+    EXPECT_NEAR(at(floorPoint).r, expected, expected * 2e-3f);
+    EXPECT_LT(at({0.25f, 0.0f, 0.25f}).r, 0.1f * expected);
+    EXPECT_GT(at({0.25f, 0.0f, 0.8f}).r, 0.5f * expected);
 }
 
 // Crassin's pre-integration on one voxel and on a wall: exact values of the first level. Level

@@ -73,6 +73,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
         const char* shader;
     } shaders[] = {{&v->m_compact, "gi/voxel/voxel_compact.comp"},
                    {&v->m_light, "gi/voxel/voxel_light.comp"},
+                   {&v->m_lightSoft, "gi/voxel/voxel_light_soft.comp"},
                    {&v->m_lightShadowMap, "gi/voxel/voxel_light_shadow_map.comp"},
                    {&v->m_mip, "gi/voxel/voxel_mip.comp"},
                    {&v->m_bounce, "gi/voxel/voxel_bounce.comp"},
@@ -106,7 +107,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
 
 VctVolumes::~VctVolumes() {
     destroyBuffer(m_ctx, m_list.buffer);
-    for (Pipeline* p : {&m_compact, &m_light, &m_lightShadowMap, &m_mip, &m_bounce, &m_bounceApply, &m_bounceAdd,
+    for (Pipeline* p : {&m_compact, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_bounce, &m_bounceApply, &m_bounceAdd,
                         &m_trace, &m_traceRefine, &m_upsample, &m_softShadow})
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_aniso.image);
@@ -154,7 +155,7 @@ void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t ligh
     if (shadow) {
         dispatchIndirect(m_ctx, cmd, m_lightShadowMap, push,
                          {lightItem, storage(3, g.emission.image.view),
-                          sampled(4, g.albedo.image, m_sampler, sampledLayout), storage(5, m_aniso.image.mipViews[0]),
+                          storage(4, g.albedo.image.view), storage(5, m_aniso.image.mipViews[0]),
                           bufferItem(6, m_list.buffer.buffer), bufferItem(7, shadow->lightShadows),
                           bufferItem(8, shadow->views),
                           sampled(9, *shadow->atlas, shadow->compareSampler, shadow->atlasLayout),
@@ -162,10 +163,13 @@ void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t ligh
                          m_list.buffer.buffer);
         return;
     }
-    dispatchIndirect(m_ctx, cmd, m_light, push,
+    // The soft march filters the occupancy (sampler); the hard one loads texels (storage image).
+    bool soft = mode == GI_VCT_OCCLUSION_SOFT;
+    dispatchIndirect(m_ctx, cmd, soft ? m_lightSoft : m_light, push,
                      {lightItem, storage(3, g.emission.image.view),
-                      sampled(4, g.albedo.image, m_sampler, sampledLayout), storage(5, m_aniso.image.mipViews[0]),
-                      bufferItem(6, m_list.buffer.buffer), storage(10, g.faces.image.view)},
+                      soft ? sampled(4, g.albedo.image, m_sampler, sampledLayout) : storage(4, g.albedo.image.view),
+                      storage(5, m_aniso.image.mipViews[0]), bufferItem(6, m_list.buffer.buffer),
+                      storage(10, g.faces.image.view)},
                      m_list.buffer.buffer);
 }
 

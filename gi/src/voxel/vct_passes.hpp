@@ -112,7 +112,7 @@ private:
     bool m_listBuilt = false;
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;
-    Pipeline m_compact, m_light, m_lightShadowMap, m_mip, m_bounce, m_bounceApply, m_bounceAdd, m_trace, m_traceRefine,
+    Pipeline m_compact, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_bounce, m_bounceApply, m_bounceAdd, m_trace, m_traceRefine,
         m_upsample, m_softShadow;
 };
 

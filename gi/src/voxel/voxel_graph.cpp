@@ -216,7 +216,9 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
             b.read(list, Access::IndirectRead);
             b.read(list, Access::ComputeStorageRead);
             b.read(lights, Access::ComputeStorageRead);
-            b.read(grid.albedo, Access::ComputeSampledRead);
+            // Only the soft march filters the occupancy; the others load texels.
+            bool soft = !useShadowMap && occlusion == VctOcclusion::RayMarchSoft;
+            b.read(grid.albedo, soft ? Access::ComputeSampledRead : Access::ComputeStorageRead);
             b.read(grid.faces, Access::ComputeStorageRead);
             b.read(grid.emission, Access::ComputeStorageRead);
             out.aniso = b.write(out.aniso, Access::ComputeStorageWrite, level0); // the listed voxels

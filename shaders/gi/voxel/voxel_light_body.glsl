@@ -22,7 +22,15 @@ layout(push_constant) uniform Push { VoxelLightPush pc; };
 
 layout(set = 1, binding = 0, std430) readonly buffer Lights { GpuLight lights[]; };
 layout(set = 1, binding = 3, rgba16f) uniform readonly image3D emissionVol;
+#ifdef GI_VOXEL_LIGHT_SOFT
 layout(set = 1, binding = 4) uniform sampler3D albedoVol; // a = occupancy; linear filtering for soft shadows
+vec4 albedoAt(ivec3 c) { return texelFetch(albedoVol, c, 0); }
+#else
+// The hard march and the shadow-map variant read single texels: a storage image, whose loads
+// lavapipe serves far faster than texelFetch through a sampler.
+layout(set = 1, binding = 4, rgba8) uniform readonly image3D albedoVol; // a = occupancy
+vec4 albedoAt(ivec3 c) { return imageLoad(albedoVol, c); }
+#endif
 layout(set = 1, binding = 5, rgba16f) uniform writeonly image3D anisoOut; // level 0 of the directional volume
 layout(set = 1, binding = 6, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint voxels[]; };
 layout(set = 1, binding = 10, r32ui) uniform readonly uimage3D facesVol;
@@ -70,7 +78,7 @@ const float kShadowStart = 1.0;
 // resolves which side of it the light is on. The Cornell lights hang 1 cm under the ceiling;
 // at 32^3 (1.77 cm voxels) the ceiling's voxels hold the light and the march shadowed most
 // of the box (mean indirect 0.57 of the path tracer's, against 0.92 with the shadow map).
-float visibility(vec3 p, vec3 dir, float tMax, uint mode) {
+float visibility(vec3 p, vec3 dir, float tMax) {
     float n = float(pc.grid.dims.x);
     float transmit = 1.0;
     ivec3 lightVoxel = ivec3(floor(p + tMax * dir));
@@ -78,15 +86,15 @@ float visibility(vec3 p, vec3 dir, float tMax, uint mode) {
         vec3 q = p + t * dir;
         if (any(lessThan(q, vec3(0.0))) || any(greaterThanEqual(q, vec3(n))) || ivec3(floor(q)) == lightVoxel)
             break;
-        if (mode == GI_VCT_OCCLUSION_HARD) {
-            if (texelFetch(albedoVol, ivec3(q), 0).a > 0.0)
-                return 0.0;
-        } else {
-            // Soft: trilinear occupancy as partial opacity, so edges get a one-voxel penumbra.
-            transmit *= 1.0 - textureLod(albedoVol, q / n, 0.0).a;
-            if (transmit < 1e-3)
-                return 0.0;
-        }
+#ifdef GI_VOXEL_LIGHT_SOFT
+        // Soft: trilinear occupancy as partial opacity, so edges get a one-voxel penumbra.
+        transmit *= 1.0 - textureLod(albedoVol, q / n, 0.0).a;
+        if (transmit < 1e-3)
+            return 0.0;
+#else
+        if (albedoAt(ivec3(q)).a > 0.0)
+            return 0.0;
+#endif
     }
     return transmit;
 }
@@ -126,7 +134,7 @@ vec3 irradianceAt(vec3 pGrid, vec3 pWorld, vec3 normal) {
 #ifdef GI_VOXEL_LIGHT_SHADOW_MAP
         float v = shadowMapVisibility(i, pWorld, normal, toLight);
 #else
-        float v = visibility(pMarch, toLight, dot(pGrid + dist * pc.grid.scales.x * toLight - pMarch, toLight), pc.info.y);
+        float v = visibility(pMarch, toLight, dot(pGrid + dist * pc.grid.scales.x * toLight - pMarch, toLight));
 #endif
         irradiance += light.colorIntensity.rgb * (e * cosine * v);
     }
@@ -137,7 +145,7 @@ void main() {
     if (gl_GlobalInvocationID.x >= header[3])
         return;
     ivec3 c = ivec3(voxelListUnpack(voxels[gl_GlobalInvocationID.x]));
-    vec3 albedo = texelFetch(albedoVol, c, 0).rgb;
+    vec3 albedo = albedoAt(c).rgb;
     uint faces = imageLoad(facesVol, c).x;
     float cover[6];
     for (uint d = 0u; d < 6u; ++d)
