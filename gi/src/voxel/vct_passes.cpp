@@ -243,11 +243,11 @@ void VctVolumes::recordSoftShadow(VkCommandBuffer cmd, const gpu::VctShadowPush&
 }
 
 void VctVolumes::recordUpsample(VkCommandBuffer cmd, const gpu::VctTracePush& push, const Image& lowIndirect,
-                                const Image& lowGlossy, const VctTraceTargets& t, VkImageLayout sampledLayout) const {
+                                const Image& lowGlossy, const VctTraceTargets& t) const {
     dispatch(m_ctx, cmd, m_upsample, push,
-             {sampled(0, *t.position, m_sampler, sampledLayout), sampled(1, *t.normal, m_sampler, sampledLayout),
-              sampled(2, lowIndirect, m_sampler, sampledLayout), sampled(3, lowGlossy, m_sampler, sampledLayout),
-              storage(4, t.indirect->view), storage(5, t.glossy->view), bufferItem(6, t.refineList)},
+             {storage(0, t.position->view), storage(1, t.normal->view), storage(2, lowIndirect.view),
+              storage(3, lowGlossy.view), storage(4, t.indirect->view), storage(5, t.glossy->view),
+              bufferItem(6, t.refineList)},
              glm::uvec3(push.cones.info.z, push.cones.info.w, 1u));
 }
 

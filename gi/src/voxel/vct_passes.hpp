@@ -99,9 +99,9 @@ public:
                           const VctTraceTargets& targets, VkImageLayout sampledLayout) const;
     // Low-res indirect + glossy -> full resolution (targets.indirect/glossy), appending the
     // pixels across discontinuities to `refineList` (count zeroed before). G-buffer position
-    // and normal and the low-res images are read through a sampler in `sampledLayout`.
+    // and normal and the low-res images are read as storage images (GENERAL).
     void recordUpsample(VkCommandBuffer cmd, const gpu::VctTracePush& push, const Image& lowIndirect,
-                        const Image& lowGlossy, const VctTraceTargets& targets, VkImageLayout sampledLayout) const;
+                        const Image& lowGlossy, const VctTraceTargets& targets) const;
 
 private:
     VctVolumes(Context& ctx, const VoxelGrid& grid) : m_ctx(ctx), m_grid(grid) {}

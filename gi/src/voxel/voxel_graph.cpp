@@ -353,10 +353,10 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, VctOutput
     const UpsampleData& us = graph.addPass<UpsampleData>(
         "gi.vct.upsample",
         [&](rg::PassBuilder& b, UpsampleData& d) {
-            b.read(g.position, Access::ComputeSampledRead);
-            b.read(g.normal, Access::ComputeSampledRead);
-            b.read(data.indirect, Access::ComputeSampledRead);
-            b.read(data.glossy, Access::ComputeSampledRead);
+            b.read(g.position, Access::ComputeStorageRead);
+            b.read(g.normal, Access::ComputeStorageRead);
+            b.read(data.indirect, Access::ComputeStorageRead);
+            b.read(data.glossy, Access::ComputeStorageRead);
             ImageDesc desc = image(g.width, g.height);
             d.indirect = b.write(b.create("gi.vct.indirect", desc), Access::ComputeStorageWriteDiscard);
             d.glossy = b.write(b.create("gi.vct.glossy", desc), Access::ComputeStorageWriteDiscard);
@@ -365,8 +365,7 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, VctOutput
         [v, push, g, low = data](const UpsampleData& d, rg::PassContext& ctx) {
             VctTraceTargets t{&ctx.image(g.position), &ctx.image(g.normal),   nullptr,
                               &ctx.image(d.indirect), &ctx.image(d.glossy), ctx.buffer(d.list).buffer};
-            v->recordUpsample(ctx.cmd(), push, ctx.image(low.indirect), ctx.image(low.glossy), t,
-                              ctx.layout(g.position));
+            v->recordUpsample(ctx.cmd(), push, ctx.image(low.indirect), ctx.image(low.glossy), t);
         });
     const UpsampleData& rf = graph.addPass<UpsampleData>(
         "gi.vct.refine",

@@ -8,10 +8,12 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform Push { VctTracePush pc; };
-layout(set = 1, binding = 0) uniform sampler2D gPosition;
-layout(set = 1, binding = 1) uniform sampler2D gNormal;
-layout(set = 1, binding = 2) uniform sampler2D lowIndirect;
-layout(set = 1, binding = 3) uniform sampler2D lowGlossy;
+// Point reads only: storage images (lavapipe loads their texels much faster than it fetches
+// through a sampler).
+layout(set = 1, binding = 0, rgba32f) uniform readonly image2D gPosition;
+layout(set = 1, binding = 1, rgba16f) uniform readonly image2D gNormal;
+layout(set = 1, binding = 2, rgba32f) uniform readonly image2D lowIndirect;
+layout(set = 1, binding = 3, rgba32f) uniform readonly image2D lowGlossy;
 layout(set = 1, binding = 4, rgba32f) uniform writeonly image2D outIndirect;
 layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D outGlossy;
 layout(set = 1, binding = 6, std430) buffer RefineList {
@@ -19,6 +21,7 @@ layout(set = 1, binding = 6, std430) buffer RefineList {
     uint refineGroups[3]; // VkDispatchIndirectCommand of vct_trace_refine.comp (zeroed before)
     uint refinePixels[];  // x | y << 16
 };
+#define GI_LOWRES_GBUFFER_FETCH(image, pixel) imageLoad(image, pixel)
 #include "gi/lowres_upsample.h"
 
 void main() {
@@ -30,13 +33,13 @@ void main() {
         refineGroups[1] = 1u;
         refineGroups[2] = 1u;
     }
-    vec4 position = texelFetch(gPosition, px, 0);
+    vec4 position = imageLoad(gPosition, px);
     if (position.w == 0.0) {
         imageStore(outIndirect, px, vec4(0.0, 0.0, 0.0, 1.0));
         imageStore(outGlossy, px, vec4(0.0));
         return;
     }
-    vec3 n = normalize(texelFetch(gNormal, px, 0).xyz);
+    vec3 n = normalize(imageLoad(gNormal, px).xyz);
     float depth = distance(position.xyz, pc.eye.xyz);
     ivec2 taps[4];
     vec4 w;
@@ -44,8 +47,8 @@ void main() {
                              taps, w);
     vec4 indirect = vec4(0.0), glossy = vec4(0.0);
     for (int k = 0; k < 4; ++k) {
-        indirect += w[k] * texelFetch(lowIndirect, taps[k], 0);
-        glossy += w[k] * texelFetch(lowGlossy, taps[k], 0);
+        indirect += w[k] * imageLoad(lowIndirect, taps[k]);
+        glossy += w[k] * imageLoad(lowGlossy, taps[k]);
     }
     imageStore(outIndirect, px, indirect);
     imageStore(outGlossy, px, glossy);

@@ -5,7 +5,9 @@
 // than the threshold (1 - dot), or a sample off the pixel's tangent plane by more than
 // threshold x depth. Such pixels go to a refine list and are recomputed at full resolution.
 // The includer declares sampler2D gPosition and gNormal (the G-buffer, point-sampled), or
-// defines GI_LOWRES_SOURCE_ONLY to get lowResSource alone.
+// declares them as storage images and defines GI_LOWRES_GBUFFER_FETCH(image, pixel) as
+// imageLoad(image, pixel) (lavapipe loads storage texels much faster than it fetches through a
+// sampler), or defines GI_LOWRES_SOURCE_ONLY to get lowResSource alone.
 #ifndef VKGI_GI_LOWRES_UPSAMPLE_H
 #define VKGI_GI_LOWRES_UPSAMPLE_H
 
@@ -13,6 +15,9 @@
 ivec2 lowResSource(ivec2 li, int f, ivec2 full) { return min(li * f + f / 2, full - 1); }
 
 #ifndef GI_LOWRES_SOURCE_ONLY // the gather side needs no G-buffer samplers
+#ifndef GI_LOWRES_GBUFFER_FETCH
+#define GI_LOWRES_GBUFFER_FETCH(image, pixel) texelFetch(image, pixel, 0)
+#endif
 
 // Bilinear taps of full-res pixel px (position, normal n, distance to the camera `depth`) on
 // the low-res grid of size `low`; true when one of them crosses a discontinuity.
@@ -31,8 +36,8 @@ bool lowResTaps(ivec2 px, vec3 position, vec3 n, float depth, int f, ivec2 low, 
         if (w <= 0.0)
             continue;
         ivec2 s = lowResSource(li, f, full);
-        vec4 q = texelFetch(gPosition, s, 0);
-        vec3 nq = texelFetch(gNormal, s, 0).xyz;
+        vec4 q = GI_LOWRES_GBUFFER_FETCH(gPosition, s);
+        vec3 nq = GI_LOWRES_GBUFFER_FETCH(gNormal, s).xyz;
         if (q.w == 0.0 || 1.0 - dot(n, nq) > threshold || abs(dot(q.xyz - position.xyz, n)) > threshold * depth)
             refine = true;
     }
