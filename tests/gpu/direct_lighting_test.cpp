@@ -12,6 +12,7 @@
 #include "gi/reference.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/test_env.hpp"
+#include "support/test_scenes.hpp"
 
 using namespace vkgi;
 
@@ -48,31 +49,7 @@ Scene builtin(const char* name) {
     return std::move(s).value();
 }
 
-// A 20 m grey plane at y = 0 seen from 3 m above, lit by one light.
-Scene planeScene(float albedo, const Light& light) {
-    Scene s;
-    s.name = "plane";
-    Mesh m;
-    const float h = 10.0f;
-    m.positions = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
-    m.normals.assign(4, glm::vec3(0, 1, 0));
-    m.indices = {0, 2, 1, 0, 3, 2};
-    s.meshes.push_back(m);
-    Material mat;
-    mat.baseColor = glm::vec4(glm::vec3(albedo), 1.0f);
-    s.materials.push_back(mat);
-    s.instances.push_back({});
-    s.lights.push_back(light);
-    Camera c;
-    c.position = {0.0f, 3.0f, 0.0f};
-    c.forward = {0.0f, -1.0f, 0.0f};
-    c.up = {0.0f, 0.0f, -1.0f};
-    c.yfov = 60.0f * kPi / 180.0f;
-    c.znear = 0.01f;
-    c.zfar = 10.0f;
-    s.camera = c;
-    return s;
-}
+using test::planeScene;
 
 } // namespace
 

@@ -206,6 +206,48 @@ protected:
                         VK_FORMAT_R32G32B32A32_SFLOAT);
     }
 
+    // The geometry volume's (kGrid + 1)^3 corner texels (RGBA16F blocking SH) built from a
+    // camera G-buffer of camW x camH and, when rsmPos is given, a rsmSize^2 single-layer RSM.
+    std::vector<glm::vec4> geometryVolume(Image* rsmPos, Image* rsmNrm, uint32_t rsmSize, Image* camPos,
+                                          Image* camNrm, uint32_t camW, uint32_t camH) {
+        const int corners = kGrid + 1;
+        Buffer host = createBuffer(ctx(),
+                                   {VkDeviceSize(corners * corners * corners * 8), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                    MemoryUsage::GpuToCpu},
+                                   "lpv.test.gv.host");
+        rg::RenderGraph g;
+        RsmInput rsm{};
+        if (rsmPos)
+            rsm = RsmInput{g.importImage("rsm.position", *rsmPos, rg::Access::TransferWrite),
+                           g.importImage("rsm.normal", *rsmNrm, rg::Access::TransferWrite), {}, rsmSize, 1};
+        GBufferInput cam{g.importImage("cam.position", *camPos, rg::Access::TransferWrite),
+                         g.importImage("cam.normal", *camNrm, rg::Access::TransferWrite), {}, camW, camH};
+        rg::ImageHandle gv = addGeometryVolumePasses(g, m_injector, grid(), rsm, cam);
+        rg::BufferHandle hostHandle = g.importBuffer("gv.host", host, rg::Access::None);
+        g.addPass(
+            "test.gv.readback",
+            [&](rg::PassBuilder& b) {
+                b.read(gv, rg::Access::TransferRead);
+                hostHandle = b.write(hostHandle, rg::Access::TransferWrite);
+            },
+            [=](rg::PassContext& pc) {
+                VkBufferImageCopy region{};
+                region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                region.imageExtent = {uint32_t(corners), uint32_t(corners), uint32_t(corners)};
+                vkCmdCopyImageToBuffer(pc.cmd(), pc.image(gv).image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                       pc.buffer(hostHandle).buffer, 1, &region);
+            });
+        g.exportBuffer(hostHandle, rg::Access::HostRead);
+        auto compiled = g.compile();
+        EXPECT_TRUE(compiled) << (compiled ? "" : compiled.error().message);
+        if (compiled)
+            ctx().submitAndWait([&](VkCommandBuffer cmd) { g.execute(cmd, ctx(), *m_pool); });
+        std::vector<uint8_t> bytes(size_t(corners * corners * corners * 8));
+        std::memcpy(bytes.data(), host.mapped(), bytes.size());
+        destroyBuffer(ctx(), host);
+        return texelsOf(bytes, VK_FORMAT_R16G16B16A16_SFLOAT);
+    }
+
     Injector m_injector;
     std::unique_ptr<rg::TransientPool> m_pool;
     bool m_ready = false;
@@ -409,39 +451,9 @@ TEST_F(LpvInject, GeometryVolumeCountsASurfaceSeenTwiceOnceAndStopsLight) {
     Image* camPos = uploaded(pos, VK_FORMAT_R32G32B32A32_SFLOAT, 32, 32, false);
     Image* camNrm = uploaded(nrm, VK_FORMAT_R16G16B16A16_SFLOAT, 32, 32, false);
     const int corners = kGrid + 1;
-    Buffer host = createBuffer(ctx(), {VkDeviceSize(corners * corners * corners * 8), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                       MemoryUsage::GpuToCpu},
-                               "lpv.test.gv.host");
-    rg::RenderGraph g;
-    RsmInput rsm{g.importImage("rsm.position", *rsmPos, rg::Access::TransferWrite),
-                 g.importImage("rsm.normal", *rsmNrm, rg::Access::TransferWrite), {}, 32, 1};
-    GBufferInput cam{g.importImage("cam.position", *camPos, rg::Access::TransferWrite),
-                     g.importImage("cam.normal", *camNrm, rg::Access::TransferWrite), {}, 32, 32};
-    rg::ImageHandle gv = addGeometryVolumePasses(g, m_injector, grid(), rsm, cam);
-    rg::BufferHandle hostHandle = g.importBuffer("gv.host", host, rg::Access::None);
-    g.addPass(
-        "test.gv.readback",
-        [&](rg::PassBuilder& b) {
-            b.read(gv, rg::Access::TransferRead);
-            hostHandle = b.write(hostHandle, rg::Access::TransferWrite);
-        },
-        [=](rg::PassContext& pc) {
-            VkBufferImageCopy region{};
-            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            region.imageExtent = {uint32_t(corners), uint32_t(corners), uint32_t(corners)};
-            vkCmdCopyImageToBuffer(pc.cmd(), pc.image(gv).image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                   pc.buffer(hostHandle).buffer, 1, &region);
-        });
-    g.exportBuffer(hostHandle, rg::Access::HostRead);
-    auto compiled = g.compile();
-    ASSERT_TRUE(compiled) << compiled.error().message;
-    ctx().submitAndWait([&](VkCommandBuffer cmd) { g.execute(cmd, ctx(), *m_pool); });
-    std::vector<uint8_t> bytes(size_t(corners * corners * corners * 8));
-    std::memcpy(bytes.data(), host.mapped(), bytes.size());
-    destroyBuffer(ctx(), host);
     GeometryVolume volume;
     volume.size = glm::ivec3(corners);
-    volume.blocking = texelsOf(bytes, VK_FORMAT_R16G16B16A16_SFLOAT);
+    volume.blocking = geometryVolume(rsmPos, rsmNrm, 32, camPos, camNrm, 32, 32);
 
     // Interior corners of the wall: coverage 16 x 1/16 = 1 (not 2), lobe around +x (the
     // direction of the light it stops). float16: tolerance 1e-3. Off the plane: exactly zero.
@@ -500,35 +512,7 @@ TEST_F(LpvInject, CameraGeometryVolumeIsTheSameWhenTheGBufferIsSampledSparsely) 
     Image* camPos = uploaded(pos, VK_FORMAT_R32G32B32A32_SFLOAT, 64, 64, false);
     Image* camNrm = uploaded(nrm, VK_FORMAT_R16G16B16A16_SFLOAT, 64, 64, false);
     const int corners = kGrid + 1;
-    Buffer host = createBuffer(ctx(), {VkDeviceSize(corners * corners * corners * 8), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                       MemoryUsage::GpuToCpu},
-                               "lpv.test.gv.host");
-    rg::RenderGraph g;
-    GBufferInput cam{g.importImage("cam.position", *camPos, rg::Access::TransferWrite),
-                     g.importImage("cam.normal", *camNrm, rg::Access::TransferWrite), {}, 64, 64};
-    rg::ImageHandle gv = addGeometryVolumePasses(g, m_injector, grid(), RsmInput{}, cam);
-    rg::BufferHandle hostHandle = g.importBuffer("gv.host", host, rg::Access::None);
-    g.addPass(
-        "test.gv.readback",
-        [&](rg::PassBuilder& b) {
-            b.read(gv, rg::Access::TransferRead);
-            hostHandle = b.write(hostHandle, rg::Access::TransferWrite);
-        },
-        [=](rg::PassContext& pc) {
-            VkBufferImageCopy region{};
-            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            region.imageExtent = {uint32_t(corners), uint32_t(corners), uint32_t(corners)};
-            vkCmdCopyImageToBuffer(pc.cmd(), pc.image(gv).image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                   pc.buffer(hostHandle).buffer, 1, &region);
-        });
-    g.exportBuffer(hostHandle, rg::Access::HostRead);
-    auto compiled = g.compile();
-    ASSERT_TRUE(compiled) << compiled.error().message;
-    ctx().submitAndWait([&](VkCommandBuffer cmd) { g.execute(cmd, ctx(), *m_pool); });
-    std::vector<uint8_t> bytes(size_t(corners * corners * corners * 8));
-    std::memcpy(bytes.data(), host.mapped(), bytes.size());
-    destroyBuffer(ctx(), host);
-    const std::vector<vec4> blocking = texelsOf(bytes, VK_FORMAT_R16G16B16A16_SFLOAT);
+    const std::vector<vec4> blocking = geometryVolume(nullptr, nullptr, 0, camPos, camNrm, 64, 64);
     const vec4 full = gpu::shCosineLobe(vec3(1, 0, 0));
     float worst = 0.0f, off = 0.0f;
     for (int z = 0; z < corners; ++z)

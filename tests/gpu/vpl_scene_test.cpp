@@ -19,6 +19,7 @@
 #include "gi/vpl.h"
 #include "gi/vpl.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/test_scenes.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi;
@@ -345,30 +346,6 @@ TEST_F(VplScene, NoLightLeavesEveryVplPassOut) {
     }
 }
 
-namespace {
-// A 20 m plane y = 0 of albedo 0.5 lit by one light, camera above it.
-Scene litPlane(const Light& light) {
-    Scene s;
-    s.name = "lit_plane";
-    Mesh m;
-    const float h = 10.0f;
-    m.positions = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
-    m.normals.assign(4, glm::vec3(0, 1, 0));
-    m.indices = {0, 2, 1, 0, 3, 2};
-    s.meshes.push_back(m);
-    Material mat;
-    mat.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
-    s.materials.push_back(mat);
-    s.instances.push_back({});
-    s.lights.push_back(light);
-    Camera c;
-    c.position = {0.0f, 3.0f, 0.0f};
-    c.forward = {0.0f, -1.0f, 0.0f};
-    c.up = {0.0f, 0.0f, -1.0f};
-    s.camera = c;
-    return s;
-}
-} // namespace
 
 // A point light is a spot whose cone is the whole sphere (six cube layers): each of its N
 // Halton directions that meets the plane gives a VPL on the plane, facing up, carrying
@@ -380,7 +357,7 @@ TEST_F(VplScene, PointLightVplsCoverTheSphereWithExactFlux) {
     light.type = LightType::Point;
     light.position = {0.0f, 1.0f, 0.0f};
     light.intensity = 100.0f;
-    Scene scene = litPlane(light);
+    Scene scene = test::planeScene(0.5f, light);
     VplSettings v;
     v.vplCount = 512;
     auto sys = makeSystem(v);
@@ -412,7 +389,7 @@ TEST_F(VplScene, DirectionalLightVplsSampleItsWindowWithExactFlux) {
     sun.type = LightType::Directional;
     sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
     sun.intensity = 3.0f;
-    Scene scene = litPlane(sun);
+    Scene scene = test::planeScene(0.5f, sun);
     VplSettings v;
     v.vplCount = 1024;
     auto sys = makeSystem(v);
