@@ -43,6 +43,57 @@ bool lowResTaps(ivec2 px, vec3 position, vec3 n, float depth, int f, ivec2 low, 
     }
     return refine;
 }
+
+// Joint bilateral variant of lowResTaps (the VCT upsample) for the pixels lowResTaps would
+// refine. Where every tap with a non-zero weight passes lowResTaps' test the result is its
+// bilinear interpolation. Otherwise the pixel is next to an edge; it is refined when it lies
+// behind, or less than `reach` voxels in front of, the surface of a tap that fails the test (a
+// surface seen past an edge, or a concave corner: the cones' first samples reach `reach` voxels,
+// so there the gather changes faster than the taps sample it). Else only the taps on its own
+// surface at the scale of the voxel grid stand in for it: normal within the threshold, off its
+// tangent plane by at most half a voxel, and at most `reach` voxels away (across a grazing plane
+// neighbouring taps can be metres apart). They are interpolated with their bilinear weights,
+// renormalised; where those weights are all zero (the pixel lies on the line through the
+// rejected taps, the kept ones one low-res spacing away) they count equally. A pixel that keeps
+// no tap is refined too. `voxel` is the voxel edge in the units of the positions.
+bool lowResFitTaps(ivec2 px, vec3 position, vec3 n, float depth, int f, ivec2 low, ivec2 full, float threshold,
+                   float voxel, float reach, out ivec2 taps[4], out vec4 weights) {
+    vec2 c = (vec2(px) - float(f / 2)) / float(f);
+    ivec2 i0 = ivec2(floor(c));
+    vec2 t = c - vec2(i0);
+    vec4 keep = vec4(0.0);
+    bool edge = false, near = false;
+    for (int k = 0; k < 4; ++k) {
+        ivec2 o = ivec2(k & 1, k >> 1);
+        weights[k] = (o.x == 1 ? t.x : 1.0 - t.x) * (o.y == 1 ? t.y : 1.0 - t.y);
+        ivec2 li = clamp(i0 + o, ivec2(0), low - 1);
+        taps[k] = li;
+        ivec2 s = lowResSource(li, f, full);
+        vec4 q = GI_LOWRES_GBUFFER_FETCH(gPosition, s);
+        vec3 nq = GI_LOWRES_GBUFFER_FETCH(gNormal, s).xyz;
+        float off = abs(dot(q.xyz - position.xyz, n));
+        bool fits = q.w != 0.0 && 1.0 - dot(n, nq) <= threshold && off <= threshold * depth;
+        edge = edge || (!fits && weights[k] > 0.0);
+        // A tap that does not fit and whose surface the pixel lies behind (seen past its edge,
+        // e.g. through a window or past a column) or less than `reach` voxels in front of (a
+        // concave corner, where the gather darkens within the span of the first cone samples):
+        // no other tap can stand in for the pixel.
+        near = near || (!fits && q.w != 0.0 && dot(position.xyz - q.xyz, nq) < reach * voxel);
+        keep[k] = fits && off <= 0.5 * voxel && distance(q.xyz, position.xyz) <= reach * voxel ? 1.0 : 0.0;
+    }
+    if (!edge)
+        return false;
+    if (near || keep == vec4(0.0))
+        return true;
+    weights *= keep;
+    float sum = dot(weights, vec4(1.0));
+    if (sum <= 0.0) {
+        weights = keep;
+        sum = dot(keep, vec4(1.0));
+    }
+    weights /= sum;
+    return false;
+}
 #endif
 
 #endif
