@@ -21,11 +21,11 @@ constexpr uint32_t kMaxSpp = 1u << 20;
 // Beyond this many reflections the path tracer's own cap (1024) applies anyway.
 constexpr int kMaxBounces = 1024;
 
-Result<void> parseOutput(const std::string& text, Options& o) {
+Result<void> parseOutput(const std::string& flag, const std::string& text, std::vector<std::filesystem::path>& to) {
     std::string ext = std::filesystem::path(text).extension().string();
     if (ext != ".exr" && ext != ".png")
-        return makeError("--out: '" + text + "' must end in .exr or .png");
-    o.outputs.emplace_back(text);
+        return makeError(flag + ": '" + text + "' must end in .exr or .png");
+    to.emplace_back(text);
     return {};
 }
 
@@ -41,7 +41,11 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
             return size.error();
         std::tie(o.width, o.height) = *size;
     } else if (flag == "--out") {
-        return parseOutput(value, o);
+        return parseOutput(flag, value, o.outputs);
+    } else if (flag == "--out-direct") {
+        return parseOutput(flag, value, o.directOutputs);
+    } else if (flag == "--out-indirect") {
+        return parseOutput(flag, value, o.indirectOutputs);
     } else if (flag == "--spp") {
         auto v = apps::parseWhole("--spp", value, 1, kMaxSpp);
         if (!v)
@@ -70,7 +74,7 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
 }
 
 bool takesValue(const std::string& flag) {
-    for (const char* f : {"--scene", "--technique", "--size", "--out", "--spp", "--bounces", "--exposure", "--json"})
+    for (const char* f : {"--scene", "--technique", "--size", "--out", "--out-direct", "--out-indirect", "--spp", "--bounces", "--exposure", "--json"})
         if (flag == f)
             return true;
     return false;
@@ -94,7 +98,7 @@ Result<Options> parseArgs(int argc, const char* const* argv) {
     };
     if (auto ok = apps::parseCommandLine(argc, argv, grammar, o.knobs); !ok)
         return ok.error();
-    if (o.outputs.empty())
+    if (o.outputs.empty() && o.directOutputs.empty() && o.indirectOutputs.empty())
         o.outputs.push_back(std::filesystem::path("out") / (std::filesystem::path(o.scene).stem().string() + ".png"));
     return o;
 }
@@ -108,7 +112,11 @@ Usage: vkgi-render [options]
                       (none = direct light + emission only)
   --size WxH          image size, each side 1..16384 (default: 256x256)
   --out FILE          output image, .exr (linear float) or .png (tone mapped); may be repeated;
-                      default out/<scene>.png. Files are written atomically.
+                      default out/<scene>.png (unless a part below is asked for). Files are
+                      written atomically.
+  --out-direct FILE   the direct part (direct light + emission) of the same frame; may be repeated
+  --out-indirect FILE the indirect part: image - direct (the indirect light the technique adds), or
+                      the path tracer's own paths of 2+ reflections; may be repeated
   --spp N             path-tracer samples per pixel for --technique reference and --compare (default 64)
   --bounces K         reflections: 1 = direct only, -1 = unbounded. Default: the count the technique
                       models (none: 1, one indirect bounce: 2), or -1 for --technique reference.

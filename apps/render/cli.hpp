@@ -20,6 +20,9 @@ struct Options {
     uint32_t width = 256;
     uint32_t height = 256;
     std::vector<std::filesystem::path> outputs; // default out/<scene>.png
+    // The direct part and the indirect part (image - direct; the path tracer's own paths of >= 2
+    // reflections for --technique reference) of the same frame.
+    std::vector<std::filesystem::path> directOutputs, indirectOutputs;
     uint32_t spp = 64;                          // path-tracer samples per pixel (reference, --compare)
     std::optional<int> bounces;                 // reflections; default: the technique's own count
     bool compare = false;

@@ -21,6 +21,7 @@ namespace {
 struct Rendered {
     HdrImage image;
     HdrImage direct;
+    HdrImage indirect; // image - direct; the path tracer's own indirect paths
     std::vector<rg::PassTiming> passes;
     double totalMs = 0.0;
     std::vector<gi::LeftOutPass> leftOut;
@@ -73,8 +74,12 @@ Result<Rendered> renderGi(const Scene& scene, const Camera& camera, const render
     auto still = (*system)->renderFrame(camera, o.width, o.height, request);
     if (!still)
         return still.error();
+    auto indirect = subtract(frame->composite, frame->direct);
+    if (!indirect)
+        return indirect.error();
     return Rendered{std::move(frame->composite),
                     std::move(frame->direct),
+                    std::move(*indirect),
                     frame->passes,
                     frame->totalMs,
                     frame->leftOut,
@@ -87,7 +92,7 @@ Result<Rendered> renderPathTraced(const Scene& scene, const Camera& camera, cons
     if (!ref)
         return ref.error();
     double ms = ref->seconds * 1000.0;
-    return Rendered{std::move(ref->full), std::move(ref->direct), {{"reference (CPU wall time)", ms}}, ms, {}, std::nullopt, {}};
+    return Rendered{std::move(ref->full), std::move(ref->direct), std::move(ref->indirect), {{"reference (CPU wall time)", ms}}, ms, {}, std::nullopt, {}};
 }
 
 // Errors of the full image and of its indirect part (full - direct) against the reference.
@@ -97,10 +102,9 @@ Result<render::Errors> compare(const Scene& scene, const Camera& camera, const r
     if (!ref)
         return ref.error();
     auto full = compareImages(r.image, ref->full);
-    auto indirect = subtract(r.image, r.direct);
-    if (!full || !indirect)
-        return full ? indirect.error() : full.error();
-    auto ind = compareImages(*indirect, ref->indirect);
+    if (!full)
+        return full.error();
+    auto ind = compareImages(r.indirect, ref->indirect);
     if (!ind)
         return ind.error();
     return render::Errors{*full, *ind};
@@ -160,11 +164,14 @@ int main(int argc, char** argv) {
                     "%.6g  RMSE %.6g nits\n",
                     bounces, o.spp, e->full.relMse, e->full.rmse, e->indirect.relMse, e->indirect.rmse);
     }
-    for (const std::filesystem::path& out : o.outputs) {
-        if (auto ok = writeImage(out, rendered->image, o.exposure); !ok)
-            return fail(1, ok.error().message);
-        std::printf("wrote %s\n", out.string().c_str());
-    }
+    const std::pair<const std::vector<std::filesystem::path>*, const HdrImage*> parts[] = {
+        {&o.outputs, &rendered->image}, {&o.directOutputs, &rendered->direct}, {&o.indirectOutputs, &rendered->indirect}};
+    for (const auto& [paths, image] : parts)
+        for (const std::filesystem::path& out : *paths) {
+            if (auto ok = writeImage(out, *image, o.exposure); !ok)
+                return fail(1, ok.error().message);
+            std::printf("wrote %s\n", out.string().c_str());
+        }
     if (o.json) {
         if (auto ok = writeFileAtomic(*o.json, render::jsonReport(o, rendered->passes, rendered->totalMs, rendered->leftOut,
                                                                    rendered->staticFrame, rendered->memory, errors));

@@ -284,9 +284,13 @@ const glm::vec3 kAtriumSunDir = glm::normalize(glm::vec3(0.35f, -1.0f, 0.5f));
 constexpr float kAtriumSunLux = 1.0e4f;
 
 // A round arch in the plane x = xc spanning z in [zc - R, zc + R], springing at y = ys: inner
-// radius R - 0.3, outer R, depth 0.6 m, made of `segments` hexahedra.
+// radius R - 0.3, depth 0.6 m, made of `segments` hexahedra. The outer radius is R + 0.1: the
+// crown (ys + R is the underside of the slab above) sinks 0.1 m into the slab. With the crown
+// flush against the slab the two faces were coplanar, and which one a ray through the crown
+// hit was left to rounding: the path tracer met the arch's top face from behind (inside the
+// slab, dark) on pixels where the rasterizer saw the slab's underside (lit by the courtyard).
 void addArch(MeshBuilder& b, float xc, float zc, float ys, uint32_t segments) {
-    const float rin = kArchR - 0.3f, rout = kArchR, half = 0.3f;
+    const float rin = kArchR - 0.3f, rout = kArchR + 0.1f, half = 0.3f;
     auto at = [&](float r, float theta, float x) {
         return glm::vec3(x, ys + r * std::sin(theta), zc - r * std::cos(theta));
     };

@@ -61,7 +61,8 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLine) {
     } cases[] = {{"--bogus", "--bogus"},          {"--size 0x64", "--size"},     {"--size 64", "--size"},
                  {"--size 99999x64", "--size"},   {"--size", "needs a value"}, {"--spp nan", "--spp"},
                  {"--spp -3", "--spp"},           {"--bounces 1.5", "--bounces"}, {"--technique magic", "magic"},
-                 {"--out image.jpg", "image.jpg"}, {"--json", "needs a value"}};
+                 {"--out image.jpg", "image.jpg"}, {"--json", "needs a value"},
+                 {"--out-indirect x.tif", "--out-indirect"}};
     for (const Case& c : cases) {
         CliRun r = run(c.args);
         EXPECT_EQ(r.exitCode, 2) << c.args;
@@ -79,7 +80,8 @@ TEST_F(Cli, HelpDocumentsEveryOption) {
     while (fgets(buf, sizeof(buf), p))
         out += buf;
     EXPECT_EQ(pclose(p), 0);
-    for (const char* opt : {"--scene", "--technique", "--size", "--out", "--spp", "--bounces", "--compare", "--json"})
+    for (const char* opt : {"--scene", "--technique", "--size", "--out", "--out-direct", "--out-indirect", "--spp",
+                            "--bounces", "--compare", "--json"})
         EXPECT_NE(out.find(opt), std::string::npos) << opt;
 }
 
@@ -134,6 +136,39 @@ TEST_F(Cli, SmallRenderWritesImageAndJson) {
     for (const auto& [owner, bytes] : mem["persistent"].items())
         persistent += bytes.get<uint64_t>();
     EXPECT_EQ(mem["total_bytes"].get<uint64_t>(), persistent + created);
+}
+
+// The parts of one frame: with LPV the image is exactly direct + indirect (the files hold the
+// readbacks' floats, and indirect is written as image - direct), the indirect part is light
+// (the box's walls bounce the spot's light), and the default out/<scene>.png is not written
+// when only parts are asked for.
+TEST_F(Cli, WritesTheDirectAndIndirectParts) {
+    fs::path dir = vkgi::test::outputDir() / "cli_parts";
+    fs::remove_all(dir);
+    fs::path cwd = fs::current_path();
+    fs::create_directories(dir);
+    fs::current_path(dir);
+    CliRun r = run("--scene cornell --technique lpv --lpv.grid 8 --lpv.iterations 2 --size 16x16 --out img.exr "
+                   "--out-direct direct.exr --out-indirect indirect.exr");
+    CliRun partsOnly = run("--scene cornell --size 8x8 --out-direct only.exr");
+    fs::current_path(cwd);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    ASSERT_EQ(partsOnly.exitCode, 0) << partsOnly.err;
+    EXPECT_TRUE(fs::exists(dir / "only.exr"));
+    EXPECT_FALSE(fs::exists(dir / "out"));
+    auto img = vkgi::readExr(dir / "img.exr");
+    auto direct = vkgi::readExr(dir / "direct.exr");
+    auto indirect = vkgi::readExr(dir / "indirect.exr");
+    ASSERT_TRUE(img && direct && indirect);
+    ASSERT_EQ(img->pixels.size(), 256u);
+    ASSERT_EQ(direct->pixels.size(), 256u);
+    ASSERT_EQ(indirect->pixels.size(), 256u);
+    double indirectSum = 0.0;
+    for (size_t i = 0; i < img->pixels.size(); ++i) {
+        EXPECT_EQ(indirect->pixels[i], img->pixels[i] - direct->pixels[i]) << i;
+        indirectSum += double(indirect->pixels[i].x + indirect->pixels[i].y + indirect->pixels[i].z);
+    }
+    EXPECT_GT(indirectSum, 0.0);
 }
 
 TEST_F(Cli, JsonListsLeftOutPassesAndTheStaticFrame) {

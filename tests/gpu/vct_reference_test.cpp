@@ -22,19 +22,35 @@ constexpr uint32_t kSize = 64;
 
 // direct + c with the per-channel constant c that minimises relMSE against `ref`:
 // d/dc sum w (d + c - r)^2 = 0 with w = 1 / (r^2 + eps) gives c = sum w (r - d) / sum w.
-HdrImage bestAmbient(const HdrImage& direct, const HdrImage& ref, float eps = 0.01f) {
+// An ambient term lights surfaces: pixels without one (`surface` false: the sky of the atrium,
+// black in both renderers) keep `direct`. Adding c there too made the sky pixels (weight
+// 1 / eps = 100 against ~1e-4 on a 100-nit surface) pull c to ~0, so the "best constant" was
+// no light at all and its relMSE just the fraction of surface pixels (atrium 0.868).
+HdrImage bestAmbient(const HdrImage& direct, const HdrImage& ref, const std::vector<bool>& surface,
+                     float eps = 0.01f) {
     glm::dvec3 num(0.0), den(0.0);
     for (size_t i = 0; i < ref.pixels.size(); ++i)
-        for (int k = 0; k < 3; ++k) {
+        for (int k = 0; k < 3 && surface[i]; ++k) {
             double r = ref.pixels[i][k];
             double w = 1.0 / (r * r + eps);
             num[k] += w * (r - direct.pixels[i][k]);
             den[k] += w;
         }
     HdrImage out = direct;
-    for (glm::vec3& p : out.pixels)
-        p += glm::vec3(num / den);
+    for (size_t i = 0; i < out.pixels.size(); ++i)
+        if (surface[i])
+            out.pixels[i] += glm::vec3(num / den);
     return out;
+}
+
+// Pixels that show a surface: light in the path-traced or the rendered image (the scenes have
+// no sky light, so a pixel black in both is background; a surface black in both contributes
+// nothing to either error wherever the constant goes).
+std::vector<bool> surfacePixels(const HdrImage& a, const HdrImage& b) {
+    std::vector<bool> surface(a.pixels.size());
+    for (size_t i = 0; i < a.pixels.size(); ++i)
+        surface[i] = a.pixels[i] != glm::vec3(0.0f) || b.pixels[i] != glm::vec3(0.0f);
+    return surface;
 }
 
 struct Errors {
@@ -77,14 +93,15 @@ protected:
         auto testIndirect = subtract(frame->composite, frame->direct);
         auto refIndirect = subtract(ref->full, frame->direct);
         auto indirect = compareImages(*testIndirect, *refIndirect);
-        auto ambient = compareImages(bestAmbient(frame->direct, ref->full), ref->full);
+        std::vector<bool> surface = surfacePixels(frame->composite, ref->full);
+        auto ambient = compareImages(bestAmbient(frame->direct, ref->full, surface), ref->full);
         HdrImage zero = *refIndirect;
         for (glm::vec3& p : zero.pixels)
             p = glm::vec3(0.0f);
-        auto ambientIndirect = compareImages(bestAmbient(zero, *refIndirect), *refIndirect);
+        auto ambientIndirect = compareImages(bestAmbient(zero, *refIndirect, surface), *refIndirect);
         Errors e{full->relMse, indirect->relMse, ambient->relMse, ambientIndirect->relMse};
         e.indirectPt = compareImages(*testIndirect, ref->indirect)->relMse;
-        e.ambientIndirectPt = compareImages(bestAmbient(zero, ref->indirect), ref->indirect)->relMse;
+        e.ambientIndirectPt = compareImages(bestAmbient(zero, ref->indirect, surface), ref->indirect)->relMse;
         double meanTest = 0.0, meanRef = 0.0;
         for (size_t i = 0; i < testIndirect->pixels.size(); ++i) {
             meanTest += double(testIndirect->pixels[i].x + testIndirect->pixels[i].y + testIndirect->pixels[i].z);
@@ -117,29 +134,34 @@ protected:
 // reference has 3 reflections, as VCT: direct, voxel, bounce, and 4096 samples per pixel).
 // "indirect" is composite - direct against reference - direct (the raster direct image);
 // "PT indirect" against the path tracer's own paths of >= 2 reflections (what vkgi-render
-// --compare and vkgi-bench call indirect). "constant" is the best constant colour, added to
-// the direct image (full) or alone (indirect columns).
-//   scene             full   constant  indirect  constant  PT indirect  constant  main before (full / PT ind.)
-//   cornell           0.0585 0.251     0.0743    0.356     0.0688       0.349     0.0520 / 0.0694
-//   cornell_point     0.113  0.303     0.248     0.622     0.232        0.621     0.0848 / 0.180
-//   cornell_emissive  0.384  0.494     0.386     0.498     1.14         0.327     0.324 / 0.696
-//   room              4.32   4.35      1.14      0.947     0.562        0.947     102 / 99.3
-//   atrium            1.85   1.11      36.5      0.868     1.21         0.868     1.39 / 0.678
+// --compare and vkgi-bench call indirect). "constant" is the best constant colour on the
+// surface pixels (bestAmbient), added to the direct image (full) or alone (indirect columns).
+//   scene             full   constant  indirect  constant  PT indirect  constant
+//   cornell           0.0585 0.215     0.0743    0.309     0.0688       0.302
+//   cornell_point     0.113  0.237     0.248     0.510     0.232        0.509
+//   cornell_emissive  0.384  0.424     0.386     0.428     1.14         0.283
+//   room              4.32   3.86      1.14      0.456     0.562        0.284
+//   atrium            0.979  0.927     6.73      0.831     0.349        0.380
 // Both renderers are deterministic, so the bounds only allow for driver/compiler changes: 20%
 // above the measurement. With 256 samples per pixel (before 2026-11-24) the sun-lit scenes'
 // references were too noisy for relMSE: isolated pixels of the room's indirect read 0 between
-// neighbours of ~10 nits (one such pixel adds 14400 / 4096 = 3.5 to an image's relMSE), which
-// also pulled the best constant to ~0; the room's PT-indirect relMSE was 10.4 / 0.47 / 0.38
-// against 256 / 1024 / 4096 samples (so the 4096-sample reference's own noise adds ~0.03).
+// neighbours of ~10 nits (one such pixel adds 14400 / 4096 = 3.5 to an image's relMSE); the
+// room's PT-indirect relMSE was 10.4 / 0.47 / 0.38 against 256 / 1024 / 4096 samples (so the
+// 4096-sample reference's own noise adds ~0.03).
 // The three Cornell boxes beat the constants on the full image and the indirect part. For the
 // emissive box the PT-indirect column is not comparable: the raster direct image has no area
-// lights, so VCT's indirect also carries the emitter's first reflection. In the sun-lit room
-// the directional level 0 (docs/vct.md) removed the leak of the lit roof and outer walls into
-// the interior (PT indirect 99.3 -> 0.562, well below the constant); its full image and its
-// "indirect" (which contains raster-minus-path-traced direct light) are dominated by the sun's
-// shadow penumbrae (README, "room") and only level with the constants. The atrium's indirect
-// is about half the reference's in the galleries (sub-voxel columns, arches and 0.3 m slabs in
-// 0.92 m voxels are opaque along every axis they face) and does not beat the constant.
+// lights, so VCT's indirect also carries the emitter's first reflection. The sun-lit scenes'
+// full images and "indirect" columns (which contain raster-minus-path-traced direct light) are
+// dominated by the sun's shadow penumbrae (README, "room") and only level with the constants.
+// Their PT indirect: the atrium beats the constant (by 8% at 32^3, 44% at 64^3, below); the
+// room does not (0.562 against 0.284): its indirect is nearly uniform, which a constant fits,
+// and VCT is 3-8x too bright in the concave corners and ~1.7x under the ceiling (docs/vct.md).
+// Until 2026-11-24 the constant was also added to the background pixels (the windows' and the
+// atrium's sky, black in both renderers), whose weight 1 / eps pulled it to ~0: it read 0.947
+// for the room and 0.868 for the atrium, which VCT "beat". The atrium's PT indirect was 1.21
+// until its arch crowns stopped being coplanar with the slabs above them (builtin_scenes.cpp):
+// ~20 crown pixels where the path tracer met the arch's hidden top face from behind made 75%
+// of that error.
 TEST_F(VctReference, BuiltinScenesAgainstThePathTracer) {
     struct Case {
         const char* scene;
@@ -148,8 +170,8 @@ TEST_F(VctReference, BuiltinScenesAgainstThePathTracer) {
     } cases[] = {{"cornell", 0.0585, 0.0743, 0.0688, true, true},
                  {"cornell_point", 0.113, 0.248, 0.232, true, true},
                  {"cornell_emissive", 0.384, 0.386, 1.14, true, false},
-                 {"room", 4.32, 1.14, 0.562, false, true},
-                 {"atrium", 1.85, 36.5, 1.21, false, false}};
+                 {"room", 4.32, 1.14, 0.562, false, false},
+                 {"atrium", 0.979, 6.73, 0.349, false, true}};
     VctSettings s;
     s.gridResolution = 32;
     s.lowResFactor = 2; // 64^2 test images: the default 4 would trace 16^2 (docs/vct.md)
@@ -169,21 +191,21 @@ TEST_F(VctReference, BuiltinScenesAgainstThePathTracer) {
 }
 
 // The default 64^3 grid on the sun-lit scenes (same 64^2 images, cones at half resolution and
-// 4096-sample references as above). At 32^3 the atrium's columns, arches and 0.3 m slabs are
-// sub-voxel (0.92 m voxels) and its PT indirect does not beat the constant; at 64^3 (0.45 m)
-// it does. Measured (2026-11-24, lavapipe):
+// 4096-sample references as above). Measured (2026-11-24, lavapipe):
 //   scene    full   constant  PT indirect  constant
-//   room     4.21   4.35      0.490        0.947
-//   atrium   1.35   1.11      0.690        0.868
-// Bounds: the measurements + 20% as above (both renderers are deterministic); for the atrium
-// 1.2 x 0.690 = 0.828 is still below its constant, and the PT indirect is also checked against
-// the constant computed in the run. The full images are dominated by the raster/path-traced
+//   room     4.21   3.86      0.490        0.284
+//   atrium   0.877  0.927     0.212        0.380
+// Bounds: the measurements + 20% as above (both renderers are deterministic). The atrium's PT
+// indirect is 44% below the constant (1.2 x 0.212 = 0.254 still well below it) and is checked
+// against the constant computed in the run; the room's is not below it (see above), so only its
+// regression bound is checked. The full images are dominated by the raster/path-traced
 // sun-shadow penumbrae (README, "room"), so only their regression bound is checked.
-TEST_F(VctReference, DefaultGridBeatsTheConstantInTheSunLitScenes) {
+TEST_F(VctReference, DefaultGridInTheSunLitScenes) {
     struct Case {
         const char* scene;
         double full, indirectPt;
-    } cases[] = {{"room", 4.21, 0.490}, {"atrium", 1.35, 0.690}};
+        bool beatsConstant;
+    } cases[] = {{"room", 4.21, 0.490, false}, {"atrium", 0.877, 0.212, true}};
     VctSettings s; // gridResolution 64 by default
     s.lowResFactor = 2;
     ASSERT_EQ(s.gridResolution, 64u);
@@ -191,7 +213,9 @@ TEST_F(VctReference, DefaultGridBeatsTheConstantInTheSunLitScenes) {
         Errors e = measure(c.scene, s, 4096);
         EXPECT_LT(e.full, 1.2 * c.full) << c.scene;
         EXPECT_LT(e.indirectPt, 1.2 * c.indirectPt) << c.scene;
-        EXPECT_LT(e.indirectPt, e.ambientIndirectPt) << c.scene;
+        if (c.beatsConstant) {
+            EXPECT_LT(e.indirectPt, 0.7 * e.ambientIndirectPt) << c.scene;
+        }
     }
 }
 
