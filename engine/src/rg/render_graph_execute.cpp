@@ -40,18 +40,21 @@ void RenderGraph::execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool
     acquireTransients(ctx, pool);
     m_timestamps = timestamps;
     m_timedPasses.clear();
-    // Scope 0 spans the whole graph, barriers included. A pass's own scope closes after the
-    // barriers recorded for the pass that follows it (or the export barriers): on lavapipe part of
-    // a pass's work completes inside the next barrier, so closing before it would leave that work
-    // outside every scope. The barriers of the first pass are outside every pass scope (nothing
-    // before them to finish).
+    // Scope 0 spans the whole graph, barriers included. A pass's scope opens before its
+    // barriers and closes when the next pass's opens. On lavapipe a timestamp is only written
+    // when llvmpipe next flushes its command stream (a pipeline barrier or a bottom-of-pipe
+    // timestamp does; a dispatch, which runs synchronously, does not), so a scope must be
+    // followed by a barrier before the pass's own work: otherwise its begin was stamped after
+    // that work and the work was billed to the previous pass's scope (seen: a 500 ms busy loop
+    // in gi.vct.bounce.add read as gi.vct.bounce's time). The pass's own barriers serve; a pass
+    // without any gets an empty one (timed frames only).
     uint32_t frameScope = 0;
     if (timestamps) {
         timestamps->reset(cmd);
         frameScope = timestamps->begin(cmd);
     }
     constexpr uint32_t kNoScope = ~0u;
-    uint32_t open = kNoScope; // scope of the previous pass, closed after the next barriers
+    uint32_t open = kNoScope; // scope of the previous pass, closed when the next one opens
     auto closeOpen = [&] {
         if (open != kNoScope)
             timestamps->end(cmd, open);
@@ -60,7 +63,6 @@ void RenderGraph::execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool
     for (const CompiledPass& compiled : m_compiled.passes) {
         const detail::PassNode& node = m_passes[compiled.pass];
         ctx.beginLabel(cmd, node.name.c_str());
-        recordBarriers(cmd, compiled.barriers);
         closeOpen();
         // Passes beyond the pool's capacity run untimed rather than failing the frame.
         bool timed = timestamps && m_timedPasses.size() + 1 < timestamps->capacity();
@@ -68,14 +70,16 @@ void RenderGraph::execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool
             open = timestamps->begin(cmd);
             m_timedPasses.push_back(compiled.pass);
         }
+        if (!recordBarriers(cmd, compiled.barriers) && timestamps)
+            recordFlush(cmd);
         if (node.execute) {
             PassContext passCtx(*this, compiled.pass, cmd, ctx);
             node.execute(passCtx);
         }
         ctx.endLabel(cmd);
     }
-    recordBarriers(cmd, m_compiled.finalBarriers);
     closeOpen();
+    recordBarriers(cmd, m_compiled.finalBarriers);
     if (timestamps)
         timestamps->end(cmd, frameScope);
     buildMemoryReport();
@@ -133,7 +137,17 @@ void RenderGraph::acquireTransients(Context& ctx, TransientPool& pool) {
     }
 }
 
-void RenderGraph::recordBarriers(VkCommandBuffer cmd, const std::vector<BarrierInfo>& barriers) const {
+void RenderGraph::recordFlush(VkCommandBuffer cmd) {
+    VkMemoryBarrier2 mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+    mb.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+    mb.dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.memoryBarrierCount = 1;
+    dep.pMemoryBarriers = &mb;
+    vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+bool RenderGraph::recordBarriers(VkCommandBuffer cmd, const std::vector<BarrierInfo>& barriers) const {
     std::vector<VkImageMemoryBarrier2> images;
     std::vector<VkBufferMemoryBarrier2> buffers;
     for (const BarrierInfo& b : barriers) {
@@ -175,13 +189,14 @@ void RenderGraph::recordBarriers(VkCommandBuffer cmd, const std::vector<BarrierI
         }
     }
     if (images.empty() && buffers.empty())
-        return;
+        return false;
     VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
     dep.imageMemoryBarrierCount = uint32_t(images.size());
     dep.pImageMemoryBarriers = images.data();
     dep.bufferMemoryBarrierCount = uint32_t(buffers.size());
     dep.pBufferMemoryBarriers = buffers.data();
     vkCmdPipelineBarrier2(cmd, &dep);
+    return true;
 }
 
 namespace {

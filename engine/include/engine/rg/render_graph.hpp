@@ -373,7 +373,10 @@ private:
 
     // execute() steps (render_graph_execute.cpp)
     void acquireTransients(Context& ctx, TransientPool& pool);
-    void recordBarriers(VkCommandBuffer cmd, const std::vector<BarrierInfo>& barriers) const;
+    // Returns whether anything was recorded.
+    bool recordBarriers(VkCommandBuffer cmd, const std::vector<BarrierInfo>& barriers) const;
+    // An empty execution barrier: makes lavapipe write the pending timestamps (execute()).
+    static void recordFlush(VkCommandBuffer cmd);
     void buildMemoryReport();
 
     std::vector<detail::PassNode> m_passes;
