@@ -341,3 +341,108 @@ TEST_F(Voxelize, DynamicObjectLeavesNoStaleVoxelsAndNeverTouchesStatic) {
             differing += std::memcmp(&c.albedo[4 * k], &s.albedo[4 * k], 4) != 0;
     EXPECT_EQ(differing, 0u);
 }
+
+namespace {
+
+// The touched list of `set` (gi/voxel_passes.h) as voxel indices, checking its header.
+std::vector<size_t> touchedVoxels(Context& ctx, const VoxelGrid& grid, VoxelDrawSet set) {
+    std::vector<uint8_t> bytes = readbackBuffer(ctx, grid.touched(set));
+    std::vector<uint32_t> words(bytes.size() / 4);
+    std::memcpy(words.data(), bytes.data(), words.size() * 4);
+    uint32_t count = words[3];
+    EXPECT_EQ(words[0], (count + GI_VOXEL_LIST_GROUP - 1) / GI_VOXEL_LIST_GROUP) << "dispatch x";
+    EXPECT_EQ(words[1], 1u);
+    EXPECT_EQ(words[2], 1u);
+    std::vector<size_t> out;
+    for (uint32_t i = 0; i < count; ++i) {
+        uint32_t v = words[GI_VOXEL_TOUCHED_HEADER + i];
+        out.push_back(voxelIndex(grid.resolution(), glm::uvec3(v & 1023u, (v >> 10) & 1023u, v >> 20)));
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+std::vector<size_t> occupiedVoxels(const std::vector<uint8_t>& albedo) {
+    std::vector<size_t> out;
+    for (size_t i = 0; 4 * i + 3 < albedo.size(); ++i)
+        if (albedo[4 * i + 3] == 255)
+            out.push_back(i);
+    return out;
+}
+
+} // namespace
+
+// The resolve and the VCT list run over the touched list instead of N^3: it must hold every
+// occupied voxel exactly once, and nothing else.
+TEST_F(Voxelize, TouchedListHoldsEachOccupiedVoxelOnce) {
+    makeGrid(unitGrid(16));
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<float> pos(0.0f, 16.0f), off(-3.0f, 3.0f);
+    TestScene scene;
+    std::vector<Tri> tris;
+    for (int i = 0; i < 200; ++i) { // overlapping: many voxels get several first-touch candidates
+        glm::vec3 a(pos(rng), pos(rng), pos(rng));
+        tris.push_back({a, a + glm::vec3(off(rng), off(rng), off(rng)), a + glm::vec3(off(rng), off(rng), off(rng))});
+    }
+    scene.addDraw(tris, scene.addMaterial(glm::vec3(0.5f)));
+    scene.addDraw(tris, scene.addMaterial(glm::vec3(0.25f))); // the same voxels again, another dispatch
+    upload(scene);
+    voxelizeAll();
+    std::vector<size_t> listed = touchedVoxels(ctx(), *m_grid, VoxelDrawSet::All);
+    std::vector<size_t> occupied = occupiedVoxels(read().albedo);
+    EXPECT_GT(occupied.size(), 500u);
+    EXPECT_TRUE(std::adjacent_find(listed.begin(), listed.end()) == listed.end()) << "a voxel listed twice";
+    EXPECT_TRUE(listed == occupied) << listed.size() << " listed, " << occupied.size() << " occupied";
+}
+
+// A mover voxelized over many frames, across and off the static voxels, leaves exactly what a
+// fresh voxelization of its last placement gives (all four volumes, bit for bit): the grid
+// starts each frame as a copy of the static volumes and only the mover's voxels are written.
+TEST_F(Voxelize, ManyFramesOfAMovingObjectEqualAFreshVoxelization) {
+    TestScene scene;
+    std::vector<Tri> floor = {{{1.1f, 1.1f, 8.5f}, {14.9f, 1.1f, 8.5f}, {1.1f, 14.9f, 8.5f}},
+                              {{14.9f, 1.1f, 8.5f}, {14.9f, 14.9f, 8.5f}, {1.1f, 14.9f, 8.5f}}};
+    scene.addDraw(floor, scene.addMaterial(glm::vec3(0.9f, 0.8f, 0.7f)));
+    // A tilted emissive triangle about two voxels wide.
+    std::vector<Tri> mover = {{{0.1f, 0.2f, 0.3f}, {2.3f, 0.4f, 1.1f}, {0.6f, 2.2f, 1.7f}}};
+    uint32_t material = scene.addMaterial(glm::vec3(0.2f, 0.6f, 0.3f), glm::vec3(0.5f, 0.25f, 0.0f));
+    scene.addDraw(mover, material, true, glm::mat4(1.0f));
+    auto place = [&](glm::vec3 t) {
+        scene.instances[1].model = glm::translate(glm::mat4(1.0f), t);
+        scene.instances[1].normalModel = glm::transpose(glm::inverse(scene.instances[1].model));
+        upload(scene);
+    };
+    auto readAll = [&] {
+        Readback r = read();
+        r.accum = readbackImage(ctx(), m_grid->volumes().faces.image, VK_IMAGE_LAYOUT_GENERAL);
+        return r;
+    };
+    makeGrid(unitGrid(16, 0.5f));
+    place(glm::vec3(3.0f, 3.0f, 7.6f));
+    voxelizeAll();
+    // Through the floor, beside it, over the grid's edge, and back into the floor.
+    const glm::vec3 path[] = {{4.0f, 3.5f, 7.9f}, {6.0f, 5.0f, 8.2f}, {9.5f, 9.0f, 4.0f}, {13.2f, 13.5f, 14.0f},
+                              {14.5f, 2.0f, 8.0f}, {2.0f, 12.0f, 0.1f}, {7.3f, 7.7f, 7.7f}, {7.4f, 7.6f, 8.1f}};
+    for (glm::vec3 t : path) {
+        place(t);
+        updateDynamic();
+    }
+    Readback moved = readAll();
+    std::vector<size_t> dynamicListed = touchedVoxels(ctx(), *m_grid, VoxelDrawSet::Dynamic);
+    makeGrid(unitGrid(16, 0.5f));
+    voxelizeAll(); // the mover still at the last placement
+    Readback fresh = readAll();
+    EXPECT_TRUE(moved.albedo == fresh.albedo);
+    EXPECT_TRUE(moved.normal == fresh.normal);
+    EXPECT_TRUE(moved.emission == fresh.emission);
+    EXPECT_TRUE(moved.accum == fresh.accum) << "faces";
+    // The last placement overlaps the floor: it has voxels of its own and voxels the floor keeps.
+    std::vector<size_t> mine = occupiedVoxels(moved.albedo);
+    Readback floorOnly{readbackImage(ctx(), m_grid->staticVolumes().albedo.image, VK_IMAGE_LAYOUT_GENERAL), {}, {}, {}};
+    size_t outside = 0, inside = 0;
+    for (size_t i : dynamicListed)
+        (floorOnly.albedo[4 * i + 3] == 255 ? inside : outside)++;
+    EXPECT_GT(outside, 0u);
+    EXPECT_GT(inside, 0u);
+    EXPECT_EQ(mine.size(), occupiedVoxels(floorOnly.albedo).size() + outside);
+}

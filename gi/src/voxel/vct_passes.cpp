@@ -93,7 +93,9 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     v->m_levels = uint32_t(std::countr_zero(n)) + 1; // N^3 down to 1^3
     v->m_aniso.image = createRadianceVolume(ctx, n, GI_VOXEL_ANISO_DIRECTIONS * n, v->m_levels, "vct.aniso");
     BufferDesc list;
-    list.size = VkDeviceSize(GI_VOXEL_LIST_HEADER + n * n * n + (n / 2) * (n / 2) * (n / 2)) * sizeof(uint32_t);
+    uint32_t blocks = (n / 2) * (n / 2) * (n / 2);
+    // Header, voxel and block slots, then the voxels' and blocks' "listed" bits.
+    list.size = VkDeviceSize(GI_VOXEL_LIST_HEADER + n * n * n + blocks + (n * n * n + blocks) / 32) * sizeof(uint32_t);
     list.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
                  VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     v->m_list.buffer = createBuffer(ctx, list, "vct.voxel_list");
@@ -131,11 +133,17 @@ gpu::ConeParams VctVolumes::coneParams(const VctSettings& s, uint32_t width, uin
     return c;
 }
 
-void VctVolumes::recordCompact(VkCommandBuffer cmd) const {
+void VctVolumes::recordClearList(VkCommandBuffer cmd, VkBuffer list) const {
+    uint32_t n = m_grid.resolution();
+    VkDeviceSize slots = VkDeviceSize(n) * n * n + (n / 2) * (n / 2) * (n / 2);
+    vkCmdFillBuffer(cmd, list, 0, GI_VOXEL_LIST_HEADER * sizeof(uint32_t), 0);
+    vkCmdFillBuffer(cmd, list, (GI_VOXEL_LIST_HEADER + slots) * sizeof(uint32_t), VK_WHOLE_SIZE, 0);
+}
+
+void VctVolumes::recordCompact(VkCommandBuffer cmd, VkBuffer touched) const {
     gpu::VoxelGridPush push{m_grid.params()};
-    dispatch(m_ctx, cmd, m_compact, push,
-             {storage(0, m_grid.volumes().albedo.image.view), bufferItem(1, m_list.buffer.buffer)},
-             glm::uvec3(m_grid.resolution()));
+    dispatchIndirect(m_ctx, cmd, m_compact, push, {bufferItem(0, touched), bufferItem(1, m_list.buffer.buffer)},
+                     touched);
 }
 
 void VctVolumes::recordClearLevel0(VkCommandBuffer cmd, VkImageLayout layout) const {

@@ -69,8 +69,11 @@ public:
 
     // Storage layouts are GENERAL; `sampledLayout` is the layout of the images read through a
     // sampler (GENERAL in hand-recorded tests, what the graph chose inside a pass).
-    // Occupied voxels of the grid -> list (its header zeroed before, transfer).
-    void recordCompact(VkCommandBuffer cmd) const;
+    // The list's header and "listed" bits := 0 (transfer write; `list` is the buffer of listState()).
+    void recordClearList(VkCommandBuffer cmd, VkBuffer list) const;
+    // The voxels of a touched list of the grid (gi/voxel_passes.h; indirect over it) -> list,
+    // each voxel and 2^3 block once (its header and bits cleared before).
+    void recordCompact(VkCommandBuffer cmd, VkBuffer touched) const;
     // Level 0 of aniso() := 0 (transfer write, the image in `layout`).
     void recordClearLevel0(VkCommandBuffer cmd, VkImageLayout layout) const;
     // grid volumes + lights (+ the emission volume when `emission`) -> the six level-0 views of

@@ -18,31 +18,48 @@ VolumeHandles importVolumes(rg::RenderGraph& graph, VoxelVolumes& v, const char*
             graph.importImage(p + ".emission", v.emission), graph.importImage(p + ".faces", v.faces)};
 }
 
-rg::ImageHandle addClear(rg::RenderGraph& graph, const VoxelGrid* grid, rg::ImageHandle accum, const char* name) {
+// Empties the accumulation and the touched list of `set`, and (when `target`) zeroes its volumes.
+void addClear(rg::RenderGraph& graph, const VoxelGrid* grid, rg::ImageHandle& accum, rg::BufferHandle& list,
+              VolumeHandles* target, VoxelDrawSet set, const char* name) {
     graph.addPass(
-        name, [&](rg::PassBuilder& b) { accum = b.write(accum, Access::TransferWrite); },
-        [grid, accum](rg::PassContext& ctx) { grid->recordClear(ctx.cmd(), ctx.layout(accum)); });
-    return accum;
+        name,
+        [&](rg::PassBuilder& b) {
+            accum = b.write(accum, Access::TransferWrite);
+            list = b.write(list, Access::TransferWrite);
+            if (target)
+                for (rg::ImageHandle* h : {&target->albedo, &target->normal, &target->emission, &target->faces})
+                    *h = b.write(*h, Access::TransferWrite);
+        },
+        [grid, accum, set, t = target ? *target : VolumeHandles{}](rg::PassContext& ctx) {
+            grid->recordClear(ctx.cmd(), ctx.layout(accum), set);
+            if (t.albedo.valid()) {
+                VkImageLayout layouts[4] = {ctx.layout(t.albedo), ctx.layout(t.normal), ctx.layout(t.emission),
+                                            ctx.layout(t.faces)};
+                grid->recordClearVolumes(ctx.cmd(), set == VoxelDrawSet::Static ? grid->staticVolumes() : grid->volumes(),
+                                         layouts);
+            }
+        });
 }
 
-// Averages the accumulated sums into `target` (handles updated to their new versions);
-// `physical` is the VoxelVolumes those handles were imported from.
-void addResolve(rg::RenderGraph& graph, const VoxelGrid* grid, rg::ImageHandle accum, VolumeHandles& target,
-                const VoxelVolumes* physical, const char* name) {
+// Averages the accumulated sums of the voxels in `list` into `target` (handles updated to their
+// new versions; the other voxels keep the clear's zeros); `physical` is the VoxelVolumes those
+// handles were imported from.
+void addResolve(rg::RenderGraph& graph, const VoxelGrid* grid, rg::ImageHandle accum, rg::BufferHandle list,
+                VolumeHandles& target, const VoxelVolumes* physical, VoxelDrawSet set, const char* name) {
     graph.addPass(
         name,
         [&](rg::PassBuilder& b) {
             b.read(accum, Access::ComputeStorageRead);
-            target.albedo = b.write(target.albedo, Access::ComputeStorageWriteDiscard);
-            target.normal = b.write(target.normal, Access::ComputeStorageWriteDiscard);
-            target.emission = b.write(target.emission, Access::ComputeStorageWriteDiscard);
-            target.faces = b.write(target.faces, Access::ComputeStorageWriteDiscard);
+            b.read(list, Access::IndirectRead);
+            b.read(list, Access::ComputeStorageRead);
+            for (rg::ImageHandle* h : {&target.albedo, &target.normal, &target.emission, &target.faces})
+                *h = b.write(*h, Access::ComputeStorageWrite);
         },
-        [grid, physical](rg::PassContext& ctx) { grid->recordResolve(ctx.cmd(), *physical); });
+        [grid, physical, set](rg::PassContext& ctx) { grid->recordResolve(ctx.cmd(), *physical, set); });
 }
 
-rg::ImageHandle addVoxelize(rg::RenderGraph& graph, const VoxelGrid* grid, const VoxelSceneHandles& scene,
-                            rg::ImageHandle accum, VoxelDrawSet set, const char* name) {
+void addVoxelize(rg::RenderGraph& graph, const VoxelGrid* grid, const VoxelSceneHandles& scene, rg::ImageHandle& accum,
+                 rg::BufferHandle& list, VoxelDrawSet set, const char* name) {
     VoxelSceneHandles s = scene;
     graph.addPass(
         name,
@@ -50,13 +67,13 @@ rg::ImageHandle addVoxelize(rg::RenderGraph& graph, const VoxelGrid* grid, const
             for (rg::BufferHandle h : {s.vertices, s.indices, s.instances, s.materials})
                 b.read(h, Access::ComputeStorageRead);
             accum = b.write(accum, Access::ComputeStorageReadWrite);
+            list = b.write(list, Access::ComputeStorageReadWrite);
         },
         [grid, s, set](rg::PassContext& ctx) {
             VoxelSceneBuffers buffers{ctx.buffer(s.vertices).buffer, ctx.buffer(s.indices).buffer,
                                       ctx.buffer(s.instances).buffer, ctx.buffer(s.materials).buffer, s.draws};
             grid->recordVoxelize(ctx.cmd(), buffers, set);
         });
-    return accum;
 }
 
 } // namespace
@@ -68,6 +85,9 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
     bool anyDynamic = false;
     for (const VoxelDraw& d : scene.draws)
         anyDynamic = anyDynamic || (d.dynamic && d.triangleCount > 0);
+    data.touched = graph.importBuffer("gi.voxel.touched", grid.touchedState(VoxelDrawSet::All));
+    if (anyDynamic)
+        data.touchedDynamic = graph.importBuffer("gi.voxel.touched.dynamic", grid.touchedState(VoxelDrawSet::Dynamic));
     // Without dynamic draws the grid only changes with the scene: a Dynamic update has nothing to do.
     if (update == VoxelUpdate::None || (update == VoxelUpdate::Dynamic && !anyDynamic))
         return data;
@@ -75,31 +95,48 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
     rg::ImageHandle accum = graph.importImage("gi.voxel.accumulation", grid.accumulationState());
     if (!anyDynamic) {
         // Static scene: one voxelization straight into the grid (no static copy, no merge).
-        accum = addClear(graph, g, accum, "gi.voxel.clear");
-        accum = addVoxelize(graph, g, scene, accum, VoxelDrawSet::All, "gi.voxel.voxelize");
-        addResolve(graph, g, accum, out, &g->volumes(), "gi.voxel.resolve");
-        return {out.albedo, out.normal, out.emission, out.faces, grid.params(), true};
+        addClear(graph, g, accum, data.touched, &out, VoxelDrawSet::All, "gi.voxel.clear");
+        addVoxelize(graph, g, scene, accum, data.touched, VoxelDrawSet::All, "gi.voxel.voxelize");
+        addResolve(graph, g, accum, data.touched, out, &g->volumes(), VoxelDrawSet::All, "gi.voxel.resolve");
+        return {out.albedo, out.normal, out.emission, out.faces, grid.params(), true, data.touched};
     }
     VolumeHandles st = importVolumes(graph, grid.staticState(), "gi.voxel.static");
     if (update == VoxelUpdate::Full) {
-        accum = addClear(graph, g, accum, "gi.voxel.clear.static");
-        accum = addVoxelize(graph, g, scene, accum, VoxelDrawSet::Static, "gi.voxel.voxelize.static");
-        addResolve(graph, g, accum, st, &g->staticVolumes(), "gi.voxel.resolve.static");
+        addClear(graph, g, accum, data.touched, &st, VoxelDrawSet::Static, "gi.voxel.clear.static");
+        addVoxelize(graph, g, scene, accum, data.touched, VoxelDrawSet::Static, "gi.voxel.voxelize.static");
+        addResolve(graph, g, accum, data.touched, st, &g->staticVolumes(), VoxelDrawSet::Static,
+                   "gi.voxel.resolve.static");
     }
-    accum = addClear(graph, g, accum, "gi.voxel.clear.dynamic");
-    accum = addVoxelize(graph, g, scene, accum, VoxelDrawSet::Dynamic, "gi.voxel.voxelize.dynamic");
+    // The grid starts as a copy of the static volumes; the merge writes only the dynamic voxels
+    // outside them, so nothing of an earlier frame's dynamic voxels survives.
+    graph.addPass(
+        "gi.voxel.clear.dynamic",
+        [&](rg::PassBuilder& b) {
+            accum = b.write(accum, Access::TransferWrite);
+            data.touchedDynamic = b.write(data.touchedDynamic, Access::TransferWrite);
+            for (rg::ImageHandle h : {st.albedo, st.normal, st.emission, st.faces})
+                b.read(h, Access::TransferRead);
+            for (rg::ImageHandle* h : {&data.albedo, &data.normal, &data.emission, &data.faces})
+                *h = b.write(*h, Access::TransferWrite);
+        },
+        [g, accum, st, d = data](rg::PassContext& ctx) {
+            g->recordClear(ctx.cmd(), ctx.layout(accum), VoxelDrawSet::Dynamic);
+            VkImageLayout src[4] = {ctx.layout(st.albedo), ctx.layout(st.normal), ctx.layout(st.emission),
+                                    ctx.layout(st.faces)};
+            VkImageLayout dst[4] = {ctx.layout(d.albedo), ctx.layout(d.normal), ctx.layout(d.emission),
+                                    ctx.layout(d.faces)};
+            g->recordCopyStatic(ctx.cmd(), src, dst);
+        });
+    addVoxelize(graph, g, scene, accum, data.touchedDynamic, VoxelDrawSet::Dynamic, "gi.voxel.voxelize.dynamic");
     graph.addPass(
         "gi.voxel.merge",
         [&](rg::PassBuilder& b) {
             b.read(accum, Access::ComputeStorageRead);
+            b.read(data.touchedDynamic, Access::IndirectRead);
+            b.read(data.touchedDynamic, Access::ComputeStorageRead);
             b.read(st.albedo, Access::ComputeStorageRead);
-            b.read(st.normal, Access::ComputeStorageRead);
-            b.read(st.emission, Access::ComputeStorageRead);
-            b.read(st.faces, Access::ComputeStorageRead);
-            data.albedo = b.write(data.albedo, Access::ComputeStorageWriteDiscard);
-            data.normal = b.write(data.normal, Access::ComputeStorageWriteDiscard);
-            data.emission = b.write(data.emission, Access::ComputeStorageWriteDiscard);
-            data.faces = b.write(data.faces, Access::ComputeStorageWriteDiscard);
+            for (rg::ImageHandle* h : {&data.albedo, &data.normal, &data.emission, &data.faces})
+                *h = b.write(*h, Access::ComputeStorageWrite);
         },
         [g](rg::PassContext& ctx) { g->recordResolveMerge(ctx.cmd()); });
     data.changed = true;
@@ -190,16 +227,23 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                 out.aniso = b.write(out.aniso, Access::TransferWrite, level0);
             },
             [v, list, aniso = out.aniso](rg::PassContext& ctx) {
-                vkCmdFillBuffer(ctx.cmd(), ctx.buffer(list).buffer, 0, GI_VOXEL_LIST_HEADER * sizeof(uint32_t), 0);
+                v->recordClearList(ctx.cmd(), ctx.buffer(list).buffer);
                 v->recordClearLevel0(ctx.cmd(), ctx.layout(aniso));
             });
-        graph.addPass(
-            "gi.vct.list",
-            [&](rg::PassBuilder& b) {
-                b.read(grid.albedo, Access::ComputeStorageRead);
-                list = b.write(list, Access::ComputeStorageReadWrite);
-            },
-            [v](rg::PassContext& ctx) { v->recordCompact(ctx.cmd()); });
+        // One pass per touched list of the grid (the whole scene's or the static draws', then
+        // the dynamic draws'): each is an indirect dispatch over its list.
+        for (rg::BufferHandle touched : {grid.touched, grid.touchedDynamic}) {
+            if (!touched.valid())
+                continue;
+            graph.addPass(
+                touched == grid.touched ? "gi.vct.list" : "gi.vct.list.dynamic",
+                [&](rg::PassBuilder& b) {
+                    b.read(touched, Access::IndirectRead);
+                    b.read(touched, Access::ComputeStorageRead);
+                    list = b.write(list, Access::ComputeStorageReadWrite);
+                },
+                [v, touched](rg::PassContext& ctx) { v->recordCompact(ctx.cmd(), ctx.buffer(touched).buffer); });
+        }
         volumes.setListBuilt(true);
     }
     VctOcclusion occlusion = settings.occlusion;

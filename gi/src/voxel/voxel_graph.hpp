@@ -21,6 +21,10 @@ struct VoxelGridData {
     rg::ImageHandle faces;    // R32UI: voxelFacesPack, the coverage of the six facing directions
     gpu::VoxelGridParams params{};
     bool changed = false; // this frame re-voxelized the grid (occupancy may differ from the last frame)
+    // Touched-voxel lists (gi/voxel_passes.h) whose union is the occupied voxels: the whole
+    // scene's (static scenes) or the static draws' list, and in scenes with dynamic draws the
+    // dynamic draws' list (else invalid). Read with IndirectRead / ComputeStorageRead.
+    rg::BufferHandle touched, touchedDynamic;
 };
 
 // The GPU scene as graph handles (engine/scene_types.h layouts) plus its draws.

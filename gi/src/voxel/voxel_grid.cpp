@@ -118,6 +118,12 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
     g->m_volumes = createVolumes(ctx, n, "voxel.grid");
     g->m_static = createVolumes(ctx, n, "voxel.static");
     g->m_accum.image = createVolume(ctx, n, n * GI_VOXEL_ACC_CHANNELS, VK_FORMAT_R32_UINT, "voxel.accumulation");
+    BufferDesc list;
+    list.size = VkDeviceSize(GI_VOXEL_TOUCHED_HEADER + n * n * n) * sizeof(uint32_t);
+    list.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                 VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    g->m_touched[0].buffer = createBuffer(ctx, list, "voxel.touched");
+    g->m_touched[1].buffer = createBuffer(ctx, list, "voxel.touched.dynamic");
     return g;
 }
 
@@ -127,29 +133,58 @@ VoxelGrid::~VoxelGrid() {
     destroyVolumes(m_ctx, m_volumes);
     destroyVolumes(m_ctx, m_static);
     destroyImage(m_ctx, m_accum.image);
+    for (rg::PersistentBuffer& b : m_touched)
+        destroyBuffer(m_ctx, b.buffer);
 }
 
 VkDeviceSize VoxelGrid::bytes() const {
-    VkDeviceSize total = imageBytes(m_accum.image.desc);
+    VkDeviceSize total = imageBytes(m_accum.image.desc) + m_touched[0].buffer.desc.size + m_touched[1].buffer.desc.size;
     for (const VoxelVolumes* v : {&m_volumes, &m_static})
         total += imageBytes(v->albedo.image.desc) + imageBytes(v->normal.image.desc) +
                  imageBytes(v->emission.image.desc) + imageBytes(v->faces.image.desc);
     return total;
 }
 
-void VoxelGrid::recordClear(VkCommandBuffer cmd, VkImageLayout layout) const {
+void VoxelGrid::recordClear(VkCommandBuffer cmd, VkImageLayout layout, VoxelDrawSet set) const {
     // A transfer clear streams at memset speed; the compute clear it replaced wrote the
     // 13 N^3 words at ~1 GB/s on lavapipe (64^3: 15 ms).
     VkClearColorValue zero{};
     VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
     vkCmdClearColorImage(cmd, m_accum.image.image, layout, &zero, 1, &range);
+    // Header (0, 1, 1, 0): no groups and no voxels yet; dispatch y = z = 1. Disjoint fills.
+    VkBuffer list = touched(set).buffer;
+    vkCmdFillBuffer(cmd, list, 0, sizeof(uint32_t), 0);
+    vkCmdFillBuffer(cmd, list, sizeof(uint32_t), 2 * sizeof(uint32_t), 1);
+    vkCmdFillBuffer(cmd, list, 3 * sizeof(uint32_t), sizeof(uint32_t), 0);
+}
+
+void VoxelGrid::recordClearVolumes(VkCommandBuffer cmd, const VoxelVolumes& target,
+                                   const VkImageLayout layouts[4]) const {
+    VkClearColorValue zero{};
+    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    const Image* images[] = {&target.albedo.image, &target.normal.image, &target.emission.image, &target.faces.image};
+    for (int i = 0; i < 4; ++i)
+        vkCmdClearColorImage(cmd, images[i]->image, layouts[i], &zero, 1, &range);
+}
+
+void VoxelGrid::recordCopyStatic(VkCommandBuffer cmd, const VkImageLayout src[4], const VkImageLayout dst[4]) const {
+    const Image* from[] = {&m_static.albedo.image, &m_static.normal.image, &m_static.emission.image,
+                           &m_static.faces.image};
+    const Image* to[] = {&m_volumes.albedo.image, &m_volumes.normal.image, &m_volumes.emission.image,
+                         &m_volumes.faces.image};
+    uint32_t n = resolution();
+    VkImageCopy region{};
+    region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.extent = {n, n, n};
+    for (int i = 0; i < 4; ++i)
+        vkCmdCopyImage(cmd, from[i]->image, src[i], to[i]->image, dst[i], 1, &region);
 }
 
 void VoxelGrid::recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set) const {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_voxelize.pipeline);
     DescriptorItem items[] = {storageBuffer(0, scene.vertices), storageBuffer(1, scene.indices),
                               storageBuffer(2, scene.instances), storageBuffer(3, scene.materials),
-                              storageImage(4, m_accum.image)};
+                              storageImage(4, m_accum.image), storageBuffer(5, touched(set).buffer)};
     pushDescriptors(m_ctx, cmd, m_voxelize, items);
     for (const VoxelDraw& d : scene.draws) {
         if (d.triangleCount == 0 || (set == VoxelDrawSet::Static && d.dynamic) ||
@@ -162,32 +197,29 @@ void VoxelGrid::recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& sce
     }
 }
 
-void VoxelGrid::recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target) const {
-    uint32_t n = resolution();
+void VoxelGrid::recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target, VoxelDrawSet set) const {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_resolve.pipeline);
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_resolve, &push, sizeof(push));
-    DescriptorItem items[] = {storageImage(0, m_accum.image), storageImage(1, target.albedo.image),
-                              storageImage(2, target.normal.image), storageImage(3, target.emission.image),
-                              storageImage(4, target.faces.image)};
+    VkBuffer list = touched(set).buffer;
+    DescriptorItem items[] = {storageImage(0, m_accum.image),         storageImage(1, target.albedo.image),
+                              storageImage(2, target.normal.image),   storageImage(3, target.emission.image),
+                              storageImage(4, target.faces.image),    storageBuffer(9, list)};
     pushDescriptors(m_ctx, cmd, m_resolve, items);
-    vkCmdDispatch(cmd, groupCount(n, m_resolve.localSize[0]), groupCount(n, m_resolve.localSize[1]),
-                  groupCount(n, m_resolve.localSize[2]));
+    vkCmdDispatchIndirect(cmd, list, 0);
 }
 
 void VoxelGrid::recordResolveMerge(VkCommandBuffer cmd) const {
-    uint32_t n = resolution();
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_resolveMerge.pipeline);
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_resolveMerge, &push, sizeof(push));
+    VkBuffer list = touched(VoxelDrawSet::Dynamic).buffer;
     DescriptorItem items[] = {storageImage(0, m_accum.image),          storageImage(1, m_volumes.albedo.image),
                               storageImage(2, m_volumes.normal.image), storageImage(3, m_volumes.emission.image),
                               storageImage(4, m_volumes.faces.image),  storageImage(5, m_static.albedo.image),
-                              storageImage(6, m_static.normal.image),  storageImage(7, m_static.emission.image),
-                              storageImage(8, m_static.faces.image)};
+                              storageBuffer(9, list)};
     pushDescriptors(m_ctx, cmd, m_resolveMerge, items);
-    vkCmdDispatch(cmd, groupCount(n, m_resolveMerge.localSize[0]), groupCount(n, m_resolveMerge.localSize[1]),
-                  groupCount(n, m_resolveMerge.localSize[2]));
+    vkCmdDispatchIndirect(cmd, list, 0);
 }
 
 } // namespace vkgi::gi

@@ -78,16 +78,29 @@ public:
     rg::PersistentImage& accumulationState() { return m_accum; }
     VoxelVolumes& volumesState() { return m_volumes; }
     VoxelVolumes& staticState() { return m_static; }
+    // Touched-voxel list (gi/voxel_passes.h) a voxelization of `set` appends to: All and Static
+    // share one (a scene has either), Dynamic has its own. Kept until that set is re-voxelized.
+    rg::PersistentBuffer& touchedState(VoxelDrawSet set) { return m_touched[set == VoxelDrawSet::Dynamic ? 1 : 0]; }
+    const Buffer& touched(VoxelDrawSet set) const { return m_touched[set == VoxelDrawSet::Dynamic ? 1 : 0].buffer; }
     VkDeviceSize bytes() const;
 
-    // Pass bodies (all images in GENERAL layout; the graph passes in voxel_graph.cpp declare
-    // the accesses). clear: accumulation := 0 (transfer write, the image in `layout`).
-    void recordClear(VkCommandBuffer cmd, VkImageLayout layout) const;
-    // Adds the chosen draws to the accumulation (storage read-write, scene buffers read).
+    // Pass bodies (all images in GENERAL layout unless a layout is passed; the graph passes in
+    // voxel_graph.cpp declare the accesses). clear: accumulation := 0 (transfer write, the image
+    // in `layout`) and the touched list of `set` emptied (transfer write).
+    void recordClear(VkCommandBuffer cmd, VkImageLayout layout, VoxelDrawSet set) const;
+    // The four volumes of `target` := 0 (transfer write, images in `layouts`: albedo, normal,
+    // emission, faces).
+    void recordClearVolumes(VkCommandBuffer cmd, const VoxelVolumes& target, const VkImageLayout layouts[4]) const;
+    // volumes() := staticVolumes() (transfer read / write, layouts in the same order).
+    void recordCopyStatic(VkCommandBuffer cmd, const VkImageLayout src[4], const VkImageLayout dst[4]) const;
+    // Adds the chosen draws to the accumulation and their touched voxels to the list of `set`
+    // (storage read-write, scene buffers read).
     void recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set) const;
-    // accumulation -> `target` (storage write).
-    void recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target) const;
-    // accumulation merged under the static volumes -> volumes() (static voxels win).
+    // accumulation -> `target` at the voxels of the touched list of `set` (indirect over it;
+    // storage write; the other voxels keep the cleared zeros).
+    void recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target, VoxelDrawSet set) const;
+    // Dynamic accumulation merged under the static volumes -> volumes() at the voxels of the
+    // dynamic touched list that no static voxel occupies (volumes() holds the static copy).
     void recordResolveMerge(VkCommandBuffer cmd) const;
 
 private:
@@ -96,6 +109,7 @@ private:
     gpu::VoxelGridParams m_params{};
     VoxelVolumes m_volumes, m_static;
     rg::PersistentImage m_accum;
+    rg::PersistentBuffer m_touched[2];
     Pipeline m_voxelize, m_resolve, m_resolveMerge;
 };
 

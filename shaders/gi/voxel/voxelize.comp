@@ -4,7 +4,8 @@
 // the triangle touches (separating-axis test, so slivers and sub-voxel triangles count too)
 // receives the triangle's albedo, its face coverages (max(0, +-n_axis) for the six axis
 // directions, which way it faces) and emission as fixed-point integer sums. Integer atomics
-// make the result independent of the execution order.
+// make the result independent of the execution order. The contribution that finds a voxel's
+// count at 0 appends the voxel to the touched list (gi/voxel_passes.h), which the resolve runs over.
 #include "engine/scene_types.h"
 #include "gi/voxel_passes.h"
 
@@ -16,6 +17,7 @@ layout(set = 1, binding = 1, std430) readonly buffer Indices { uint indices[]; }
 layout(set = 1, binding = 2, std430) readonly buffer Instances { GpuInstance instances[]; };
 layout(set = 1, binding = 3, std430) readonly buffer Materials { GpuMaterial materials[]; };
 layout(set = 1, binding = 4, r32ui) uniform coherent uimage3D accum;
+layout(set = 1, binding = 5, std430) buffer Touched { uint touchedHeader[GI_VOXEL_TOUCHED_HEADER]; uint touched[]; };
 
 // Slack added to every separating-axis radius, in voxel units: rounding may then only add a
 // voxel that the triangle grazes within 1e-5 voxels, never drop one it touches.
@@ -47,6 +49,13 @@ uint toFixed(float v) { return uint(clamp(v, 0.0, 1.0) * GI_VOXEL_FIXED_ONE + 0.
 
 void splat(ivec3 c, int n, vec3 albedo, vec3 normal, vec3 emission, bool emissive) {
     uint old = imageAtomicAdd(accum, c, 1u);
+    if (old == 0u) {
+        uint slot = atomicAdd(touchedHeader[3], 1u);
+        touched[slot] = voxelListPack(uvec3(c));
+        // The first voxel of each group of GI_VOXEL_LIST_GROUP adds that group to the dispatch.
+        if (slot % GI_VOXEL_LIST_GROUP == 0u)
+            atomicAdd(touchedHeader[0], 1u);
+    }
     if (old >= GI_VOXEL_MAX_CONTRIBUTIONS)
         return;
     for (int k = 0; k < 3; ++k) {

@@ -33,13 +33,24 @@ GI_CHECK_SIZE(VoxelizePush, 64);
 //             the level-0 views that look at the voxel's normal side (voxel_bounce_add.comp).
 #define GI_VOXEL_ANISO_DIRECTIONS 6
 
-// Occupied-voxel list (voxel_compact.comp, rebuilt once per voxelization): a storage buffer of
-// GI_VOXEL_LIST_HEADER uints, then N^3 slots for occupied voxels, then (N/2)^3 slots for
-// occupied 2^3 blocks, each a packed coordinate. Header words 0..3 belong to the voxels, 4..7
-// to the blocks; each quad is also the VkDispatchIndirectCommand (at byte 0 and 16) of the
-// passes that run over that list: x = ceil(count / GI_VOXEL_LIST_GROUP) work groups,
-// y = z = 1, w = count. Surface voxels are ~10% of a grid, so those passes skip the empty 90%
-// without divergent lanes.
+// Touched-voxel lists of the grid (VoxelGrid; one for the static or whole-scene voxelization,
+// one for the dynamic draws): voxelize.comp appends a voxel when it makes the voxel's first
+// contribution of a voxelization (its count atomic returned 0), so every occupied voxel is
+// listed once, in scheduling order. The resolve passes and the VCT list run over them instead
+// of over N^3. A storage buffer of GI_VOXEL_TOUCHED_HEADER uints, the VkDispatchIndirectCommand
+// (x = ceil(count / GI_VOXEL_LIST_GROUP), y = z = 1; the clear before a voxelization writes
+// (0, 1, 1, 0)) then the count, followed by N^3 voxelListPack slots.
+#define GI_VOXEL_TOUCHED_HEADER 4u
+
+// Occupied-voxel list (voxel_compact.comp, rebuilt once per voxelization from the touched
+// lists): a storage buffer of GI_VOXEL_LIST_HEADER uints, then N^3 slots for occupied voxels,
+// then (N/2)^3 slots for occupied 2^3 blocks, each a packed coordinate, then N^3 / 32 + (N/2)^3 / 32
+// words of "already listed" bits (voxels, then blocks: a dynamic voxel inside a static one and
+// the 2^3 blocks are listed once), zeroed with the header. Header words 0..3 belong to the
+// voxels, 4..7 to the blocks; each quad is also the VkDispatchIndirectCommand (at byte 0 and
+// 16) of the passes that run over that list: x = ceil(count / GI_VOXEL_LIST_GROUP) work
+// groups, y = z = 1, w = count. Surface voxels are ~10% of a grid, so those passes skip the
+// empty 90% without divergent lanes.
 #define GI_VOXEL_LIST_HEADER 8u
 #define GI_VOXEL_LIST_BLOCKS 4u // header offset (words) of the block quad
 #define GI_VOXEL_LIST_GROUP 64u
