@@ -46,6 +46,10 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
         return parseOutput(flag, value, o.directOutputs);
     } else if (flag == "--out-indirect") {
         return parseOutput(flag, value, o.indirectOutputs);
+    } else if (flag == "--out-glossy") {
+        return parseOutput(flag, value, o.glossyOutputs);
+    } else if (flag == "--out-ao") {
+        return parseOutput(flag, value, o.aoOutputs);
     } else if (flag == "--spp") {
         auto v = apps::parseWhole("--spp", value, 1, kMaxSpp);
         if (!v)
@@ -74,7 +78,8 @@ Result<void> applyValue(const std::string& flag, const std::string& value, Optio
 }
 
 bool takesValue(const std::string& flag) {
-    for (const char* f : {"--scene", "--technique", "--size", "--out", "--out-direct", "--out-indirect", "--spp", "--bounces", "--exposure", "--json"})
+    for (const char* f : {"--scene", "--technique", "--size", "--out", "--out-direct", "--out-indirect", "--out-glossy",
+                          "--out-ao", "--spp", "--bounces", "--exposure", "--json"})
         if (flag == f)
             return true;
     return false;
@@ -98,7 +103,8 @@ Result<Options> parseArgs(int argc, const char* const* argv) {
     };
     if (auto ok = apps::parseCommandLine(argc, argv, grammar, o.knobs); !ok)
         return ok.error();
-    if (o.outputs.empty() && o.directOutputs.empty() && o.indirectOutputs.empty())
+    if (o.outputs.empty() && o.directOutputs.empty() && o.indirectOutputs.empty() && o.glossyOutputs.empty() &&
+        o.aoOutputs.empty())
         o.outputs.push_back(std::filesystem::path("out") / (std::filesystem::path(o.scene).stem().string() + ".png"));
     return o;
 }
@@ -117,6 +123,10 @@ Usage: vkgi-render [options]
   --out-direct FILE   the direct part (direct light + emission) of the same frame; may be repeated
   --out-indirect FILE the indirect part: image - direct (the indirect light the technique adds), or
                       the path tracer's own paths of 2+ reflections; may be repeated
+  --out-glossy FILE   vct: the glossy cone's radiance along the mirror direction (nits, before the
+                      albedo * metallic weight of the indirect part); may be repeated
+  --out-ao FILE       vct: cone-traced ambient occlusion, visibility 1 - occlusion in [0, 1] (grey);
+                      may be repeated
   --spp N             path-tracer samples per pixel for --technique reference and --compare (default 64)
   --bounces K         reflections: 1 = direct only, -1 = unbounded. Default: the count the technique
                       models (none: 1, one indirect bounce: 2), or -1 for --technique reference.

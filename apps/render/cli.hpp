@@ -23,6 +23,8 @@ struct Options {
     // The direct part and the indirect part (image - direct; the path tracer's own paths of >= 2
     // reflections for --technique reference) of the same frame.
     std::vector<std::filesystem::path> directOutputs, indirectOutputs;
+    // VCT's glossy cone radiance and ambient occlusion (gi::FrameRequest::glossy / ao).
+    std::vector<std::filesystem::path> glossyOutputs, aoOutputs;
     uint32_t spp = 64;                          // path-tracer samples per pixel (reference, --compare)
     std::optional<int> bounces;                 // reflections; default: the technique's own count
     bool compare = false;

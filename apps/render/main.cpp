@@ -22,6 +22,7 @@ struct Rendered {
     HdrImage image;
     HdrImage direct;
     HdrImage indirect; // image - direct; the path tracer's own indirect paths
+    HdrImage glossy, ao; // VCT only, when asked for (gi::FrameRequest)
     std::vector<rg::PassTiming> passes;
     double totalMs = 0.0;
     std::vector<gi::LeftOutPass> leftOut;
@@ -61,6 +62,8 @@ Result<Rendered> renderGi(const Scene& scene, const Camera& camera, const render
         return ok.error();
     gi::FrameRequest request;
     request.direct = true;
+    request.glossy = !o.glossyOutputs.empty();
+    request.ao = !o.aoOutputs.empty();
     // lavapipe JIT-compiles each shader at its first dispatch; a warm-up frame keeps that out of
     // the reported times (they are the second frame's, recomputing everything as a first frame
     // does: invalidate() keeps the warm-up's persistent volumes from being reused).
@@ -80,6 +83,8 @@ Result<Rendered> renderGi(const Scene& scene, const Camera& camera, const render
     return Rendered{std::move(frame->composite),
                     std::move(frame->direct),
                     std::move(*indirect),
+                    std::move(frame->glossy),
+                    std::move(frame->ao),
                     frame->passes,
                     frame->totalMs,
                     frame->leftOut,
@@ -92,7 +97,7 @@ Result<Rendered> renderPathTraced(const Scene& scene, const Camera& camera, cons
     if (!ref)
         return ref.error();
     double ms = ref->seconds * 1000.0;
-    return Rendered{std::move(ref->full), std::move(ref->direct), std::move(ref->indirect), {{"reference (CPU wall time)", ms}}, ms, {}, std::nullopt, {}};
+    return Rendered{std::move(ref->full), std::move(ref->direct), std::move(ref->indirect), {}, {}, {{"reference (CPU wall time)", ms}}, ms, {}, std::nullopt, {}};
 }
 
 // Errors of the full image and of its indirect part (full - direct) against the reference.
@@ -146,9 +151,19 @@ int main(int argc, char** argv) {
         return fail(2, settings.error().message);
     int bounces = o.bounces.value_or(pathTraced ? -1 : gi::modelledBounces(*settings));
 
+    if (pathTraced && !(o.glossyOutputs.empty() && o.aoOutputs.empty()))
+        return fail(2, std::string(o.glossyOutputs.empty() ? "--out-ao" : "--out-glossy") +
+                           ": the path tracer has no glossy or ambient-occlusion image (technique vct has)");
     auto rendered = pathTraced ? renderPathTraced(*scene, camera, o, bounces) : renderGi(*scene, camera, o, *settings);
     if (!rendered)
         return fail(1, rendered.error().message);
+    // Before any file is written: an asked-for part the technique did not produce.
+    if (!o.glossyOutputs.empty() && rendered->glossy.pixels.empty())
+        return fail(1, "--out-glossy: technique " + o.technique + " produces no glossy image (vct does)");
+    if (!o.aoOutputs.empty() && rendered->ao.pixels.empty())
+        return fail(1, o.technique == "vct" ? std::string("--out-ao: ambient occlusion is off (--vct.ao off)")
+                                            : "--out-ao: technique " + o.technique +
+                                                  " produces no ambient occlusion (vct does)");
     std::printf("%s %ux%u, technique %s\n", o.scene.c_str(), o.width, o.height, o.technique.c_str());
     std::fputs(render::timingTable(rendered->passes, rendered->totalMs, rendered->leftOut, rendered->memory,
                                    rendered->staticFrame).c_str(),
@@ -165,7 +180,9 @@ int main(int argc, char** argv) {
                     bounces, o.spp, e->full.relMse, e->full.rmse, e->indirect.relMse, e->indirect.rmse);
     }
     const std::pair<const std::vector<std::filesystem::path>*, const HdrImage*> parts[] = {
-        {&o.outputs, &rendered->image}, {&o.directOutputs, &rendered->direct}, {&o.indirectOutputs, &rendered->indirect}};
+        {&o.outputs, &rendered->image},          {&o.directOutputs, &rendered->direct},
+        {&o.indirectOutputs, &rendered->indirect}, {&o.glossyOutputs, &rendered->glossy},
+        {&o.aoOutputs, &rendered->ao}};
     for (const auto& [paths, image] : parts)
         for (const std::filesystem::path& out : *paths) {
             if (auto ok = writeImage(out, *image, o.exposure); !ok)

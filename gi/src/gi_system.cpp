@@ -71,7 +71,7 @@ struct GiSystem::Impl {
     Scene scene;
     std::optional<GpuScene> gpu;
     ShadowTargets shadows;
-    Buffer readback[3]; // composite, direct, indirect
+    Buffer readback[5]; // composite, direct, indirect, glossy, ao
     VkCommandPool commandPool = VK_NULL_HANDLE;
     VkCommandBuffer cmd = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
@@ -158,7 +158,7 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
     const GBufferData& gbuffer = bb.add(host ? importHostGBuffer(graph, pipelines, frame, *host)
                                              : addGBufferPass(graph, pipelines, frame, sceneHandles));
 
-    PassSelection& selection = bb.add(PassSelection{features, {}, {}});
+    PassSelection& selection = bb.add(PassSelection{features, {}, {}, request});
     leaveOutMissingLightKinds(features, selection);
 
     bool rsm = settings.forceRsm || (technique && technique->needsRsm());
@@ -187,7 +187,7 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
     if (!technique) {
         selection.leaveOut("gi.indirect.*", LeftOutReason::NotNeeded,
                            "technique none: no voxel grid, LPV or VPL is allocated or run");
-    } else if (!request.composite && !request.indirect) {
+    } else if (!request.composite && !request.indirect && !request.glossy && !request.ao) {
         // Persistent technique volumes would keep their passes alive in the graph: do not add them.
         selection.leaveOut(std::string("gi.") + toString(settings.technique) + ".*", LeftOutReason::NotNeeded,
                            "no requested output reads indirect light (composite and indirect not requested)");
@@ -202,7 +202,10 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
         lastTechniqueCamera = camera;
         lastTechniqueWidth = width;
         lastTechniqueHeight = height;
-        out.indirect = bb.get<IndirectData>().indirect;
+        const IndirectData& produced = bb.get<IndirectData>();
+        out.indirect = produced.indirect;
+        out.glossy = produced.glossy;
+        out.ao = produced.ao;
     }
     out.direct = direct.direct;
     out.composite = out.indirect.valid() && direct.direct.valid() ? addCompositePass(graph, pipelines, frame, direct.direct, out.indirect).final
@@ -214,7 +217,11 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
         out.direct = {};
     if (!request.indirect)
         out.indirect = {};
-    for (rg::ImageHandle h : {out.composite, out.direct, out.indirect})
+    if (!request.glossy)
+        out.glossy = {};
+    if (!request.ao)
+        out.ao = {};
+    for (rg::ImageHandle h : {out.composite, out.direct, out.indirect, out.glossy, out.ao})
         if (h.valid())
             graph.markOutput(h);
     return out;
@@ -342,9 +349,10 @@ Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, 
     auto outputs = m->addPasses(graph, bb, camera, width, height, request);
     if (!outputs)
         return outputs.error();
-    rg::ImageHandle images[3] = {outputs->composite, outputs->direct, outputs->indirect};
-    const char* names[3] = {"gi.readback.composite", "gi.readback.direct", "gi.readback.indirect"};
-    for (uint32_t i = 0; i < 3; ++i)
+    rg::ImageHandle images[5] = {outputs->composite, outputs->direct, outputs->indirect, outputs->glossy, outputs->ao};
+    const char* names[5] = {"gi.readback.composite", "gi.readback.direct", "gi.readback.indirect",
+                            "gi.readback.glossy", "gi.readback.ao"};
+    for (uint32_t i = 0; i < 5; ++i)
         if (images[i].valid())
             addReadbackPass(graph, names[i], images[i], m->readbackBuffer(i, width, height));
     if (auto ok = graph.compile(); !ok) {
@@ -354,10 +362,11 @@ Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, 
     m->submitAndWait(graph);
 
     FrameResult r;
-    HdrImage* targets[3] = {&r.composite, &r.direct, &r.indirect};
-    for (uint32_t i = 0; i < 3; ++i)
+    HdrImage* targets[5] = {&r.composite, &r.direct, &r.indirect, &r.glossy, &r.ao};
+    for (uint32_t i = 0; i < 5; ++i)
         if (images[i].valid())
-            *targets[i] = readbackToImage(m->readback[i], width, height);
+            *targets[i] = readbackToImage(m->readback[i], width, height, i == 4 ? ReadbackChannels::AlphaToRgb
+                                                                                 : ReadbackChannels::Rgb);
     r.passes = graph.timings();
     r.totalMs = frameTotalMs(graph, r.passes);
     r.culledPasses = graph.culledPassNames();

@@ -71,6 +71,7 @@ struct PassSelection {
     SceneFeatures features;
     SceneChanges changes; // since the technique's last registered frame
     std::vector<LeftOutPass> leftOut;
+    FrameRequest request; // the frame's requested outputs
 
     void leaveOut(std::string name, LeftOutReason reason, std::string detail) {
         leftOut.push_back({std::move(name), reason, std::move(detail)});

@@ -62,7 +62,8 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLine) {
                  {"--size 99999x64", "--size"},   {"--size", "needs a value"}, {"--spp nan", "--spp"},
                  {"--spp -3", "--spp"},           {"--bounces 1.5", "--bounces"}, {"--technique magic", "magic"},
                  {"--out image.jpg", "image.jpg"}, {"--json", "needs a value"},
-                 {"--out-indirect x.tif", "--out-indirect"}};
+                 {"--out-indirect x.tif", "--out-indirect"},
+                 {"--technique reference --size 8x8 --out-glossy g.png", "--out-glossy"}};
     for (const Case& c : cases) {
         CliRun r = run(c.args);
         EXPECT_EQ(r.exitCode, 2) << c.args;
@@ -80,8 +81,8 @@ TEST_F(Cli, HelpDocumentsEveryOption) {
     while (fgets(buf, sizeof(buf), p))
         out += buf;
     EXPECT_EQ(pclose(p), 0);
-    for (const char* opt : {"--scene", "--technique", "--size", "--out", "--out-direct", "--out-indirect", "--spp",
-                            "--bounces", "--compare", "--json"})
+    for (const char* opt : {"--scene", "--technique", "--size", "--out", "--out-direct", "--out-indirect", "--out-glossy",
+                            "--out-ao", "--spp", "--bounces", "--compare", "--json"})
         EXPECT_NE(out.find(opt), std::string::npos) << opt;
 }
 

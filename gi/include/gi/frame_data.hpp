@@ -117,7 +117,8 @@ struct DirectData {
 // Written by the technique's passes.
 struct IndirectData {
     rg::ImageHandle indirect; // RGBA32F indirect radiance (nits), camera resolution
-    rg::ImageHandle ao;       // optional R8/R16F ambient occlusion (invalid when not produced)
+    rg::ImageHandle ao;       // image whose alpha is the AO visibility in [0, 1] (invalid when not produced)
+    rg::ImageHandle glossy;   // RGBA32F glossy cone radiance, nits (invalid when not produced)
 };
 
 struct CompositeData {

@@ -65,6 +65,13 @@ struct FrameRequest {
     bool composite = true; // direct + indirect
     bool direct = false;
     bool indirect = false; // only when the technique produces indirect light
+    // VCT only (the other techniques leave them empty): the glossy cone's radiance along the
+    // mirror direction (nits, before the albedo * metallic weight the indirect image applies;
+    // asking for it traces the cone even without metallic materials), and the cone-traced
+    // ambient occlusion as visibility 1 - occlusion in [0, 1] in r = g = b (empty with
+    // VctSettings::ambientOcclusion off).
+    bool glossy = false;
+    bool ao = false;
 };
 
 // Why a pass of the full pipeline is not in a frame (FrameResult::leftOut).
@@ -95,6 +102,8 @@ struct FrameResult {
     HdrImage composite; // linear radiance (nits); empty unless requested
     HdrImage direct;
     HdrImage indirect;
+    HdrImage glossy; // FrameRequest::glossy / ao; empty when the technique does not produce them
+    HdrImage ao;
     std::vector<rg::PassTiming> passes;  // executed passes in order, GPU milliseconds
     // GPU ms of the whole frame graph, barriers included (rg::RenderGraph::frameMs). On lavapipe
     // this exceeds the sum of `passes`: part of the work completes inside barriers, outside
@@ -161,6 +170,8 @@ struct GiOutputs {
     rg::ImageHandle composite; // RGBA32F
     rg::ImageHandle direct;    // RGBA32F
     rg::ImageHandle indirect;  // RGBA32F (technique dependent)
+    rg::ImageHandle glossy;    // RGBA32F glossy cone radiance (VCT; FrameRequest::glossy)
+    rg::ImageHandle ao;        // RGBA32F whose alpha is the AO visibility (VCT: the indirect image)
 };
 
 class GiSystem {

@@ -114,11 +114,11 @@ void addReadbackPass(rg::RenderGraph& graph, const std::string& name, rg::ImageH
     graph.exportBuffer(pass.buffer, Access::HostRead);
 }
 
-HdrImage readbackToImage(const Buffer& src, uint32_t width, uint32_t height) {
+HdrImage readbackToImage(const Buffer& src, uint32_t width, uint32_t height, ReadbackChannels channels) {
     HdrImage img(width, height);
     const auto* texels = static_cast<const glm::vec4*>(src.mapped());
     for (size_t i = 0; i < img.pixels.size(); ++i)
-        img.pixels[i] = glm::vec3(texels[i]);
+        img.pixels[i] = channels == ReadbackChannels::AlphaToRgb ? glm::vec3(texels[i].w) : glm::vec3(texels[i]);
     return img;
 }
 

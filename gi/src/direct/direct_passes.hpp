@@ -95,7 +95,9 @@ CompositeData addCompositePass(rg::RenderGraph& graph, const DirectPipelines& p,
 // Copies an RGBA32F image into `dst` (host-visible, width*height*16 bytes) after the frame.
 void addReadbackPass(rg::RenderGraph& graph, const std::string& name, rg::ImageHandle image, const Buffer& dst);
 // Converts a readback buffer to an HdrImage (RGB of the RGBA32F texels).
-HdrImage readbackToImage(const Buffer& src, uint32_t width, uint32_t height);
+enum class ReadbackChannels { Rgb, AlphaToRgb }; // AlphaToRgb: r = g = b = the texel's alpha (AO)
+HdrImage readbackToImage(const Buffer& src, uint32_t width, uint32_t height,
+                         ReadbackChannels channels = ReadbackChannels::Rgb);
 
 // One indexed draw per instance of `scene` with `push` (info.x set per draw); pipeline and set 1
 // must be bound.

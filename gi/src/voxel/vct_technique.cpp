@@ -87,9 +87,10 @@ public:
             selection.leaveOut("gi.vct.bounce*", LeftOutReason::NotNeeded, "vct.bounces = 1");
         if (relight && !selection.features.emissive)
             selection.leaveOut("gi.vct.light:emission", LeftOutReason::NotNeeded, "no emissive material");
-        // The trace weights the glossy cone by metallic: without a metallic material it adds 0.
+        // The trace weights the glossy cone by metallic: without a metallic material it adds 0
+        // (unless the glossy image itself is asked for).
         VctSettings settings = m_settings;
-        if (settings.glossy && !selection.features.metallic) {
+        if (settings.glossy && !selection.features.metallic && !selection.request.glossy) {
             settings.glossy = false;
             selection.leaveOut("gi.vct.trace:glossy-cone", LeftOutReason::NotNeeded, "no metallic material");
         }
@@ -112,7 +113,8 @@ public:
         // visibility it replaces, vct_soft_shadow.comp); the composite and the direct output read it.
         if (out.direct.valid())
             bb.get<DirectData>().direct = out.direct;
-        bb.add(IndirectData{out.indirect, {}});
+        bb.add(IndirectData{out.indirect, settings.ambientOcclusion ? out.indirect : rg::ImageHandle{},
+                            settings.glossy ? out.glossy : rg::ImageHandle{}});
         bb.add(out);
     }
 
