@@ -58,6 +58,8 @@ struct Errors {
     // Indirect part against the path tracer's own indirect (its paths with >= 2 reflections)
     // instead of reference - raster direct, and the best constant for it.
     double indirectPt = 0.0, ambientIndirectPt = 0.0;
+    // Mean indirect (rgb summed over the image) over the path tracer's own indirect.
+    double meanRatioPt = 0.0;
 };
 
 class VctReference : public test::GpuTest {
@@ -114,6 +116,11 @@ protected:
             meanRef += double(refIndirect->pixels[i].x + refIndirect->pixels[i].y + refIndirect->pixels[i].z);
         }
         m_lastMeanRatio = meanTest / meanRef;
+        // The same against the path tracer's own indirect (no raster/path-traced direct mixed in).
+        double meanPt = 0.0;
+        for (const glm::vec3& p : ref->indirect.pixels)
+            meanPt += double(p.x + p.y + p.z);
+        e.meanRatioPt = meanTest / meanPt;
         EXPECT_EQ(countNonFinite(frame->composite), 0u) << sceneName;
         double ms = 0.0, lightMs = 0.0;
         for (const auto& p : frame->passes) {
@@ -123,9 +130,10 @@ protected:
                 lightMs = p.ms;
         }
         std::printf("%s: relMSE full %.4f (best ambient %.4f), indirect %.4f (best constant %.4f), against the path "
-                    "tracer's indirect %.4f (best constant %.4f); VCT passes %.1f ms (voxel light %.1f)\n",
+                    "tracer's indirect %.4f (best constant %.4f), mean indirect %.3fx the path tracer's; VCT passes "
+                    "%.1f ms (voxel light %.1f)\n",
                     sceneName, e.full, e.ambientFull, e.indirect, e.ambientIndirect, e.indirectPt, e.ambientIndirectPt,
-                    ms, lightMs);
+                    e.meanRatioPt, ms, lightMs);
         return e;
     }
     // Mean indirect of the last measure() over the reference's (rgb summed over the pixels).
@@ -173,6 +181,18 @@ protected:
 // the sun-lit far side of the 2-voxel walls; Cornell boxes +8-12% in exchange). The atrium's
 // arches were bare rings until then (builtin_scenes.cpp): crowns coplanar with the slabs and
 // sub-voxel wedges between ring and slab made most of its error (PT indirect 1.21).
+// Energy: the mean indirect light over the path tracer's own (same bounce count). A gather is a
+// convex combination of voxel radiances (docs/vct.md, "Energy"), so VCT can exceed the
+// reference only where voxels hold more light than the surfaces they stand for (a thin wall's
+// lit side read through a texel, conservatively thick lit patches). Measured at 32^3 / 64^3:
+// cornell 0.993, cornell_point 0.797, room 1.090 / 1.084, atrium 0.731 / 0.851 (the emissive
+// box's is not the same quantity, see below). Few cones also overshoot without creating
+// energy: (1/n) sum L_i over n fixed cosine-distributed directions is a quadrature of E / pi,
+// and with 4 cones on the spot-lit box it reads up to 15% high (NoConfigurationAddsEnergy).
+// Bounds: at most 20% more (that quadrature error and rounding), at least 65% (the atrium's
+// 73% at 32^3).
+constexpr double kMaxMeanRatio = 1.2, kMinMeanRatio = 0.65;
+
 TEST_F(VctReference, BuiltinScenesAgainstThePathTracer) {
     struct Case {
         const char* scene;
@@ -197,6 +217,10 @@ TEST_F(VctReference, BuiltinScenesAgainstThePathTracer) {
         }
         if (c.ptIndirectBeatsConstant) {
             EXPECT_LT(e.indirectPt, e.ambientIndirectPt) << c.scene;
+        }
+        if (std::string(c.scene) != "cornell_emissive") { // see above: not the same quantity
+            EXPECT_LT(e.meanRatioPt, kMaxMeanRatio) << c.scene;
+            EXPECT_GT(e.meanRatioPt, kMinMeanRatio) << c.scene;
         }
     }
 }
@@ -229,7 +253,36 @@ TEST_F(VctReference, DefaultGridInTheSunLitScenes) {
         if (std::string(c.scene) == "room") {
             EXPECT_LT(e.full, e.ambientFull);
         }
+        EXPECT_LT(e.meanRatioPt, kMaxMeanRatio) << c.scene;
+        EXPECT_GT(e.meanRatioPt, kMinMeanRatio) << c.scene;
     }
+}
+
+// No configuration adds energy: on the spot-lit box, every combination of grid (16^3, 32^3),
+// cone count (4, 16), step factor (0.5, 2) and bounce count (1, 2) gives a mean indirect
+// within the bounds above of the path tracer's with the same bounce count (256 samples; the
+// reference's own noise on the mean is ~0.2%). Measured 0.792-1.146x: 4 cones with step 0.5
+// read 1.13-1.15x (the 4-direction quadrature, above), 16 cones 0.79-1.06x; step 0.5 reads
+// 5-20% more than step 2 in every pair.
+TEST_F(VctReference, NoConfigurationAddsEnergy) {
+    double lo = 1e9, hi = 0.0;
+    for (uint32_t grid : {16u, 32u})
+        for (uint32_t cones : {4u, 16u})
+            for (float step : {0.5f, 2.0f})
+                for (uint32_t bounces : {1u, 2u}) {
+                    VctSettings s;
+                    s.gridResolution = grid;
+                    s.diffuseCones = cones;
+                    s.stepFactor = step;
+                    s.bounces = bounces;
+                    s.lowResFactor = 2;
+                    Errors e = measure("cornell", s);
+                    EXPECT_LT(e.meanRatioPt, kMaxMeanRatio) << grid << " " << cones << " " << step << " " << bounces;
+                    EXPECT_GT(e.meanRatioPt, kMinMeanRatio) << grid << " " << cones << " " << step << " " << bounces;
+                    lo = std::min(lo, e.meanRatioPt);
+                    hi = std::max(hi, e.meanRatioPt);
+                }
+    std::printf("mean indirect over the path tracer's: %.3f - %.3f\n", lo, hi);
 }
 
 // Full-resolution cones (lowResFactor 1) against half resolution (2) on the spot-lit
