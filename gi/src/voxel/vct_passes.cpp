@@ -76,6 +76,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
                    {&v->m_lightSoft, "gi/voxel/voxel_light_soft.comp"},
                    {&v->m_lightShadowMap, "gi/voxel/voxel_light_shadow_map.comp"},
                    {&v->m_mip, "gi/voxel/voxel_mip.comp"},
+                   {&v->m_mipList, "gi/voxel/voxel_mip_list.comp"},
                    {&v->m_bounce, "gi/voxel/voxel_bounce.comp"},
                    {&v->m_bounceApply, "gi/voxel/voxel_bounce_apply.comp"},
                    {&v->m_bounceAdd, "gi/voxel/voxel_bounce_add.comp"},
@@ -109,7 +110,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
 
 VctVolumes::~VctVolumes() {
     destroyBuffer(m_ctx, m_list.buffer);
-    for (Pipeline* p : {&m_compact, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_bounce, &m_bounceApply, &m_bounceAdd,
+    for (Pipeline* p : {&m_compact, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_mipList, &m_bounce, &m_bounceApply, &m_bounceAdd,
                         &m_trace, &m_traceRefine, &m_upsample, &m_softShadow})
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_aniso.image);
@@ -146,9 +147,9 @@ void VctVolumes::recordCompact(VkCommandBuffer cmd, VkBuffer touched) const {
                      touched);
 }
 
-void VctVolumes::recordClearLevel0(VkCommandBuffer cmd, VkImageLayout layout) const {
+void VctVolumes::recordClearLevels01(VkCommandBuffer cmd, VkImageLayout layout) const {
     VkClearColorValue zero{};
-    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 2, 0, 1};
     vkCmdClearColorImage(cmd, m_aniso.image.image, layout, &zero, 1, &range);
 }
 
@@ -184,6 +185,13 @@ void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t ligh
 void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level) const {
     uint32_t size = std::max(1u, m_grid.resolution() >> level);
     gpu::VoxelMipPush push{m_grid.params(), glm::uvec4(level, size, 0u, 0u)};
+    if (level == 1) { // the listed occupied blocks only (voxel_mip_body.glsl)
+        dispatchIndirect(m_ctx, cmd, m_mipList, push,
+                         {storage(0, m_aniso.image.mipViews[0]), storage(1, m_aniso.image.mipViews[1]),
+                          bufferItem(2, m_list.buffer.buffer)},
+                         m_list.buffer.buffer, GI_VOXEL_LIST_BLOCKS * sizeof(uint32_t));
+        return;
+    }
     dispatch(m_ctx, cmd, m_mip, push,
              {storage(0, m_aniso.image.mipViews[level - 1]), storage(1, m_aniso.image.mipViews[level])},
              glm::uvec3(size));

@@ -74,15 +74,17 @@ public:
     // The voxels of a touched list of the grid (gi/voxel_passes.h; indirect over it) -> list,
     // each voxel and 2^3 block once (its header and bits cleared before).
     void recordCompact(VkCommandBuffer cmd, VkBuffer touched) const;
-    // Level 0 of aniso() := 0 (transfer write, the image in `layout`).
-    void recordClearLevel0(VkCommandBuffer cmd, VkImageLayout layout) const;
+    // Levels 0 and 1 of aniso() := 0 (transfer write, the image in `layout`): the voxel light
+    // and the bounce add write level 0, the level-1 mip level 1, at listed voxels / blocks only.
+    void recordClearLevels01(VkCommandBuffer cmd, VkImageLayout layout) const;
     // grid volumes + lights (+ the emission volume when `emission`) -> the six level-0 views of
     // aniso() at the listed voxels (indirect dispatch over the list).
     // `shadow` (non-null) selects the shadow-atlas variant, else `occlusion` the ray march.
     void recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t lightCount, VctOcclusion occlusion,
                      VkImageLayout sampledLayout, bool emission = true,
                      const VctShadowInputs* shadow = nullptr) const;
-    // aniso level `level` (>= 1) from level - 1.
+    // aniso level `level` (>= 1) from level - 1; level 1 at the listed occupied blocks only
+    // (indirect over the list; the others keep the zeros of recordClearLevels01).
     void recordMip(VkCommandBuffer cmd, uint32_t level) const;
     // Second bounce; the gathers read aniso() (direct light and its mips). Blocks: the
     // diffuse gather of every listed 2^3 block -> `gathered` ((N/2)^3 RGBA16F, storage write).
@@ -115,7 +117,7 @@ private:
     bool m_listBuilt = false;
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;
-    Pipeline m_compact, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_bounce, m_bounceApply, m_bounceAdd, m_trace, m_traceRefine,
+    Pipeline m_compact, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_mipList, m_bounce, m_bounceApply, m_bounceAdd, m_trace, m_traceRefine,
         m_upsample, m_softShadow;
 };
 

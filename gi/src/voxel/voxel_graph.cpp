@@ -146,13 +146,21 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
 namespace {
 
 // Adds one pass per level k >= 1 of aniso, built from level k - 1; returns the newest version.
-rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::ImageHandle aniso, const char* prefix) {
+// Level 1 is written at the listed occupied blocks only and keeps the list clear's zeros
+// elsewhere (no discard).
+rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::ImageHandle aniso, rg::BufferHandle list,
+                             const char* prefix) {
     for (uint32_t level = 1; level < v->anisoLevels(); ++level) {
         graph.addPass(
             std::string(prefix) + "[" + std::to_string(level) + "]",
             [&](rg::PassBuilder& b) {
                 b.read(aniso, Access::ComputeStorageRead, rg::SubresourceRange::mip(level - 1));
-                aniso = b.write(aniso, Access::ComputeStorageWriteDiscard, rg::SubresourceRange::mip(level));
+                if (level == 1) {
+                    b.read(list, Access::IndirectRead);
+                    b.read(list, Access::ComputeStorageRead);
+                }
+                aniso = b.write(aniso, level == 1 ? Access::ComputeStorageWrite : Access::ComputeStorageWriteDiscard,
+                                rg::SubresourceRange::mip(level));
             },
             [v, level](rg::PassContext& ctx) { v->recordMip(ctx.cmd(), level); });
     }
@@ -218,17 +226,18 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     const rg::SubresourceRange level0 = rg::SubresourceRange::mip(0);
     if (grid.changed || !volumes.listBuilt()) {
         // Once per voxelization: the occupied-voxel list the light and bounce passes run over.
-        // The list header and level 0 (the voxel light writes only the listed voxels; the rest
-        // must read empty) are zeroed by transfer clears, which stream at memset speed.
+        // The list header and levels 0 and 1 (the voxel light writes only the listed voxels,
+        // the level-1 mip only the listed blocks; the rest must read empty) are zeroed by
+        // transfer clears, which stream at memset speed.
         graph.addPass(
             "gi.vct.list.clear",
             [&](rg::PassBuilder& b) {
                 list = b.write(list, Access::TransferWrite);
-                out.aniso = b.write(out.aniso, Access::TransferWrite, level0);
+                out.aniso = b.write(out.aniso, Access::TransferWrite, rg::SubresourceRange{0, 2, 0, rg::kAll});
             },
             [v, list, aniso = out.aniso](rg::PassContext& ctx) {
                 v->recordClearList(ctx.cmd(), ctx.buffer(list).buffer);
-                v->recordClearLevel0(ctx.cmd(), ctx.layout(aniso));
+                v->recordClearLevels01(ctx.cmd(), ctx.layout(aniso));
             });
         // One pass per touched list of the grid (the whole scene's or the static draws', then
         // the dynamic draws'): each is an indirect dispatch over its list.
@@ -275,7 +284,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
             v->recordLight(ctx.cmd(), ctx.buffer(lights).buffer, lightCount, occlusion, ctx.layout(albedo), emission,
                            useShadowMap ? &in : nullptr);
         });
-    out.aniso = addMipPasses(graph, v, out.aniso, "gi.vct.mip");
+    out.aniso = addMipPasses(graph, v, out.aniso, list, "gi.vct.mip");
     gpu::ConeParams cones = volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
     if (settings.bounces >= 2) {
         ImageDesc gatheredDesc;
@@ -326,7 +335,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                 out.aniso = b.write(out.aniso, Access::ComputeStorageReadWrite, level0); // the listed voxels
             },
             [v, light = bounce.image](rg::PassContext& ctx) { v->recordBounceAdd(ctx.cmd(), ctx.image(light)); });
-        out.aniso = addMipPasses(graph, v, out.aniso, "gi.vct.bounce.mip");
+        out.aniso = addMipPasses(graph, v, out.aniso, list, "gi.vct.bounce.mip");
     }
     out = addSoftShadowPass(graph, volumes, out, settings, gbuffer, lights, lightCount);
     return gbuffer ? addTracePasses(graph, volumes, out, settings, gbuffer) : out;

@@ -3,10 +3,19 @@
 // along that direction are composited front to back (premultiplied, c = c_f + (1 - a_f) c_b),
 // then the four resulting columns are averaged, each from the same direction's tile one level
 // finer (level 0: the voxels' own views). The six directions are tiles stacked along z of one
-// image (see voxel_passes.h).
+// image (see voxel_passes.h). With GI_VOXEL_MIP_LIST (level 1 only, voxel_mip_list.comp) one
+// invocation per listed occupied 2^3 block: a block without occupied voxels has only empty
+// level-0 texels (the list pass's clear zeroes level 0 and every writer of level 0 writes listed
+// voxels only), so its level-1 texels are 0, which the same clear wrote; ~10% of the blocks are
+// occupied, and level 1 reads the whole 6 N^3 level 0 in the dense dispatch.
 #include "gi/voxel_passes.h"
 
+#ifdef GI_VOXEL_MIP_LIST
+layout(local_size_x = GI_VOXEL_LIST_GROUP) in; // indirect: the block quad of the list header
+layout(set = 1, binding = 2, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint entries[]; };
+#else
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+#endif
 layout(push_constant) uniform Push { VoxelMipPush pc; };
 layout(set = 1, binding = 0, rgba16f) uniform readonly image3D src; // aniso level - 1
 layout(set = 1, binding = 1, rgba16f) uniform writeonly image3D dst; // aniso level
@@ -33,10 +42,17 @@ vec4[8] gather(ivec3 base) {
 }
 
 void main() {
-    ivec3 c = ivec3(gl_GlobalInvocationID);
     int size = int(pc.info.y);
+#ifdef GI_VOXEL_MIP_LIST
+    if (gl_GlobalInvocationID.x >= header[GI_VOXEL_LIST_BLOCKS + 3u])
+        return;
+    uint n = pc.grid.dims.x;
+    ivec3 c = ivec3(voxelListUnpack(entries[n * n * n + gl_GlobalInvocationID.x]));
+#else
+    ivec3 c = ivec3(gl_GlobalInvocationID);
     if (any(greaterThanEqual(c, ivec3(size))))
         return;
+#endif
     ivec3 base = 2 * c;
     for (int d = 0; d < 6; ++d)
         imageStore(dst, c + ivec3(0, 0, d * size), integrate(gather(base + ivec3(0, 0, 2 * d * size)), d >> 1,
