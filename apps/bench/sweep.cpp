@@ -121,6 +121,7 @@ Result<Measured> measure(Context& ctx, const Scene& scene, const std::string& sc
     rec.passMs = timing->passMs;
     rec.totalMs = timing->totalMs;
     rec.deviceMiB = double(last.persistentBytes + last.transientBytes) / (1024.0 * 1024.0);
+    rec.triangles = scene.triangleCount();
     for (const auto& pass : rec.passMs)
         for (const rg::PassMemory& m : last.passMemory)
             if (m.name == pass.first) {

@@ -6,6 +6,7 @@
 #include "engine/file_util.hpp"
 #include "engine/progress.hpp"
 #include "gi/bench.hpp"
+#include "gi/vct.hpp"
 #include "support/test_env.hpp"
 
 #include <cmath>
@@ -101,6 +102,31 @@ TEST(Bench, MarkdownHasOneTablePerSceneAndMarksTheFront) {
     for (size_t p = md.find("\n| "); p != std::string::npos; p = md.find("\n| ", p + 1))
         ++rows;
     EXPECT_EQ(rows, 2u * 1u + 3u); // a header per scene + one row per record
+}
+
+// The voxelization line: medians per VCT grid over the scene's VCT rows, triangles / ms.
+TEST(Bench, MarkdownReportsVoxelizationThroughputPerGrid) {
+    auto vct = [](const char* knobs, double voxelize) {
+        BenchRecord r = rec("atrium", "vct", 100, 0.5);
+        r.knobs = knobs;
+        r.triangles = 8000;
+        r.passMs = {{"gi.gbuffer", 9.0}, {"gi.voxel.clear", 1.0}, {"gi.voxel.voxelize", voxelize},
+                    {"gi.voxel.resolve", 1.0}, {"gi.vct.list", 0.5}, {"gi.vct.light", 7.0}};
+        return r;
+    };
+    std::vector<BenchRecord> r = {vct("vct.grid=32", 2.0), vct("vct.grid=32 vct.cones=16", 4.0),
+                                  vct("vct.grid=32 vct.step=2", 3.0), vct("vct.cones=4", 8.0),
+                                  rec("atrium", "lpv", 15, 0.6), rec("cornell", "lpv", 15, 0.6)};
+    EXPECT_EQ(vctGridOf(r[0]), 32u);
+    EXPECT_EQ(vctGridOf(r[3]), VctSettings{}.gridResolution);
+    std::string md = toMarkdown(r);
+    // grid 32: median voxelize 3 ms -> 8000 / 3e-3 s = 2.67 M/s; all voxel-grid passes 3 + 2.5.
+    EXPECT_NE(md.find("VCT voxelization (8000 triangles"), std::string::npos) << md;
+    EXPECT_NE(md.find("grid 32: voxelize 3 ms = 2.67 M triangles/s, all voxel-grid passes 5.5 ms;"), std::string::npos)
+        << md;
+    EXPECT_NE(md.find("grid 64: voxelize 8 ms = 1 M triangles/s, all voxel-grid passes 10.5 ms;"), std::string::npos)
+        << md;
+    EXPECT_EQ(md.find("VCT voxelization"), md.rfind("VCT voxelization")); // not for cornell (no VCT rows)
 }
 
 TEST(Bench, SvgMarksEveryPointAndTheFront) {

@@ -26,6 +26,7 @@ struct BenchRecord {
     double relMseAll = 0.0, rmseAll = 0.0;
     double relMseIndirectAll = 0.0, rmseIndirectAll = 0.0;
     double deviceMiB = 0.0;                             // device memory of the module
+    uint64_t triangles = 0;                             // the scene's triangle count
     // Bytes each pass's declared accesses move (rg::PassMemory::accessedBytes), same order as
     // passMs, and the device's measured streaming rate (compute copy, GB/s) of the same run:
     // stream ratio = ms / (bytes / rate), 1 = as fast as a copy of the same bytes.
@@ -49,7 +50,12 @@ std::string toJson(const std::vector<BenchRecord>& records);
 // One Markdown table per scene (scenes in first-seen order, rows in record order): technique,
 // knobs, GPU ms, device MiB, the reference's bounce count, relMSE full and indirect, RMSE indirect
 // against it and against the unbounded reference; rows on the Pareto front are marked "*".
+// Per scene: a table of every record, then, when there are VCT records, a line per VCT grid
+// with the median voxelization time over them (every frame re-voxelizes all triangles) and the
+// throughput it means in triangles per second.
 std::string toMarkdown(const std::vector<BenchRecord>& records);
+// "vct.grid=64" in a VCT record's knobs, else the default grid (VctSettings).
+uint32_t vctGridOf(const BenchRecord& record);
 // Log-log plot of relMSE against total ms for one scene, one colour per technique, the Pareto
 // front drawn as a line. Self-contained SVG (no external fonts or scripts).
 std::string toSvgPlot(const std::vector<BenchRecord>& records, const std::string& scene);
