@@ -26,7 +26,7 @@ namespace {
 
 const char* kUsage =
     "usage: vkgi-bench [--scenes a,b] [--techniques a,b] [--size WxH] [--spp N] [--repeat N]\n"
-    "                  [--budget-ms X] [--quick] [--passes] [--out DIR]\n"
+    "                  [--budget-ms X] [--quick | --set KNOBS] [--passes] [--out DIR]\n"
     "       vkgi-bench --scaling [--techniques a,b] [--repeat N] [--quick] [--out DIR]\n"
     "       vkgi-bench --jit [--techniques a,b] [--repeat N] [--out DIR]\n"
     "  --scenes      built-in names or glTF files (default cornell,room,atrium)\n"
@@ -35,6 +35,8 @@ const char* kUsage =
     "  --repeat      measured frames per configuration (default 5, after one warm-up frame)\n"
     "  --budget-ms   also print the least-error configuration within this GPU time per scene\n"
     "  --quick       one configuration per technique (smoke run)\n"
+    "  --set KNOBS   only this configuration of the one --techniques given: \"vct.grid=64 vct.cones=6\",\n"
+    "                or \"\" for the library's defaults (e.g. per-pass times of the defaults with --passes)\n"
     "  --passes      also print every configuration's passes: GPU ms, MiB moved, x streaming rate\n"
     "  --out         output folder (default out/bench): bench.csv, bench.json, bench.md, plot-<scene>.svg\n"
     "  --scaling     GPU time against pixels (cornell 64^2..512^2), voxels (cornell 128^2, vct.grid 32..128,\n"
@@ -73,7 +75,7 @@ Result<bench::Options> parseArgs(int argc, char** argv) {
             (a == "--scaling" ? o.scaling : o.jit) = true;
             continue;
         }
-        if (a == "--scenes" || a == "--size" || a == "--spp" || a == "--budget-ms" || a == "--passes")
+        if (a == "--scenes" || a == "--size" || a == "--spp" || a == "--budget-ms" || a == "--passes" || a == "--set")
             sweepOnly.push_back(a);
         if (a == "--help" || a == "-h") {
             std::fputs(kUsage, stdout);
@@ -92,6 +94,8 @@ Result<bench::Options> parseArgs(int argc, char** argv) {
             o.techniques = split(v);
         else if (a == "--out")
             o.outDir = v;
+        else if (a == "--set")
+            o.set = v;
         else if (a == "--size") {
             if (std::sscanf(v, "%ux%u", &o.width, &o.height) != 2 || o.width < 1 || o.height < 1 ||
                 o.width > 4096 || o.height > 4096)
@@ -113,11 +117,22 @@ Result<bench::Options> parseArgs(int argc, char** argv) {
     if ((o.scaling || o.jit) && !sweepOnly.empty())
         return makeError(sweepOnly.front() + " does not apply to " + (o.scaling ? "--scaling" : "--jit") +
                          " (it uses its own scenes and sizes)");
+    if (o.set && o.quick)
+        return makeError("--set and --quick both pick the configurations: give one");
+    if (o.set && o.techniques.size() != 1)
+        return makeError("--set: name exactly one technique with --techniques (the knobs are that technique's)");
     if (o.techniques.empty())
         o.techniques = gi::techniqueNames();
     for (const auto& t : o.techniques)
         if (auto p = gi::parseTechnique(t); !p)
             return p.error();
+    if (o.set) { // bad knobs fail here, before any long work
+        gi::GiSettings s;
+        std::stringstream in(*o.set);
+        for (std::string kv; in >> kv;)
+            if (auto ok = gi::applyKnob(s, kv); !ok)
+                return makeError("--set: " + ok.error().message);
+    }
     return o;
 }
 
@@ -150,7 +165,7 @@ int main(int argc, char** argv) {
     }
     std::vector<std::pair<std::string, std::string>> jobs; // technique, knobs
     for (const auto& t : opt->techniques)
-        for (const auto& k : bench::sweepFor(t, opt->quick))
+        for (const auto& k : opt->set ? std::vector<std::string>{*opt->set} : bench::sweepFor(t, opt->quick))
             jobs.push_back({t, k});
     std::vector<Scene> scenes; // all loaded up front: a bad name fails before any long work
     for (const auto& sceneName : opt->scenes) {

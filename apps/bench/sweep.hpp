@@ -2,6 +2,7 @@
 // vkgi-bench's measuring loop, kept out of main(): the sweep table per technique, one
 // measured configuration, and the reference each technique is compared with.
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -21,6 +22,9 @@ struct Options {
     uint32_t spp = 1024;   // reference paths per pixel (its own relMSE ~ 1.5/spp on cornell)
     uint32_t repeat = 5;   // measured frames per configuration after one warm-up frame
     bool quick = false;    // first configuration of each technique only (smoke runs)
+    // --set: measure this one configuration ("vct.grid=64 vct.cones=6"; "" = the library's
+    // defaults) instead of the sweep; needs exactly one technique.
+    std::optional<std::string> set;
     bool passes = false;   // print per-pass ms, bytes moved and stream ratio of every configuration
     bool scaling = false;  // --scaling: time against pixels, voxels and triangles instead (scaling.hpp)
     bool jit = false;      // --jit: first-dispatch shader compilation per pass instead (jit.hpp)
