@@ -6,8 +6,10 @@
 // and lists the pixels across discontinuities, which the refine variant (GI_VCT_REFINE)
 // traces at full resolution.
 #include "gi/voxel_passes.h"
+#ifndef GI_VCT_REFINE
 #define GI_LOWRES_SOURCE_ONLY
 #include "gi/lowres_upsample.h"
+#endif
 
 #ifdef GI_VCT_REFINE
 layout(local_size_x = GI_VCT_REFINE_GROUP) in; // indirect: header words 1..3 (vct_upsample.comp)
@@ -27,6 +29,9 @@ layout(set = 1, binding = 7, std430) readonly buffer RefineList {
     uint refinePad[3];
     uint refinePixels[]; // x | y << 16
 };
+#define GI_LOWRES_GBUFFER_FETCH(image, pixel) imageLoad(image, pixel)
+#include "gi/lowres_upsample.h"
+#include "vct_refine.glsl"
 #endif
 
 void main() {
@@ -71,4 +76,25 @@ void main() {
     float ao = (pc.cones.info.y & GI_VCT_FLAG_AO) != 0u ? 1.0 - occlusion : 1.0;
     imageStore(outIndirect, dst, vec4(indirect, ao));
     imageStore(outGlossy, dst, vec4(glossy * pc.grid.scales.z, 1.0));
+#ifdef GI_VCT_REFINE
+    // The refined pixels of this quad that take this trace (vct_refine.glsl), with their own
+    // albedo and metallic.
+    for (int k = 0; k < 4; ++k) {
+        ivec2 q = (dst & ~1) + ivec2(k & 1, k >> 1);
+        if (q == dst || any(greaterThanEqual(q, full)))
+            continue;
+        vec4 pq = imageLoad(gPosition, q);
+        if (pq.w == 0.0)
+            continue;
+        vec3 nq = normalize(imageLoad(gNormal, q).xyz);
+        ivec2 taps[4];
+        vec4 w;
+        if (!vctRefines(q, pq, nq, taps, w) || vctQuadLeader(q, pq, nq) != dst)
+            continue;
+        vec4 aq = imageLoad(gAlbedo, q);
+        vec3 iq = aq.rgb * mix(diffuse, glossy, clamp(aq.w, 0.0, 1.0)) * pc.grid.scales.z;
+        imageStore(outIndirect, q, vec4(iq, ao));
+        imageStore(outGlossy, q, vec4(glossy * pc.grid.scales.z, 1.0));
+    }
+#endif
 }
