@@ -94,9 +94,8 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     v->m_levels = uint32_t(std::countr_zero(n)) + 1; // N^3 down to 1^3
     v->m_aniso.image = createRadianceVolume(ctx, n, GI_VOXEL_ANISO_DIRECTIONS * n, v->m_levels, "vct.aniso");
     BufferDesc list;
-    uint32_t blocks = (n / 2) * (n / 2) * (n / 2);
-    // Header, voxel and block slots, then the voxels' and blocks' "listed" bits.
-    list.size = VkDeviceSize(GI_VOXEL_LIST_HEADER + n * n * n + blocks + (n * n * n + blocks) / 32) * sizeof(uint32_t);
+    // Header, voxel and block slots, the voxels' and blocks' "listed" bits, the 4^3 blocks' bits.
+    list.size = VkDeviceSize(GI_VOXEL_LIST_HEADER + gpu::voxelListWords(n)) * sizeof(uint32_t);
     list.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
                  VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     v->m_list.buffer = createBuffer(ctx, list, "vct.voxel_list");

@@ -32,9 +32,13 @@ void main() {
         return;
     uint packed = touched[gl_GlobalInvocationID.x];
     uvec3 c = voxelListUnpack(packed);
-    uint voxelBits = n * n * n + h * h * h;
+    uint voxelBits = voxelListBitsOffset(n);
     if (!claim(voxelBits, c.x + n * (c.y + n * c.z)))
         return; // a dynamic voxel inside a static one: listed with the static list
+    uvec3 q = c >> 2u;
+    uint quarter = n / 4u;
+    uint coarse = q.x + quarter * (q.y + quarter * q.z);
+    atomicOr(entries[voxelListCoarseBitsOffset(n) + (coarse >> 5u)], 1u << (coarse & 31u));
     uint slot = atomicAdd(header[3], 1u);
     entries[slot] = packed;
     // The first voxel of each group of GI_VOXEL_LIST_GROUP adds that group: x = ceil(count / group).

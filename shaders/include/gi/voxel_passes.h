@@ -46,7 +46,8 @@ GI_CHECK_SIZE(VoxelizePush, 64);
 // lists): a storage buffer of GI_VOXEL_LIST_HEADER uints, then N^3 slots for occupied voxels,
 // then (N/2)^3 slots for occupied 2^3 blocks, each a packed coordinate, then N^3 / 32 + (N/2)^3 / 32
 // words of "already listed" bits (voxels, then blocks: a dynamic voxel inside a static one and
-// the 2^3 blocks are listed once), zeroed with the header. Header words 0..3 belong to the
+// the 2^3 blocks are listed once), then ceil((N/4)^3 / 32) words of 4^3-block occupancy bits
+// (the voxel light's march skips empty 4^3 blocks), all zeroed with the header. Header words 0..3 belong to the
 // voxels, 4..7 to the blocks; each quad is also the VkDispatchIndirectCommand (at byte 0 and
 // 16) of the passes that run over that list: x = ceil(count / GI_VOXEL_LIST_GROUP) work
 // groups, y = z = 1, w = count. Surface voxels are ~10% of a grid, so those passes skip the
@@ -55,6 +56,13 @@ GI_CHECK_SIZE(VoxelizePush, 64);
 #define GI_VOXEL_LIST_BLOCKS 4u // header offset (words) of the block quad
 #define GI_VOXEL_LIST_GROUP 64u
 GI_INLINE uint voxelListPack(uvec3 c) { return c.x | (c.y << 10u) | (c.z << 20u); }
+// Word offset (after the header) of the voxels' "listed" bits, bit x + N (y + N z): once the
+// list is built, the grid's occupancy, 32 voxels per word (the voxel light's march reads it).
+GI_INLINE uint voxelListBitsOffset(uint n) { return n * n * n + (n / 2u) * (n / 2u) * (n / 2u); }
+// Word offset (after the header) of the 4^3-block occupancy bits, bit x + N/4 (y + N/4 z).
+GI_INLINE uint voxelListCoarseBitsOffset(uint n) { return voxelListBitsOffset(n) + voxelListBitsOffset(n) / 32u; }
+// Words after the header.
+GI_INLINE uint voxelListWords(uint n) { return voxelListCoarseBitsOffset(n) + ((n / 4u) * (n / 4u) * (n / 4u) + 31u) / 32u; }
 GI_INLINE uvec3 voxelListUnpack(uint v) { return uvec3(v & 1023u, (v >> 10u) & 1023u, v >> 20u); }
 
 // Occlusion of voxel direct light (VctOcclusion).
