@@ -9,6 +9,9 @@
 #include "engine/scene_types.h"
 #include "gi/voxel_passes.h"
 
+// x: the triangles of the draw; y: slices of each triangle's rows (its voxel columns along
+// the first walked axis), gl_NumWorkGroups.y of them: a Cornell wall triangle covers ~2000
+// voxels at 64^3, and a draw of a few such triangles in one work group ran on one CPU thread.
 layout(local_size_x = 32) in;
 layout(push_constant) uniform Push { VoxelizePush pc; };
 
@@ -117,8 +120,11 @@ void main() {
     vec3 an = abs(n);
     int k = (an.x >= an.y && an.x >= an.z) ? 0 : (an.y >= an.z ? 1 : 2);
     int u = (k + 1) % 3, w = (k + 2) % 3;
+    int rows = (vhi[u] - vlo[u]) / int(gl_NumWorkGroups.y) + 1;
+    int cuFirst = vlo[u] + int(gl_GlobalInvocationID.y) * rows;
+    int cuLast = min(vhi[u], cuFirst + rows - 1);
     float planeD = dot(n, p[0]);
-    for (int cu = vlo[u]; cu <= vhi[u]; ++cu) {
+    for (int cu = cuFirst; cu <= cuLast; ++cu) {
         for (int cw = vlo[w]; cw <= vhi[w]; ++cw) {
             // Plane height along k at the four column corners: k = (d - n_u*u - n_w*w) / n_k.
             float h00 = (planeD - n[u] * float(cu) - n[w] * float(cw)) / n[k];
