@@ -37,13 +37,14 @@ bool separatedOn(vec3 axis, vec3 v0, vec3 v1, vec3 v2) {
 // Triangle (vertices relative to the voxel centre, voxel units) against the unit box: the box
 // axes are covered by the caller's loop bounds; here the 9 edge cross products and the normal.
 bool overlapsUnitBox(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
-    vec3 e[3] = vec3[3](v1 - v0, v2 - v1, v0 - v2);
-    for (int i = 0; i < 3; ++i) {
-        if (separatedOn(vec3(0.0, -e[i].z, e[i].y), v0, v1, v2) ||
-            separatedOn(vec3(e[i].z, 0.0, -e[i].x), v0, v1, v2) ||
-            separatedOn(vec3(-e[i].y, e[i].x, 0.0), v0, v1, v2))
-            return false;
-    }
+    // Unrolled: llvmpipe keeps a dynamically indexed array in memory.
+    vec3 e0 = v1 - v0, e1 = v2 - v1, e2 = v0 - v2;
+    if (separatedOn(vec3(0.0, -e0.z, e0.y), v0, v1, v2) || separatedOn(vec3(e0.z, 0.0, -e0.x), v0, v1, v2) ||
+        separatedOn(vec3(-e0.y, e0.x, 0.0), v0, v1, v2) || separatedOn(vec3(0.0, -e1.z, e1.y), v0, v1, v2) ||
+        separatedOn(vec3(e1.z, 0.0, -e1.x), v0, v1, v2) || separatedOn(vec3(-e1.y, e1.x, 0.0), v0, v1, v2) ||
+        separatedOn(vec3(0.0, -e2.z, e2.y), v0, v1, v2) || separatedOn(vec3(e2.z, 0.0, -e2.x), v0, v1, v2) ||
+        separatedOn(vec3(-e2.y, e2.x, 0.0), v0, v1, v2))
+        return false;
     float r = 0.5 * (abs(n.x) + abs(n.y) + abs(n.z));
     return abs(dot(n, v0)) <= r + kSatSlack * (1.0 + r);
 }
