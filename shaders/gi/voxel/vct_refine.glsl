@@ -39,6 +39,10 @@ ivec2 vctQuadLeader(ivec2 q, vec4 pq, vec3 nq) {
     vec3 nm[3];
     for (int k = 0; k < kq; ++k) {
         ivec2 m = base + ivec2(k & 1, k >> 1);
+        pm[k] = vec4(0.0);
+        nm[k] = vec3(0.0, 0.0, 1.0);
+        if (any(greaterThanEqual(m, ivec2(pc.cones.info.zw))))
+            continue; // outside the image (odd sizes): not refined, never loaded
         pm[k] = imageLoad(gPosition, m);
         nm[k] = normalize(imageLoad(gNormal, m).xyz);
         ivec2 taps[4];
