@@ -8,6 +8,7 @@
 // level-0 texels (the list pass's clear zeroes level 0 and every writer of level 0 writes listed
 // voxels only), so its level-1 texels are 0, which the same clear wrote; ~10% of the blocks are
 // occupied, and level 1 reads the whole 6 N^3 level 0 in the dense dispatch.
+#extension GL_EXT_control_flow_attributes : require
 #include "gi/voxel_passes.h"
 
 #ifdef GI_VOXEL_MIP_LIST
@@ -25,7 +26,7 @@ vec4 over(vec4 front, vec4 back) { return front + (1.0 - front.a) * back; }
 // Direction `axis` (0..2), positive (the ray travels towards +axis: low coordinate in front).
 vec4 integrate(vec4 t[8], int axis, bool positive) {
     vec4 sum = vec4(0.0);
-    for (int i = 0; i < 8; ++i) {
+    [[unroll]] for (int i = 0; i < 8; ++i) {
         if (((i >> axis) & 1) != 0)
             continue; // i is the low voxel of its column along `axis`
         vec4 lo = t[i], hi = t[i | (1 << axis)];
@@ -36,7 +37,7 @@ vec4 integrate(vec4 t[8], int axis, bool positive) {
 
 vec4[8] gather(ivec3 base) {
     vec4 t[8];
-    for (int i = 0; i < 8; ++i)
+    [[unroll]] for (int i = 0; i < 8; ++i)
         t[i] = imageLoad(src, base + ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
     return t;
 }
@@ -54,7 +55,9 @@ void main() {
         return;
 #endif
     ivec3 base = 2 * c;
-    for (int d = 0; d < 6; ++d)
+    // Unrolled (with the loops above): every array index is a constant, so llvmpipe keeps the
+    // eight texels in registers instead of a dynamically indexed array in memory.
+    [[unroll]] for (int d = 0; d < 6; ++d)
         imageStore(dst, c + ivec3(0, 0, d * size), integrate(gather(base + ivec3(0, 0, 2 * d * size)), d >> 1,
                                                              (d & 1) == 0));
 }
