@@ -3,6 +3,9 @@
 // Le (1 + rho + rho^2), scale invariance from 1e-6 to 1e9 nits, and emissive-only lighting.
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <random>
+#include <set>
 #include <vector>
 
 #include "engine/context.hpp"
@@ -362,6 +365,60 @@ struct FurnaceResult {
     bool finite = true;
 };
 } // namespace
+
+// The occupied list the light and bounce passes run over (gi/voxel_passes.h): each occupied
+// voxel and 2^3 block exactly once, headers = their indirect dispatches, and the voxels in grid
+// order within each 32-voxel word (voxel_list_append.comp lists the occupancy bits).
+TEST_F(Vct, OccupiedListHoldsEachVoxelAndBlockOnceInGridOrder) {
+    TestScene scene;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> pos(0.05f, 0.95f), off(-0.15f, 0.15f);
+    std::vector<Tri> tris;
+    for (int i = 0; i < 150; ++i) {
+        glm::vec3 a(pos(rng), pos(rng), pos(rng));
+        tris.push_back({a, a + glm::vec3(off(rng), off(rng), off(rng)), a + glm::vec3(off(rng), off(rng), off(rng))});
+    }
+    scene.addDraw(tris, scene.addMaterial(glm::vec3(0.5f)));
+    setup(scene, {}, boxGrid(32, 1.0f));
+    VctSettings s;
+    s.bounces = 1;
+    runVoxels(s);
+    const uint32_t n = 32;
+    std::vector<uint8_t> albedo = readbackImage(ctx(), m_grid->volumes().albedo.image, VK_IMAGE_LAYOUT_GENERAL);
+    std::vector<uint8_t> bytes = readbackBuffer(ctx(), m_volumes->listState().buffer);
+    std::vector<uint32_t> words(bytes.size() / 4);
+    std::memcpy(words.data(), bytes.data(), words.size() * 4);
+    std::set<uint32_t> occupied, blocks;
+    for (uint32_t i = 0; i < n * n * n; ++i)
+        if (albedo[4 * i + 3] == 255) {
+            occupied.insert(i);
+            uint32_t x = i % n, y = i / n % n, z = i / (n * n);
+            blocks.insert(x / 2 + n / 2 * (y / 2 + n / 2 * (z / 2)));
+        }
+    ASSERT_GT(occupied.size(), 300u);
+    auto unpack = [](uint32_t v, uint32_t side) { return (v & 1023u) + side * (((v >> 10) & 1023u) + side * (v >> 20)); };
+    for (uint32_t quad : {0u, uint32_t(GI_VOXEL_LIST_BLOCKS)}) {
+        uint32_t count = words[quad + 3];
+        EXPECT_EQ(words[quad], (count + GI_VOXEL_LIST_GROUP - 1) / GI_VOXEL_LIST_GROUP);
+        EXPECT_EQ(words[quad + 1], 1u);
+        EXPECT_EQ(words[quad + 2], 1u);
+        uint32_t first = GI_VOXEL_LIST_HEADER + (quad == 0 ? 0 : n * n * n), side = quad == 0 ? n : n / 2;
+        std::set<uint32_t> listed;
+        uint32_t outOfOrder = 0;
+        for (uint32_t i = 0; i < count; ++i) {
+            uint32_t index = unpack(words[first + i], side);
+            listed.insert(index);
+            // Within one 32-voxel word the entries come in increasing order.
+            if (i > 0) {
+                uint32_t prev = unpack(words[first + i - 1], side);
+                outOfOrder += prev / 32 == index / 32 && prev >= index;
+            }
+        }
+        EXPECT_EQ(listed.size(), count) << "an entry listed twice";
+        EXPECT_TRUE(listed == (quad == 0 ? occupied : blocks)) << (quad == 0 ? "voxels" : "blocks");
+        EXPECT_EQ(outOfOrder, 0u);
+    }
+}
 
 class VctFurnace : public Vct {
 protected:

@@ -72,6 +72,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
         Pipeline* pipeline;
         const char* shader;
     } shaders[] = {{&v->m_compact, "gi/voxel/voxel_compact.comp"},
+                   {&v->m_listAppend, "gi/voxel/voxel_list_append.comp"},
                    {&v->m_light, "gi/voxel/voxel_light.comp"},
                    {&v->m_lightSoft, "gi/voxel/voxel_light_soft.comp"},
                    {&v->m_lightShadowMap, "gi/voxel/voxel_light_shadow_map.comp"},
@@ -109,7 +110,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
 
 VctVolumes::~VctVolumes() {
     destroyBuffer(m_ctx, m_list.buffer);
-    for (Pipeline* p : {&m_compact, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_mipList, &m_bounce, &m_bounceApply, &m_bounceAdd,
+    for (Pipeline* p : {&m_compact, &m_listAppend, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_mipList, &m_bounce, &m_bounceApply, &m_bounceAdd,
                         &m_trace, &m_traceRefine, &m_upsample, &m_softShadow})
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_aniso.image);
@@ -144,6 +145,13 @@ void VctVolumes::recordCompact(VkCommandBuffer cmd, VkBuffer touched) const {
     gpu::VoxelGridPush push{m_grid.params()};
     dispatchIndirect(m_ctx, cmd, m_compact, push, {bufferItem(0, touched), bufferItem(1, m_list.buffer.buffer)},
                      touched);
+}
+
+void VctVolumes::recordListAppend(VkCommandBuffer cmd) const {
+    uint32_t n = m_grid.resolution();
+    uint32_t words = (n * n * n + (n / 2) * (n / 2) * (n / 2)) / 32; // voxel and block bit words
+    gpu::VoxelGridPush push{m_grid.params()};
+    dispatch(m_ctx, cmd, m_listAppend, push, {bufferItem(1, m_list.buffer.buffer)}, glm::uvec3(words, 1u, 1u));
 }
 
 void VctVolumes::recordClearLevels01(VkCommandBuffer cmd, VkImageLayout layout) const {

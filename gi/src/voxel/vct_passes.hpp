@@ -74,6 +74,8 @@ public:
     // The voxels of a touched list of the grid (gi/voxel_passes.h; indirect over it) -> list,
     // each voxel and 2^3 block once (its header and bits cleared before).
     void recordCompact(VkCommandBuffer cmd, VkBuffer touched) const;
+    // The list's bits (recordCompact) -> its voxel and block entries in grid order (storage read-write).
+    void recordListAppend(VkCommandBuffer cmd) const;
     // Levels 0 and 1 of aniso() := 0 (transfer write, the image in `layout`): the voxel light
     // and the bounce add write level 0, the level-1 mip level 1, at listed voxels / blocks only.
     void recordClearLevels01(VkCommandBuffer cmd, VkImageLayout layout) const;
@@ -117,7 +119,7 @@ private:
     bool m_listBuilt = false;
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;
-    Pipeline m_compact, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_mipList, m_bounce, m_bounceApply, m_bounceAdd, m_trace, m_traceRefine,
+    Pipeline m_compact, m_listAppend, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_mipList, m_bounce, m_bounceApply, m_bounceAdd, m_trace, m_traceRefine,
         m_upsample, m_softShadow;
 };
 

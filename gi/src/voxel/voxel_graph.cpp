@@ -240,7 +240,8 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                 v->recordClearLevels01(ctx.cmd(), ctx.layout(aniso));
             });
         // One pass per touched list of the grid (the whole scene's or the static draws', then
-        // the dynamic draws'): each is an indirect dispatch over its list.
+        // the dynamic draws'), each an indirect dispatch over its list setting the list's
+        // occupancy bits, then one pass listing the set bits in grid order.
         for (rg::BufferHandle touched : {grid.touched, grid.touchedDynamic}) {
             if (!touched.valid())
                 continue;
@@ -253,6 +254,9 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                 },
                 [v, touched](rg::PassContext& ctx) { v->recordCompact(ctx.cmd(), ctx.buffer(touched).buffer); });
         }
+        graph.addPass(
+            "gi.vct.list.append", [&](rg::PassBuilder& b) { list = b.write(list, Access::ComputeStorageReadWrite); },
+            [v](rg::PassContext& ctx) { v->recordListAppend(ctx.cmd()); });
         volumes.setListBuilt(true);
     }
     VctOcclusion occlusion = settings.occlusion;
