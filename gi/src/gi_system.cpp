@@ -190,7 +190,7 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
     } else if (!request.composite && !request.indirect && !request.glossy && !request.ao) {
         // Persistent technique volumes would keep their passes alive in the graph: do not add them.
         selection.leaveOut(std::string("gi.") + toString(settings.technique) + ".*", LeftOutReason::NotNeeded,
-                           "no requested output reads indirect light (composite and indirect not requested)");
+                           "no requested output reads indirect light (composite, indirect, glossy and ao not requested)");
     } else {
         // A host's G-buffer may change without a camera move: view-dependent work re-runs each frame.
         techniqueChanges.camera = host || !lastTechniqueCamera ||
