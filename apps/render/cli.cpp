@@ -125,8 +125,8 @@ Usage: vkgi-render [options]
                       the path tracer's own paths of 2+ reflections; may be repeated
   --out-glossy FILE   vct: the glossy cone's radiance along the mirror direction (nits, before the
                       albedo * metallic weight of the indirect part); may be repeated
-  --out-ao FILE       vct: cone-traced ambient occlusion, visibility 1 - occlusion in [0, 1] (grey);
-                      may be repeated
+  --out-ao FILE       vct: cone-traced ambient occlusion, visibility 1 - occlusion in [0, 1] (grey;
+                      a PNG stores it without exposure or tone curve); may be repeated
   --spp N             path-tracer samples per pixel for --technique reference and --compare (default 64)
   --bounces K         reflections: 1 = direct only, -1 = unbounded. Default: the count the technique
                       models (none: 1, one indirect bounce: 2), or -1 for --technique reference.

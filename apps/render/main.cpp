@@ -115,11 +115,11 @@ Result<render::Errors> compare(const Scene& scene, const Camera& camera, const r
     return render::Errors{*full, *ind};
 }
 
-Result<void> writeImage(const std::filesystem::path& path, const HdrImage& image, float exposure) {
+Result<void> writeImage(const std::filesystem::path& path, const HdrImage& image, const ToneMap& toneMap) {
     std::error_code ec;
     if (path.has_parent_path())
         std::filesystem::create_directories(path.parent_path(), ec);
-    return path.extension() == ".exr" ? writeExr(path, image) : writePng(path, image, ToneMap{exposure, ToneMap::Curve::Aces});
+    return path.extension() == ".exr" ? writeExr(path, image) : writePng(path, image, toneMap);
 }
 
 } // namespace
@@ -185,7 +185,10 @@ int main(int argc, char** argv) {
         {&o.aoOutputs, &rendered->ao}};
     for (const auto& [paths, image] : parts)
         for (const std::filesystem::path& out : *paths) {
-            if (auto ok = writeImage(out, *image, o.exposure); !ok)
+            // AO is a visibility in [0, 1], not radiance: PNG stores it as is (no exposure, no curve).
+            ToneMap toneMap = image == &rendered->ao ? ToneMap{1.0f, ToneMap::Curve::Clamp}
+                                                     : ToneMap{o.exposure, ToneMap::Curve::Aces};
+            if (auto ok = writeImage(out, *image, toneMap); !ok)
                 return fail(1, ok.error().message);
             std::printf("wrote %s\n", out.string().c_str());
         }
