@@ -440,6 +440,28 @@ std::vector<glm::vec4> wallPositions(int n = 32) {
     return p;
 }
 
+// The GV corners of the wall of wallPositions ((kGrid + 1)^3, x fastest): the largest
+// deviation of an interior corner on the plane x = 4 from a full cosine lobe around +x
+// (`worst`), and the largest lobe off the plane (`off`).
+struct WallCheck {
+    float worst = 0.0f, off = 0.0f;
+};
+WallCheck checkWall(const std::vector<glm::vec4>& blocking) {
+    const int corners = kGrid + 1;
+    const glm::vec4 full = gpu::shCosineLobe(glm::vec3(1, 0, 0));
+    WallCheck c;
+    for (int z = 0; z < corners; ++z)
+        for (int y = 0; y < corners; ++y)
+            for (int x = 0; x < corners; ++x) {
+                glm::vec4 b = blocking[size_t(x + corners * (y + corners * z))];
+                if (x != 4)
+                    c.off = std::max(c.off, glm::length(b));
+                else if (y > 0 && y < kGrid && z > 0 && z < kGrid)
+                    c.worst = std::max(c.worst, glm::length(b - full));
+            }
+    return c;
+}
+
 } // namespace
 
 TEST_F(LpvInject, GeometryVolumeCountsASurfaceSeenTwiceOnceAndStopsLight) {
@@ -457,19 +479,9 @@ TEST_F(LpvInject, GeometryVolumeCountsASurfaceSeenTwiceOnceAndStopsLight) {
 
     // Interior corners of the wall: coverage 16 x 1/16 = 1 (not 2), lobe around +x (the
     // direction of the light it stops). float16: tolerance 1e-3. Off the plane: exactly zero.
-    const vec4 full = gpu::shCosineLobe(vec3(1, 0, 0));
-    float worst = 0.0f, off = 0.0f;
-    for (int z = 0; z < corners; ++z)
-        for (int y = 0; y < corners; ++y)
-            for (int x = 0; x < corners; ++x) {
-                vec4 b = volume.blocking[size_t(x + corners * (y + corners * z))];
-                if (x != 4)
-                    off = std::max(off, glm::length(b));
-                else if (y > 0 && y < kGrid && z > 0 && z < kGrid)
-                    worst = std::max(worst, glm::length(b - full));
-            }
-    EXPECT_LE(worst, 1e-3f);
-    EXPECT_EQ(off, 0.0f);
+    WallCheck wall = checkWall(volume.blocking);
+    EXPECT_LE(wall.worst, 1e-3f);
+    EXPECT_EQ(wall.off, 0.0f);
 
     // Leak: a cosine lobe facing the wall two cells in front of it, 16 steps (CPU reference,
     // which the GPU propagation matches: lpv_propagation_test). A fully covered face stops
@@ -511,20 +523,8 @@ TEST_F(LpvInject, CameraGeometryVolumeIsTheSameWhenTheGBufferIsSampledSparsely) 
     const std::vector<glm::vec4> nrm(pos.size(), glm::vec4(-1, 0, 0, 0));
     Image* camPos = uploaded(pos, VK_FORMAT_R32G32B32A32_SFLOAT, 64, 64, false);
     Image* camNrm = uploaded(nrm, VK_FORMAT_R16G16B16A16_SFLOAT, 64, 64, false);
-    const int corners = kGrid + 1;
-    const std::vector<vec4> blocking = geometryVolume(nullptr, nullptr, 0, camPos, camNrm, 64, 64);
-    const vec4 full = gpu::shCosineLobe(vec3(1, 0, 0));
-    float worst = 0.0f, off = 0.0f;
-    for (int z = 0; z < corners; ++z)
-        for (int y = 0; y < corners; ++y)
-            for (int x = 0; x < corners; ++x) {
-                vec4 b = blocking[size_t(x + corners * (y + corners * z))];
-                if (x != 4)
-                    off = std::max(off, glm::length(b));
-                else if (y > 0 && y < kGrid && z > 0 && z < kGrid)
-                    worst = std::max(worst, glm::length(b - full));
-            }
-    EXPECT_LE(worst, 1e-3f);
-    EXPECT_EQ(off, 0.0f);
+    WallCheck wall = checkWall(geometryVolume(nullptr, nullptr, 0, camPos, camNrm, 64, 64));
+    EXPECT_LE(wall.worst, 1e-3f);
+    EXPECT_EQ(wall.off, 0.0f);
     EXPECT_EQ(validation().count(), 0u);
 }

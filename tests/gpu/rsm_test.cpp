@@ -10,6 +10,7 @@
 #include "gi/frame_data.hpp"
 #include "gi/gi.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/test_scenes.hpp"
 
 using namespace vkgi;
 
@@ -75,18 +76,7 @@ protected:
 };
 
 Scene bigPlane(float albedo, float halfSize) {
-    Scene s;
-    s.name = "plane";
-    Mesh m;
-    const float h = halfSize;
-    m.positions = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
-    m.normals.assign(4, glm::vec3(0, 1, 0));
-    m.indices = {0, 2, 1, 0, 3, 2};
-    s.meshes.push_back(m);
-    Material mat;
-    mat.baseColor = glm::vec4(glm::vec3(albedo), 1.0f);
-    s.materials.push_back(mat);
-    s.instances.push_back({});
+    Scene s = test::plane(albedo, halfSize);
     Camera c;
     c.position = {0.0f, 3.0f, 0.1f};
     c.forward = {0.0f, -1.0f, 0.0f};

@@ -2,11 +2,11 @@
 
 namespace vkgi::test {
 
-Scene planeScene(float albedo, const Light& light) {
+Scene plane(float albedo, float halfSize) {
     Scene s;
     s.name = "plane";
     Mesh m;
-    const float h = 10.0f;
+    const float h = halfSize;
     m.positions = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
     m.normals.assign(4, glm::vec3(0, 1, 0));
     m.indices = {0, 2, 1, 0, 3, 2};
@@ -15,6 +15,11 @@ Scene planeScene(float albedo, const Light& light) {
     mat.baseColor = glm::vec4(glm::vec3(albedo), 1.0f);
     s.materials.push_back(mat);
     s.instances.push_back({});
+    return s;
+}
+
+Scene planeScene(float albedo, const Light& light) {
+    Scene s = plane(albedo, 10.0f);
     s.lights.push_back(light);
     Camera c;
     c.position = {0.0f, 3.0f, 0.0f};
