@@ -70,6 +70,14 @@ std::vector<glm::vec4> readFloat4(Context& ctx, const Image& img) {
     return out;
 }
 
+// Texel of view `dir` of voxel or block c in a readback of one level of the directional volume
+// (voxel_passes.h: a 2D array, level k (N >> k)^2 texels per layer, N layers per view).
+glm::vec4 anisoTexel(const std::vector<glm::vec4>& level, uint32_t n, uint32_t mip, glm::ivec3 c, uint32_t dir) {
+    glm::ivec3 t = gpu::voxelAnisoTexel(c, dir, n);
+    size_t size = n >> mip;
+    return level[(size_t(t.z) * size + size_t(t.y)) * size + size_t(t.x)];
+}
+
 std::vector<glm::vec4> readHalf4(Context& ctx, const Image& img, uint32_t mip = 0) {
     auto bytes = readbackImage(ctx, img, VK_IMAGE_LAYOUT_GENERAL, mip);
     const auto* h = reinterpret_cast<const uint16_t*>(bytes.data());
@@ -258,7 +266,7 @@ TEST_F(Vct, VoxelDirectLightMatchesTheClosedForm) {
     const auto& p = m_grid->params();
     auto view = [&](glm::vec3 w, uint32_t tile) { // level-0 view: tile 3 = travelling -Y, 2 = +Y
         glm::ivec3 c = glm::ivec3(glm::floor((w - glm::vec3(p.originSize)) / p.originSize.w));
-        return rad[(size_t(c.z + 32 * tile) * 32 + c.y) * 32 + c.x];
+        return anisoTexel(rad, 32, 0, c, tile);
     };
     auto at = [&](glm::vec3 w) { return view(w, 3); };
     // Voxel containing (0.5, 0, 0.5): its centre is the floor point under the light (the grid
@@ -324,7 +332,7 @@ TEST_F(Vct, AnisotropicMipsPreIntegrateFrontToBack) {
     s.bounces = 1;
     runVoxels(s);
     auto level1 = [&](uint32_t dir, glm::uvec3 c) {
-        return readHalf4(ctx(), m_volumes->aniso(), 1)[((c.z + 8 * dir) * 8 + c.y) * 8 + c.x]; // tile dir
+        return anisoTexel(readHalf4(ctx(), m_volumes->aniso(), 1), 16, 1, glm::ivec3(c), dir);
     };
     // Single voxel in a 2x2x2 block: along any axis one of four columns holds it, so direction
     // v sees (shown * L * a_k, a_k) / 4, a_k = |n_k| / max_j |n_j| with the coverages quantised
@@ -354,7 +362,8 @@ TEST_F(Vct, AnisotropicMipsPreIntegrateFrontToBack) {
     EXPECT_FLOAT_EQ(py.r, 0.0f);
     // Coarsest level (1^3) stays within [0, 1] opacity and finite.
     for (uint32_t dir = 0; dir < 6; ++dir) {
-        glm::vec4 top = readHalf4(ctx(), m_volumes->aniso(), m_volumes->anisoLevels() - 1)[dir];
+        uint32_t coarsest = m_volumes->anisoLevels() - 1;
+        glm::vec4 top = anisoTexel(readHalf4(ctx(), m_volumes->aniso(), coarsest), 16, coarsest, glm::ivec3(0), dir);
         EXPECT_TRUE(std::isfinite(top.r) && top.a >= 0.0f && top.a <= 1.0f);
     }
 }

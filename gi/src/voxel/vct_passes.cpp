@@ -11,12 +11,13 @@ namespace vkgi::gi {
 
 namespace {
 
-Image createRadianceVolume(Context& ctx, uint32_t n, uint32_t depth, uint32_t mips, const char* name) {
+// The directional volume (voxel_passes.h): N x N, GI_VOXEL_ANISO_DIRECTIONS * N layers.
+Image createDirectionalVolume(Context& ctx, uint32_t n, uint32_t mips, const char* name) {
     ImageDesc d;
-    d.type = VK_IMAGE_TYPE_3D;
+    d.type = VK_IMAGE_TYPE_2D;
     d.format = VK_FORMAT_R16G16B16A16_SFLOAT;
     d.width = d.height = n;
-    d.depth = depth;
+    d.arrayLayers = GI_VOXEL_ANISO_DIRECTIONS * n;
     d.mipLevels = mips;
     d.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
               VK_IMAGE_USAGE_TRANSFER_DST_BIT;
@@ -93,7 +94,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     }
     uint32_t n = grid.resolution();
     v->m_levels = uint32_t(std::countr_zero(n)) + 1; // N^3 down to 1^3
-    v->m_aniso.image = createRadianceVolume(ctx, n, GI_VOXEL_ANISO_DIRECTIONS * n, v->m_levels, "vct.aniso");
+    v->m_aniso.image = createDirectionalVolume(ctx, n, v->m_levels, "vct.aniso");
     BufferDesc list;
     // Header, voxel and block slots, the voxels' and blocks' "listed" bits, the 4^3 blocks' bits.
     list.size = VkDeviceSize(GI_VOXEL_LIST_HEADER + gpu::voxelListWords(n)) * sizeof(uint32_t);
@@ -156,7 +157,7 @@ void VctVolumes::recordListAppend(VkCommandBuffer cmd) const {
 
 void VctVolumes::recordClearLevels01(VkCommandBuffer cmd, VkImageLayout layout) const {
     VkClearColorValue zero{};
-    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 2, 0, 1};
+    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 2, 0, VK_REMAINING_ARRAY_LAYERS};
     vkCmdClearColorImage(cmd, m_aniso.image.image, layout, &zero, 1, &range);
 }
 

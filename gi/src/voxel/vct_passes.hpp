@@ -50,7 +50,7 @@ public:
     VctVolumes(const VctVolumes&) = delete;
     VctVolumes& operator=(const VctVolumes&) = delete;
 
-    // Packed +X, -X, +Y, -Y, +Z, -Z view tiles (voxel_passes.h), levels N^3 (the voxels) .. 1^3.
+    // The +X, -X, +Y, -Y, +Z, -Z views as one 2D array (voxel_passes.h), levels N^3 (the voxels) .. 1^3.
     const Image& aniso() const { return m_aniso.image; }
     // Persistent state for the graph import.
     rg::PersistentImage& anisoState() { return m_aniso; }

@@ -12,7 +12,7 @@ layout(push_constant) uniform Push { VoxelGridPush pc; };
 layout(set = 1, binding = 0, rgba8) uniform readonly image3D normalVol;
 layout(set = 1, binding = 1, r32ui) uniform readonly uimage3D facesVol;
 layout(set = 1, binding = 2, rgba16f) uniform readonly image3D bounce;
-layout(set = 1, binding = 3, rgba16f) uniform image3D anisoLevel0;
+layout(set = 1, binding = 3, rgba16f) uniform image2DArray anisoLevel0;
 layout(set = 1, binding = 4, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint entries[]; };
 
 void main() {
@@ -24,7 +24,7 @@ void main() {
         return;
     vec3 normal = voxelNormalDecode(imageLoad(normalVol, c).xyz);
     uint faces = imageLoad(facesVol, c).x;
-    int n = int(pc.grid.dims.x);
+    uint n = pc.grid.dims.x;
     for (uint v = 0u; v < GI_VOXEL_ANISO_DIRECTIONS; ++v) {
         uint d = v ^ 1u; // the faces a ray travelling along v sees look towards v ^ 1
         float towards = (d & 1u) == 0u ? normal[d >> 1u] : -normal[d >> 1u];
@@ -33,7 +33,7 @@ void main() {
             continue;
         float axisCover = voxelFaceCoverage(faces, 2u * (v >> 1u)) + voxelFaceCoverage(faces, 2u * (v >> 1u) + 1u);
         float shown = min(1.0, 2.0 * front / axisCover);
-        ivec3 t = c + ivec3(0, 0, int(v) * n);
+        ivec3 t = voxelAnisoTexel(c, v, n);
         vec4 texel = imageLoad(anisoLevel0, t);
         texel.rgb = min(texel.rgb + b * (texel.a * shown), vec3(65000.0));
         imageStore(anisoLevel0, t, texel);

@@ -1,8 +1,8 @@
 // Cone tracing through the voxel radiance (Crassin et al. 2011). The includer declares nothing
-// at bindings 0..1; binding 1 is the packed directional volume (six view tiles stacked along
-// z, level 0 the voxels themselves, level k the 2^k-voxel blocks; voxel_passes.h). Everything
-// is in grid units (voxels); radiance stays scaled by radianceScale.
-layout(set = 1, binding = 1) uniform sampler3D aniso;
+// at bindings 0..1; binding 1 is the directional volume (a 2D array: per viewing direction a
+// stack of slices across its axis, level 0 the voxels themselves, level k the 2^k-voxel blocks;
+// voxel_passes.h). Everything is in grid units (voxels); radiance stays scaled by radianceScale.
+layout(set = 1, binding = 1) uniform sampler2DArray aniso;
 
 // Cones start this far (voxels) from their origin, which callers already offset by one voxel
 // along the normal: together they clear the surface's own (conservatively thick) voxel.
@@ -29,24 +29,20 @@ float opticalDepth(float a) {
 // its opacity at 64^3, more the finer the grid, i.e. the coarser the level its walls are
 // reached at). The radiance is the mean of the views' radiances weighted by what each
 // contributes to the extinction, so an opaque face-on view hides the edge-on views behind it.
-// Tiles are picked by arithmetic, not by branching, so SIMD lanes with different directions
-// still take one path (three fetches instead of up to six). Along z the coordinate is clamped
-// half a texel of the coarser of the two levels inside the tile, so filtering never reads the
-// neighbouring tile; beyond the grid in z the sample is empty, as the border is in x and y.
+// Stacks are picked by arithmetic, not by branching, so SIMD lanes with different directions
+// still take one path (three fetches instead of up to six).
 vec4 sampleAniso(vec3 uvw, vec3 dir, float lod, bool ahead) {
-    if (uvw.z < 0.0 || uvw.z > 1.0)
-        return vec4(0.0);
-    float levels = float(textureQueryLevels(aniso));
-    float tileTexels = float(textureSize(aniso, 0).x) / exp2(min(ceil(lod), levels - 1.0));
-    float z = clamp(uvw.z, 0.5 / tileTexels, 1.0 - 0.5 / tileTexels);
+    float n = float(textureSize(aniso, 0).x); // N: layers per view at every level
+    float texels = n * exp2(-lod);            // this level's resolution
     vec3 w = abs(dir);
-    vec3 tile = vec3(0.0, 2.0, 4.0) + step(dir, vec3(0.0)); // +X,-X,+Y,-Y,+Z,-Z = 0..5
+    vec3 stack = (vec3(0.0, 2.0, 4.0) + step(dir, vec3(0.0))) * n; // first layer of +X,-X,+Y,-Y,+Z,-Z
     // Each view is read at the centre of its texel along its own axis (filtered across it): a
     // texel of view k is a slab along k whose opacity already integrates what lies along k, so
     // the steps that fall inside it add up to its optical depth. Filtering along k as well
     // turned a one-voxel sheet into a two-texel tent of partial opacities whose optical depths
     // -ln(1 - a) integrate to 2 instead of the sheet's 7.6: 13% of the light crossed every
-    // opaque wall (the furnace's "filtering loss").
+    // opaque wall (the furnace's "filtering loss"). So the sample of view k is one layer (the
+    // slab's slice), filtered bilinearly across the other two axes.
     // Which texel along the view's axis: the one holding the sample, or with `ahead` (gathering
     // cones, levels >= 1) the first whose centre lies ahead of the sample in the travel
     // direction. A view of a texel is what a ray crossing the whole texel along k sees first;
@@ -62,15 +58,17 @@ vec4 sampleAniso(vec3 uvw, vec3 dir, float lod, bool ahead) {
     // holds no wall's far side next to its near side (walls of two voxels or more). Shadow
     // cones (coneVisibility) keep it at every level: an occluder right at the receiver's side
     // must still shade it.
-    vec3 q = vec3(uvw.xy, z) * tileTexels; // in texels of this level
-    vec3 centred = floor(q) + 0.5;
+    vec3 q = uvw * texels; // in texels of this level
+    vec3 slice = floor(q);
     if (ahead && lod >= 0.5)
-        centred = mix(floor(q + 0.5) - 0.5, ceil(q - 0.5) + 0.5, step(0.0, dir));
-    centred = centred / tileTexels;
-    centred.z = clamp(centred.z, 0.5 / tileTexels, 1.0 - 0.5 / tileTexels);
-    vec4 sx = textureLod(aniso, vec3(centred.x, uvw.y, (tile.x + z) / 6.0), lod);
-    vec4 sy = textureLod(aniso, vec3(uvw.x, centred.y, (tile.y + z) / 6.0), lod);
-    vec4 sz = textureLod(aniso, vec3(uvw.xy, (tile.z + centred.z) / 6.0), lod);
+        slice = mix(floor(q + 0.5) - 1.0, ceil(q - 0.5), step(0.0, dir));
+    // Beyond the grid every view is empty: across its axis the sampler's border, along it a
+    // slice outside [0, texels) (whose layer would belong to another slice or view) weighs 0.
+    vec3 inside = step(vec3(0.0), slice) * step(slice, vec3(texels - 1.0));
+    vec3 layer = stack + clamp(slice, vec3(0.0), vec3(texels - 1.0));
+    vec4 sx = inside.x * textureLod(aniso, vec3(uvw.yz, layer.x), lod);
+    vec4 sy = inside.y * textureLod(aniso, vec3(uvw.xz, layer.y), lod);
+    vec4 sz = inside.z * textureLod(aniso, vec3(uvw.xy, layer.z), lod);
     vec3 tau = w * vec3(opticalDepth(sx.a), opticalDepth(sy.a), opticalDepth(sz.a));
     float depth = tau.x + tau.y + tau.z;
     // radiance of view k = rgb_k / a_k (premultiplied); weights tau_k / depth

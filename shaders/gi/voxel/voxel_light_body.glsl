@@ -31,7 +31,7 @@ vec4 albedoAt(ivec3 c) { return texelFetch(albedoVol, c, 0); }
 layout(set = 1, binding = 4, rgba8) uniform readonly image3D albedoVol; // a = occupancy
 vec4 albedoAt(ivec3 c) { return imageLoad(albedoVol, c); }
 #endif
-layout(set = 1, binding = 5, rgba16f) uniform writeonly image3D anisoOut; // level 0 of the directional volume
+layout(set = 1, binding = 5, rgba16f) uniform writeonly image2DArray anisoOut; // level 0 of the directional volume
 layout(set = 1, binding = 6, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint voxels[]; };
 layout(set = 1, binding = 10, r32ui) uniform readonly uimage3D facesVol;
 #ifdef GI_VOXEL_LIGHT_SHADOW_MAP
@@ -213,7 +213,7 @@ void main() {
     // wall (equal front and back) shows its front, a one-sided sheet seen from behind is black
     // (its back is the inside of a closed surface), like the path tracer's one-sided faces.
     float maxCover = max(max(cover[0] + cover[1], cover[2] + cover[3]), cover[4] + cover[5]);
-    int n = int(pc.grid.dims.x);
+    uint n = pc.grid.dims.x;
     for (uint v = 0u; v < 6u; ++v) {
         uint k = v >> 1u;
         float axisCover = cover[2u * k] + cover[2u * k + 1u];
@@ -227,6 +227,6 @@ void main() {
         // re-voxelization wrote that, and it depends on the geometry alone. Skipping its store
         // saves four of six scattered half-float stores for a flat wall.
         if (alpha > 0.0)
-            imageStore(anisoOut, c + ivec3(0, 0, int(v) * n), vec4(rgb, alpha));
+            imageStore(anisoOut, voxelAnisoTexel(c, v, n), vec4(rgb, alpha));
     }
 }

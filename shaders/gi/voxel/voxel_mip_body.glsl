@@ -2,8 +2,8 @@
 // covers 2x2x2 source voxels; for each of the six viewing directions the two source voxels
 // along that direction are composited front to back (premultiplied, c = c_f + (1 - a_f) c_b),
 // then the four resulting columns are averaged, each from the same direction's tile one level
-// finer (level 0: the voxels' own views). The six directions are tiles stacked along z of one
-// image (see voxel_passes.h). With GI_VOXEL_MIP_LIST (level 1 only, voxel_mip_list.comp) one
+// finer (level 0: the voxels' own views). The six directions are stacks of layers of one 2D
+// array image, addressed by voxelAnisoTexel (voxel_passes.h). With GI_VOXEL_MIP_LIST (level 1 only, voxel_mip_list.comp) one
 // invocation per listed occupied 2^3 block: a block without occupied voxels has only empty
 // level-0 texels (the list pass's clear zeroes level 0 and every writer of level 0 writes listed
 // voxels only), so its level-1 texels are 0, which the same clear wrote; ~10% of the blocks are
@@ -18,8 +18,8 @@ layout(set = 1, binding = 2, std430) readonly buffer List { uint header[GI_VOXEL
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #endif
 layout(push_constant) uniform Push { VoxelMipPush pc; };
-layout(set = 1, binding = 0, rgba16f) uniform readonly image3D src; // aniso level - 1
-layout(set = 1, binding = 1, rgba16f) uniform writeonly image3D dst; // aniso level
+layout(set = 1, binding = 0, rgba16f) uniform readonly image2DArray src; // aniso level - 1
+layout(set = 1, binding = 1, rgba16f) uniform writeonly image2DArray dst; // aniso level
 
 vec4 over(vec4 front, vec4 back) { return front + (1.0 - front.a) * back; }
 
@@ -35,19 +35,20 @@ vec4 integrate(vec4 t[8], int axis, bool positive) {
     return 0.25 * sum;
 }
 
-vec4[8] gather(ivec3 base) {
+// The 2x2x2 block at `base` (level - 1) of view d.
+vec4[8] gather(ivec3 base, uint d, uint n) {
     vec4 t[8];
     [[unroll]] for (int i = 0; i < 8; ++i)
-        t[i] = imageLoad(src, base + ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
+        t[i] = imageLoad(src, voxelAnisoTexel(base + ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1), d, n));
     return t;
 }
 
 void main() {
     int size = int(pc.info.y);
+    uint n = pc.grid.dims.x;
 #ifdef GI_VOXEL_MIP_LIST
     if (gl_GlobalInvocationID.x >= header[GI_VOXEL_LIST_BLOCKS + 3u])
         return;
-    uint n = pc.grid.dims.x;
     ivec3 c = ivec3(voxelListUnpack(entries[n * n * n + gl_GlobalInvocationID.x]));
 #else
     ivec3 c = ivec3(gl_GlobalInvocationID);
@@ -58,6 +59,5 @@ void main() {
     // Unrolled (with the loops above): every array index is a constant, so llvmpipe keeps the
     // eight texels in registers instead of a dynamically indexed array in memory.
     [[unroll]] for (int d = 0; d < 6; ++d)
-        imageStore(dst, c + ivec3(0, 0, d * size), integrate(gather(base + ivec3(0, 0, 2 * d * size)), d >> 1,
-                                                             (d & 1) == 0));
+        imageStore(dst, voxelAnisoTexel(c, uint(d), n), integrate(gather(base, uint(d), n), d >> 1, (d & 1) == 0));
 }

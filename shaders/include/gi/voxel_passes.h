@@ -20,18 +20,32 @@ GI_GPU_STRUCT(VoxelizePush) {
 GI_CHECK_SIZE(VoxelizePush, 64);
 
 // The directional radiance volume written by the VCT passes:
-//   aniso     RGBA16F N x N x 6N with log2(N) + 1 mips: six tiles stacked along z, one per
-//             viewing direction in the order +X, -X, +Y, -Y, +Z, -Z (tile d of level k spans
-//             z in [d s_k, (d+1) s_k), s_k = N >> k). Texel = what a ray travelling along that
-//             direction sees of the 2^k-voxel block: rgb = outgoing radiance * radianceScale,
-//             premultiplied by a = opacity. Level 0 holds the voxels themselves (the voxel light
-//             writes it per facing direction, voxel_light_body.glsl), level k >= 1 the blocks,
-//             front-to-back composited from level k - 1 (Crassin's pre-integration). One image
-//             instead of six lets a cone pick its three tiles by arithmetic, without divergent
-//             branches. Empty voxels are 0.
+//   aniso     RGBA16F 2D array, N x N texels, 6N layers, log2(N) + 1 mips: one stack of N layers
+//             per viewing direction d in the order +X, -X, +Y, -Y, +Z, -Z, each layer a slice
+//             across d's own axis (voxelAnisoTexel: layer d N + s for slice s along the axis,
+//             2D coordinates the other two axes in order: X views (y, z), Y views (x, z), Z views
+//             (x, y)). Level k is (N >> k)^2 and uses the first N >> k layers of each stack (the
+//             array keeps 6N layers at every level; the rest are never written or read). Texel =
+//             what a ray travelling along that direction sees of the 2^k-voxel block: rgb =
+//             outgoing radiance * radianceScale, premultiplied by a = opacity. Level 0 holds the
+//             voxels themselves (the voxel light writes it per facing direction,
+//             voxel_light_body.glsl), level k >= 1 the blocks, front-to-back composited from level
+//             k - 1 (Crassin's pre-integration). A cone reads each view at its texel's centre
+//             along the view's axis, so a view's sample is one layer filtered bilinearly (4
+//             texels, voxel_cone.glsl) where a 3D volume's trilinear fetch read 8, 4 of them with
+//             weight 0; lavapipe's cost grows with the texels a fetch reads. One image instead of
+//             six lets a cone pick its three stacks by arithmetic, without divergent branches.
+//             Empty voxels are 0. ~17% more memory than six 3D chains (8 N^3 texels, not 48/7 N^3).
 //   bounce    RGBA16F N^3 (transient): the second bounce's albedo * E / pi per voxel, added to
 //             the level-0 views that look at the voxel's normal side (voxel_bounce_add.comp).
 #define GI_VOXEL_ANISO_DIRECTIONS 6
+// Texel (x, y, layer) of aniso holding view d (0..5) of voxel or block c at any level; n = N
+// (the level-0 resolution: every level keeps N layers per view).
+GI_INLINE ivec3 voxelAnisoTexel(ivec3 c, uint d, uint n) {
+    uint axis = d >> 1u;
+    ivec3 t = axis == 0u ? ivec3(c.y, c.z, c.x) : (axis == 1u ? ivec3(c.x, c.z, c.y) : c);
+    return t + ivec3(0, 0, int(d * n));
+}
 
 // Touched-voxel lists of the grid (VoxelGrid; one for the static or whole-scene voxelization,
 // one for the dynamic draws): voxelize.comp appends a voxel when it makes the voxel's first
