@@ -2,6 +2,8 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <string>
+#include <vector>
 
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_vulkan.h>
@@ -23,10 +25,20 @@ double knobValue(const gi::Knob& knob, const gi::GiSettings& s) {
     std::string text = knob.get(s);
     if (knob.kind == gi::Knob::Kind::Bool)
         return (text == "on" || text == "true" || text == "1") ? 1.0 : 0.0;
+    if (knob.kind == gi::Knob::Kind::Enum) {
+        for (size_t i = 0; i < knob.choices.size(); ++i)
+            if (knob.choices[i] == text)
+                return double(i);
+        return 0.0;
+    }
     return std::strtod(text.c_str(), nullptr);
 }
 
 std::string knobText(const gi::Knob& knob, double value) {
+    if (knob.kind == gi::Knob::Kind::Bool)
+        return value != 0.0 ? "on" : "off";
+    if (knob.kind == gi::Knob::Kind::Enum)
+        return knob.choices.at(size_t(value));
     char buf[64];
     if (knob.kind == gi::Knob::Kind::Float)
         std::snprintf(buf, sizeof(buf), "%.9g", value);
@@ -155,6 +167,13 @@ bool Ui::knobControls(gi::GiSettings& edited) {
             bool on = value != 0.0;
             commit = ImGui::Checkbox(knob.name.c_str(), &on);
             value = on ? 1.0 : 0.0;
+        } else if (knob.kind == gi::Knob::Kind::Enum) {
+            int current = int(value);
+            std::vector<const char*> names;
+            for (const std::string& c : knob.choices)
+                names.push_back(c.c_str());
+            commit = ImGui::Combo(knob.name.c_str(), &current, names.data(), int(names.size()));
+            value = current;
         } else if (knob.kind == gi::Knob::Kind::Uint) {
             uint32_t v = uint32_t(value), lo = uint32_t(knob.min), hi = uint32_t(knob.max);
             ImGui::DragScalar(knob.name.c_str(), ImGuiDataType_U32, &v, 0.2f, &lo, &hi, nullptr,
@@ -173,9 +192,7 @@ bool Ui::knobControls(gi::GiSettings& edited) {
             ImGui::SetTooltip("%s", knob.help.c_str());
         ImGui::PopID();
         if (commit) {
-            auto ok =
-                gi::setKnob(edited, knob.name,
-                            knob.kind == gi::Knob::Kind::Bool ? (value != 0.0 ? "on" : "off") : knobText(knob, value));
+            auto ok = gi::setKnob(edited, knob.name, knobText(knob, value));
             m_knobError = ok ? std::string() : ok.error().message;
             changed = changed || ok.ok();
         }

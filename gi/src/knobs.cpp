@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <type_traits>
 
 namespace vkgi::gi {
 
@@ -33,6 +34,27 @@ Knob boolKnob(const char* name, std::optional<Technique> t, const char* help, Fi
     return {name, help, Knob::Kind::Bool, 0, 1, t,
             [field](const GiSettings& s) { return std::string(field(const_cast<GiSettings&>(s)) ? "on" : "off"); },
             [field](GiSettings& s, double v) { field(s) = v != 0.0; }};
+}
+
+// An enum field (any enum class with values 0 .. names - 1), set and shown by name.
+template <typename Field>
+Knob enumKnob(const char* name, std::vector<std::string> names, std::optional<Technique> t, const char* help,
+              Field field) {
+    Knob k{name, help, Knob::Kind::Enum, 0, double(names.size() - 1), t,
+           [field, names](const GiSettings& s) { return names.at(size_t(field(const_cast<GiSettings&>(s)))); },
+           [field](GiSettings& s, double v) {
+               using E = std::remove_reference_t<decltype(field(s))>;
+               field(s) = E(uint32_t(v));
+           }};
+    k.choices = std::move(names);
+    return k;
+}
+
+std::string joinChoices(const Knob& k) {
+    std::string out;
+    for (const std::string& c : k.choices)
+        out += (out.empty() ? "" : "|") + c;
+    return out;
 }
 
 std::vector<Knob> makeKnobs() {
@@ -103,6 +125,9 @@ std::vector<Knob> makeKnobs() {
                  [](GiSettings& s) -> bool& { return s.vct.softShadows; }),
         floatKnob("vct.shadow_aperture", 0.001, 1, vct, "half-angle of the shadow cones, radians",
                   [](GiSettings& s) -> float& { return s.vct.shadowAperture; }),
+        enumKnob("vct.occlusion", {"hard", "soft", "shadowmap"}, vct,
+                 "voxel light visibility: march through the occupancy (hard, soft) or the shadow map",
+                 [](GiSettings& s) -> VctOcclusion& { return s.vct.occlusion; }),
     };
 }
 
@@ -114,6 +139,12 @@ Result<double> parseValue(const Knob& k, std::string_view text) {
         if (t == "off" || t == "false" || t == "0")
             return 0.0;
         return makeError(k.name + ": '" + t + "' is not on/off/true/false/1/0");
+    }
+    if (k.kind == Knob::Kind::Enum) {
+        for (size_t i = 0; i < k.choices.size(); ++i)
+            if (t == k.choices[i])
+                return double(i);
+        return makeError(k.name + ": '" + t + "' is not one of " + joinChoices(k));
     }
     double v = 0.0;
     if (k.kind == Knob::Kind::Uint) {
@@ -182,7 +213,9 @@ std::string knobHelp() {
     GiSettings defaults;
     std::string out;
     for (const Knob& k : knobs()) {
-        std::string range = k.kind == Knob::Kind::Bool ? "on|off" : "[" + fmt(k.min) + ", " + fmt(k.max) + "]";
+        std::string range = k.kind == Knob::Kind::Bool   ? "on|off"
+                            : k.kind == Knob::Kind::Enum ? joinChoices(k)
+                                                         : "[" + fmt(k.min) + ", " + fmt(k.max) + "]";
         char line[256];
         std::snprintf(line, sizeof line, "  --%-22s %-14s %s (default %s)\n", k.name.c_str(), range.c_str(),
                       k.help.c_str(), k.get(defaults).c_str());

@@ -14,7 +14,9 @@ TEST(Knobs, NamesAreUniqueAndDefaultsAreInRange) {
     for (const Knob& k : knobs()) {
         EXPECT_TRUE(names.insert(k.name).second) << k.name;
         EXPECT_NE(k.name.find('.'), std::string::npos) << k.name << ": names are group.knob";
-        if (k.kind != Knob::Kind::Bool) {
+        if (k.kind == Knob::Kind::Enum) {
+            EXPECT_EQ(k.max + 1.0, double(k.choices.size())) << k.name;
+        } else if (k.kind != Knob::Kind::Bool) {
             double v = std::stod(k.get(defaults));
             EXPECT_GE(v, k.min) << k.name;
             EXPECT_LE(v, k.max) << k.name;
@@ -34,6 +36,11 @@ TEST(Knobs, SetReachesTheField) {
     EXPECT_FALSE(s.lpv.occlusion);
     ASSERT_TRUE(setKnob(s, "shadow.pcf", "2"));
     EXPECT_EQ(s.pcfRadius, 2u);
+    ASSERT_TRUE(setKnob(s, "vct.occlusion", "soft"));
+    EXPECT_EQ(s.vct.occlusion, VctOcclusion::RayMarchSoft);
+    ASSERT_TRUE(setKnob(s, "vct.occlusion", "shadowmap"));
+    EXPECT_EQ(s.vct.occlusion, VctOcclusion::ShadowMap);
+    EXPECT_EQ(findKnob("vct.occlusion")->get(s), "shadowmap");
     s.technique = Technique::Lpv;
     EXPECT_EQ(describeKnobs(s),
               "grid=64 iterations=8 occlusion=off bounces=off damping=0.25 cascades=1 half=on rsm_reduce=4");
@@ -51,6 +58,8 @@ TEST(Knobs, BadValuesAreOneLineErrorsNamingTheKnob) {
         {"lpv.damping", "inf", "not finite"},         {"lpv.damping", "1.5", "out of range"},
         {"lpv.damping", "0.5.1", "not a number"},     {"lpv.half", "maybe", "not on/off"},
         {"lpv.nope", "1", "unknown setting 'lpv.nope'"},
+        {"vct.occlusion", "2", "not one of hard|soft|shadowmap"},
+        {"vct.occlusion", "Hard", "not one of hard|soft|shadowmap"},
     };
     for (const Case& c : cases) {
         auto r = setKnob(s, c.name, c.value);
@@ -67,4 +76,6 @@ TEST(Knobs, HelpListsEveryKnobWithItsDefault) {
     for (const Knob& k : knobs())
         EXPECT_NE(help.find("--" + k.name), std::string::npos) << k.name;
     EXPECT_NE(help.find("(default 32)"), std::string::npos);
+    EXPECT_NE(help.find("hard|soft|shadowmap"), std::string::npos);
+    EXPECT_NE(help.find("(default hard)"), std::string::npos);
 }

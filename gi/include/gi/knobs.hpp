@@ -14,20 +14,21 @@
 namespace vkgi::gi {
 
 struct Knob {
-    enum class Kind { Uint, Float, Bool };
+    enum class Kind { Uint, Float, Bool, Enum };
     std::string name;
     std::string help;
     Kind kind = Kind::Uint;
-    double min = 0.0, max = 0.0;            // inclusive range (Uint, Float)
+    double min = 0.0, max = 0.0;            // inclusive range (Uint, Float; Enum: 0 .. choices - 1)
     std::optional<Technique> technique;     // the technique it tunes; empty = all
     std::function<std::string(const GiSettings&)> get;
     std::function<void(GiSettings&, double)> set; // value already parsed and range-checked
+    std::vector<std::string> choices;             // Enum: the value names, the value being the index
 };
 
 const std::vector<Knob>& knobs();
 const Knob* findKnob(std::string_view name);
 
-// Sets knob `name` from text ("64", "0.25", "on"/"off"/"true"/"false"/"1"/"0").
+// Sets knob `name` from text ("64", "0.25", "on"/"off"/"true"/"false"/"1"/"0", an Enum's name).
 Result<void> setKnob(GiSettings& settings, std::string_view name, std::string_view value);
 // "name=value" form (vkgi-bench sweeps, --set).
 Result<void> applyKnob(GiSettings& settings, std::string_view assignment);
