@@ -368,6 +368,59 @@ TEST_F(Vct, AnisotropicMipsPreIntegrateFrontToBack) {
     }
 }
 
+// Levels 0 and 1 are written at listed voxels and blocks only, so every re-voxelization must
+// zero what the previous geometry wrote (gi.vct.list.clear): removing a wall and re-voxelizing
+// leaves exactly what a fresh volume gets from the remaining triangle.
+TEST_F(Vct, ReVoxelizingClearsWhatTheOldGeometryWrote) {
+    TestScene scene;
+    uint32_t glow = scene.addMaterial(glm::vec3(0.5f), glm::vec3(1.0f, 0.5f, 0.25f));
+    scene.addDraw({{{9.5f, 4.2f, 4.2f}, {9.5f, 7.8f, 4.2f}, {9.5f, 4.2f, 7.8f}},
+                   {{9.5f, 7.8f, 4.2f}, {9.5f, 7.8f, 7.8f}, {9.5f, 4.2f, 7.8f}}},
+                  glow);
+    scene.addDraw({{{2.2f, 3.3f, 1.1f}, {12.7f, 3.9f, 2.4f}, {5.1f, 4.6f, 13.8f}}}, glow);
+    gpu::VoxelGridParams params{};
+    params.originSize = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    params.scales = glm::vec4(1.0f, 1.0f, 1.0f, 0.0f);
+    params.dims = glm::uvec4(16, 4, 0, 0);
+    VctSettings s;
+    s.bounces = 1;
+    auto levels01 = [&] { // every view of every voxel and 2^3 block (the layers the levels use)
+        std::vector<glm::vec4> views;
+        for (uint32_t mip : {0u, 1u}) {
+            auto level = readHalf4(ctx(), m_volumes->aniso(), mip);
+            int side = 16 >> mip;
+            for (uint32_t d = 0; d < 6; ++d)
+                for (int z = 0; z < side; ++z)
+                    for (int y = 0; y < side; ++y)
+                        for (int x = 0; x < side; ++x)
+                            views.push_back(anisoTexel(level, 16, mip, {x, y, z}, d));
+        }
+        return views;
+    };
+    setup(scene, {}, params);
+    runVoxels(s); // both: the list holds the wall and the slanted triangle
+    size_t both = 0;
+    for (const glm::vec4& t : levels01())
+        both += t.a > 0.0f;
+    m_scene.draws = {m_scene.draws[1]};
+    runVoxels(s); // the triangle only
+    std::vector<glm::vec4> kept = levels01();
+    TearDownResources();
+    setup(scene, {}, params);
+    m_scene.draws = {m_scene.draws[1]};
+    runVoxels(s); // a fresh volume with the triangle only
+    std::vector<glm::vec4> fresh = levels01();
+    ASSERT_EQ(kept.size(), fresh.size());
+    size_t differ = 0, opaque = 0;
+    for (size_t i = 0; i < fresh.size(); ++i) {
+        differ += kept[i] != fresh[i];
+        opaque += fresh[i].a > 0.0f;
+    }
+    EXPECT_EQ(differ, 0u);
+    EXPECT_GT(opaque, 0u);
+    EXPECT_GT(both, opaque + 16u) << "the wall's own texels (16 voxels, 4 blocks) were written";
+}
+
 namespace {
 struct FurnaceResult {
     double mean = 0.0, minimum = 1e300, maximum = -1e300, aoMean = 0.0;

@@ -156,9 +156,14 @@ void VctVolumes::recordListAppend(VkCommandBuffer cmd) const {
 }
 
 void VctVolumes::recordClearLevels01(VkCommandBuffer cmd, VkImageLayout layout) const {
+    // Level 0 whole; level 1 only the first N/2 layers of each direction, the ones it uses.
     VkClearColorValue zero{};
-    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 2, 0, VK_REMAINING_ARRAY_LAYERS};
-    vkCmdClearColorImage(cmd, m_aniso.image.image, layout, &zero, 1, &range);
+    uint32_t n = m_grid.resolution();
+    VkImageSubresourceRange ranges[1 + GI_VOXEL_ANISO_DIRECTIONS];
+    ranges[0] = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, VK_REMAINING_ARRAY_LAYERS};
+    for (uint32_t d = 0; d < GI_VOXEL_ANISO_DIRECTIONS; ++d)
+        ranges[1 + d] = {VK_IMAGE_ASPECT_COLOR_BIT, 1, 1, d * n, n / 2};
+    vkCmdClearColorImage(cmd, m_aniso.image.image, layout, &zero, 1 + GI_VOXEL_ANISO_DIRECTIONS, ranges);
 }
 
 void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t lightCount, VctOcclusion occlusion,
