@@ -277,7 +277,7 @@ void VctVolumes::recordUpsample(VkCommandBuffer cmd, const gpu::VctTracePush& pu
              {storage(0, t.position->view), storage(1, t.normal->view), storage(2, lowIndirect.view),
               storage(3, lowGlossy.view), storage(4, t.indirect->view), storage(5, t.glossy->view),
               bufferItem(6, t.refineList)},
-             glm::uvec3(push.cones.info.z, push.cones.info.w, 1u));
+             glm::uvec3((push.cones.info.z + 1u) / 2u, (push.cones.info.w + 1u) / 2u, 1u)); // 2x2 quads
 }
 
 } // namespace vkgi::gi

@@ -27,10 +27,8 @@ layout(set = 1, binding = 6, rgba32f) uniform writeonly image2D outGlossy;   // 
 layout(set = 1, binding = 7, std430) readonly buffer RefineList {
     uint refineCount;
     uint refinePad[3];
-    uint refinePixels[]; // x | y << 16
+    uint refineEntries[]; // vctRefineEntry
 };
-#define GI_LOWRES_GBUFFER_FETCH(image, pixel) imageLoad(image, pixel)
-#include "gi/lowres_upsample.h"
 #include "vct_refine.glsl"
 #endif
 
@@ -39,8 +37,9 @@ void main() {
 #ifdef GI_VCT_REFINE
     if (gl_GlobalInvocationID.x >= min(refineCount, pc.lowRes.w))
         return;
-    uint packed = refinePixels[gl_GlobalInvocationID.x];
-    ivec2 dst = ivec2(packed & 0xffffu, packed >> 16);
+    uint entry = refineEntries[gl_GlobalInvocationID.x];
+    uint leader = vctRefineIndex(entry);
+    ivec2 dst = vctRefineQuad(entry) * 2 + ivec2(leader & 1u, leader >> 1);
     ivec2 px = dst;
 #else
     ivec2 dst = ivec2(gl_GlobalInvocationID.xy);
@@ -77,20 +76,13 @@ void main() {
     imageStore(outIndirect, dst, vec4(indirect, ao));
     imageStore(outGlossy, dst, vec4(glossy * pc.grid.scales.z, 1.0));
 #ifdef GI_VCT_REFINE
-    // The refined pixels of this quad that take this trace (vct_refine.glsl), with their own
-    // albedo and metallic.
+    // The refined pixels of this quad that take this trace (the upsample's mask,
+    // vct_refine.glsl), with their own albedo and metallic.
+    uint serves = vctRefineServes(entry) & ~(1u << leader);
     for (int k = 0; k < 4; ++k) {
+        if ((serves & (1u << uint(k))) == 0u)
+            continue;
         ivec2 q = (dst & ~1) + ivec2(k & 1, k >> 1);
-        if (q == dst || any(greaterThanEqual(q, full)))
-            continue;
-        vec4 pq = imageLoad(gPosition, q);
-        if (pq.w == 0.0)
-            continue;
-        vec3 nq = normalize(imageLoad(gNormal, q).xyz);
-        ivec2 taps[4];
-        vec4 w;
-        if (!vctRefines(q, pq, nq, taps, w) || vctQuadLeader(q, pq, nq) != dst)
-            continue;
         vec4 aq = imageLoad(gAlbedo, q);
         vec3 iq = aq.rgb * mix(diffuse, glossy, clamp(aq.w, 0.0, 1.0)) * pc.grid.scales.z;
         imageStore(outIndirect, q, vec4(iq, ao));
