@@ -18,47 +18,73 @@ VolumeHandles importVolumes(rg::RenderGraph& graph, VoxelVolumes& v, const char*
             graph.importImage(p + ".emission", v.emission), graph.importImage(p + ".faces", v.faces)};
 }
 
-// Empties the accumulation and the touched list of `set`, and (when `target`) zeroes its volumes.
-void addClear(rg::RenderGraph& graph, const VoxelGrid* grid, rg::ImageHandle& accum, rg::BufferHandle& list,
-              VolumeHandles* target, VoxelDrawSet set, const char* name) {
+// Starts a voxelization into `target` (`physical`: the VoxelVolumes its handles were imported
+// from): empties touched list `list` (its handle updated), zeroes the accumulation on the first
+// voxelization, and the whole target volumes unless `keepTarget` (addClearStale then zeroes
+// what the new voxelization leaves out). Transfer writes.
+void addClear(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHandle& accum, rg::BufferHandle& list,
+              VolumeHandles& target, const VoxelVolumes* physical, bool clearAccum, bool keepTarget,
+              const char* name) {
     graph.addPass(
         name,
         [&](rg::PassBuilder& b) {
-            accum = b.write(accum, Access::TransferWrite);
+            if (clearAccum)
+                accum = b.write(accum, Access::TransferWrite);
             list = b.write(list, Access::TransferWrite);
-            if (target)
-                for (rg::ImageHandle* h : {&target->albedo, &target->normal, &target->emission, &target->faces})
+            if (!keepTarget)
+                for (rg::ImageHandle* h : {&target.albedo, &target.normal, &target.emission, &target.faces})
                     *h = b.write(*h, Access::TransferWrite);
         },
-        [grid, accum, set, t = target ? *target : VolumeHandles{}](rg::PassContext& ctx) {
-            grid->recordClear(ctx.cmd(), ctx.layout(accum), set);
-            if (t.albedo.valid()) {
+        [grid, physical, list, clearAccum, keepTarget, t = target](rg::PassContext& ctx) {
+            grid->recordClear(ctx.cmd(), ctx.buffer(list).buffer, clearAccum);
+            if (!keepTarget) {
                 VkImageLayout layouts[4] = {ctx.layout(t.albedo), ctx.layout(t.normal), ctx.layout(t.emission),
                                             ctx.layout(t.faces)};
-                grid->recordClearVolumes(ctx.cmd(), set == VoxelDrawSet::Static ? grid->staticVolumes() : grid->volumes(),
-                                         layouts);
+                grid->recordClearVolumes(ctx.cmd(), *physical, layouts);
             }
         });
 }
 
-// Averages the accumulated sums of the voxels in `list` into `target` (handles updated to their
-// new versions; the other voxels keep the clear's zeros); `physical` is the VoxelVolumes those
-// handles were imported from.
-void addResolve(rg::RenderGraph& graph, const VoxelGrid* grid, rg::ImageHandle accum, rg::BufferHandle list,
-                VolumeHandles& target, const VoxelVolumes* physical, VoxelDrawSet set, const char* name) {
+// Between a voxelization into `target` and its resolve: zeroes the voxels of `previous` (the
+// list of the last voxelization into the same volumes) that the new one did not touch.
+void addClearStale(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHandle accum, rg::BufferHandle previous,
+                   VolumeHandles& target, const VoxelVolumes* physical, const char* name) {
     graph.addPass(
         name,
         [&](rg::PassBuilder& b) {
             b.read(accum, Access::ComputeStorageRead);
+            b.read(previous, Access::IndirectRead);
+            b.read(previous, Access::ComputeStorageRead);
+            for (rg::ImageHandle* h : {&target.albedo, &target.normal, &target.emission, &target.faces})
+                *h = b.write(*h, Access::ComputeStorageWrite);
+        },
+        [grid, physical, previous](rg::PassContext& ctx) {
+            grid->recordClearStale(ctx.cmd(), *physical, ctx.buffer(previous).buffer);
+        });
+}
+
+// Averages the accumulated sums of the voxels in `list` into `target` (handles updated to their
+// new versions; the other voxels keep the clear's zeros) and zeroes those records; `physical`
+// is the VoxelVolumes those handles were imported from. A side effect: the zeroed
+// accumulation is what the next voxelization relies on, even when nothing reads this grid.
+void addResolve(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHandle& accum, rg::BufferHandle list,
+                VolumeHandles& target, const VoxelVolumes* physical, const char* name) {
+    graph.addPass(
+        name,
+        [&](rg::PassBuilder& b) {
+            accum = b.write(accum, Access::ComputeStorageReadWrite);
             b.read(list, Access::IndirectRead);
             b.read(list, Access::ComputeStorageRead);
             for (rg::ImageHandle* h : {&target.albedo, &target.normal, &target.emission, &target.faces})
                 *h = b.write(*h, Access::ComputeStorageWrite);
+            b.sideEffect();
         },
-        [grid, physical, set](rg::PassContext& ctx) { grid->recordResolve(ctx.cmd(), *physical, set); });
+        [grid, physical, list](rg::PassContext& ctx) {
+            grid->recordResolve(ctx.cmd(), *physical, ctx.buffer(list).buffer);
+        });
 }
 
-void addVoxelize(rg::RenderGraph& graph, const VoxelGrid* grid, const VoxelSceneHandles& scene, rg::ImageHandle& accum,
+void addVoxelize(rg::RenderGraph& graph, const VoxelGrid* grid, const VoxelSceneHandles& scene, rg::BufferHandle& accum,
                  rg::BufferHandle& list, VoxelDrawSet set, const char* name) {
     VoxelSceneHandles s = scene;
     graph.addPass(
@@ -69,11 +95,30 @@ void addVoxelize(rg::RenderGraph& graph, const VoxelGrid* grid, const VoxelScene
             accum = b.write(accum, Access::ComputeStorageReadWrite);
             list = b.write(list, Access::ComputeStorageReadWrite);
         },
-        [grid, s, set](rg::PassContext& ctx) {
+        [grid, s, set, list](rg::PassContext& ctx) {
             VoxelSceneBuffers buffers{ctx.buffer(s.vertices).buffer, ctx.buffer(s.indices).buffer,
                                       ctx.buffer(s.instances).buffer, ctx.buffer(s.materials).buffer, s.draws};
-            grid->recordVoxelize(ctx.cmd(), buffers, set);
+            grid->recordVoxelize(ctx.cmd(), buffers, set, ctx.buffer(list).buffer);
         });
+}
+
+// Clear, voxelize and resolve of the draws `set` (All or Static) into `target`.
+void addVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHandles& scene, rg::BufferHandle& accum,
+                     rg::BufferHandle& touched, VolumeHandles& target, VoxelDrawSet set) {
+    bool isStatic = set == VoxelDrawSet::Static;
+    VoxelizationPlan plan = grid.beginVoxelization(set);
+    rg::BufferHandle previous;
+    if (plan.previous >= 0)
+        previous = graph.importBuffer("gi.voxel.touched.previous", grid.listState(plan.previous));
+    touched = graph.importBuffer("gi.voxel.touched", grid.listState(plan.next));
+    const VoxelVolumes* physical = isStatic ? &grid.staticVolumes() : &grid.volumes();
+    const VoxelGrid* g = &grid;
+    addClear(graph, g, accum, touched, target, physical, plan.clearAccum, previous.valid(),
+             isStatic ? "gi.voxel.clear.static" : "gi.voxel.clear");
+    addVoxelize(graph, g, scene, accum, touched, set, isStatic ? "gi.voxel.voxelize.static" : "gi.voxel.voxelize");
+    if (previous.valid())
+        addClearStale(graph, g, accum, previous, target, physical, isStatic ? "gi.voxel.stale.static" : "gi.voxel.stale");
+    addResolve(graph, g, accum, touched, target, physical, isStatic ? "gi.voxel.resolve.static" : "gi.voxel.resolve");
 }
 
 } // namespace
@@ -85,42 +130,41 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
     bool anyDynamic = false;
     for (const VoxelDraw& d : scene.draws)
         anyDynamic = anyDynamic || (d.dynamic && d.triangleCount > 0);
-    data.touched = graph.importBuffer("gi.voxel.touched", grid.touchedState(VoxelDrawSet::All));
     if (anyDynamic)
         data.touchedDynamic = graph.importBuffer("gi.voxel.touched.dynamic", grid.touchedState(VoxelDrawSet::Dynamic));
     // Without dynamic draws the grid only changes with the scene: a Dynamic update has nothing to do.
-    if (update == VoxelUpdate::None || (update == VoxelUpdate::Dynamic && !anyDynamic))
+    if (update == VoxelUpdate::None || (update == VoxelUpdate::Dynamic && !anyDynamic)) {
+        data.touched = graph.importBuffer("gi.voxel.touched", grid.touchedState(VoxelDrawSet::All));
         return data;
-    const VoxelGrid* g = &grid;
-    rg::ImageHandle accum = graph.importImage("gi.voxel.accumulation", grid.accumulationState());
+    }
+    rg::BufferHandle accum = graph.importBuffer("gi.voxel.accumulation", grid.accumulationState());
     if (!anyDynamic) {
         // Static scene: one voxelization straight into the grid (no static copy, no merge).
-        addClear(graph, g, accum, data.touched, &out, VoxelDrawSet::All, "gi.voxel.clear");
-        addVoxelize(graph, g, scene, accum, data.touched, VoxelDrawSet::All, "gi.voxel.voxelize");
-        addResolve(graph, g, accum, data.touched, out, &g->volumes(), VoxelDrawSet::All, "gi.voxel.resolve");
+        addVoxelization(graph, grid, scene, accum, data.touched, out, VoxelDrawSet::All);
         return {out.albedo, out.normal, out.emission, out.faces, grid.params(), true, data.touched};
     }
     VolumeHandles st = importVolumes(graph, grid.staticState(), "gi.voxel.static");
-    if (update == VoxelUpdate::Full) {
-        addClear(graph, g, accum, data.touched, &st, VoxelDrawSet::Static, "gi.voxel.clear.static");
-        addVoxelize(graph, g, scene, accum, data.touched, VoxelDrawSet::Static, "gi.voxel.voxelize.static");
-        addResolve(graph, g, accum, data.touched, st, &g->staticVolumes(), VoxelDrawSet::Static,
-                   "gi.voxel.resolve.static");
-    }
+    if (update == VoxelUpdate::Full)
+        addVoxelization(graph, grid, scene, accum, data.touched, st, VoxelDrawSet::Static);
+    else
+        data.touched = graph.importBuffer("gi.voxel.touched", grid.touchedState(VoxelDrawSet::Static));
     // The grid starts as a copy of the static volumes; the merge writes only the dynamic voxels
     // outside them, so nothing of an earlier frame's dynamic voxels survives.
+    const VoxelGrid* g = &grid;
+    bool clearAccum = grid.beginVoxelization(VoxelDrawSet::Dynamic).clearAccum;
     graph.addPass(
         "gi.voxel.clear.dynamic",
         [&](rg::PassBuilder& b) {
-            accum = b.write(accum, Access::TransferWrite);
+            if (clearAccum)
+                accum = b.write(accum, Access::TransferWrite);
             data.touchedDynamic = b.write(data.touchedDynamic, Access::TransferWrite);
             for (rg::ImageHandle h : {st.albedo, st.normal, st.emission, st.faces})
                 b.read(h, Access::TransferRead);
             for (rg::ImageHandle* h : {&data.albedo, &data.normal, &data.emission, &data.faces})
                 *h = b.write(*h, Access::TransferWrite);
         },
-        [g, accum, st, d = data](rg::PassContext& ctx) {
-            g->recordClear(ctx.cmd(), ctx.layout(accum), VoxelDrawSet::Dynamic);
+        [g, clearAccum, st, d = data](rg::PassContext& ctx) {
+            g->recordClear(ctx.cmd(), ctx.buffer(d.touchedDynamic).buffer, clearAccum);
             VkImageLayout src[4] = {ctx.layout(st.albedo), ctx.layout(st.normal), ctx.layout(st.emission),
                                     ctx.layout(st.faces)};
             VkImageLayout dst[4] = {ctx.layout(d.albedo), ctx.layout(d.normal), ctx.layout(d.emission),
@@ -131,12 +175,13 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
     graph.addPass(
         "gi.voxel.merge",
         [&](rg::PassBuilder& b) {
-            b.read(accum, Access::ComputeStorageRead);
+            accum = b.write(accum, Access::ComputeStorageReadWrite);
             b.read(data.touchedDynamic, Access::IndirectRead);
             b.read(data.touchedDynamic, Access::ComputeStorageRead);
             b.read(st.albedo, Access::ComputeStorageRead);
             for (rg::ImageHandle* h : {&data.albedo, &data.normal, &data.emission, &data.faces})
                 *h = b.write(*h, Access::ComputeStorageWrite);
+            b.sideEffect(); // the zeroed accumulation (addResolve)
         },
         [g](rg::PassContext& ctx) { g->recordResolveMerge(ctx.cmd()); });
     data.changed = true;

@@ -102,6 +102,13 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
     uint32_t n = params.dims.x;
     if (n < GI_VOXEL_MIN_RESOLUTION || n > GI_VOXEL_MAX_RESOLUTION || (n & (n - 1)) != 0)
         return makeError("voxel grid: resolution " + std::to_string(n) + " must be a power of two in [16, 256]");
+    // The accumulation records are bound as one storage buffer.
+    VkDeviceSize accumBytes = VkDeviceSize(n) * n * n * GI_VOXEL_ACC_STRIDE * sizeof(uint32_t);
+    VkDeviceSize maxRange = ctx.properties().limits.maxStorageBufferRange;
+    if (accumBytes > maxRange)
+        return makeError("voxel grid: resolution " + std::to_string(n) + " needs a " +
+                         std::to_string(accumBytes >> 20) + " MiB accumulation buffer, more than the device's " +
+                         "maxStorageBufferRange (" + std::to_string(maxRange >> 20) + " MiB)");
     std::unique_ptr<VoxelGrid> g(new VoxelGrid(ctx));
     g->m_params = params;
     struct Named {
@@ -109,7 +116,8 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
         const char* shader;
     } shaders[] = {{&g->m_voxelize, "gi/voxel/voxelize.comp"},
                    {&g->m_resolve, "gi/voxel/voxel_resolve.comp"},
-                   {&g->m_resolveMerge, "gi/voxel/voxel_resolve_merge.comp"}};
+                   {&g->m_resolveMerge, "gi/voxel/voxel_resolve_merge.comp"},
+                   {&g->m_stale, "gi/voxel/voxel_resolve_stale.comp"}};
     for (const Named& s : shaders) {
         auto p = createComputePipeline(ctx, {s.shader, {}});
         if (!p)
@@ -118,42 +126,66 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
     }
     g->m_volumes = createVolumes(ctx, n, "voxel.grid");
     g->m_static = createVolumes(ctx, n, "voxel.static");
-    g->m_accum.image = createVolume(ctx, n, n * GI_VOXEL_ACC_CHANNELS, VK_FORMAT_R32_UINT, "voxel.accumulation");
+    BufferDesc accum;
+    accum.size = accumBytes;
+    accum.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    g->m_accum.buffer = createBuffer(ctx, accum, "voxel.accumulation");
     BufferDesc list;
     list.size = VkDeviceSize(GI_VOXEL_TOUCHED_HEADER + n * n * n) * sizeof(uint32_t);
     list.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
                  VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    g->m_touched[0].buffer = createBuffer(ctx, list, "voxel.touched");
-    g->m_touched[1].buffer = createBuffer(ctx, list, "voxel.touched.dynamic");
+    g->m_lists[0].buffer = createBuffer(ctx, list, "voxel.touched.a");
+    g->m_lists[1].buffer = createBuffer(ctx, list, "voxel.touched.b");
+    g->m_lists[2].buffer = createBuffer(ctx, list, "voxel.touched.dynamic");
     return g;
 }
 
 VoxelGrid::~VoxelGrid() {
-    for (Pipeline* p : {&m_voxelize, &m_resolve, &m_resolveMerge})
+    for (Pipeline* p : {&m_voxelize, &m_resolve, &m_resolveMerge, &m_stale})
         destroyPipeline(m_ctx, *p);
     destroyVolumes(m_ctx, m_volumes);
     destroyVolumes(m_ctx, m_static);
-    destroyImage(m_ctx, m_accum.image);
-    for (rg::PersistentBuffer& b : m_touched)
+    destroyBuffer(m_ctx, m_accum.buffer);
+    for (rg::PersistentBuffer& b : m_lists)
         destroyBuffer(m_ctx, b.buffer);
 }
 
 VkDeviceSize VoxelGrid::bytes() const {
-    VkDeviceSize total = imageBytes(m_accum.image.desc) + m_touched[0].buffer.desc.size + m_touched[1].buffer.desc.size;
+    VkDeviceSize total = m_accum.buffer.desc.size;
+    for (const rg::PersistentBuffer& b : m_lists)
+        total += b.buffer.desc.size;
     for (const VoxelVolumes* v : {&m_volumes, &m_static})
         total += imageBytes(v->albedo.image.desc) + imageBytes(v->normal.image.desc) +
                  imageBytes(v->emission.image.desc) + imageBytes(v->faces.image.desc);
     return total;
 }
 
-void VoxelGrid::recordClear(VkCommandBuffer cmd, VkImageLayout layout, VoxelDrawSet set) const {
-    // A transfer clear streams at memset speed; the compute clear it replaced wrote the
-    // 13 N^3 words at ~1 GB/s on lavapipe (64^3: 15 ms).
-    VkClearColorValue zero{};
-    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    vkCmdClearColorImage(cmd, m_accum.image.image, layout, &zero, 1, &range);
+VoxelizationPlan VoxelGrid::beginVoxelization(VoxelDrawSet set) {
+    VoxelizationPlan plan;
+    plan.clearAccum = !m_accumZero;
+    m_accumZero = true; // the resolve (or merge) zeroes every record the voxelization touches
+    if (set == VoxelDrawSet::Dynamic) {
+        // The grid becomes the static copy plus the merged dynamic voxels: no list covers it.
+        plan.next = 2;
+        m_cover[0] = -1;
+        return plan;
+    }
+    int target = set == VoxelDrawSet::Static ? 1 : 0;
+    plan.previous = m_cover[target];
+    // The new list must not be the one whose voxels the clear reads.
+    plan.next = 1 - (plan.previous >= 0 ? plan.previous : m_current);
+    if (m_cover[1 - target] == plan.next)
+        m_cover[1 - target] = -1; // that list is overwritten
+    m_cover[target] = plan.next;
+    m_current = plan.next;
+    return plan;
+}
+
+void VoxelGrid::recordClear(VkCommandBuffer cmd, VkBuffer list, bool accum) const {
+    // Transfer fills stream at memset speed (the first voxelization's N^3 records).
+    if (accum)
+        vkCmdFillBuffer(cmd, m_accum.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
     // Header (0, 1, 1, 0): no groups and no voxels yet; dispatch y = z = 1. Disjoint fills.
-    VkBuffer list = touched(set).buffer;
     vkCmdFillBuffer(cmd, list, 0, sizeof(uint32_t), 0);
     vkCmdFillBuffer(cmd, list, sizeof(uint32_t), 2 * sizeof(uint32_t), 1);
     vkCmdFillBuffer(cmd, list, 3 * sizeof(uint32_t), sizeof(uint32_t), 0);
@@ -181,11 +213,23 @@ void VoxelGrid::recordCopyStatic(VkCommandBuffer cmd, const VkImageLayout src[4]
         vkCmdCopyImage(cmd, from[i]->image, src[i], to[i]->image, dst[i], 1, &region);
 }
 
-void VoxelGrid::recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set) const {
+void VoxelGrid::recordClearStale(VkCommandBuffer cmd, const VoxelVolumes& target, VkBuffer previous) const {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_stale.pipeline);
+    gpu::VoxelGridPush push{m_params};
+    pushConstants(cmd, m_stale, &push, sizeof(push));
+    DescriptorItem items[] = {storageBuffer(0, m_accum.buffer.buffer),  storageImage(1, target.albedo.image),
+                              storageImage(2, target.normal.image),     storageImage(3, target.emission.image),
+                              storageImage(4, target.faces.image),      storageBuffer(9, previous)};
+    pushDescriptors(m_ctx, cmd, m_stale, items);
+    vkCmdDispatchIndirect(cmd, previous, 0);
+}
+
+void VoxelGrid::recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set,
+                               VkBuffer list) const {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_voxelize.pipeline);
     DescriptorItem items[] = {storageBuffer(0, scene.vertices), storageBuffer(1, scene.indices),
                               storageBuffer(2, scene.instances), storageBuffer(3, scene.materials),
-                              storageImage(4, m_accum.image), storageBuffer(5, touched(set).buffer)};
+                              storageBuffer(4, m_accum.buffer.buffer), storageBuffer(5, list)};
     pushDescriptors(m_ctx, cmd, m_voxelize, items);
     // Row slices per triangle (voxelize.comp), for draws that fit in one work group (one CPU
     // thread otherwise; the Cornell walls): about 8 rows each for a grid-wide triangle. Draws
@@ -196,20 +240,24 @@ void VoxelGrid::recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& sce
         if (d.triangleCount == 0 || (set == VoxelDrawSet::Static && d.dynamic) ||
             (set == VoxelDrawSet::Dynamic && !d.dynamic))
             continue;
-        gpu::VoxelizePush push{m_params, glm::uvec4(d.instance, d.firstIndex, d.triangleCount,
-                                                    std::bit_cast<uint32_t>(d.vertexOffset))};
+        bool shared = d.triangleCount <= m_voxelize.localSize[0];
+        gpu::VoxelizePush push{m_params,
+                               glm::uvec4(d.instance, d.firstIndex, d.triangleCount,
+                                          std::bit_cast<uint32_t>(d.vertexOffset)),
+                               glm::uvec4(shared ? 1u : 0u, 0u, 0u, 0u)};
         pushConstants(cmd, m_voxelize, &push, sizeof(push));
-        vkCmdDispatch(cmd, groupCount(d.triangleCount, m_voxelize.localSize[0]),
-                      d.triangleCount <= m_voxelize.localSize[0] ? slices : 1u, 1);
+        if (shared)
+            vkCmdDispatch(cmd, d.triangleCount, slices, 1);
+        else
+            vkCmdDispatch(cmd, groupCount(d.triangleCount, m_voxelize.localSize[0]), 1, 1);
     }
 }
 
-void VoxelGrid::recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target, VoxelDrawSet set) const {
+void VoxelGrid::recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target, VkBuffer list) const {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_resolve.pipeline);
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_resolve, &push, sizeof(push));
-    VkBuffer list = touched(set).buffer;
-    DescriptorItem items[] = {storageImage(0, m_accum.image),         storageImage(1, target.albedo.image),
+    DescriptorItem items[] = {storageBuffer(0, m_accum.buffer.buffer),         storageImage(1, target.albedo.image),
                               storageImage(2, target.normal.image),   storageImage(3, target.emission.image),
                               storageImage(4, target.faces.image),    storageBuffer(9, list)};
     pushDescriptors(m_ctx, cmd, m_resolve, items);
@@ -221,7 +269,7 @@ void VoxelGrid::recordResolveMerge(VkCommandBuffer cmd) const {
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_resolveMerge, &push, sizeof(push));
     VkBuffer list = touched(VoxelDrawSet::Dynamic).buffer;
-    DescriptorItem items[] = {storageImage(0, m_accum.image),          storageImage(1, m_volumes.albedo.image),
+    DescriptorItem items[] = {storageBuffer(0, m_accum.buffer.buffer), storageImage(1, m_volumes.albedo.image),
                               storageImage(2, m_volumes.normal.image), storageImage(3, m_volumes.emission.image),
                               storageImage(4, m_volumes.faces.image),  storageImage(5, m_static.albedo.image),
                               storageBuffer(9, list)};

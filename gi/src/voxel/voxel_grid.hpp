@@ -60,6 +60,13 @@ struct VoxelVolumes {
 // Which draws a voxelize pass takes.
 enum class VoxelDrawSet { All, Static, Dynamic };
 
+// One voxelization's choice of buffers (VoxelGrid::beginVoxelization).
+struct VoxelizationPlan {
+    int next = 0;          // touched list the voxelization appends to (index for listState)
+    int previous = -1;     // list holding every nonzero voxel of the target volumes, or -1: clear them whole
+    bool clearAccum = false; // the accumulation is not known to be zero (first voxelization): clear it
+};
+
 class VoxelGrid {
 public:
     static Result<std::unique_ptr<VoxelGrid>> create(Context& ctx, const gpu::VoxelGridParams& params);
@@ -73,44 +80,66 @@ public:
     const VoxelVolumes& volumes() const { return m_volumes; }
     // Static geometry only, voxelized once (the flag volume is staticVolumes().albedo.a).
     const VoxelVolumes& staticVolumes() const { return m_static; }
-    // Fixed-point scratch: N x N x (N * GI_VOXEL_ACC_CHANNELS) R32UI.
-    const Image& accumulation() const { return m_accum.image; }
-    rg::PersistentImage& accumulationState() { return m_accum; }
+    // Fixed-point records (gi/voxel_grid.h): N^3 * GI_VOXEL_ACC_STRIDE uint words, zero between
+    // voxelizations.
+    const Buffer& accumulation() const { return m_accum.buffer; }
+    rg::PersistentBuffer& accumulationState() { return m_accum; }
     VoxelVolumes& volumesState() { return m_volumes; }
     VoxelVolumes& staticState() { return m_static; }
-    // Touched-voxel list (gi/voxel_passes.h) a voxelization of `set` appends to: All and Static
-    // share one (a scene has either), Dynamic has its own. Kept until that set is re-voxelized.
-    rg::PersistentBuffer& touchedState(VoxelDrawSet set) { return m_touched[set == VoxelDrawSet::Dynamic ? 1 : 0]; }
-    const Buffer& touched(VoxelDrawSet set) const { return m_touched[set == VoxelDrawSet::Dynamic ? 1 : 0].buffer; }
+    // Touched-voxel list (gi/voxel_passes.h) of the last voxelization of `set`: All and Static
+    // share a pair of lists used in turn (a scene has either), Dynamic has its own. Kept until
+    // that set is re-voxelized (and the one before it, to clear its voxels).
+    rg::PersistentBuffer& touchedState(VoxelDrawSet set) { return m_lists[listIndex(set)]; }
+    const Buffer& touched(VoxelDrawSet set) const { return m_lists[listIndex(set)].buffer; }
+    rg::PersistentBuffer& listState(int index) { return m_lists[index]; }
     VkDeviceSize bytes() const;
 
+    // Called while building the graph of a voxelization of `set` (into staticVolumes() for
+    // Static, volumes() otherwise): picks its touched list and what must be cleared, and
+    // records that afterwards the accumulation is zero (the resolve zeroes what it reads) and
+    // that the target's nonzero voxels are those of the new list (Dynamic: not tracked, the
+    // grid is a copy of the static volumes plus the merge).
+    VoxelizationPlan beginVoxelization(VoxelDrawSet set);
+
     // Pass bodies (all images in GENERAL layout unless a layout is passed; the graph passes in
-    // voxel_graph.cpp declare the accesses). clear: accumulation := 0 (transfer write, the image
-    // in `layout`) and the touched list of `set` emptied (transfer write).
-    void recordClear(VkCommandBuffer cmd, VkImageLayout layout, VoxelDrawSet set) const;
+    // voxel_graph.cpp declare the accesses). clear: the touched list `list` emptied, and with
+    // `accum` the accumulation zeroed (transfer writes).
+    void recordClear(VkCommandBuffer cmd, VkBuffer list, bool accum) const;
     // The four volumes of `target` := 0 (transfer write, images in `layouts`: albedo, normal,
     // emission, faces).
     void recordClearVolumes(VkCommandBuffer cmd, const VoxelVolumes& target, const VkImageLayout layouts[4]) const;
+    // After a voxelization into `target`, before its resolve: the voxels of touched list
+    // `previous` that the accumulation holds no contribution for := 0 (indirect over it;
+    // accumulation read, storage write).
+    void recordClearStale(VkCommandBuffer cmd, const VoxelVolumes& target, VkBuffer previous) const;
     // volumes() := staticVolumes() (transfer read / write, layouts in the same order).
     void recordCopyStatic(VkCommandBuffer cmd, const VkImageLayout src[4], const VkImageLayout dst[4]) const;
-    // Adds the chosen draws to the accumulation and their touched voxels to the list of `set`
-    // (storage read-write, scene buffers read).
-    void recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set) const;
-    // accumulation -> `target` at the voxels of the touched list of `set` (indirect over it;
-    // storage write; the other voxels keep the cleared zeros).
-    void recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target, VoxelDrawSet set) const;
+    // Adds the chosen draws to the accumulation and their touched voxels to `list` (storage
+    // read-write, scene buffers read).
+    void recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set, VkBuffer list) const;
+    // accumulation -> `target` at the voxels of touched list `list` (indirect over it; storage
+    // write; the other voxels keep their zeros), zeroing the records it reads (storage read-write).
+    void recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target, VkBuffer list) const;
     // Dynamic accumulation merged under the static volumes -> volumes() at the voxels of the
-    // dynamic touched list that no static voxel occupies (volumes() holds the static copy).
+    // dynamic touched list that no static voxel occupies (volumes() holds the static copy);
+    // zeroes the records of every listed voxel.
     void recordResolveMerge(VkCommandBuffer cmd) const;
 
 private:
     VoxelGrid(Context& ctx) : m_ctx(ctx) {}
+    int listIndex(VoxelDrawSet set) const { return set == VoxelDrawSet::Dynamic ? 2 : m_current; }
     Context& m_ctx;
     gpu::VoxelGridParams m_params{};
     VoxelVolumes m_volumes, m_static;
-    rg::PersistentImage m_accum;
-    rg::PersistentBuffer m_touched[2];
-    Pipeline m_voxelize, m_resolve, m_resolveMerge;
+    rg::PersistentBuffer m_accum;
+    // 0, 1: the All / Static lists, used in turn; 2: the Dynamic list.
+    rg::PersistentBuffer m_lists[3];
+    int m_current = 0; // the All / Static list of the last such voxelization
+    // Per target (0 = volumes(), 1 = staticVolumes()): the list (0 or 1) whose voxels include
+    // every nonzero voxel of the volumes, or -1 when unknown (never cleared, or a merge wrote it).
+    int m_cover[2] = {-1, -1};
+    bool m_accumZero = false;
+    Pipeline m_voxelize, m_resolve, m_resolveMerge, m_stale;
 };
 
 } // namespace vkgi::gi

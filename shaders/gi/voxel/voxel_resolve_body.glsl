@@ -1,14 +1,16 @@
 // Shared body of voxel_resolve.comp and voxel_resolve_merge.comp: fixed-point sums -> means,
 // one invocation per voxel of the touched list (indirect dispatch; gi/voxel_passes.h). The
-// target volumes hold zeros (resolve) or a copy of the static volumes (merge) beforehand, both
-// written by transfers, so the voxels nothing touched need no store. With GI_VOXEL_MERGE,
-// voxels occupied in the static volumes keep their static values (Villegas' flag volume:
-// dynamic objects never overwrite static voxels).
+// target volumes hold zeros (resolve: the clear pass zeroed the voxels of the previous list)
+// or a copy of the static volumes (merge) beforehand, so the voxels nothing touched need no
+// store. Each record read is zeroed, which leaves the whole accumulation zero for the next
+// voxelization (every nonzero record is listed). With GI_VOXEL_MERGE, voxels occupied in the
+// static volumes keep their static values (Villegas' flag volume: dynamic objects never
+// overwrite static voxels).
 #include "gi/voxel_passes.h"
 
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in;
 layout(push_constant) uniform Push { VoxelGridPush pc; };
-layout(set = 1, binding = 0, r32ui) uniform readonly uimage3D accum;
+layout(set = 1, binding = 0, std430) buffer Accum { uvec4 acc[]; }; // records (gi/voxel_grid.h), 4 uvec4 each
 layout(set = 1, binding = 1, rgba8) uniform writeonly image3D outAlbedo;
 layout(set = 1, binding = 2, rgba8) uniform writeonly image3D outNormal;
 layout(set = 1, binding = 3, rgba16f) uniform writeonly image3D outEmission;
@@ -18,27 +20,27 @@ layout(set = 1, binding = 9, std430) readonly buffer Touched { uint touchedHeade
 layout(set = 1, binding = 5, rgba8) uniform readonly image3D staticAlbedo;
 #endif
 
-uint acc(ivec3 c, int channel) { return imageLoad(accum, c + ivec3(0, 0, int(pc.grid.dims.x) * channel)).x; }
-
 void main() {
     if (gl_GlobalInvocationID.x >= touchedHeader[3])
         return;
     ivec3 c = ivec3(voxelListUnpack(touched[gl_GlobalInvocationID.x]));
+    int n = int(pc.grid.dims.x);
+    uint rec = (GI_VOXEL_ACC_STRIDE / 4u) * uint(c.x + n * (c.y + n * c.z));
+    // Words 0..12: count, albedo rgb, faces +x -x +y -y +z -z, emission rgb (gi/voxel_grid.h).
+    uvec4 w0 = acc[rec], w1 = acc[rec + 1u], w2 = acc[rec + 2u], w3 = acc[rec + 3u];
+    acc[rec] = acc[rec + 1u] = acc[rec + 2u] = acc[rec + 3u] = uvec4(0u);
 #ifdef GI_VOXEL_MERGE
     if (imageLoad(staticAlbedo, c).a > 0.0)
         return; // the static voxel copied into the target stays
 #endif
-    uint count = min(acc(c, GI_VOXEL_ACC_COUNT), GI_VOXEL_MAX_CONTRIBUTIONS); // >= 1: it was touched
+    uint count = min(w0.x, GI_VOXEL_MAX_CONTRIBUTIONS); // >= 1: it was touched
     float inv = 1.0 / (float(count) * GI_VOXEL_FIXED_ONE);
-    vec3 albedo, normalSum, emission, pos, neg;
-    for (int k = 0; k < 3; ++k) {
-        albedo[k] = float(acc(c, GI_VOXEL_ACC_ALBEDO + k)) * inv;
-        uint p = acc(c, GI_VOXEL_ACC_FACES + 2 * k), m = acc(c, GI_VOXEL_ACC_FACES + 2 * k + 1);
-        normalSum[k] = float(int(p) - int(m)); // sum of n_k = sum max(0, n_k) - sum max(0, -n_k)
-        pos[k] = float(p) * inv;
-        neg[k] = float(m) * inv;
-        emission[k] = float(acc(c, GI_VOXEL_ACC_EMISSION + k)) * inv * GI_VOXEL_RADIANCE_TARGET;
-    }
+    vec3 albedo = vec3(w0.yzw) * inv;
+    uvec3 p = uvec3(w1.x, w1.z, w2.x), m = uvec3(w1.y, w1.w, w2.y);
+    // sum of n_k = sum max(0, n_k) - sum max(0, -n_k)
+    vec3 normalSum = vec3(ivec3(p) - ivec3(m));
+    vec3 pos = vec3(p) * inv, neg = vec3(m) * inv;
+    vec3 emission = vec3(w2.zw, w3.x) * inv * GI_VOXEL_RADIANCE_TARGET;
     // Normals that cancel (both faces of a thin wall) leave no preferred direction: store zero.
     float len = length(normalSum);
     vec3 normal = len > 1e-3 * float(count) * GI_VOXEL_FIXED_ONE ? normalSum / len : vec3(0.0);

@@ -1,6 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Conservative compute voxelization, one invocation per triangle: every voxel whose closed box
+#extension GL_KHR_shader_subgroup_ballot : require
+// Conservative compute voxelization, one invocation or one work group per triangle: every voxel whose closed box
 // the triangle touches (separating-axis test, so slivers and sub-voxel triangles count too)
 // receives the triangle's albedo, its face coverages (max(0, +-n_axis) for the six axis
 // directions, which way it faces) and emission as fixed-point integer sums. Integer atomics
@@ -9,9 +10,12 @@
 #include "engine/scene_types.h"
 #include "gi/voxel_passes.h"
 
-// x: the triangles of the draw; y: slices of each triangle's rows (its voxel columns along
-// the first walked axis), gl_NumWorkGroups.y of them: a Cornell wall triangle covers ~2000
-// voxels at 64^3, and a draw of a few such triangles in one work group ran on one CPU thread.
+// x: the triangles of the draw (one per invocation, or with pc.info.x = 1 one per work group);
+// y: slices of each triangle's rows (its voxel columns along the first walked axis),
+// gl_NumWorkGroups.y of them: a Cornell wall triangle covers ~2000 voxels at 64^3, and a draw
+// of a few such triangles in one work group ran on one CPU thread. With a work group per
+// triangle its invocations take turns over the slice's columns: with a triangle per
+// invocation, a draw of a few big triangles ran one SIMD lane of eight (voxelize 4.2 -> X ms).
 layout(local_size_x = 32) in;
 layout(push_constant) uniform Push { VoxelizePush pc; };
 
@@ -19,7 +23,7 @@ layout(set = 1, binding = 0, std430) readonly buffer Vertices { GpuVertex vertic
 layout(set = 1, binding = 1, std430) readonly buffer Indices { uint indices[]; };
 layout(set = 1, binding = 2, std430) readonly buffer Instances { GpuInstance instances[]; };
 layout(set = 1, binding = 3, std430) readonly buffer Materials { GpuMaterial materials[]; };
-layout(set = 1, binding = 4, r32ui) uniform coherent uimage3D accum;
+layout(set = 1, binding = 4, std430) buffer Accum { uint acc[]; }; // records (gi/voxel_grid.h)
 layout(set = 1, binding = 5, std430) buffer Touched { uint touchedHeader[GI_VOXEL_TOUCHED_HEADER]; uint touched[]; };
 
 // Slack added to every separating-axis radius, in voxel units: rounding may then only add a
@@ -52,29 +56,44 @@ bool overlapsUnitBox(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
 uint toFixed(float v) { return uint(clamp(v, 0.0, 1.0) * GI_VOXEL_FIXED_ONE + 0.5); }
 
 void splat(ivec3 c, int n, vec3 albedo, vec3 normal, vec3 emission, bool emissive) {
-    uint old = imageAtomicAdd(accum, c, 1u);
-    if (old == 0u) {
-        uint slot = atomicAdd(touchedHeader[3], 1u);
-        touched[slot] = voxelListPack(uvec3(c));
-        // The first voxel of each group of GI_VOXEL_LIST_GROUP adds that group to the dispatch.
-        if (slot % GI_VOXEL_LIST_GROUP == 0u)
-            atomicAdd(touchedHeader[0], 1u);
+    uint rec = GI_VOXEL_ACC_STRIDE * uint(c.x + n * (c.y + n * c.z));
+    uint old = atomicAdd(acc[rec + GI_VOXEL_ACC_COUNT], 1u);
+    // First contributions append their voxels, one atomic on the list's count per subgroup (one
+    // per lane made the 2 CPU threads contend for that word: voxelize 2.8 -> X ms).
+    bool first = old == 0u;
+    uvec4 ballot = subgroupBallot(first);
+    uint firsts = subgroupBallotBitCount(ballot);
+    if (firsts > 0u) {
+        uint base = 0u;
+        if (subgroupElect()) {
+            base = atomicAdd(touchedHeader[3], firsts);
+            // Dispatch x = ceil(count / group): the groups that slots [base, base + firsts) open.
+            uint groups = (base + firsts + GI_VOXEL_LIST_GROUP - 1u) / GI_VOXEL_LIST_GROUP -
+                          (base + GI_VOXEL_LIST_GROUP - 1u) / GI_VOXEL_LIST_GROUP;
+            if (groups > 0u)
+                atomicAdd(touchedHeader[0], groups);
+        }
+        base = subgroupBroadcastFirst(base);
+        if (first)
+            touched[base + subgroupBallotExclusiveBitCount(ballot)] = voxelListPack(uvec3(c));
     }
     if (old >= GI_VOXEL_MAX_CONTRIBUTIONS)
         return;
     for (int k = 0; k < 3; ++k) {
-        imageAtomicAdd(accum, c + ivec3(0, 0, n * (GI_VOXEL_ACC_ALBEDO + k)), toFixed(albedo[k]));
+        atomicAdd(acc[rec + GI_VOXEL_ACC_ALBEDO + k], toFixed(albedo[k]));
         // The face is seen from the side its normal points to: +axis channel for n_k > 0.
         int side = normal[k] > 0.0 ? 0 : 1;
         if (normal[k] != 0.0)
-            imageAtomicAdd(accum, c + ivec3(0, 0, n * (GI_VOXEL_ACC_FACES + 2 * k + side)), toFixed(abs(normal[k])));
+            atomicAdd(acc[rec + GI_VOXEL_ACC_FACES + 2 * k + side], toFixed(abs(normal[k])));
         if (emissive)
-            imageAtomicAdd(accum, c + ivec3(0, 0, n * (GI_VOXEL_ACC_EMISSION + k)), toFixed(emission[k]));
+            atomicAdd(acc[rec + GI_VOXEL_ACC_EMISSION + k], toFixed(emission[k]));
     }
 }
 
 void main() {
-    uint tri = gl_GlobalInvocationID.x;
+    bool perGroup = pc.info.x != 0u;
+    uint tri = perGroup ? gl_WorkGroupID.x : gl_GlobalInvocationID.x;
+    int lane = perGroup ? int(gl_LocalInvocationID.x) : 0, lanes = perGroup ? int(gl_WorkGroupSize.x) : 1;
     if (tri >= pc.draw.z)
         return;
     GpuInstance inst = instances[pc.draw.x];
@@ -125,24 +144,33 @@ void main() {
     int cuFirst = vlo[u] + int(gl_GlobalInvocationID.y) * rows;
     int cuLast = min(vhi[u], cuFirst + rows - 1);
     float planeD = dot(n, p[0]);
-    for (int cu = cuFirst; cu <= cuLast; ++cu) {
-        for (int cw = vlo[w]; cw <= vhi[w]; ++cw) {
-            // Plane height along k at the four column corners: k = (d - n_u*u - n_w*w) / n_k.
-            float h00 = (planeD - n[u] * float(cu) - n[w] * float(cw)) / n[k];
-            float du = -n[u] / n[k], dw = -n[w] / n[k];
-            float hmin = h00 + min(du, 0.0) + min(dw, 0.0);
-            float hmax = h00 + max(du, 0.0) + max(dw, 0.0);
-            int k0 = max(vlo[k], int(floor(hmin - 1e-3)));
-            int k1 = min(vhi[k], int(floor(hmax + 1e-3)));
-            for (int ck = k0; ck <= k1; ++ck) {
-                ivec3 c;
-                c[k] = ck;
-                c[u] = cu;
-                c[w] = cw;
-                vec3 centre = vec3(c) + 0.5;
-                if (overlapsUnitBox(p[0] - centre, p[1] - centre, p[2] - centre, n))
-                    splat(c, res, albedo, faceNormal, emission, emissive);
-            }
+    // The slice's columns (cu, cw) in order, `lanes` apart, starting at the lane's own.
+    int cols = vhi[w] - vlo[w] + 1;
+    int count = (cuLast - cuFirst + 1) * cols;
+    int cu = cuFirst + lane / cols, cw = vlo[w] + lane % cols;
+    int du = lanes / cols, dw = lanes % cols;
+    for (int i = lane; i < count; i += lanes) {
+        // Plane height along k at the four column corners: k = (d - n_u*u - n_w*w) / n_k.
+        float h00 = (planeD - n[u] * float(cu) - n[w] * float(cw)) / n[k];
+        float du_ = -n[u] / n[k], dw_ = -n[w] / n[k];
+        float hmin = h00 + min(du_, 0.0) + min(dw_, 0.0);
+        float hmax = h00 + max(du_, 0.0) + max(dw_, 0.0);
+        int k0 = max(vlo[k], int(floor(hmin - 1e-3)));
+        int k1 = min(vhi[k], int(floor(hmax + 1e-3)));
+        for (int ck = k0; ck <= k1; ++ck) {
+            ivec3 c;
+            c[k] = ck;
+            c[u] = cu;
+            c[w] = cw;
+            vec3 centre = vec3(c) + 0.5;
+            if (overlapsUnitBox(p[0] - centre, p[1] - centre, p[2] - centre, n))
+                splat(c, res, albedo, faceNormal, emission, emissive);
+        }
+        cw += dw;
+        cu += du;
+        if (cw > vhi[w]) {
+            cw -= cols;
+            ++cu;
         }
     }
 }

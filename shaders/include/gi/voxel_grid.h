@@ -38,7 +38,7 @@ GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 // (6.1e-5), where half floats lose relative precision.
 #define GI_VOXEL_RADIANCE_TARGET 4096.0
 
-// Fixed-point accumulation (R32UI, summed with integer atomics so that the result does not
+// Fixed-point accumulation (uint words, summed with integer atomics so that the result does not
 // depend on the order in which triangles arrive: two runs give bit-identical grids). Each
 // contribution adds value * GI_VOXEL_FIXED_ONE, rounded; the resolve divides by count.
 #define GI_VOXEL_FIXED_ONE 65536.0
@@ -46,12 +46,18 @@ GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 // 32767 * 65536 < 2^31 (the resolve takes differences of face sums as int32). A voxel touched by more triangles keeps the first 32767 (only
 // then does the order matter; no real mesh gets close).
 #define GI_VOXEL_MAX_CONTRIBUTIONS 32767u
-// Accumulation channels, stacked along z in one R32UI image of N x N x (N * channels).
+// Accumulation record of a voxel: GI_VOXEL_ACC_STRIDE uint words at word
+// GI_VOXEL_ACC_STRIDE * (x + N (y + N z)) of one storage buffer, so that one triangle's atomics
+// on a voxel and the resolve's loads of it touch one 64-byte cache line (13 separate R32UI
+// volumes put each of a voxel's ten atomics on a different line). Words 13..15 are padding.
+// Empty records are zero; the resolve zeroes each record it reads, so the buffer is zero
+// between voxelizations and needs no clear after the first.
 #define GI_VOXEL_ACC_COUNT 0
 #define GI_VOXEL_ACC_ALBEDO 1   // 3 channels: r, g, b
 #define GI_VOXEL_ACC_FACES 4    // 6 channels: max(0, n.x), max(0, -n.x), max(0, n.y), ... (unsigned)
 #define GI_VOXEL_ACC_EMISSION 10 // 3 channels: r, g, b (emission * radianceScale / GI_VOXEL_RADIANCE_TARGET, <= 1)
 #define GI_VOXEL_ACC_CHANNELS 13u
+#define GI_VOXEL_ACC_STRIDE 16u
 
 // Supported grid resolutions (powers of two).
 #define GI_VOXEL_MIN_RESOLUTION 16u

@@ -12,12 +12,14 @@ GI_GPU_STRUCT(VoxelGridPush) {
 };
 GI_CHECK_SIZE(VoxelGridPush, 48);
 
-// voxelize.comp: one dispatch per draw, one invocation per triangle of the draw.
+// voxelize.comp: one dispatch per draw. info.x = 0: one invocation per triangle; info.x = 1:
+// one work group per triangle (and row slice), its invocations sharing the triangle's columns.
 GI_GPU_STRUCT(VoxelizePush) {
     VoxelGridParams grid;
     uvec4 draw; // x instance index, y first index, z triangle count, w vertex offset
+    uvec4 info; // x 1 = a work group per triangle, y, z, w 0
 };
-GI_CHECK_SIZE(VoxelizePush, 64);
+GI_CHECK_SIZE(VoxelizePush, 80);
 
 // The directional radiance volume written by the VCT passes:
 //   aniso     RGBA16F 2D array, N x N texels, 6N layers, log2(N) + 1 mips: one stack of N layers
