@@ -79,8 +79,10 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
                    {&v->m_lightShadowMap, "gi/voxel/voxel_light_shadow_map.comp"},
                    {&v->m_mip, "gi/voxel/voxel_mip.comp"},
                    {&v->m_mipList, "gi/voxel/voxel_mip_list.comp"},
+                   {&v->m_bounceJobs, "gi/voxel/voxel_bounce_jobs.comp"},
                    {&v->m_bounce, "gi/voxel/voxel_bounce.comp"},
                    {&v->m_bounceApply, "gi/voxel/voxel_bounce_apply.comp"},
+                   {&v->m_bounceMisfits, "gi/voxel/voxel_bounce_misfits.comp"},
                    {&v->m_bounceAdd, "gi/voxel/voxel_bounce_add.comp"},
                    {&v->m_trace, "gi/voxel/vct_trace.comp"},
                    {&v->m_traceRefine, "gi/voxel/vct_trace_refine.comp"},
@@ -111,7 +113,10 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
 
 VctVolumes::~VctVolumes() {
     destroyBuffer(m_ctx, m_list.buffer);
-    for (Pipeline* p : {&m_compact, &m_listAppend, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_mipList, &m_bounce, &m_bounceApply, &m_bounceAdd,
+    for (rg::PersistentBuffer* b : {&m_jobBuffer, &m_resultBuffer})
+        if (b->buffer.buffer)
+            destroyBuffer(m_ctx, b->buffer);
+    for (Pipeline* p : {&m_compact, &m_listAppend, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_mipList, &m_bounceJobs, &m_bounce, &m_bounceApply, &m_bounceMisfits, &m_bounceAdd,
                         &m_trace, &m_traceRefine, &m_upsample, &m_softShadow})
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_aniso.image);
@@ -120,7 +125,8 @@ VctVolumes::~VctVolumes() {
 }
 
 VkDeviceSize VctVolumes::bytes() const {
-    return imageBytes(m_aniso.image.desc) + m_list.buffer.desc.size;
+    return imageBytes(m_aniso.image.desc) + m_list.buffer.desc.size + m_jobBuffer.buffer.desc.size +
+           m_resultBuffer.buffer.desc.size;
 }
 
 gpu::ConeParams VctVolumes::coneParams(const VctSettings& s, uint32_t width, uint32_t height) const {
@@ -210,24 +216,63 @@ void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level) const {
              glm::uvec3(size));
 }
 
-void VctVolumes::recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& cones, const Image& gathered,
-                                    VkImageLayout sampledLayout) const {
+namespace {
+
+void createOnce(Context& ctx, rg::PersistentBuffer& b, uint32_t words, const char* name) {
+    if (b.buffer.buffer)
+        return;
+    BufferDesc desc;
+    desc.size = VkDeviceSize(words) * sizeof(uint32_t);
+    desc.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                 VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    b.buffer = createBuffer(ctx, desc, name);
+}
+
+} // namespace
+
+rg::PersistentBuffer& VctVolumes::bounceJobsState() {
+    createOnce(m_ctx, m_jobBuffer, GI_BOUNCE_HEADER + gpu::bounceJobWords(m_grid.resolution()), "vct.bounce_jobs");
+    return m_jobBuffer;
+}
+
+rg::PersistentBuffer& VctVolumes::bounceResultsState() {
+    createOnce(m_ctx, m_resultBuffer, gpu::bounceResultWords(m_grid.resolution()), "vct.bounce_results");
+    return m_resultBuffer;
+}
+
+void VctVolumes::recordBounceJobs(VkCommandBuffer cmd, VkBuffer jobs) const {
+    gpu::VoxelGridPush push{m_grid.params()};
+    dispatch(m_ctx, cmd, m_bounceJobs, push,
+             {storage(0, m_grid.volumes().normal.image.view), bufferItem(1, m_list.buffer.buffer), bufferItem(2, jobs)},
+             glm::uvec3(gpu::bounceBlockCount(m_grid.resolution()), 1u, 1u));
+}
+
+void VctVolumes::recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkBuffer jobs,
+                                    VkBuffer results, VkImageLayout sampledLayout) const {
     gpu::VoxelBouncePush push{m_grid.params(), cones};
     dispatchIndirect(m_ctx, cmd, m_bounce, push,
                      {sampled(1, m_aniso.image, m_sampler, sampledLayout), storage(2, m_grid.volumes().normal.image.view),
-                      storage(3, gathered.view), bufferItem(4, m_list.buffer.buffer)},
-                     m_list.buffer.buffer, GI_VOXEL_LIST_BLOCKS * sizeof(uint32_t));
+                      bufferItem(3, jobs), bufferItem(4, results)},
+                     jobs);
 }
 
-void VctVolumes::recordBounceApply(VkCommandBuffer cmd, const gpu::ConeParams& cones, const Image& gathered,
-                                   const Image& bounce, VkImageLayout sampledLayout) const {
+void VctVolumes::recordBounceApply(VkCommandBuffer cmd, VkBuffer jobs, VkBuffer results, const Image& bounce) const {
+    const VoxelVolumes& g = m_grid.volumes();
+    gpu::VoxelGridPush push{m_grid.params()};
+    dispatchIndirect(m_ctx, cmd, m_bounceApply, push,
+                     {storage(0, g.albedo.image.view), storage(1, g.normal.image.view), bufferItem(2, jobs),
+                      storage(3, bounce.view), bufferItem(4, m_list.buffer.buffer), bufferItem(5, results)},
+                     m_list.buffer.buffer);
+}
+
+void VctVolumes::recordBounceMisfits(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkBuffer jobs,
+                                     const Image& bounce, VkImageLayout sampledLayout) const {
     const VoxelVolumes& g = m_grid.volumes();
     gpu::VoxelBouncePush push{m_grid.params(), cones};
-    dispatchIndirect(m_ctx, cmd, m_bounceApply, push,
+    dispatchIndirect(m_ctx, cmd, m_bounceMisfits, push,
                      {sampled(1, m_aniso.image, m_sampler, sampledLayout), storage(2, g.albedo.image.view),
-                      storage(3, g.normal.image.view), storage(4, gathered.view), storage(5, bounce.view),
-                      bufferItem(6, m_list.buffer.buffer)},
-                     m_list.buffer.buffer);
+                      storage(3, g.normal.image.view), storage(4, bounce.view), bufferItem(5, jobs)},
+                     jobs, GI_BOUNCE_MISFITS * sizeof(uint32_t));
 }
 
 void VctVolumes::recordBounceAdd(VkCommandBuffer cmd, const Image& bounce) const {

@@ -57,6 +57,9 @@ public:
     // Occupied-voxel list + its indirect dispatch header (voxel_passes.h); `listBuilt` says
     // whether it holds the current grid's voxels (cleared when the grid is re-voxelized).
     rg::PersistentBuffer& listState() { return m_list; }
+    // The second bounce's job and result buffers (gi/voxel_passes.h), created at the first call.
+    rg::PersistentBuffer& bounceJobsState();
+    rg::PersistentBuffer& bounceResultsState();
     bool listBuilt() const { return m_listBuilt; }
     void setListBuilt(bool built) { m_listBuilt = built; }
     const VoxelGrid& grid() const { return m_grid; }
@@ -88,13 +91,18 @@ public:
     // aniso level `level` (>= 1) from level - 1; level 1 at the listed occupied blocks only
     // (indirect over the list; the others keep the zeros of recordClearLevels01).
     void recordMip(VkCommandBuffer cmd, uint32_t level) const;
-    // Second bounce; the gathers read aniso() (direct light and its mips). Blocks: the
-    // diffuse gather of every listed 2^3 block -> `gathered` ((N/2)^3 RGBA16F, storage write).
-    void recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& cones, const Image& gathered,
+    // Second bounce (gi/voxel_passes.h, docs/vct.md); the gathers read aniso() (direct light
+    // and its mips). `jobs` is a buffer of bounceJobBytes() whose header is zeroed before.
+    // Jobs: the normal classes of every occupied 4^3 block -> the job list (storage read-write).
+    void recordBounceJobs(VkCommandBuffer cmd, VkBuffer jobs) const;
+    // Blocks: one diffuse gather per job -> `results`, and the misfit list (indirect).
+    void recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkBuffer jobs, VkBuffer results,
                             VkImageLayout sampledLayout) const;
-    // Apply: albedo * (block or own gather) -> `bounce` (N^3 RGBA16F) at the listed voxels.
-    void recordBounceApply(VkCommandBuffer cmd, const gpu::ConeParams& cones, const Image& gathered,
-                           const Image& bounce, VkImageLayout sampledLayout) const;
+    // Apply: albedo * the gathers of its class -> `bounce` (N^3 RGBA16F) at the listed voxels.
+    void recordBounceApply(VkCommandBuffer cmd, VkBuffer jobs, VkBuffer results, const Image& bounce) const;
+    // Misfits: albedo * their own gather -> `bounce` at the misfit voxels (indirect).
+    void recordBounceMisfits(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkBuffer jobs, const Image& bounce,
+                             VkImageLayout sampledLayout) const;
     // Add: `bounce` joins level 0 of aniso() at the listed voxels (storage read-write).
     void recordBounceAdd(VkCommandBuffer cmd, const Image& bounce) const;
     // Per-pixel trace through aniso().
@@ -116,10 +124,11 @@ private:
     const VoxelGrid& m_grid;
     rg::PersistentImage m_aniso;
     rg::PersistentBuffer m_list;
+    rg::PersistentBuffer m_jobBuffer, m_resultBuffer;
     bool m_listBuilt = false;
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;
-    Pipeline m_compact, m_listAppend, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_mipList, m_bounce, m_bounceApply, m_bounceAdd, m_trace, m_traceRefine,
+    Pipeline m_compact, m_listAppend, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_mipList, m_bounceJobs, m_bounce, m_bounceApply, m_bounceMisfits, m_bounceAdd, m_trace, m_traceRefine,
         m_upsample, m_softShadow;
 };
 

@@ -336,42 +336,75 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     out.aniso = addMipPasses(graph, v, out.aniso, list, "gi.vct.mip");
     gpu::ConeParams cones = volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
     if (settings.bounces >= 2) {
-        ImageDesc gatheredDesc;
-        gatheredDesc.type = VK_IMAGE_TYPE_3D;
-        gatheredDesc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
-        gatheredDesc.width = gatheredDesc.height = gatheredDesc.depth = volumes.grid().resolution() / 2;
+        // One gather per (4^3 block, normal class), its misfit voxels one each (gi/voxel_passes.h).
+        struct Jobs {
+            rg::BufferHandle jobs;
+        };
+        rg::BufferHandle jobs = graph.importBuffer("gi.vct.bounce.jobs", volumes.bounceJobsState());
+        rg::BufferHandle results = graph.importBuffer("gi.vct.bounce.results", volumes.bounceResultsState());
+        const Jobs& cleared = graph.addPass<Jobs>(
+            "gi.vct.bounce.jobs.clear",
+            [&](rg::PassBuilder& b, Jobs& d) {
+                d.jobs = b.write(jobs, Access::TransferWrite);
+            },
+            [](const Jobs& d, rg::PassContext& ctx) {
+                vkCmdFillBuffer(ctx.cmd(), ctx.buffer(d.jobs).buffer, 0, GI_BOUNCE_HEADER * sizeof(uint32_t), 0);
+            });
+        const Jobs& listed = graph.addPass<Jobs>(
+            "gi.vct.bounce.jobs",
+            [&](rg::PassBuilder& b, Jobs& d) {
+                b.read(list, Access::ComputeStorageRead);
+                b.read(grid.normal, Access::ComputeStorageRead);
+                d.jobs = b.write(cleared.jobs, Access::ComputeStorageReadWrite);
+            },
+            [v](const Jobs& d, rg::PassContext& ctx) { v->recordBounceJobs(ctx.cmd(), ctx.buffer(d.jobs).buffer); });
+        const Jobs& blocks = graph.addPass<Jobs>(
+            "gi.vct.bounce.blocks",
+            [&](rg::PassBuilder& b, Jobs& d) {
+                b.read(listed.jobs, Access::IndirectRead);
+                b.read(out.aniso, Access::ComputeSampledRead);
+                b.read(grid.normal, Access::ComputeStorageRead);
+                d.jobs = b.write(listed.jobs, Access::ComputeStorageReadWrite); // the misfit list
+                results = b.write(results, Access::ComputeStorageWrite);
+            },
+            [v, cones, aniso = out.aniso, results](const Jobs& d, rg::PassContext& ctx) {
+                v->recordBounceBlocks(ctx.cmd(), cones, ctx.buffer(d.jobs).buffer, ctx.buffer(results).buffer,
+                                      ctx.layout(aniso));
+            });
+        ImageDesc bounceDesc;
+        bounceDesc.type = VK_IMAGE_TYPE_3D;
+        bounceDesc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+        bounceDesc.width = bounceDesc.height = bounceDesc.depth = volumes.grid().resolution();
         struct Gathered {
             rg::ImageHandle image;
         };
-        const Gathered& blocks = graph.addPass<Gathered>(
-            "gi.vct.bounce.blocks",
-            [&](rg::PassBuilder& b, Gathered& d) {
-                b.read(list, Access::IndirectRead);
-                b.read(list, Access::ComputeStorageRead);
-                b.read(out.aniso, Access::ComputeSampledRead);
-                b.read(grid.normal, Access::ComputeStorageRead);
-                // Only the listed blocks are written; the apply pass reads no others.
-                d.image = b.write(b.create("gi.vct.bounce.gathered", gatheredDesc), Access::ComputeStorageWriteDiscard);
-            },
-            [v, cones, aniso = out.aniso](const Gathered& d, rg::PassContext& ctx) {
-                v->recordBounceBlocks(ctx.cmd(), cones, ctx.image(d.image), ctx.layout(aniso));
-            });
-        ImageDesc bounceDesc = gatheredDesc;
-        bounceDesc.width = bounceDesc.height = bounceDesc.depth = volumes.grid().resolution();
-        const Gathered& bounce = graph.addPass<Gathered>(
+        const Gathered& applied = graph.addPass<Gathered>(
             "gi.vct.bounce",
             [&](rg::PassBuilder& b, Gathered& d) {
                 b.read(list, Access::IndirectRead);
                 b.read(list, Access::ComputeStorageRead);
-                b.read(out.aniso, Access::ComputeSampledRead);
                 b.read(grid.albedo, Access::ComputeStorageRead);
                 b.read(grid.normal, Access::ComputeStorageRead);
-                b.read(blocks.image, Access::ComputeStorageRead);
+                b.read(blocks.jobs, Access::ComputeStorageRead);
+                b.read(results, Access::ComputeStorageRead);
                 // Only the listed voxels are written; the add pass reads no others.
                 d.image = b.write(b.create("gi.vct.bounce.light", bounceDesc), Access::ComputeStorageWriteDiscard);
             },
-            [v, cones, aniso = out.aniso, gathered = blocks.image](const Gathered& d, rg::PassContext& ctx) {
-                v->recordBounceApply(ctx.cmd(), cones, ctx.image(gathered), ctx.image(d.image), ctx.layout(aniso));
+            [v, jobs = blocks.jobs, results](const Gathered& d, rg::PassContext& ctx) {
+                v->recordBounceApply(ctx.cmd(), ctx.buffer(jobs).buffer, ctx.buffer(results).buffer, ctx.image(d.image));
+            });
+        const Gathered& bounce = graph.addPass<Gathered>(
+            "gi.vct.bounce.misfits",
+            [&](rg::PassBuilder& b, Gathered& d) {
+                b.read(blocks.jobs, Access::IndirectRead);
+                b.read(blocks.jobs, Access::ComputeStorageRead);
+                b.read(out.aniso, Access::ComputeSampledRead);
+                b.read(grid.albedo, Access::ComputeStorageRead);
+                b.read(grid.normal, Access::ComputeStorageRead);
+                d.image = b.write(applied.image, Access::ComputeStorageWrite); // the misfit voxels
+            },
+            [v, cones, aniso = out.aniso, jobs = blocks.jobs](const Gathered& d, rg::PassContext& ctx) {
+                v->recordBounceMisfits(ctx.cmd(), cones, ctx.buffer(jobs).buffer, ctx.image(d.image), ctx.layout(aniso));
             });
         graph.addPass(
             "gi.vct.bounce.add",

@@ -1,14 +1,36 @@
-// Mean normal of a 2^3 block of the grid (voxel_bounce*.comp). The includer declares the
-// normal volume `normalVol` (rgba8 image3D; encoded zero normals decode to ~0).
+// Normal classes of the second bounce (voxel_bounce*.comp, gi/voxel_passes.h). The includer
+// declares the normal volume `normalVol` (rgba8 image3D).
+//
+// Everything that decides which gather a voxel takes is integer arithmetic on the stored bytes,
+// so the job pass, the gather and the apply (separate shaders) classify a voxel identically.
 
-// Sum of the decoded normals of the occupied voxels of block b, normalized; zero when none
-// has a normal or they cancel (|sum| < 1/2, as a voxel's own zero-normal test).
-vec3 blockNormal(ivec3 b) {
-    vec3 sum = vec3(0.0);
-    for (int i = 0; i < 8; ++i) {
-        vec4 e = imageLoad(normalVol, 2 * b + ivec3(i & 1, (i >> 1) & 1, i >> 2));
-        if (e.a > 0.0)
-            sum += voxelNormalDecode(e.xyz);
-    }
-    return dot(sum, sum) > 0.25 ? normalize(sum) : vec3(0.0);
+// The normal's byte triple as integers 2 b - 255 (the decoded normal times 255).
+ivec3 voxelNormalInt(vec4 e) {
+    return 2 * ivec3(round(e.xyz * 255.0)) - 255;
+}
+
+// Class 0..25 of a normal: the face, edge or corner direction of a cube nearest to it, i.e.
+// the signs of the components above tan(22.5 degrees) = 0.414 of the largest one. Within an
+// axis plane the classes split at 22.5 and 67.5 degrees; a normal is at most 30 degrees from
+// its class direction.
+uint voxelNormalClass(ivec3 v) {
+    ivec3 a = abs(v);
+    int m = max(a.x, max(a.y, a.z));
+    ivec3 s = sign(v) * ivec3(greaterThanEqual(1000 * a, ivec3(414 * m)));
+    uint k = uint(s.x + 1) + 3u * uint(s.y + 1) + 9u * uint(s.z + 1); // 13 = (0, 0, 0): never
+    return k > 13u ? k - 1u : k;
+}
+
+// Voxel c's unit normal and class; false when it has none: empty, or its faces' normals cancel
+// (decoded |n| < 1/2, e.g. both sides of a thin wall): no hemisphere to gather over.
+bool voxelNormalOf(ivec3 c, out vec3 normal, out uint k) {
+    vec4 e = imageLoad(normalVol, c);
+    ivec3 v = voxelNormalInt(e);
+    normal = vec3(v) / 255.0;
+    k = 0u;
+    if (e.a == 0.0 || 4 * (v.x * v.x + v.y * v.y + v.z * v.z) < 255 * 255)
+        return false;
+    normal = normalize(normal);
+    k = voxelNormalClass(v);
+    return true;
 }

@@ -109,8 +109,35 @@ GI_GPU_STRUCT(ConeParams) {
 #define GI_VCT_FLAG_GLOSSY 1u
 #define GI_VCT_FLAG_AO 2u
 
-// voxel_bounce.comp: diffuse gather per occupied 2^3 block (voxel_bounce_apply.comp adds it to
-// the voxels, or gathers per voxel where the block's mean normal does not fit).
+// Second bounce (voxel_bounce*.comp, docs/vct.md "Second bounce"): one diffuse gather per
+// (occupied 4^3 block, normal class), a class being one of the 26 directions of a cube's faces,
+// edges and corners nearest to the voxel normal (voxelNormalClass, voxel_block.glsl). The job
+// buffer (one per grid, rewritten every relit frame) holds, in uints:
+//   header  GI_BOUNCE_HEADER words: 0..3 the gathers' VkDispatchIndirectCommand (x =
+//           ceil(largest class count / GI_VOXEL_LIST_GROUP), y = GI_BOUNCE_CLASSES: work group
+//           row k runs class k's jobs, so the SIMD lanes of a group trace the same directions),
+//           4..7 the misfit voxels' (normal more than 25 degrees from their class's mean: they
+//           gather their own cones) as the occupied lists' quads (x = ceil(count / group), y = z
+//           = 1, w = count), then GI_BOUNCE_CLASSES job counts, one per class;
+//   then (words after the header, offsets below) per 4^3 block (x + Q (y + Q z), Q = N/4) the
+//   26-bit mask of the classes present; the jobs of class k (block index each) from
+//   k * Q^3 on; the misfit voxels, voxelListPack each.
+// Only the header is cleared; the masks of all blocks are written, the rest before it is read.
+// The gathers' results go to a second buffer (one storage buffer of both would exceed
+// lavapipe's 128 MiB range at 256^3): 2 words per (block b, class k) at 2 (26 b + k),
+// packHalf2x16 of r, g and of b, 0: (1/n) sum L_i.
+#define GI_BOUNCE_CLASSES 26u
+#define GI_BOUNCE_COUNTS 8u // header offset (words) of the per-class job counts
+#define GI_BOUNCE_HEADER (GI_BOUNCE_COUNTS + GI_BOUNCE_CLASSES)
+#define GI_BOUNCE_MISFITS 4u // header offset (words) of the misfit quad
+GI_INLINE uint bounceBlockCount(uint n) { return (n / 4u) * (n / 4u) * (n / 4u); }
+GI_INLINE uint bounceJobOffset(uint n) { return bounceBlockCount(n); }
+GI_INLINE uint bounceMisfitOffset(uint n) { return bounceJobOffset(n) + GI_BOUNCE_CLASSES * bounceBlockCount(n); }
+// Words after the header (misfits: at most every voxel).
+GI_INLINE uint bounceJobWords(uint n) { return bounceMisfitOffset(n) + n * n * n; }
+GI_INLINE uint bounceResultWords(uint n) { return 2u * GI_BOUNCE_CLASSES * bounceBlockCount(n); }
+
+// voxel_bounce*.comp: the grid and the diffuse cones.
 GI_GPU_STRUCT(VoxelBouncePush) {
     VoxelGridParams grid;
     ConeParams cones;
