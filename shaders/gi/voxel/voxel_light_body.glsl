@@ -72,24 +72,6 @@ const float kShadowStep = 0.5;
 // itself and its neighbours in the same wall do not shadow it.
 const float kShadowStart = 1.0;
 
-#ifndef GI_VOXEL_LIGHT_SOFT
-bool listBit(uint base, uint i) { return (voxels[base + (i >> 5u)] & (1u << (i & 31u))) != 0u; }
-
-// Sample time of the last march sample after t (t + k * kShadowStep, k >= 0) that still lies in
-// the empty block b of edge 2^shift voxels that holds the sample at t; t when the next one
-// already leaves it. p + t dir is monotonic in t per component, so if that sample's computed
-// position lies in the block, so do all in between: skipping them tests exactly the samples
-// the plain march finds empty.
-float lastSampleInBlock(vec3 p, vec3 dir, float t, ivec3 b, int shift) {
-    float size = float(1 << shift);
-    vec3 exitPlane = vec3(b << shift) + step(0.0, dir) * size;
-    vec3 tAxis = abs((exitPlane - (p + t * dir)) / dir);
-    float skip = floor(min(tAxis.x, min(tAxis.y, tAxis.z)) / kShadowStep);
-    float tLast = t + skip * kShadowStep;
-    return skip >= 1.0 && ivec3(floor(p + tLast * dir)) >> shift == b ? tLast : t;
-}
-#endif
-
 // Visibility along p + t * dir, t in [start, tMax) (voxel units), tMax at the light. The
 // light's own voxel never blocks it, as the receiver's own voxel does not (the march starts
 // off it): a surface inside that voxel lies within a voxel of the light, closer than the grid
@@ -101,10 +83,9 @@ float visibility(vec3 p, vec3 dir, float tMax) {
     float transmit = 1.0;
     ivec3 lightVoxel = ivec3(floor(p + tMax * dir));
 #ifndef GI_VOXEL_LIGHT_SOFT
-    uint res = pc.grid.dims.x, half_ = res / 2u, quarter = res / 4u;
-    uint bits = voxelListBitsOffset(res), blockBits = bits + res * res * res / 32u;
-    uint coarseBits = voxelListCoarseBitsOffset(res);
-    ivec3 lightBlock = lightVoxel >> 1, lightCoarse = lightVoxel >> 2;
+    uint res = pc.grid.dims.x, quarter = res / 4u;
+    uint bits = voxelListBitsOffset(res), coarseBits = voxelListCoarseBitsOffset(res);
+    ivec3 lightBlock = lightVoxel >> 2;
 #endif
     for (float t = kShadowStart; t < tMax; t += kShadowStep) {
         vec3 q = p + t * dir;
@@ -117,25 +98,27 @@ float visibility(vec3 p, vec3 dir, float tMax) {
             return 0.0;
 #else
         // Occupancy from the list's bits (gi/voxel_passes.h), equal to albedo.a > 0 and cheaper
-        // per step than an image load. In an empty 4^3 block, or an empty 2^3 block of an
-        // occupied one (a wall's 4^3 block is half empty 2^3 blocks), every sample up to the last
-        // one in the block is empty too: jump there (not in the light's block, whose samples
-        // stop at the light's voxel). The samples tested, and so the result, are the plain
-        // 0.5-voxel march's.
+        // per step than an image load. In an empty 4^3 block (not the light's) every sample up
+        // to the last one whose position still falls in the block is empty too: jump there.
+        // p + t dir is monotonic in t per component, so if that last sample's computed position
+        // lies in the block, so do all in between, and the samples tested are exactly the
+        // ones the plain march finds occupied or not: the result is the same.
         ivec3 v = ivec3(q);
-        ivec3 c4 = v >> 2;
-        if (!listBit(coarseBits, uint(c4.x) + quarter * (uint(c4.y) + quarter * uint(c4.z)))) {
-            if (c4 != lightCoarse)
-                t = lastSampleInBlock(p, dir, t, c4, 2);
+        ivec3 b = v >> 2;
+        uint coarse = uint(b.x) + quarter * (uint(b.y) + quarter * uint(b.z));
+        if ((voxels[coarseBits + (coarse >> 5u)] & (1u << (coarse & 31u))) == 0u) {
+            if (b != lightBlock) {
+                vec3 exitPlane = vec3(b * 4) + step(0.0, dir) * 4.0;
+                vec3 tAxis = abs((exitPlane - q) / dir);
+                float skip = floor(min(tAxis.x, min(tAxis.y, tAxis.z)) / kShadowStep);
+                float tLast = t + skip * kShadowStep;
+                if (skip >= 1.0 && ivec3(floor(p + tLast * dir)) >> 2 == b)
+                    t = tLast;
+            }
             continue;
         }
-        ivec3 c2 = v >> 1;
-        if (!listBit(blockBits, uint(c2.x) + half_ * (uint(c2.y) + half_ * uint(c2.z)))) {
-            if (c2 != lightBlock)
-                t = lastSampleInBlock(p, dir, t, c2, 1);
-            continue;
-        }
-        if (listBit(bits, uint(v.x) + res * (uint(v.y) + res * uint(v.z))))
+        uint i = uint(v.x) + res * (uint(v.y) + res * uint(v.z));
+        if ((voxels[bits + (i >> 5u)] & (1u << (i & 31u))) != 0u)
             return 0.0;
 #endif
     }
