@@ -104,10 +104,16 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
                  VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     v->m_list.buffer = createBuffer(ctx, list, "vct.voxel_list");
     SamplerDesc s;
-    s.address = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER; // outside the grid is empty space
-    s.border = VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK;
+    // Outside the grid is empty space: sampleAniso (voxel_cone.glsl) turns the clamped edge
+    // into the transparent border (exactly, and faster on lavapipe than a border colour).
+    s.address = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
     s.mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST; // one level per cone sample (voxel_cone.glsl)
     v->m_sampler = createSampler(ctx, s);
+    // The soft voxel-light march filters the occupancy trilinearly: beyond the grid is empty.
+    SamplerDesc occupancy;
+    occupancy.address = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER;
+    occupancy.border = VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK;
+    v->m_occupancySampler = createSampler(ctx, occupancy);
     return v;
 }
 
@@ -120,8 +126,9 @@ VctVolumes::~VctVolumes() {
                         &m_trace, &m_traceRefine, &m_upsample, &m_softShadow})
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_aniso.image);
-    if (m_sampler)
-        vkDestroySampler(m_ctx.device(), m_sampler, nullptr);
+    for (VkSampler sampler : {m_sampler, m_occupancySampler})
+        if (sampler)
+            vkDestroySampler(m_ctx.device(), sampler, nullptr);
 }
 
 VkDeviceSize VctVolumes::bytes() const {
@@ -195,7 +202,7 @@ void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t ligh
     bool soft = mode == GI_VCT_OCCLUSION_SOFT;
     dispatchIndirect(m_ctx, cmd, soft ? m_lightSoft : m_light, push,
                      {lightItem, storage(3, g.emission.image.view),
-                      soft ? sampled(4, g.albedo.image, m_sampler, sampledLayout) : storage(4, g.albedo.image.view),
+                      soft ? sampled(4, g.albedo.image, m_occupancySampler, sampledLayout) : storage(4, g.albedo.image.view),
                       storage(5, m_aniso.image.mipViews[0]), bufferItem(6, m_list.buffer.buffer),
                       storage(10, g.faces.image.view)},
                      m_list.buffer.buffer);

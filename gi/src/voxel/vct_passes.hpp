@@ -127,7 +127,8 @@ private:
     rg::PersistentBuffer m_jobBuffer, m_resultBuffer;
     bool m_listBuilt = false;
     uint32_t m_levels = 0;
-    VkSampler m_sampler = VK_NULL_HANDLE;
+    VkSampler m_sampler = VK_NULL_HANDLE;          // directional volume: clamp to edge (sampleAniso)
+    VkSampler m_occupancySampler = VK_NULL_HANDLE; // soft voxel-light march: transparent border
     Pipeline m_compact, m_listAppend, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_mipList, m_bounceJobs, m_bounce, m_bounceApply, m_bounceMisfits, m_bounceAdd, m_trace, m_traceRefine,
         m_upsample, m_softShadow;
 };
