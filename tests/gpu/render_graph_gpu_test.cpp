@@ -253,11 +253,13 @@ TEST_F(RenderGraphGpu, APassScopeHoldsItsOwnWork) {
     g.exportBuffer(counter, Access::ComputeStorageRead);
     ASSERT_TRUE(g.compile());
     // The first submit pays the shader's JIT compilation at its first dispatch. The machine is
-    // shared, so a scheduling hiccup may land in any scope: 2 of 3 timed submits must agree.
+    // shared, so a scheduling hiccup may land in any scope (a loaded machine failed 2 of 3): 3 of
+    // at most 9 timed submits must agree. The misattribution this guards against happened in
+    // every submit.
     ctx().submitAndWait([&](VkCommandBuffer cmd) { g.execute(cmd, ctx(), pool, &timestamps); });
     int held = 0;
     std::string seen;
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < 9 && held < 3; ++i) {
         ctx().submitAndWait([&](VkCommandBuffer cmd) { g.execute(cmd, ctx(), pool, &timestamps); });
         std::vector<PassTiming> t = g.timings();
         ASSERT_EQ(t.size(), 3u);
@@ -265,7 +267,7 @@ TEST_F(RenderGraphGpu, APassScopeHoldsItsOwnWork) {
         held += t[1].ms > 0.8 * (t[0].ms + t[1].ms + t[2].ms);
         seen += std::to_string(t[0].ms) + " / " + std::to_string(t[1].ms) + " / " + std::to_string(t[2].ms) + " ms\n";
     }
-    EXPECT_GE(held, 2) << seen;
+    EXPECT_GE(held, 3) << seen;
     EXPECT_EQ(validation().count(), 0u);
     pool.clear();
     destroyPipeline(ctx(), *tiny);

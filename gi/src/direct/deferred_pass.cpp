@@ -44,8 +44,9 @@ DirectData addDeferredPass(rg::RenderGraph& graph, const DirectPipelines& p, con
     const DeferredPass& pass = graph.addPass<DeferredPass>(
         "gi.direct",
         [&](rg::PassBuilder& b, DeferredPass& d) {
-            for (rg::ImageHandle h : {g.position, g.normal, g.albedo, g.emission, shadow.atlas})
-                b.read(h, Access::ComputeSampledRead);
+            for (rg::ImageHandle h : {g.position, g.normal, g.albedo, g.emission})
+                b.read(h, Access::ComputeStorageRead);
+            b.read(shadow.atlas, Access::ComputeSampledRead);
             b.read(scene.lights, Access::ComputeStorageRead);
             b.read(shadow.views, Access::ComputeStorageRead);
             b.read(shadow.lightShadows, Access::ComputeStorageRead);
@@ -63,8 +64,8 @@ DirectData addDeferredPass(rg::RenderGraph& graph, const DirectPipelines& p, con
             const Pipeline& pl = d.p->deferred;
             VkSampler pt = d.p->pointSampler;
             pc.dispatch(pl, rg::PassContext::groupsFor(pl, {d.push.size.x, d.push.size.y, 1}), d.push,
-                        {pc.sampled(0, d.g.position, pt), pc.sampled(1, d.g.normal, pt), pc.sampled(2, d.g.albedo, pt),
-                         pc.sampled(3, d.g.emission, pt), pc.buffer(4, d.lights), pc.buffer(5, d.shadow.lightShadows),
+                        {pc.storage(0, d.g.position), pc.storage(1, d.g.normal), pc.storage(2, d.g.albedo),
+                         pc.storage(3, d.g.emission), pc.buffer(4, d.lights), pc.buffer(5, d.shadow.lightShadows),
                          pc.buffer(6, d.shadow.views), pc.sampled(7, d.shadow.atlas, pt),
                          pc.storage(8, d.out)});
         });
@@ -76,8 +77,8 @@ CompositeData addCompositePass(rg::RenderGraph& graph, const DirectPipelines& p,
     const CompositePass& pass = graph.addPass<CompositePass>(
         "gi.composite",
         [&](rg::PassBuilder& b, CompositePass& d) {
-            b.read(direct, Access::ComputeSampledRead);
-            b.read(indirect, Access::ComputeSampledRead);
+            b.read(direct, Access::ComputeStorageRead);
+            b.read(indirect, Access::ComputeStorageRead);
             d.out = b.write(b.create("gi.composite", radianceDesc(frame)), Access::ComputeStorageWriteDiscard);
             d.direct = direct;
             d.indirect = indirect;
@@ -87,8 +88,7 @@ CompositeData addCompositePass(rg::RenderGraph& graph, const DirectPipelines& p,
         [](const CompositePass& d, rg::PassContext& pc) {
             const Pipeline& pl = d.p->composite;
             pc.dispatch(pl, rg::PassContext::groupsFor(pl, {d.push.size.x, d.push.size.y, 1}), d.push,
-                        {pc.sampled(0, d.direct, d.p->pointSampler), pc.sampled(1, d.indirect, d.p->pointSampler),
-                         pc.storage(2, d.out)});
+                        {pc.storage(0, d.direct), pc.storage(1, d.indirect), pc.storage(2, d.out)});
         });
     return CompositeData{pass.out};
 }

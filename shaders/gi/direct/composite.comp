@@ -5,14 +5,16 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform PushBlock { CompositePush pc; };
-layout(set = 1, binding = 0) uniform sampler2D direct;
-layout(set = 1, binding = 1) uniform sampler2D indirect;
+// Point reads of storage images (faster on lavapipe than texelFetch through a sampler); every
+// technique's indirect image is RGBA32F like the direct one.
+layout(set = 1, binding = 0, rgba32f) uniform readonly image2D direct;
+layout(set = 1, binding = 1, rgba32f) uniform readonly image2D indirect;
 layout(set = 1, binding = 2, rgba32f) uniform writeonly image2D outFinal;
 
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(uvec2(px), pc.size.xy)))
         return;
-    vec3 c = texelFetch(direct, px, 0).rgb + texelFetch(indirect, px, 0).rgb;
+    vec3 c = imageLoad(direct, px).rgb + imageLoad(indirect, px).rgb;
     imageStore(outFinal, px, vec4(c, 1.0));
 }
