@@ -9,10 +9,10 @@
 // also the indirect dispatch of the refine trace: {count, groups x, 1, 1}, the dispatch read at
 // byte offset 4.
 //
-// Per quad, not per pixel: the four pixels of a quad (even-aligned) have the same four taps
-// (the tap grid's cells start at pixels f * i + f / 2, even for f = 2, 4), and deciding which
-// refined pixels share a trace needs the other pixels' decisions, which a per-pixel invocation
-// recomputed (up to three more tap fits for a refined pixel, and again in the refine pass).
+// Per quad, not per pixel: deciding which refined pixels share a trace needs the other pixels'
+// decisions, which a per-pixel invocation recomputed (up to three more tap fits for a refined
+// pixel, and again in the refine pass). (Loading a quad's taps once where they are shared, at
+// f = 4, measured slower than each pixel loading its own.)
 #include "gi/voxel_passes.h"
 
 layout(local_size_x = 8, local_size_y = 8) in; // quads

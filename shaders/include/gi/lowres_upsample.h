@@ -56,33 +56,44 @@ bool lowResTaps(ivec2 px, vec3 position, vec3 n, float depth, int f, ivec2 low, 
 // renormalised; where those weights are all zero (the pixel lies on the line through the
 // rejected taps, the kept ones one low-res spacing away) they count equally. A pixel that keeps
 // no tap is refined too. `voxel` is the voxel edge in the units of the positions.
-bool lowResFitTaps(ivec2 px, vec3 position, vec3 n, float depth, int f, ivec2 low, ivec2 full, float threshold,
-                   float voxel, float reach, out ivec2 taps[4], out vec4 weights) {
+//
+// lowResTapCell gives the taps (low-res texels i0 + (k & 1, k >> 1)) and the bilinear weights;
+// lowResFitTapsAt decides from the taps' G-buffer samples (q = position, nq = normal), which
+// the caller may have loaded once for several pixels with the same taps; lowResFitTaps loads
+// them itself.
+void lowResTapCell(ivec2 px, int f, ivec2 low, out ivec2 taps[4], out vec4 weights) {
     vec2 c = (vec2(px) - float(f / 2)) / float(f);
     ivec2 i0 = ivec2(floor(c));
     vec2 t = c - vec2(i0);
-    vec4 keep = vec4(0.0);
-    bool edge = false, near = false;
     for (int k = 0; k < 4; ++k) {
         ivec2 o = ivec2(k & 1, k >> 1);
         weights[k] = (o.x == 1 ? t.x : 1.0 - t.x) * (o.y == 1 ? t.y : 1.0 - t.y);
-        ivec2 li = clamp(i0 + o, ivec2(0), low - 1);
-        taps[k] = li;
-        ivec2 s = lowResSource(li, f, full);
-        vec4 q = GI_LOWRES_GBUFFER_FETCH(gPosition, s);
-        vec3 nq = GI_LOWRES_GBUFFER_FETCH(gNormal, s).xyz;
-        float off = abs(dot(q.xyz - position.xyz, n));
-        bool fits = q.w != 0.0 && 1.0 - dot(n, nq) <= threshold && off <= threshold * depth;
-        edge = edge || (!fits && weights[k] > 0.0);
+        taps[k] = clamp(i0 + o, ivec2(0), low - 1);
+    }
+}
+
+bool lowResFitTapsAt(vec3 position, vec3 n, float depth, float threshold, float voxel, float reach, vec4 q[4],
+                     vec3 nq[4], inout vec4 weights) {
+    vec4 off;
+    bvec4 fits;
+    bool edge = false;
+    for (int k = 0; k < 4; ++k) {
+        off[k] = abs(dot(q[k].xyz - position.xyz, n));
+        fits[k] = q[k].w != 0.0 && 1.0 - dot(n, nq[k]) <= threshold && off[k] <= threshold * depth;
+        edge = edge || (!fits[k] && weights[k] > 0.0);
+    }
+    if (!edge) // most pixels: plain bilinear
+        return false;
+    vec4 keep = vec4(0.0);
+    bool near = false;
+    for (int k = 0; k < 4; ++k) {
         // A tap that does not fit and whose surface the pixel lies behind (seen past its edge,
         // e.g. through a window or past a column) or less than `reach` voxels in front of (a
         // concave corner, where the gather darkens within the span of the first cone samples):
         // no other tap can stand in for the pixel.
-        near = near || (!fits && q.w != 0.0 && dot(position.xyz - q.xyz, nq) < reach * voxel);
-        keep[k] = fits && off <= 0.5 * voxel && distance(q.xyz, position.xyz) <= reach * voxel ? 1.0 : 0.0;
+        near = near || (!fits[k] && q[k].w != 0.0 && dot(position.xyz - q[k].xyz, nq[k]) < reach * voxel);
+        keep[k] = fits[k] && off[k] <= 0.5 * voxel && distance(q[k].xyz, position.xyz) <= reach * voxel ? 1.0 : 0.0;
     }
-    if (!edge)
-        return false;
     if (near || keep == vec4(0.0))
         return true;
     weights *= keep;
@@ -93,6 +104,19 @@ bool lowResFitTaps(ivec2 px, vec3 position, vec3 n, float depth, int f, ivec2 lo
     }
     weights /= sum;
     return false;
+}
+
+bool lowResFitTaps(ivec2 px, vec3 position, vec3 n, float depth, int f, ivec2 low, ivec2 full, float threshold,
+                   float voxel, float reach, out ivec2 taps[4], out vec4 weights) {
+    lowResTapCell(px, f, low, taps, weights);
+    vec4 q[4];
+    vec3 nq[4];
+    for (int k = 0; k < 4; ++k) {
+        ivec2 s = lowResSource(taps[k], f, full);
+        q[k] = GI_LOWRES_GBUFFER_FETCH(gPosition, s);
+        nq[k] = GI_LOWRES_GBUFFER_FETCH(gNormal, s).xyz;
+    }
+    return lowResFitTapsAt(position, n, depth, threshold, voxel, reach, q, nq, weights);
 }
 #endif
 
