@@ -256,7 +256,7 @@ TEST_F(PassSelectionTest, VctStaticFrameSkipsVoxelWorkAndMatchesTheRecomputedIma
     EXPECT_EQ(leftOut(second.leftOut),
               "gi.light[*].directional=not-needed gi.light[*].point=not-needed gi.light[0].spot=not-dirty "
               "gi.voxel.*=not-dirty gi.vct.light=not-dirty gi.vct.mip[*]=not-dirty gi.vct.bounce*=not-dirty "
-              "gi.vct.trace:glossy-cone=not-needed");
+              "gi.vct.trace:glossy-cone=not-needed gi.vct.trace:glossy-image=not-needed");
     EXPECT_GT(sum(second.indirect), 0.0);
     EXPECT_TRUE(sameImage(first.composite, second.composite));
     EXPECT_TRUE(sameImage(first.indirect, second.indirect));
@@ -292,7 +292,7 @@ TEST_F(PassSelectionTest, VctMovedLightRelightsWithoutRevoxelizing) {
                                   "gi.vct.bounce.mip[3] gi.vct.bounce.mip[4]");
     EXPECT_EQ(leftOut(f.leftOut), "gi.light[*].directional=not-needed gi.light[0].spot=not-dirty "
                                   "gi.voxel.*=not-dirty gi.vct.light:emission=not-needed "
-                                  "gi.vct.trace:glossy-cone=not-needed");
+                                  "gi.vct.trace:glossy-cone=not-needed gi.vct.trace:glossy-image=not-needed");
     // The edited system's frame equals a fresh system's first frame of the moved scene.
     auto fresh = system(smallSettings(Technique::Vct), moved);
     ASSERT_TRUE(fresh);

@@ -102,6 +102,9 @@ public:
         VctGBufferHandles g{gbuffer.position, gbuffer.normal, gbuffer.albedo, gbuffer.emission, frame.width,
                             frame.height, frame.camera.position};
         VctPassOptions options{relight, selection.features.emissive};
+        options.glossyImage = selection.request.glossy;
+        if (!options.glossyImage)
+            selection.leaveOut("gi.vct.trace:glossy-image", LeftOutReason::NotNeeded, "the glossy image is not requested");
         if (const ShadowData* sd = bb.tryGet<ShadowData>()) {
             options.shadowAtlas = sd->atlas;
             options.shadowViews = sd->views;

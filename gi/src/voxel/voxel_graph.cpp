@@ -215,7 +215,7 @@ rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::Im
 // The per-pixel passes ("gi.vct.trace" and, at low resolution, the upsample and refine) through
 // out.aniso.
 VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, VctOutputs out, const VctSettings& settings,
-                          const VctGBufferHandles* gbuffer);
+                          const VctGBufferHandles* gbuffer, bool glossyImage);
 
 // "gi.vct.shadow": direct light with cone-traced visibility through out.aniso into out.direct.
 // Only with VctSettings::softShadows and a G-buffer with emission.
@@ -266,7 +266,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     if (!options.relight) {
         // Nothing the voxel light depends on changed: the trace reads the kept volume and mips.
         out = addSoftShadowPass(graph, volumes, out, settings, gbuffer, lights, lightCount);
-        return gbuffer ? addTracePasses(graph, volumes, out, settings, gbuffer) : out;
+        return gbuffer ? addTracePasses(graph, volumes, out, settings, gbuffer, options.glossyImage) : out;
     }
     const rg::SubresourceRange level0 = rg::SubresourceRange::mip(0);
     if (grid.changed || !volumes.listBuilt()) {
@@ -420,15 +420,17 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
         out.aniso = addMipPasses(graph, v, out.aniso, list, "gi.vct.bounce.mip");
     }
     out = addSoftShadowPass(graph, volumes, out, settings, gbuffer, lights, lightCount);
-    return gbuffer ? addTracePasses(graph, volumes, out, settings, gbuffer) : out;
+    return gbuffer ? addTracePasses(graph, volumes, out, settings, gbuffer, options.glossyImage) : out;
 }
 
 namespace {
 
 VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, VctOutputs out, const VctSettings& settings,
-                          const VctGBufferHandles* gbuffer) {
+                          const VctGBufferHandles* gbuffer, bool glossyImage) {
     const VctVolumes* v = &volumes;
     gpu::ConeParams cones = volumes.coneParams(settings, gbuffer->width, gbuffer->height);
+    if (glossyImage)
+        cones.info.y |= GI_VCT_FLAG_GLOSSY_IMAGE;
     VctGBufferHandles g = *gbuffer;
     const uint32_t f = settings.lowResFactor;
     gpu::VctTracePush push{volumes.grid().params(), cones, glm::vec4(g.eye, settings.refineThreshold),

@@ -84,6 +84,9 @@ struct VctPassOptions {
     rg::ImageHandle shadowAtlas;
     rg::BufferHandle shadowViews, lightShadows;
     VkSampler shadowSampler = VK_NULL_HANDLE;
+    // false: the glossy image is not asked for; the trace passes leave it unwritten (the
+    // indirect image holds the glossy cone's share either way).
+    bool glossyImage = true;
 };
 VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
                         rg::BufferHandle lights, uint32_t lightCount, const VctSettings& settings,

@@ -34,6 +34,7 @@ layout(set = 1, binding = 7, std430) readonly buffer RefineList {
 
 void main() {
     ivec2 full = ivec2(pc.cones.info.zw);
+    bool glossyImage = (pc.cones.info.y & GI_VCT_FLAG_GLOSSY_IMAGE) != 0u;
 #ifdef GI_VCT_REFINE
     if (gl_GlobalInvocationID.x >= min(refineCount, pc.lowRes.w))
         return;
@@ -50,7 +51,8 @@ void main() {
     vec4 position = imageLoad(gPosition, px);
     if (position.w == 0.0) {
         imageStore(outIndirect, dst, vec4(0.0, 0.0, 0.0, 1.0));
-        imageStore(outGlossy, dst, vec4(0.0));
+        if (glossyImage)
+            imageStore(outGlossy, dst, vec4(0.0));
         return;
     }
     vec4 nr = imageLoad(gNormal, px);
@@ -74,7 +76,8 @@ void main() {
     vec3 indirect = am.rgb * mix(diffuse, glossy, metallic) * pc.grid.scales.z;
     float ao = (pc.cones.info.y & GI_VCT_FLAG_AO) != 0u ? 1.0 - occlusion : 1.0;
     imageStore(outIndirect, dst, vec4(indirect, ao));
-    imageStore(outGlossy, dst, vec4(glossy * pc.grid.scales.z, 1.0));
+    if (glossyImage)
+        imageStore(outGlossy, dst, vec4(glossy * pc.grid.scales.z, 1.0));
 #ifdef GI_VCT_REFINE
     // The refined pixels of this quad that take this trace (the upsample's mask,
     // vct_refine.glsl), with their own albedo and metallic.
@@ -86,7 +89,8 @@ void main() {
         vec4 aq = imageLoad(gAlbedo, q);
         vec3 iq = aq.rgb * mix(diffuse, glossy, clamp(aq.w, 0.0, 1.0)) * pc.grid.scales.z;
         imageStore(outIndirect, q, vec4(iq, ao));
-        imageStore(outGlossy, q, vec4(glossy * pc.grid.scales.z, 1.0));
+        if (glossyImage)
+            imageStore(outGlossy, q, vec4(glossy * pc.grid.scales.z, 1.0));
     }
 #endif
 }

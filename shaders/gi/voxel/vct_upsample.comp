@@ -39,6 +39,7 @@ void main() {
     ivec2 quad = ivec2(gl_GlobalInvocationID.xy);
     ivec2 full = ivec2(pc.cones.info.zw);
     ivec2 base = quad * 2;
+    bool glossyImage = (pc.cones.info.y & GI_VCT_FLAG_GLOSSY_IMAGE) != 0u;
     if (any(greaterThanEqual(base, full)))
         return;
     if (quad == ivec2(0)) {
@@ -58,21 +59,25 @@ void main() {
         pos[k] = imageLoad(gPosition, px);
         if (pos[k].w == 0.0) {
             imageStore(outIndirect, px, vec4(0.0, 0.0, 0.0, 1.0));
-            imageStore(outGlossy, px, vec4(0.0));
+            if (glossyImage)
+                imageStore(outGlossy, px, vec4(0.0));
             continue;
         }
         nrm[k] = normalize(imageLoad(gNormal, px).xyz);
         ivec2 taps[4];
         vec4 w;
         refined[k] = vctRefines(px, pos[k], nrm[k], taps, w);
-        vec4 indirect = vec4(0.0), glossy = vec4(0.0);
-        for (int j = 0; j < 4; ++j) {
-            indirect += w[j] * imageLoad(lowIndirect, taps[j]);
-            glossy += w[j] * imageLoad(lowGlossy, taps[j]);
-        }
         // Refined pixels get these too, overwritten by the refine trace.
+        vec4 indirect = vec4(0.0);
+        for (int j = 0; j < 4; ++j)
+            indirect += w[j] * imageLoad(lowIndirect, taps[j]);
         imageStore(outIndirect, px, indirect);
-        imageStore(outGlossy, px, glossy);
+        if (glossyImage) {
+            vec4 glossy = vec4(0.0);
+            for (int j = 0; j < 4; ++j)
+                glossy += w[j] * imageLoad(lowGlossy, taps[j]);
+            imageStore(outGlossy, px, glossy);
+        }
         if (!refined[k])
             continue;
         // In quad order: the first traced pixel before k on the same spot serves k, else k is traced.

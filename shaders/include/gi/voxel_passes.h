@@ -108,6 +108,7 @@ GI_GPU_STRUCT(ConeParams) {
 };
 #define GI_VCT_FLAG_GLOSSY 1u
 #define GI_VCT_FLAG_AO 2u
+#define GI_VCT_FLAG_GLOSSY_IMAGE 4u // the glossy images are written (FrameRequest::glossy)
 
 // Second bounce (voxel_bounce*.comp, docs/vct.md "Second bounce"): one diffuse gather per
 // (occupied 4^3 block, normal class), a class being one of the 26 directions of a cube's faces,
