@@ -368,6 +368,69 @@ TEST_F(Vct, AnisotropicMipsPreIntegrateFrontToBack) {
     }
 }
 
+// Levels >= 2: a dense pass per level, the coarsest ones in one work group (voxel_mip_tail.comp,
+// from 4^3 down). Each level must be the pre-integration of the one below as stored
+// (front-to-back pairs along the view, the four columns averaged, half-float storage), checked
+// against the CPU from level 1 up, on random emissive triangles at 32^3 (level 2 dense, tail 3..5).
+TEST_F(Vct, MipTailPreIntegratesEachLevelFromTheStoredOneBelow) {
+    TestScene scene;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> pos(0.05f, 0.95f), off(-0.2f, 0.2f);
+    std::vector<Tri> tris;
+    for (int i = 0; i < 120; ++i) {
+        glm::vec3 a(pos(rng), pos(rng), pos(rng));
+        tris.push_back({a, a + glm::vec3(off(rng), off(rng), off(rng)), a + glm::vec3(off(rng), off(rng), off(rng))});
+    }
+    scene.addDraw(tris, scene.addMaterial(glm::vec3(0.5f), glm::vec3(1.0f, 0.5f, 0.25f)));
+    const uint32_t n = 32;
+    setup(scene, {}, boxGrid(n, 1.0f));
+    VctSettings s;
+    s.bounces = 1;
+    runVoxels(s);
+    uint32_t tail = m_volumes->mipTailLevel(), levels = m_volumes->anisoLevels();
+    ASSERT_EQ(tail, 3u);
+    ASSERT_EQ(levels, 6u);
+    auto over = [](glm::vec4 front, glm::vec4 back) { return front + (1.0f - front.a) * back; };
+    auto toHalf = [](glm::vec4 v) {
+        for (int k = 0; k < 4; ++k)
+            v[k] = halfToFloat(floatToHalf(v[k]));
+        return v;
+    };
+    std::vector<glm::vec4> below = readHalf4(ctx(), m_volumes->aniso(), 1);
+    float opaque = 0.0f;
+    for (uint32_t level = 2; level < levels; ++level) {
+        std::vector<glm::vec4> gpuLevel = readHalf4(ctx(), m_volumes->aniso(), level);
+        std::vector<glm::vec4> cpuLevel(gpuLevel.size(), glm::vec4(0.0f));
+        int side = int(n >> level);
+        for (uint32_t d = 0; d < 6; ++d)
+            for (int z = 0; z < side; ++z)
+                for (int y = 0; y < side; ++y)
+                    for (int x = 0; x < side; ++x) {
+                        glm::ivec3 c(x, y, z);
+                        int axis = int(d / 2);
+                        glm::vec4 sum(0.0f);
+                        for (int i = 0; i < 8; ++i) {
+                            if ((i >> axis) & 1)
+                                continue;
+                            glm::ivec3 lo = 2 * c + glm::ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1), hi = lo;
+                            hi[axis] += 1;
+                            glm::vec4 a = anisoTexel(below, n, level - 1, lo, d), b = anisoTexel(below, n, level - 1, hi, d);
+                            sum += d % 2 == 0 ? over(a, b) : over(b, a);
+                        }
+                        glm::vec4 expected = toHalf(0.25f * sum);
+                        glm::vec4 got = anisoTexel(gpuLevel, n, level, c, d);
+                        for (int k = 0; k < 4; ++k) // one half-float ulp (2^-11 relative) for rounding ties
+                            ASSERT_NEAR(got[k], expected[k], 1e-3f * std::max(1.0f, std::abs(expected[k])))
+                                << "level " << level << " view " << d << " texel " << x << "," << y << "," << z;
+                        glm::ivec3 t = gpu::voxelAnisoTexel(c, d, n);
+                        cpuLevel[(size_t(t.z) * side + size_t(t.y)) * side + size_t(t.x)] = got;
+                        opaque = std::max(opaque, got.a);
+                    }
+        below = cpuLevel; // the next level is built from this one as stored
+    }
+    EXPECT_GT(opaque, 0.1f) << "the test's levels hold something";
+}
+
 // Levels 0 and 1 are written at listed voxels and blocks only, so every re-voxelization must
 // zero what the previous geometry wrote (gi.vct.list.clear): removing a wall and re-voxelizing
 // leaves exactly what a fresh volume gets from the remaining triangle.

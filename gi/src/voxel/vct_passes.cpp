@@ -6,6 +6,7 @@
 #include <string>
 
 #include "engine/context.hpp"
+#include "engine/vk_check.hpp"
 
 namespace vkgi::gi {
 
@@ -80,6 +81,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
                    {&v->m_mip, "gi/voxel/voxel_mip.comp"},
                    {&v->m_mipList, "gi/voxel/voxel_mip_list.comp"},
                    {&v->m_bounceJobs, "gi/voxel/voxel_bounce_jobs.comp"},
+                   {&v->m_mipTail, "gi/voxel/voxel_mip_tail.comp"},
                    {&v->m_bounce, "gi/voxel/voxel_bounce.comp"},
                    {&v->m_bounceApply, "gi/voxel/voxel_bounce_apply.comp"},
                    {&v->m_bounceMisfits, "gi/voxel/voxel_bounce_misfits.comp"},
@@ -122,7 +124,7 @@ VctVolumes::~VctVolumes() {
     for (rg::PersistentBuffer* b : {&m_jobBuffer, &m_resultBuffer})
         if (b->buffer.buffer)
             destroyBuffer(m_ctx, b->buffer);
-    for (Pipeline* p : {&m_compact, &m_listAppend, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_mipList, &m_bounceJobs, &m_bounce, &m_bounceApply, &m_bounceMisfits, &m_bounceAdd,
+    for (Pipeline* p : {&m_compact, &m_listAppend, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_mipList, &m_mipTail, &m_bounceJobs, &m_bounce, &m_bounceApply, &m_bounceMisfits, &m_bounceAdd,
                         &m_trace, &m_traceRefine, &m_upsample, &m_softShadow})
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_aniso.image);
@@ -216,6 +218,17 @@ void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level) const {
                          {storage(0, m_aniso.image.mipViews[0]), storage(1, m_aniso.image.mipViews[1]),
                           bufferItem(2, m_list.buffer.buffer)},
                          m_list.buffer.buffer, GI_VOXEL_LIST_BLOCKS * sizeof(uint32_t));
+        return;
+    }
+    if (level >= mipTailLevel()) { // this level and all coarser ones, four at most (bindings 1..4)
+        uint32_t count = m_levels - level;
+        GI_ASSERT(level == mipTailLevel() && count <= 4, "the mip tail starts at mipTailLevel()");
+        push.info.z = count;
+        auto view = [&](uint32_t i) { return m_aniso.image.mipViews[std::min(level + i, m_levels - 1)]; };
+        dispatch(m_ctx, cmd, m_mipTail, push,
+                 {storage(0, m_aniso.image.mipViews[level - 1]), storage(1, view(0)), storage(2, view(1)),
+                  storage(3, view(2)), storage(4, view(3))},
+                 glm::uvec3(m_mipTail.localSize[0], m_mipTail.localSize[1], m_mipTail.localSize[2]));
         return;
     }
     dispatch(m_ctx, cmd, m_mip, push,

@@ -4,6 +4,7 @@
 // and the per-pixel trace.
 // Pass bodies only record dispatches; the render graph orders them and places the barriers.
 // Volume layouts: shaders/include/gi/voxel_passes.h.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -64,6 +65,9 @@ public:
     void setListBuilt(bool built) { m_listBuilt = built; }
     const VoxelGrid& grid() const { return m_grid; }
     uint32_t anisoLevels() const { return m_levels; }
+    // First level of the mip tail (recordMip builds it and all coarser ones in one dispatch):
+    // the first with at most 8 texels a side, at least 2 (level 1 runs over the occupied blocks).
+    uint32_t mipTailLevel() const { return std::max(2u, m_levels - 1 > 2 ? m_levels - 3 : 0u); }
     VkSampler sampler() const { return m_sampler; }
     VkDeviceSize bytes() const;
 
@@ -89,7 +93,8 @@ public:
                      VkImageLayout sampledLayout, bool emission = true,
                      const VctShadowInputs* shadow = nullptr) const;
     // aniso level `level` (>= 1) from level - 1; level 1 at the listed occupied blocks only
-    // (indirect over the list; the others keep the zeros of recordClearLevels01).
+    // (indirect over the list; the others keep the zeros of recordClearLevels01); from
+    // mipTailLevel() on, that level and all coarser ones (one work group).
     void recordMip(VkCommandBuffer cmd, uint32_t level) const;
     // Second bounce (gi/voxel_passes.h, docs/vct.md); the gathers read aniso() (direct light
     // and its mips). `jobs` is a buffer of bounceJobBytes() whose header is zeroed before.
@@ -129,7 +134,7 @@ private:
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;          // directional volume: clamp to edge (sampleAniso)
     VkSampler m_occupancySampler = VK_NULL_HANDLE; // soft voxel-light march: transparent border
-    Pipeline m_compact, m_listAppend, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_mipList, m_bounceJobs, m_bounce, m_bounceApply, m_bounceMisfits, m_bounceAdd, m_trace, m_traceRefine,
+    Pipeline m_compact, m_listAppend, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_mipList, m_mipTail, m_bounceJobs, m_bounce, m_bounceApply, m_bounceMisfits, m_bounceAdd, m_trace, m_traceRefine,
         m_upsample, m_softShadow;
 };
 

@@ -190,14 +190,18 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
 
 namespace {
 
-// Adds one pass per level k >= 1 of aniso, built from level k - 1; returns the newest version.
-// Level 1 is written at the listed occupied blocks only and keeps the list clear's zeros
-// elsewhere (no discard).
+// Adds one pass per level k >= 1 of aniso, built from level k - 1, up to the tail, and one for
+// the tail's levels ("prefix[t-L]"); returns the newest version. Level 1 is written at the listed
+// occupied blocks only and keeps the list clear's zeros elsewhere (no discard).
 rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::ImageHandle aniso, rg::BufferHandle list,
                              const char* prefix) {
-    for (uint32_t level = 1; level < v->anisoLevels(); ++level) {
+    uint32_t tail = v->mipTailLevel(), last = v->anisoLevels() - 1;
+    for (uint32_t level = 1; level <= std::min(tail, last); ++level) {
+        uint32_t count = level == tail ? last - tail + 1 : 1;
+        std::string name = std::string(prefix) + "[" + std::to_string(level) +
+                           (count > 1 ? "-" + std::to_string(last) : std::string()) + "]";
         graph.addPass(
-            std::string(prefix) + "[" + std::to_string(level) + "]",
+            name,
             [&](rg::PassBuilder& b) {
                 b.read(aniso, Access::ComputeStorageRead, rg::SubresourceRange::mip(level - 1));
                 if (level == 1) {
@@ -205,7 +209,7 @@ rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::Im
                     b.read(list, Access::ComputeStorageRead);
                 }
                 aniso = b.write(aniso, level == 1 ? Access::ComputeStorageWrite : Access::ComputeStorageWriteDiscard,
-                                rg::SubresourceRange::mip(level));
+                                rg::SubresourceRange{level, count, 0, rg::kAll});
             },
             [v, level](rg::PassContext& ctx) { v->recordMip(ctx.cmd(), level); });
     }

@@ -11,7 +11,13 @@
 #extension GL_EXT_control_flow_attributes : require
 #include "gi/voxel_passes.h"
 
-#ifdef GI_VOXEL_MIP_LIST
+#ifdef GI_VOXEL_MIP_TAIL
+// The coarsest levels in one work group (voxel_mip_tail.comp): level info.x (info.y <= 8 texels
+// a side) from `src`, then each next one from the previous, info.z levels in all (<= 4). The
+// levels are read back within the group after a barrier; separate passes cost ~0.03-0.1 ms of
+// dispatch and barrier each for a few hundred texels.
+layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+#elif defined(GI_VOXEL_MIP_LIST)
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in; // indirect: the block quad of the list header
 layout(set = 1, binding = 2, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint entries[]; };
 #else
@@ -19,7 +25,15 @@ layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #endif
 layout(push_constant) uniform Push { VoxelMipPush pc; };
 layout(set = 1, binding = 0, rgba16f) uniform readonly image2DArray src; // aniso level - 1
+#ifdef GI_VOXEL_MIP_TAIL
+// Levels info.x .. info.x + 3 (those past the last are bound to the last and not touched).
+layout(set = 1, binding = 1, rgba16f) uniform coherent image2DArray tail0;
+layout(set = 1, binding = 2, rgba16f) uniform coherent image2DArray tail1;
+layout(set = 1, binding = 3, rgba16f) uniform coherent image2DArray tail2;
+layout(set = 1, binding = 4, rgba16f) uniform coherent image2DArray tail3;
+#else
 layout(set = 1, binding = 1, rgba16f) uniform writeonly image2DArray dst; // aniso level
+#endif
 
 vec4 over(vec4 front, vec4 back) { return front + (1.0 - front.a) * back; }
 
@@ -35,14 +49,46 @@ vec4 integrate(vec4 t[8], int axis, bool positive) {
     return 0.25 * sum;
 }
 
-// The 2x2x2 block at `base` (level - 1) of view d.
-vec4[8] gather(ivec3 base, uint d, uint n) {
-    vec4 t[8];
-    [[unroll]] for (int i = 0; i < 8; ++i)
-        t[i] = imageLoad(src, voxelAnisoTexel(base + ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1), d, n));
-    return t;
-}
+// t := the 2x2x2 block at `base` of view d of image IMG (the level below).
+#define GI_MIP_GATHER(IMG, base, d, n, t)                                                              \
+    [[unroll]] for (int i = 0; i < 8; ++i)                                                            \
+        t[i] = imageLoad(IMG, voxelAnisoTexel((base) + ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1), d, n));
 
+// Texel c of every view of image DST from image SRC one level finer. Unrolled (with integrate):
+// every array index is a constant, so llvmpipe keeps the eight texels in registers instead of a
+// dynamically indexed array in memory.
+#define GI_MIP_TEXEL(SRC, DST, c, n)                                                                   \
+    [[unroll]] for (int d = 0; d < 6; ++d) {                                                          \
+        vec4 t[8];                                                                                     \
+        GI_MIP_GATHER(SRC, 2 * (c), uint(d), n, t)                                                     \
+        imageStore(DST, voxelAnisoTexel(c, uint(d), n), integrate(t, d >> 1, (d & 1) == 0));          \
+    }
+
+#ifdef GI_VOXEL_MIP_TAIL
+// One level of the tail (`size` texels a side), then the group waits until it is stored.
+#define GI_MIP_TAIL_LEVEL(SRC, DST, size)                                                              \
+    if (all(lessThan(c, ivec3(size)))) {                                                               \
+        GI_MIP_TEXEL(SRC, DST, c, n)                                                                   \
+    }                                                                                                  \
+    memoryBarrierImage();                                                                              \
+    barrier();
+
+void main() {
+    uint n = pc.grid.dims.x;
+    int size = int(pc.info.y), levels = int(pc.info.z);
+    ivec3 c = ivec3(gl_LocalInvocationID);
+    GI_MIP_TAIL_LEVEL(src, tail0, size)
+    if (levels > 1) {
+        GI_MIP_TAIL_LEVEL(tail0, tail1, size >> 1)
+    }
+    if (levels > 2) {
+        GI_MIP_TAIL_LEVEL(tail1, tail2, size >> 2)
+    }
+    if (levels > 3) {
+        GI_MIP_TAIL_LEVEL(tail2, tail3, size >> 3)
+    }
+}
+#else
 void main() {
     int size = int(pc.info.y);
     uint n = pc.grid.dims.x;
@@ -55,9 +101,6 @@ void main() {
     if (any(greaterThanEqual(c, ivec3(size))))
         return;
 #endif
-    ivec3 base = 2 * c;
-    // Unrolled (with the loops above): every array index is a constant, so llvmpipe keeps the
-    // eight texels in registers instead of a dynamically indexed array in memory.
-    [[unroll]] for (int d = 0; d < 6; ++d)
-        imageStore(dst, voxelAnisoTexel(c, uint(d), n), integrate(gather(base, uint(d), n), d >> 1, (d & 1) == 0));
+    GI_MIP_TEXEL(src, dst, c, n)
 }
+#endif

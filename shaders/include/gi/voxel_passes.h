@@ -94,10 +94,11 @@ GI_GPU_STRUCT(VoxelLightPush) {
 GI_CHECK_SIZE(VoxelLightPush, 64);
 #define GI_VOXEL_LIGHT_EMISSION 1u // add the emission volume (the voxels' emission injection)
 
-// voxel_mip.comp: builds level `info.x` >= 1 of aniso from level info.x - 1.
+// voxel_mip.comp: builds level `info.x` >= 1 of aniso from level info.x - 1; voxel_mip_tail.comp
+// levels info.x .. info.x + info.z - 1 (the last ones, info.y <= 8) in one work group.
 GI_GPU_STRUCT(VoxelMipPush) {
     VoxelGridParams grid;
-    uvec4 info; // x destination level of the aniso chain, y its resolution, z, w 0
+    uvec4 info; // x (first) destination level of the aniso chain, y its resolution, z level count (tail), w 0
 };
 GI_CHECK_SIZE(VoxelMipPush, 64);
 
