@@ -22,14 +22,17 @@ VolumeHandles importVolumes(rg::RenderGraph& graph, VoxelVolumes& v, const char*
 // from): empties touched list `list` (its handle updated), zeroes the accumulation on the first
 // voxelization, and the whole target volumes unless `keepTarget` (addClearStale then zeroes
 // what the new voxelization leaves out). Transfer writes.
-void addClear(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHandle& accum, rg::BufferHandle& list,
+void addClear(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHandle& accum, rg::BufferHandle& bits,
+              rg::BufferHandle& list,
               VolumeHandles& target, const VoxelVolumes* physical, bool clearAccum, bool keepTarget,
               const char* name) {
     graph.addPass(
         name,
         [&](rg::PassBuilder& b) {
-            if (clearAccum)
+            if (clearAccum) {
                 accum = b.write(accum, Access::TransferWrite);
+                bits = b.write(bits, Access::TransferWrite);
+            }
             list = b.write(list, Access::TransferWrite);
             if (!keepTarget)
                 for (rg::ImageHandle* h : {&target.albedo, &target.normal, &target.emission, &target.faces})
@@ -84,8 +87,10 @@ void addResolve(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHandle&
         });
 }
 
+// Voxelizes the draws `set` into the accumulation and lists their voxels in `list` (grid order).
 void addVoxelize(rg::RenderGraph& graph, const VoxelGrid* grid, const VoxelSceneHandles& scene, rg::BufferHandle& accum,
-                 rg::BufferHandle& list, VoxelDrawSet set, const char* name) {
+                 rg::BufferHandle& bits, rg::BufferHandle& list, VoxelDrawSet set, const char* name,
+                 const char* listName) {
     VoxelSceneHandles s = scene;
     graph.addPass(
         name,
@@ -93,18 +98,25 @@ void addVoxelize(rg::RenderGraph& graph, const VoxelGrid* grid, const VoxelScene
             for (rg::BufferHandle h : {s.vertices, s.indices, s.instances, s.materials})
                 b.read(h, Access::ComputeStorageRead);
             accum = b.write(accum, Access::ComputeStorageReadWrite);
-            list = b.write(list, Access::ComputeStorageReadWrite);
+            bits = b.write(bits, Access::ComputeStorageReadWrite);
         },
-        [grid, s, set, list](rg::PassContext& ctx) {
+        [grid, s, set](rg::PassContext& ctx) {
             VoxelSceneBuffers buffers{ctx.buffer(s.vertices).buffer, ctx.buffer(s.indices).buffer,
                                       ctx.buffer(s.instances).buffer, ctx.buffer(s.materials).buffer, s.draws};
-            grid->recordVoxelize(ctx.cmd(), buffers, set, ctx.buffer(list).buffer);
+            grid->recordVoxelize(ctx.cmd(), buffers, set);
         });
+    graph.addPass(
+        listName,
+        [&](rg::PassBuilder& b) {
+            bits = b.write(bits, Access::ComputeStorageReadWrite);
+            list = b.write(list, Access::ComputeStorageReadWrite);
+        },
+        [grid, list](rg::PassContext& ctx) { grid->recordTouchedList(ctx.cmd(), ctx.buffer(list).buffer); });
 }
 
 // Clear, voxelize and resolve of the draws `set` (All or Static) into `target`.
 void addVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHandles& scene, rg::BufferHandle& accum,
-                     rg::BufferHandle& touched, VolumeHandles& target, VoxelDrawSet set) {
+                     rg::BufferHandle& bits, rg::BufferHandle& touched, VolumeHandles& target, VoxelDrawSet set) {
     bool isStatic = set == VoxelDrawSet::Static;
     VoxelizationPlan plan = grid.beginVoxelization(set);
     rg::BufferHandle previous;
@@ -113,9 +125,10 @@ void addVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHa
     touched = graph.importBuffer("gi.voxel.touched", grid.listState(plan.next));
     const VoxelVolumes* physical = isStatic ? &grid.staticVolumes() : &grid.volumes();
     const VoxelGrid* g = &grid;
-    addClear(graph, g, accum, touched, target, physical, plan.clearAccum, previous.valid(),
+    addClear(graph, g, accum, bits, touched, target, physical, plan.clearAccum, previous.valid(),
              isStatic ? "gi.voxel.clear.static" : "gi.voxel.clear");
-    addVoxelize(graph, g, scene, accum, touched, set, isStatic ? "gi.voxel.voxelize.static" : "gi.voxel.voxelize");
+    addVoxelize(graph, g, scene, accum, bits, touched, set, isStatic ? "gi.voxel.voxelize.static" : "gi.voxel.voxelize",
+                isStatic ? "gi.voxel.list.static" : "gi.voxel.list");
     if (previous.valid())
         addClearStale(graph, g, accum, previous, target, physical, isStatic ? "gi.voxel.stale.static" : "gi.voxel.stale");
     addResolve(graph, g, accum, touched, target, physical, isStatic ? "gi.voxel.resolve.static" : "gi.voxel.resolve");
@@ -138,14 +151,15 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
         return data;
     }
     rg::BufferHandle accum = graph.importBuffer("gi.voxel.accumulation", grid.accumulationState());
+    rg::BufferHandle bits = graph.importBuffer("gi.voxel.touched_bits", grid.touchedBitsState());
     if (!anyDynamic) {
         // Static scene: one voxelization straight into the grid (no static copy, no merge).
-        addVoxelization(graph, grid, scene, accum, data.touched, out, VoxelDrawSet::All);
+        addVoxelization(graph, grid, scene, accum, bits, data.touched, out, VoxelDrawSet::All);
         return {out.albedo, out.normal, out.emission, out.faces, grid.params(), true, data.touched};
     }
     VolumeHandles st = importVolumes(graph, grid.staticState(), "gi.voxel.static");
     if (update == VoxelUpdate::Full)
-        addVoxelization(graph, grid, scene, accum, data.touched, st, VoxelDrawSet::Static);
+        addVoxelization(graph, grid, scene, accum, bits, data.touched, st, VoxelDrawSet::Static);
     else
         data.touched = graph.importBuffer("gi.voxel.touched", grid.touchedState(VoxelDrawSet::Static));
     // The grid starts as a copy of the static volumes; the merge writes only the dynamic voxels
@@ -155,8 +169,10 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
     graph.addPass(
         "gi.voxel.clear.dynamic",
         [&](rg::PassBuilder& b) {
-            if (clearAccum)
+            if (clearAccum) {
                 accum = b.write(accum, Access::TransferWrite);
+                bits = b.write(bits, Access::TransferWrite);
+            }
             data.touchedDynamic = b.write(data.touchedDynamic, Access::TransferWrite);
             for (rg::ImageHandle h : {st.albedo, st.normal, st.emission, st.faces})
                 b.read(h, Access::TransferRead);
@@ -171,7 +187,8 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
                                     ctx.layout(d.faces)};
             g->recordCopyStatic(ctx.cmd(), src, dst);
         });
-    addVoxelize(graph, g, scene, accum, data.touchedDynamic, VoxelDrawSet::Dynamic, "gi.voxel.voxelize.dynamic");
+    addVoxelize(graph, g, scene, accum, bits, data.touchedDynamic, VoxelDrawSet::Dynamic, "gi.voxel.voxelize.dynamic",
+                "gi.voxel.list.dynamic");
     graph.addPass(
         "gi.voxel.merge",
         [&](rg::PassBuilder& b) {

@@ -117,7 +117,8 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
     } shaders[] = {{&g->m_voxelize, "gi/voxel/voxelize.comp"},
                    {&g->m_resolve, "gi/voxel/voxel_resolve.comp"},
                    {&g->m_resolveMerge, "gi/voxel/voxel_resolve_merge.comp"},
-                   {&g->m_stale, "gi/voxel/voxel_resolve_stale.comp"}};
+                   {&g->m_stale, "gi/voxel/voxel_resolve_stale.comp"},
+                   {&g->m_touchedList, "gi/voxel/voxel_touched_list.comp"}};
     for (const Named& s : shaders) {
         auto p = createComputePipeline(ctx, {s.shader, {}});
         if (!p)
@@ -130,6 +131,8 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
     accum.size = accumBytes;
     accum.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     g->m_accum.buffer = createBuffer(ctx, accum, "voxel.accumulation");
+    accum.size = VkDeviceSize(n) * n * n / 8; // one bit per voxel
+    g->m_bits.buffer = createBuffer(ctx, accum, "voxel.touched_bits");
     BufferDesc list;
     list.size = VkDeviceSize(GI_VOXEL_TOUCHED_HEADER + n * n * n) * sizeof(uint32_t);
     list.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
@@ -141,17 +144,18 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
 }
 
 VoxelGrid::~VoxelGrid() {
-    for (Pipeline* p : {&m_voxelize, &m_resolve, &m_resolveMerge, &m_stale})
+    for (Pipeline* p : {&m_voxelize, &m_resolve, &m_resolveMerge, &m_stale, &m_touchedList})
         destroyPipeline(m_ctx, *p);
     destroyVolumes(m_ctx, m_volumes);
     destroyVolumes(m_ctx, m_static);
     destroyBuffer(m_ctx, m_accum.buffer);
+    destroyBuffer(m_ctx, m_bits.buffer);
     for (rg::PersistentBuffer& b : m_lists)
         destroyBuffer(m_ctx, b.buffer);
 }
 
 VkDeviceSize VoxelGrid::bytes() const {
-    VkDeviceSize total = m_accum.buffer.desc.size;
+    VkDeviceSize total = m_accum.buffer.desc.size + m_bits.buffer.desc.size;
     for (const rg::PersistentBuffer& b : m_lists)
         total += b.buffer.desc.size;
     for (const VoxelVolumes* v : {&m_volumes, &m_static})
@@ -183,8 +187,10 @@ VoxelizationPlan VoxelGrid::beginVoxelization(VoxelDrawSet set) {
 
 void VoxelGrid::recordClear(VkCommandBuffer cmd, VkBuffer list, bool accum) const {
     // Transfer fills stream at memset speed (the first voxelization's N^3 records).
-    if (accum)
+    if (accum) {
         vkCmdFillBuffer(cmd, m_accum.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
+        vkCmdFillBuffer(cmd, m_bits.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
+    }
     // Header (0, 1, 1, 0): no groups and no voxels yet; dispatch y = z = 1. Disjoint fills.
     vkCmdFillBuffer(cmd, list, 0, sizeof(uint32_t), 0);
     vkCmdFillBuffer(cmd, list, sizeof(uint32_t), 2 * sizeof(uint32_t), 1);
@@ -224,12 +230,11 @@ void VoxelGrid::recordClearStale(VkCommandBuffer cmd, const VoxelVolumes& target
     vkCmdDispatchIndirect(cmd, previous, 0);
 }
 
-void VoxelGrid::recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set,
-                               VkBuffer list) const {
+void VoxelGrid::recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set) const {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_voxelize.pipeline);
     DescriptorItem items[] = {storageBuffer(0, scene.vertices), storageBuffer(1, scene.indices),
                               storageBuffer(2, scene.instances), storageBuffer(3, scene.materials),
-                              storageBuffer(4, m_accum.buffer.buffer), storageBuffer(5, list)};
+                              storageBuffer(4, m_accum.buffer.buffer), storageBuffer(5, m_bits.buffer.buffer)};
     pushDescriptors(m_ctx, cmd, m_voxelize, items);
     // Row slices per triangle (voxelize.comp), for draws that fit in one work group (one CPU
     // thread otherwise; the Cornell walls): about 8 rows each for a grid-wide triangle. Draws
@@ -251,6 +256,16 @@ void VoxelGrid::recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& sce
         else
             vkCmdDispatch(cmd, groupCount(d.triangleCount, m_voxelize.localSize[0]), 1, 1);
     }
+}
+
+void VoxelGrid::recordTouchedList(VkCommandBuffer cmd, VkBuffer list) const {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_touchedList.pipeline);
+    gpu::VoxelGridPush push{m_params};
+    pushConstants(cmd, m_touchedList, &push, sizeof(push));
+    DescriptorItem items[] = {storageBuffer(0, m_bits.buffer.buffer), storageBuffer(1, list)};
+    pushDescriptors(m_ctx, cmd, m_touchedList, items);
+    uint32_t n = resolution();
+    vkCmdDispatch(cmd, groupCount(n * n * n / 32, m_touchedList.localSize[0]), 1, 1);
 }
 
 void VoxelGrid::recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target, VkBuffer list) const {

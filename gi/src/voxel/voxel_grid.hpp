@@ -84,6 +84,9 @@ public:
     // voxelizations.
     const Buffer& accumulation() const { return m_accum.buffer; }
     rg::PersistentBuffer& accumulationState() { return m_accum; }
+    // Touched bits (bit x + N (y + N z)): set by the voxelize, listed and zeroed by the
+    // touched-list pass, so zero between voxelizations like the accumulation.
+    rg::PersistentBuffer& touchedBitsState() { return m_bits; }
     VoxelVolumes& volumesState() { return m_volumes; }
     VoxelVolumes& staticState() { return m_static; }
     // Touched-voxel list (gi/voxel_passes.h) of the last voxelization of `set`: All and Static
@@ -103,7 +106,7 @@ public:
 
     // Pass bodies (all images in GENERAL layout unless a layout is passed; the graph passes in
     // voxel_graph.cpp declare the accesses). clear: the touched list `list` emptied, and with
-    // `accum` the accumulation zeroed (transfer writes).
+    // `accum` the accumulation and the touched bits zeroed (transfer writes).
     void recordClear(VkCommandBuffer cmd, VkBuffer list, bool accum) const;
     // The four volumes of `target` := 0 (transfer write, images in `layouts`: albedo, normal,
     // emission, faces).
@@ -114,9 +117,12 @@ public:
     void recordClearStale(VkCommandBuffer cmd, const VoxelVolumes& target, VkBuffer previous) const;
     // volumes() := staticVolumes() (transfer read / write, layouts in the same order).
     void recordCopyStatic(VkCommandBuffer cmd, const VkImageLayout src[4], const VkImageLayout dst[4]) const;
-    // Adds the chosen draws to the accumulation and their touched voxels to `list` (storage
-    // read-write, scene buffers read).
-    void recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set, VkBuffer list) const;
+    // Adds the chosen draws to the accumulation and sets the touched bits of their voxels
+    // (storage read-write, scene buffers read).
+    void recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set) const;
+    // Appends the voxels of the set touched bits to `list` in grid order and zeroes the bits
+    // (storage read-write).
+    void recordTouchedList(VkCommandBuffer cmd, VkBuffer list) const;
     // accumulation -> `target` at the voxels of touched list `list` (indirect over it; storage
     // write; the other voxels keep their zeros), zeroing the records it reads (storage read-write).
     void recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target, VkBuffer list) const;
@@ -131,7 +137,7 @@ private:
     Context& m_ctx;
     gpu::VoxelGridParams m_params{};
     VoxelVolumes m_volumes, m_static;
-    rg::PersistentBuffer m_accum;
+    rg::PersistentBuffer m_accum, m_bits;
     // 0, 1: the All / Static lists, used in turn; 2: the Dynamic list.
     rg::PersistentBuffer m_lists[3];
     int m_current = 0; // the All / Static list of the last such voxelization
@@ -139,7 +145,7 @@ private:
     // every nonzero voxel of the volumes, or -1 when unknown (never cleared, or a merge wrote it).
     int m_cover[2] = {-1, -1};
     bool m_accumZero = false;
-    Pipeline m_voxelize, m_resolve, m_resolveMerge, m_stale;
+    Pipeline m_voxelize, m_resolve, m_resolveMerge, m_stale, m_touchedList;
 };
 
 } // namespace vkgi::gi

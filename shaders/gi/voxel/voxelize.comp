@@ -1,12 +1,12 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#extension GL_KHR_shader_subgroup_ballot : require
 // Conservative compute voxelization, one invocation or one work group per triangle: every voxel whose closed box
 // the triangle touches (separating-axis test, so slivers and sub-voxel triangles count too)
 // receives the triangle's albedo, its face coverages (max(0, +-n_axis) for the six axis
 // directions, which way it faces) and emission as fixed-point integer sums. Integer atomics
 // make the result independent of the execution order. The contribution that finds a voxel's
-// count at 0 appends the voxel to the touched list (gi/voxel_passes.h), which the resolve runs over.
+// count at 0 sets the voxel's touched bit; voxel_touched_list.comp then lists the set bits in
+// the touched list (gi/voxel_passes.h), which the resolve runs over.
 #include "engine/scene_types.h"
 #include "gi/voxel_passes.h"
 
@@ -15,7 +15,7 @@
 // gl_NumWorkGroups.y of them: a Cornell wall triangle covers ~2000 voxels at 64^3, and a draw
 // of a few such triangles in one work group ran on one CPU thread. With a work group per
 // triangle its invocations take turns over the slice's columns: with a triangle per
-// invocation, a draw of a few big triangles ran one SIMD lane of eight (voxelize 4.2 -> X ms).
+// invocation, a draw of a few big triangles ran one SIMD lane of eight (Cornell 64^3: voxelize 4.2 -> 2.8 ms).
 layout(local_size_x = 32) in;
 layout(push_constant) uniform Push { VoxelizePush pc; };
 
@@ -24,7 +24,7 @@ layout(set = 1, binding = 1, std430) readonly buffer Indices { uint indices[]; }
 layout(set = 1, binding = 2, std430) readonly buffer Instances { GpuInstance instances[]; };
 layout(set = 1, binding = 3, std430) readonly buffer Materials { GpuMaterial materials[]; };
 layout(set = 1, binding = 4, std430) buffer Accum { uint acc[]; }; // records (gi/voxel_grid.h)
-layout(set = 1, binding = 5, std430) buffer Touched { uint touchedHeader[GI_VOXEL_TOUCHED_HEADER]; uint touched[]; };
+layout(set = 1, binding = 5, std430) buffer TouchedBits { uint touchedBits[]; }; // bit x + N (y + N z)
 
 // Slack added to every separating-axis radius, in voxel units: rounding may then only add a
 // voxel that the triangle grazes within 1e-5 voxels, never drop one it touches.
@@ -58,24 +58,10 @@ uint toFixed(float v) { return uint(clamp(v, 0.0, 1.0) * GI_VOXEL_FIXED_ONE + 0.
 void splat(ivec3 c, int n, vec3 albedo, vec3 normal, vec3 emission, bool emissive) {
     uint rec = GI_VOXEL_ACC_STRIDE * uint(c.x + n * (c.y + n * c.z));
     uint old = atomicAdd(acc[rec + GI_VOXEL_ACC_COUNT], 1u);
-    // First contributions append their voxels, one atomic on the list's count per subgroup (one
-    // per lane made the 2 CPU threads contend for that word: voxelize 2.8 -> X ms).
-    bool first = old == 0u;
-    uvec4 ballot = subgroupBallot(first);
-    uint firsts = subgroupBallotBitCount(ballot);
-    if (firsts > 0u) {
-        uint base = 0u;
-        if (subgroupElect()) {
-            base = atomicAdd(touchedHeader[3], firsts);
-            // Dispatch x = ceil(count / group): the groups that slots [base, base + firsts) open.
-            uint groups = (base + firsts + GI_VOXEL_LIST_GROUP - 1u) / GI_VOXEL_LIST_GROUP -
-                          (base + GI_VOXEL_LIST_GROUP - 1u) / GI_VOXEL_LIST_GROUP;
-            if (groups > 0u)
-                atomicAdd(touchedHeader[0], groups);
-        }
-        base = subgroupBroadcastFirst(base);
-        if (first)
-            touched[base + subgroupBallotExclusiveBitCount(ballot)] = voxelListPack(uvec3(c));
+    // The first contribution marks the voxel; voxel_touched_list.comp lists the marks in grid order.
+    if (old == 0u) {
+        uint i = uint(c.x + n * (c.y + n * c.z));
+        atomicOr(touchedBits[i >> 5u], 1u << (i & 31u));
     }
     if (old >= GI_VOXEL_MAX_CONTRIBUTIONS)
         return;

@@ -49,11 +49,12 @@ GI_INLINE ivec3 voxelAnisoTexel(ivec3 c, uint d, uint n) {
     return t + ivec3(0, 0, int(d * n));
 }
 
-// Touched-voxel lists of the grid (VoxelGrid; one for the static or whole-scene voxelization,
-// one for the dynamic draws): voxelize.comp appends a voxel when it makes the voxel's first
-// contribution of a voxelization (its count atomic returned 0), so every occupied voxel is
-// listed once, in scheduling order. The resolve passes and the VCT list run over them instead
-// of over N^3. A storage buffer of GI_VOXEL_TOUCHED_HEADER uints, the VkDispatchIndirectCommand
+// Touched-voxel lists of the grid (VoxelGrid; a pair used in turn for the static or whole-scene
+// voxelization, one for the dynamic draws): voxelize.comp sets a voxel's touched bit when it
+// makes the voxel's first contribution of a voxelization (its count atomic returned 0), and
+// voxel_touched_list.comp lists the set bits, so every occupied voxel is listed once, in grid
+// order within runs of 256 voxels along x. The resolve passes and the VCT list run over them
+// instead of over N^3. A storage buffer of GI_VOXEL_TOUCHED_HEADER uints, the VkDispatchIndirectCommand
 // (x = ceil(count / GI_VOXEL_LIST_GROUP), y = z = 1; the clear before a voxelization writes
 // (0, 1, 1, 0)) then the count, followed by N^3 voxelListPack slots.
 #define GI_VOXEL_TOUCHED_HEADER 4u
