@@ -560,110 +560,116 @@ TEST_F(Vct, BounceJobsListEachBlockClassOnceAndRunsRepeatExactly) {
         tris.push_back({a, a + glm::vec3(off(rng), off(rng), off(rng)), a + glm::vec3(off(rng), off(rng), off(rng))});
     }
     scene.addDraw(tris, scene.addMaterial(glm::vec3(0.6f), glm::vec3(0.5f)));
-    setup(scene, {}, boxGrid(32, 1.0f));
-    VctSettings s;
-    s.bounces = 2;
-    runVoxels(s);
-    const uint32_t n = 32, q = n / 4;
-    std::vector<uint8_t> normals = readbackImage(ctx(), m_grid->volumes().normal.image, VK_IMAGE_LAYOUT_GENERAL);
-    std::vector<uint8_t> bytes = readbackBuffer(ctx(), m_volumes->bounceJobsState().buffer);
-    std::vector<uint32_t> words(bytes.size() / 4);
-    std::memcpy(words.data(), bytes.data(), words.size() * 4);
-    const uint32_t* body = words.data() + GI_BOUNCE_HEADER;
-    bytes = readbackBuffer(ctx(), m_volumes->bounceResultsState().buffer);
-    std::vector<uint32_t> results(bytes.size() / 4);
-    std::memcpy(results.data(), bytes.data(), results.size() * 4);
-    // The classes as voxel_block.glsl computes them (integers on the stored bytes).
-    std::vector<int> cls(n * n * n, -1);
-    std::vector<glm::vec3> unit(n * n * n);
-    std::vector<uint32_t> masks(q * q * q, 0);
-    for (uint32_t i = 0; i < n * n * n; ++i) {
-        const uint8_t* e = &normals[4 * i];
-        uint32_t x = i % n, y = i / n % n, z = i / (n * n);
-        uint32_t b = x / 4 + q * (y / 4 + q * (z / 4));
-        if (e[3] == 0)
-            continue;
-        glm::ivec3 v(2 * e[0] - 255, 2 * e[1] - 255, 2 * e[2] - 255);
-        if (4 * (v.x * v.x + v.y * v.y + v.z * v.z) < 255 * 255)
-            continue;
-        int m = std::max(std::abs(v.x), std::max(std::abs(v.y), std::abs(v.z)));
-        int k = 0;
-        for (int a = 0, scale = 1; a < 3; ++a, scale *= 3)
-            k += scale * ((1000 * std::abs(v[a]) >= 414 * m ? (v[a] > 0) - (v[a] < 0) : 0) + 1);
-        cls[i] = k > 13 ? k - 1 : k;
-        unit[i] = glm::normalize(glm::vec3(v));
-        masks[b] |= 1u << cls[i];
-    }
-    // Per class: its jobs = the blocks holding it, each once; the dispatch covers the largest.
-    uint32_t jobs = 0, largest = 0, wrong = 0;
-    for (uint32_t k = 0; k < GI_BOUNCE_CLASSES; ++k) {
-        std::set<uint32_t> expected;
+    // 32^3: blocks of 4^3 voxels, 64^3: of 8^3 (eight 4^3 blocks each).
+    for (uint32_t n : {32u, 64u}) {
+        SCOPED_TRACE(n);
+        if (n != 32)
+            TearDownResources();
+        setup(scene, {}, boxGrid(n, 1.0f));
+        VctSettings s;
+        s.bounces = 2;
+        runVoxels(s);
+        const uint32_t B = gpu::bounceBlockSide(n), q = n / B;
+        std::vector<uint8_t> normals = readbackImage(ctx(), m_grid->volumes().normal.image, VK_IMAGE_LAYOUT_GENERAL);
+        std::vector<uint8_t> bytes = readbackBuffer(ctx(), m_volumes->bounceJobsState().buffer);
+        std::vector<uint32_t> words(bytes.size() / 4);
+        std::memcpy(words.data(), bytes.data(), words.size() * 4);
+        const uint32_t* body = words.data() + GI_BOUNCE_HEADER;
+        bytes = readbackBuffer(ctx(), m_volumes->bounceResultsState().buffer);
+        std::vector<uint32_t> results(bytes.size() / 4);
+        std::memcpy(results.data(), bytes.data(), results.size() * 4);
+        // The classes as voxel_block.glsl computes them (integers on the stored bytes).
+        std::vector<int> cls(n * n * n, -1);
+        std::vector<glm::vec3> unit(n * n * n);
+        std::vector<uint32_t> masks(q * q * q, 0);
+        for (uint32_t i = 0; i < n * n * n; ++i) {
+            const uint8_t* e = &normals[4 * i];
+            uint32_t x = i % n, y = i / n % n, z = i / (n * n);
+            uint32_t b = x / B + q * (y / B + q * (z / B));
+            if (e[3] == 0)
+                continue;
+            glm::ivec3 v(2 * e[0] - 255, 2 * e[1] - 255, 2 * e[2] - 255);
+            if (4 * (v.x * v.x + v.y * v.y + v.z * v.z) < 255 * 255)
+                continue;
+            int m = std::max(std::abs(v.x), std::max(std::abs(v.y), std::abs(v.z)));
+            int k = 0;
+            for (int a = 0, scale = 1; a < 3; ++a, scale *= 3)
+                k += scale * ((1000 * std::abs(v[a]) >= 414 * m ? (v[a] > 0) - (v[a] < 0) : 0) + 1);
+            cls[i] = k > 13 ? k - 1 : k;
+            unit[i] = glm::normalize(glm::vec3(v));
+            masks[b] |= 1u << cls[i];
+        }
+        // Per class: its jobs = the blocks holding it, each once; the dispatch covers the largest.
+        uint32_t jobs = 0, largest = 0, wrong = 0;
+        for (uint32_t k = 0; k < GI_BOUNCE_CLASSES; ++k) {
+            std::set<uint32_t> expected;
+            for (uint32_t b = 0; b < q * q * q; ++b)
+                if (masks[b] & (1u << k))
+                    expected.insert(b);
+            uint32_t count = words[GI_BOUNCE_COUNTS + k];
+            EXPECT_EQ(count, expected.size()) << "class " << k;
+            const uint32_t* list = body + gpu::bounceJobOffset(n) + k * q * q * q;
+            std::set<uint32_t> listed(list, list + std::min(count, q * q * q));
+            EXPECT_EQ(listed.size(), count) << "a job listed twice, class " << k;
+            EXPECT_TRUE(listed == expected) << "class " << k;
+            jobs += count;
+            largest = std::max(largest, count);
+            // Each job's result: finite, not negative.
+            for (uint32_t b : expected) {
+                const uint32_t* r = results.data() + 2 * (GI_BOUNCE_CLASSES * b + k);
+                for (float c : {halfToFloat(uint16_t(r[0])), halfToFloat(uint16_t(r[0] >> 16)), halfToFloat(uint16_t(r[1]))})
+                    wrong += !(std::isfinite(c) && c >= 0.0f);
+            }
+        }
+        EXPECT_EQ(wrong, 0u);
+        ASSERT_GT(jobs, 400u);
+        EXPECT_EQ(words[0], (largest + GI_VOXEL_LIST_GROUP - 1) / GI_VOXEL_LIST_GROUP);
+        EXPECT_EQ(words[1], GI_BOUNCE_CLASSES);
+        EXPECT_EQ(words[2], 1u);
+        EXPECT_EQ(words[GI_BOUNCE_MISFITS], (words[GI_BOUNCE_MISFITS + 3] + GI_VOXEL_LIST_GROUP - 1) / GI_VOXEL_LIST_GROUP);
+        EXPECT_EQ(words[GI_BOUNCE_MISFITS + 1], 1u);
+        EXPECT_EQ(words[GI_BOUNCE_MISFITS + 2], 1u);
+        // Every block's class mask (empty blocks: 0).
+        uint32_t wrongMasks = 0;
         for (uint32_t b = 0; b < q * q * q; ++b)
-            if (masks[b] & (1u << k))
-                expected.insert(b);
-        uint32_t count = words[GI_BOUNCE_COUNTS + k];
-        EXPECT_EQ(count, expected.size()) << "class " << k;
-        const uint32_t* list = body + gpu::bounceJobOffset(n) + k * q * q * q;
-        std::set<uint32_t> listed(list, list + std::min(count, q * q * q));
-        EXPECT_EQ(listed.size(), count) << "a job listed twice, class " << k;
-        EXPECT_TRUE(listed == expected) << "class " << k;
-        jobs += count;
-        largest = std::max(largest, count);
-        // Each job's result: finite, not negative.
-        for (uint32_t b : expected) {
-            const uint32_t* r = results.data() + 2 * (GI_BOUNCE_CLASSES * b + k);
-            for (float c : {halfToFloat(uint16_t(r[0])), halfToFloat(uint16_t(r[0] >> 16)), halfToFloat(uint16_t(r[1]))})
-                wrong += !(std::isfinite(c) && c >= 0.0f);
+            wrongMasks += body[b] != masks[b];
+        EXPECT_EQ(wrongMasks, 0u);
+        // Misfits: voxels with a class, each once, further than 25 degrees from their class's mean
+        // normal (within float rounding of the threshold); the others closer.
+        std::set<uint32_t> misfits;
+        auto index = [&](uint32_t p) { return (p & 1023u) + n * (((p >> 10) & 1023u) + n * (p >> 20)); };
+        for (uint32_t i = 0; i < words[GI_BOUNCE_MISFITS + 3]; ++i)
+            misfits.insert(index(body[gpu::bounceMisfitOffset(n) + i]));
+        EXPECT_EQ(misfits.size(), words[GI_BOUNCE_MISFITS + 3]) << "a misfit listed twice";
+        uint32_t misplaced = 0, classVoxels = 0;
+        for (uint32_t i = 0; i < n * n * n; ++i) {
+            if (cls[i] < 0) {
+                misplaced += misfits.count(i);
+                continue;
+            }
+            ++classVoxels;
+            uint32_t x = i % n, y = i / n % n, z = i / (n * n);
+            glm::vec3 sum(0.0f);
+            for (uint32_t c = 0; c < B * B * B; ++c) {
+                uint32_t o = (B * (x / B) + c % B) + n * ((B * (y / B) + c / B % B) + n * (B * (z / B) + c / (B * B)));
+                if (cls[o] == cls[i])
+                    sum += unit[o];
+            }
+            float fit = glm::dot(unit[i], glm::normalize(sum));
+            if (misfits.count(i) ? fit > 0.906f + 1e-3f : fit < 0.906f - 1e-3f)
+                ++misplaced;
         }
+        EXPECT_EQ(misplaced, 0u);
+        std::printf("%u^3 box + 60 triangles: %u voxels with a normal, %u jobs, %u misfits\n", n, classVoxels, jobs,
+                    uint32_t(misfits.size()));
+        EXPECT_GT(misfits.size(), 0u); // the random triangles' corners
+        // Run again: identical level-0 views (the bounce added to them) and mips.
+        std::vector<uint8_t> first = readbackImage(ctx(), m_volumes->aniso(), VK_IMAGE_LAYOUT_GENERAL);
+        std::vector<uint8_t> firstMip = readbackImage(ctx(), m_volumes->aniso(), VK_IMAGE_LAYOUT_GENERAL, 2);
+        runVoxels(s);
+        EXPECT_TRUE(first == readbackImage(ctx(), m_volumes->aniso(), VK_IMAGE_LAYOUT_GENERAL));
+        EXPECT_TRUE(firstMip == readbackImage(ctx(), m_volumes->aniso(), VK_IMAGE_LAYOUT_GENERAL, 2));
     }
-    EXPECT_EQ(wrong, 0u);
-    ASSERT_GT(jobs, 400u);
-    EXPECT_EQ(words[0], (largest + GI_VOXEL_LIST_GROUP - 1) / GI_VOXEL_LIST_GROUP);
-    EXPECT_EQ(words[1], GI_BOUNCE_CLASSES);
-    EXPECT_EQ(words[2], 1u);
-    EXPECT_EQ(words[GI_BOUNCE_MISFITS], (words[GI_BOUNCE_MISFITS + 3] + GI_VOXEL_LIST_GROUP - 1) / GI_VOXEL_LIST_GROUP);
-    EXPECT_EQ(words[GI_BOUNCE_MISFITS + 1], 1u);
-    EXPECT_EQ(words[GI_BOUNCE_MISFITS + 2], 1u);
-    // Every block's class mask (empty blocks: 0).
-    uint32_t wrongMasks = 0;
-    for (uint32_t b = 0; b < q * q * q; ++b)
-        wrongMasks += body[b] != masks[b];
-    EXPECT_EQ(wrongMasks, 0u);
-    // Misfits: voxels with a class, each once, further than 25 degrees from their class's mean
-    // normal (within float rounding of the threshold); the others closer.
-    std::set<uint32_t> misfits;
-    auto index = [&](uint32_t p) { return (p & 1023u) + n * (((p >> 10) & 1023u) + n * (p >> 20)); };
-    for (uint32_t i = 0; i < words[GI_BOUNCE_MISFITS + 3]; ++i)
-        misfits.insert(index(body[gpu::bounceMisfitOffset(n) + i]));
-    EXPECT_EQ(misfits.size(), words[GI_BOUNCE_MISFITS + 3]) << "a misfit listed twice";
-    uint32_t misplaced = 0, classVoxels = 0;
-    for (uint32_t i = 0; i < n * n * n; ++i) {
-        if (cls[i] < 0) {
-            misplaced += misfits.count(i);
-            continue;
-        }
-        ++classVoxels;
-        uint32_t x = i % n, y = i / n % n, z = i / (n * n);
-        glm::vec3 sum(0.0f);
-        for (uint32_t c = 0; c < 64; ++c) {
-            uint32_t o = (4 * (x / 4) + c % 4) + n * ((4 * (y / 4) + c / 4 % 4) + n * (4 * (z / 4) + c / 16));
-            if (cls[o] == cls[i])
-                sum += unit[o];
-        }
-        float fit = glm::dot(unit[i], glm::normalize(sum));
-        if (misfits.count(i) ? fit > 0.906f + 1e-3f : fit < 0.906f - 1e-3f)
-            ++misplaced;
-    }
-    EXPECT_EQ(misplaced, 0u);
-    std::printf("32^3 box + 60 triangles: %u voxels with a normal, %u jobs, %u misfits\n", classVoxels, jobs,
-                uint32_t(misfits.size()));
-    EXPECT_GT(misfits.size(), 0u); // the random triangles' corners
-    // Run again: identical level-0 views (the bounce added to them) and mips.
-    std::vector<uint8_t> first = readbackImage(ctx(), m_volumes->aniso(), VK_IMAGE_LAYOUT_GENERAL);
-    std::vector<uint8_t> firstMip = readbackImage(ctx(), m_volumes->aniso(), VK_IMAGE_LAYOUT_GENERAL, 2);
-    runVoxels(s);
-    EXPECT_TRUE(first == readbackImage(ctx(), m_volumes->aniso(), VK_IMAGE_LAYOUT_GENERAL));
-    EXPECT_TRUE(firstMip == readbackImage(ctx(), m_volumes->aniso(), VK_IMAGE_LAYOUT_GENERAL, 2));
 }
 
 class VctFurnace : public Vct {

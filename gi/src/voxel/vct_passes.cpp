@@ -272,7 +272,7 @@ void VctVolumes::recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& 
     gpu::VoxelBouncePush push{m_grid.params(), cones};
     dispatchIndirect(m_ctx, cmd, m_bounce, push,
                      {sampled(1, m_aniso.image, m_sampler, sampledLayout), storage(2, m_grid.volumes().normal.image.view),
-                      bufferItem(3, jobs), bufferItem(4, results)},
+                      bufferItem(3, jobs), bufferItem(4, results), bufferItem(5, m_list.buffer.buffer)},
                      jobs);
 }
 

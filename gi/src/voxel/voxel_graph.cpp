@@ -383,6 +383,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
             "gi.vct.bounce.blocks",
             [&](rg::PassBuilder& b, Jobs& d) {
                 b.read(listed.jobs, Access::IndirectRead);
+                b.read(list, Access::ComputeStorageRead);
                 b.read(out.aniso, Access::ComputeSampledRead);
                 b.read(grid.normal, Access::ComputeStorageRead);
                 d.jobs = b.write(listed.jobs, Access::ComputeStorageReadWrite); // the misfit list

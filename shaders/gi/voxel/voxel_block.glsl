@@ -34,3 +34,24 @@ bool voxelNormalOf(ivec3 c, out vec3 normal, out uint k) {
     k = voxelNormalClass(v);
     return true;
 }
+
+// Occupied-list helpers (the includer declares that list's words after its header as `entries`
+// and defines VOXEL_BLOCK_LIST; gi/voxel_passes.h).
+#ifdef VOXEL_BLOCK_LIST
+// Whether 4^3 block q (in 4^3-block coordinates) holds an occupied voxel.
+bool coarseOccupied(ivec3 q, uint n) {
+    uint i = uint(q.x) + n / 4u * (uint(q.y) + n / 4u * uint(q.z));
+    return (entries[voxelListCoarseBitsOffset(n) + (i >> 5u)] & (1u << (i & 31u))) != 0u;
+}
+
+// Occupancy of the row of 4 voxels c .. c + (3, 0, 0) (c.x a multiple of 4): bit i = voxel c.x + i.
+uint rowOccupancy(ivec3 c, uint n) {
+    uint i = uint(c.x) + n * (uint(c.y) + n * uint(c.z));
+    return (entries[voxelListBitsOffset(n) + (i >> 5u)] >> (i & 31u)) & 15u;
+}
+
+// The 4^3 blocks of bounce block q (side / 4 per axis, side = bounceBlockSide), i = 0.. their count.
+ivec3 bounceSubBlock(ivec3 q, int i, int sub) {
+    return sub * q + ivec3(i % sub, (i / sub) % sub, i / (sub * sub));
+}
+#endif

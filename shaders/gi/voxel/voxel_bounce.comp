@@ -18,6 +18,8 @@ layout(push_constant) uniform Push { VoxelBouncePush pc; };
 layout(set = 1, binding = 2, rgba8) uniform readonly image3D normalVol;
 layout(set = 1, binding = 3, std430) buffer Jobs { uint header[GI_BOUNCE_HEADER]; uint words[]; };
 layout(set = 1, binding = 4, std430) writeonly buffer Results { uint results[]; };
+layout(set = 1, binding = 5, std430) readonly buffer List { uint listHeader[GI_VOXEL_LIST_HEADER]; uint entries[]; };
+#define VOXEL_BLOCK_LIST
 #include "voxel_block.glsl"
 
 // cos 25 degrees. Tilting a hemisphere by theta swaps (1 - cos theta) / 2 of its cosine-
@@ -30,40 +32,55 @@ void main() {
     uint j = gl_GlobalInvocationID.x;
     if (j >= header[GI_BOUNCE_COUNTS + cls])
         return;
-    uint n = pc.grid.dims.x, quarter = n / 4u;
+    uint n = pc.grid.dims.x, side = n / bounceBlockSide(n);
+    int sub = int(bounceBlockSide(n) / 4u);
     uint b = words[bounceJobOffset(n) + cls * bounceBlockCount(n) + j];
-    ivec3 base = 4 * ivec3(b % quarter, (b / quarter) % quarter, b / (quarter * quarter));
+    ivec3 q = ivec3(b % side, (b / side) % side, b / (side * side));
+    // Two passes over the block's occupied voxels (the list's bits), in a fixed order.
     vec3 sumPosition = vec3(0.0), sumNormal = vec3(0.0);
     float count = 0.0;
-    uvec2 members = uvec2(0u);
-    for (int i = 0; i < 64; ++i) {
-        ivec3 c = base + ivec3(i & 3, (i >> 2) & 3, i >> 4);
-        vec3 normal;
-        uint k;
-        if (voxelNormalOf(c, normal, k) && k == cls) {
-            sumPosition += vec3(c);
-            sumNormal += normal;
-            count += 1.0;
-            members[i >> 5] |= 1u << uint(i & 31);
+    for (int s = 0; s < sub * sub * sub; ++s) {
+        ivec3 q4 = bounceSubBlock(q, s, sub);
+        if (!coarseOccupied(q4, n))
+            continue;
+        for (int row = 0; row < 16; ++row) {
+            ivec3 r = 4 * q4 + ivec3(0, row & 3, row >> 2);
+            for (uint bits = rowOccupancy(r, n); bits != 0u; bits &= bits - 1u) {
+                ivec3 c = r + ivec3(findLSB(bits), 0, 0);
+                vec3 normal;
+                uint k;
+                if (voxelNormalOf(c, normal, k) && k == cls) {
+                    sumPosition += vec3(c);
+                    sumNormal += normal;
+                    count += 1.0;
+                }
+            }
         }
     }
     // The class's normals share its signs within 30 degrees of its direction: no cancelling.
     vec3 mean = normalize(sumNormal);
     vec3 middle = sumPosition / count + 0.5;
     float lift = 0.0;
-    for (int i = 0; i < 64; ++i) {
-        if ((members[i >> 5] & (1u << uint(i & 31))) == 0u)
+    for (int s = 0; s < sub * sub * sub; ++s) {
+        ivec3 q4 = bounceSubBlock(q, s, sub);
+        if (!coarseOccupied(q4, n))
             continue;
-        ivec3 c = base + ivec3(i & 3, (i >> 2) & 3, i >> 4);
-        vec3 normal;
-        uint k;
-        voxelNormalOf(c, normal, k);
-        lift = max(lift, dot(vec3(c) + 0.5 - middle, mean));
-        if (dot(normal, mean) < kClassFit) {
-            uint slot = atomicAdd(header[GI_BOUNCE_MISFITS + 3u], 1u);
-            if (slot % GI_VOXEL_LIST_GROUP == 0u) // x = ceil(count / group)
-                atomicAdd(header[GI_BOUNCE_MISFITS], 1u);
-            words[bounceMisfitOffset(n) + slot] = voxelListPack(uvec3(c));
+        for (int row = 0; row < 16; ++row) {
+            ivec3 r = 4 * q4 + ivec3(0, row & 3, row >> 2);
+            for (uint bits = rowOccupancy(r, n); bits != 0u; bits &= bits - 1u) {
+                ivec3 c = r + ivec3(findLSB(bits), 0, 0);
+                vec3 normal;
+                uint k;
+                if (!voxelNormalOf(c, normal, k) || k != cls)
+                    continue;
+                lift = max(lift, dot(vec3(c) + 0.5 - middle, mean));
+                if (dot(normal, mean) < kClassFit) {
+                    uint slot = atomicAdd(header[GI_BOUNCE_MISFITS + 3u], 1u);
+                    if (slot % GI_VOXEL_LIST_GROUP == 0u) // x = ceil(count / group)
+                        atomicAdd(header[GI_BOUNCE_MISFITS], 1u);
+                    words[bounceMisfitOffset(n) + slot] = voxelListPack(uvec3(c));
+                }
+            }
         }
     }
     float occlusion;

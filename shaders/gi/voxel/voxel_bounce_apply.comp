@@ -21,7 +21,7 @@ layout(set = 1, binding = 5, std430) readonly buffer Results { uint results[]; }
 void main() {
     if (gl_GlobalInvocationID.x >= listHeader[3])
         return;
-    uint n = pc.grid.dims.x, quarter = n / 4u;
+    uint n = pc.grid.dims.x, side = n / bounceBlockSide(n);
     ivec3 c = ivec3(voxelListUnpack(entries[gl_GlobalInvocationID.x]));
     vec3 normal;
     uint k;
@@ -36,8 +36,8 @@ void main() {
     // own block always weighs at least 5/8 per axis. Fixed order: deterministic.
     uint kk = k < 13u ? k : k + 1u;
     bvec3 along = equal(ivec3(kk % 3u, (kk / 3u) % 3u, kk / 9u), ivec3(1)); // class direction component 0
-    vec3 f = (vec3(c) + 0.5) / 4.0 - 0.5;
-    ivec3 own = c >> 2;
+    vec3 f = (vec3(c) + 0.5) / float(bounceBlockSide(n)) - 0.5;
+    ivec3 own = c / int(bounceBlockSide(n));
     ivec3 base = mix(own, ivec3(floor(f)), along);
     vec3 w = mix(vec3(0.0), f - floor(f), along);
     vec3 e = vec3(0.0);
@@ -47,9 +47,9 @@ void main() {
         vec3 cw = mix(1.0 - w, w, vec3(corner));
         float weight = cw.x * cw.y * cw.z;
         ivec3 q = base + corner;
-        if (weight == 0.0 || any(lessThan(q, ivec3(0))) || any(greaterThanEqual(q, ivec3(quarter))))
+        if (weight == 0.0 || any(lessThan(q, ivec3(0))) || any(greaterThanEqual(q, ivec3(side))))
             continue;
-        uint b = uint(q.x) + quarter * (uint(q.y) + quarter * uint(q.z));
+        uint b = uint(q.x) + side * (uint(q.y) + side * uint(q.z));
         if ((words[b] & (1u << k)) == 0u)
             continue;
         uint r = 2u * (GI_BOUNCE_CLASSES * b + k);

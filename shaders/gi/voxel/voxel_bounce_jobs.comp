@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Second bounce, job list: per 4^3 block, the classes of its voxels' normals (voxel_block.glsl)
+// Second bounce, job list: per block (bounceBlockSide^3 voxels), the classes of its voxels' normals (voxel_block.glsl)
 // -> the block's class mask and one job per class, appended to that class's list, and the
 // gathers' indirect dispatch (gi/voxel_passes.h). The order within a class's list follows the
 // scheduling; each gather depends only on its block and class and stores its result at them,
@@ -12,10 +12,12 @@ layout(push_constant) uniform Push { VoxelGridPush pc; };
 layout(set = 1, binding = 0, rgba8) uniform readonly image3D normalVol;
 layout(set = 1, binding = 1, std430) readonly buffer List { uint listHeader[GI_VOXEL_LIST_HEADER]; uint entries[]; };
 layout(set = 1, binding = 2, std430) buffer Jobs { uint header[GI_BOUNCE_HEADER]; uint words[]; };
+#define VOXEL_BLOCK_LIST
 #include "voxel_block.glsl"
 
 void main() {
-    uint n = pc.grid.dims.x, quarter = n / 4u;
+    uint n = pc.grid.dims.x, side = n / bounceBlockSide(n);
+    int sub = int(bounceBlockSide(n) / 4u);
     uint b = gl_GlobalInvocationID.x;
     if (b == 0u) { // dispatch y, z of both quads (the clear zeroed the header)
         header[1] = GI_BOUNCE_CLASSES;
@@ -23,17 +25,23 @@ void main() {
     }
     if (b >= bounceBlockCount(n))
         return;
-    if ((entries[voxelListCoarseBitsOffset(n) + (b >> 5u)] & (1u << (b & 31u))) == 0u) {
-        words[b] = 0u; // no classes (the apply reads the masks of neighbouring blocks)
-        return;
-    }
-    uvec3 q = uvec3(b % quarter, (b / quarter) % quarter, b / (quarter * quarter));
+    ivec3 q = ivec3(b % side, (b / side) % side, b / (side * side));
+    // The occupied voxels only, through the list's bits (an empty block's mask is 0: the apply
+    // reads the masks of neighbouring blocks).
     uint mask = 0u;
-    for (int i = 0; i < 64; ++i) {
-        vec3 normal;
-        uint k;
-        if (voxelNormalOf(4 * ivec3(q) + ivec3(i & 3, (i >> 2) & 3, i >> 4), normal, k))
-            mask |= 1u << k;
+    for (int s = 0; s < sub * sub * sub; ++s) {
+        ivec3 q4 = bounceSubBlock(q, s, sub);
+        if (!coarseOccupied(q4, n))
+            continue;
+        for (int row = 0; row < 16; ++row) {
+            ivec3 r = 4 * q4 + ivec3(0, row & 3, row >> 2);
+            for (uint bits = rowOccupancy(r, n); bits != 0u; bits &= bits - 1u) {
+                vec3 normal;
+                uint k;
+                if (voxelNormalOf(r + ivec3(findLSB(bits), 0, 0), normal, k))
+                    mask |= 1u << k;
+            }
+        }
     }
     words[b] = mask;
     while (mask != 0u) {
