@@ -1,5 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_ballot : require
 // Once per voxelization, per touched list of the grid (the whole scene's or the static one, then
 // the dynamic one): sets the occupancy bits of each listed voxel, of its 2^3 block and of its
 // 4^3 block in the occupied list's bit arrays (gi/voxel_passes.h). Every touched voxel is
@@ -12,7 +14,20 @@ layout(push_constant) uniform Push { VoxelGridPush pc; };
 layout(set = 1, binding = 0, std430) readonly buffer Touched { uint touchedHeader[GI_VOXEL_TOUCHED_HEADER]; uint touched[]; };
 layout(set = 1, binding = 1, std430) buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint entries[]; };
 
-void setBit(uint base, uint i) { atomicOr(entries[base + (i >> 5u)], 1u << (i & 31u)); }
+// Sets bit i of the array at entries[base]: the lanes that share a word send one atomic (the
+// touched list runs along x, so neighbouring lanes mostly share their words).
+void setBit(uint base, uint i) {
+    uint word = base + (i >> 5u), bit = 1u << (i & 31u);
+    for (;;) {
+        uint first = subgroupBroadcastFirst(word);
+        if (word == first) {
+            uint bits = subgroupOr(bit);
+            if (subgroupElect())
+                atomicOr(entries[first], bits);
+            break;
+        }
+    }
+}
 
 void main() {
     if (gl_GlobalInvocationID.x >= touchedHeader[3])
