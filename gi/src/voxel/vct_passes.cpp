@@ -264,7 +264,7 @@ void VctVolumes::recordBounceJobs(VkCommandBuffer cmd, VkBuffer jobs) const {
     gpu::VoxelGridPush push{m_grid.params()};
     dispatch(m_ctx, cmd, m_bounceJobs, push,
              {storage(0, m_grid.volumes().normal.image.view), bufferItem(1, m_list.buffer.buffer), bufferItem(2, jobs)},
-             glm::uvec3(gpu::bounceBlockCount(m_grid.resolution()), 1u, 1u));
+             glm::uvec3(m_grid.resolution() * m_grid.resolution() * m_grid.resolution() / 64u, 1u, 1u)); // 4^3 blocks
 }
 
 void VctVolumes::recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkBuffer jobs,

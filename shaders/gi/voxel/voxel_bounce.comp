@@ -36,9 +36,13 @@ void main() {
     int sub = int(bounceBlockSide(n) / 4u);
     uint b = words[bounceJobOffset(n) + cls * bounceBlockCount(n) + j];
     ivec3 q = ivec3(b % side, (b / side) % side, b / (side * side));
-    // Two passes over the block's occupied voxels (the list's bits), in a fixed order.
-    vec3 sumPosition = vec3(0.0), sumNormal = vec3(0.0);
-    float count = 0.0;
+    // Over the block's occupied voxels (the list's bits), in a fixed order: the class's centroid
+    // and mean normal, then the lift and the misfits. When every voxel of the class stores the
+    // same normal (flat axis-aligned or 45-degree surfaces: most jobs) the mean is that normal,
+    // nothing misfits and the lift follows from the first pass's largest height along it.
+    vec3 sumPosition = vec3(0.0), sumNormal = vec3(0.0), first = vec3(0.0);
+    float count = 0.0, highest = -1e30;
+    bool same = true;
     for (int s = 0; s < sub * sub * sub; ++s) {
         ivec3 q4 = bounceSubBlock(q, s, sub);
         if (!coarseOccupied(q4, n))
@@ -50,6 +54,10 @@ void main() {
                 vec3 normal;
                 uint k;
                 if (voxelNormalOf(c, normal, k) && k == cls) {
+                    if (count == 0.0)
+                        first = normal;
+                    same = same && normal == first;
+                    highest = max(highest, dot(vec3(c), first));
                     sumPosition += vec3(c);
                     sumNormal += normal;
                     count += 1.0;
@@ -58,10 +66,10 @@ void main() {
         }
     }
     // The class's normals share its signs within 30 degrees of its direction: no cancelling.
-    vec3 mean = normalize(sumNormal);
+    vec3 mean = same ? first : normalize(sumNormal);
     vec3 middle = sumPosition / count + 0.5;
-    float lift = 0.0;
-    for (int s = 0; s < sub * sub * sub; ++s) {
+    float lift = same ? max(highest + 0.5 * (first.x + first.y + first.z) - dot(middle, first), 0.0) : 0.0;
+    for (int s = 0; s < sub * sub * sub && !same; ++s) {
         ivec3 q4 = bounceSubBlock(q, s, sub);
         if (!coarseOccupied(q4, n))
             continue;
