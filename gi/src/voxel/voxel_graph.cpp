@@ -48,14 +48,14 @@ void addClear(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHandle& a
         });
 }
 
-// Between a voxelization into `target` and its resolve: zeroes the voxels of `previous` (the
-// list of the last voxelization into the same volumes) that the new one did not touch.
-void addClearStale(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHandle accum, rg::BufferHandle previous,
+// Between a voxelization into `target` and the listing of its touched bits: zeroes the voxels
+// of `previous` (the list of the last voxelization into the same volumes) whose bit is not set.
+void addClearStale(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHandle bits, rg::BufferHandle previous,
                    VolumeHandles& target, const VoxelVolumes* physical, const char* name) {
     graph.addPass(
         name,
         [&](rg::PassBuilder& b) {
-            b.read(accum, Access::ComputeStorageRead);
+            b.read(bits, Access::ComputeStorageRead);
             b.read(previous, Access::IndirectRead);
             b.read(previous, Access::ComputeStorageRead);
             for (rg::ImageHandle* h : {&target.albedo, &target.normal, &target.emission, &target.faces})
@@ -87,10 +87,9 @@ void addResolve(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHandle&
         });
 }
 
-// Voxelizes the draws `set` into the accumulation and lists their voxels in `list` (grid order).
+// Voxelizes the draws `set` into the accumulation and the touched bits.
 void addVoxelize(rg::RenderGraph& graph, const VoxelGrid* grid, const VoxelSceneHandles& scene, rg::BufferHandle& accum,
-                 rg::BufferHandle& bits, rg::BufferHandle& list, VoxelDrawSet set, const char* name,
-                 const char* listName) {
+                 rg::BufferHandle& bits, VoxelDrawSet set, const char* name) {
     VoxelSceneHandles s = scene;
     graph.addPass(
         name,
@@ -105,6 +104,11 @@ void addVoxelize(rg::RenderGraph& graph, const VoxelGrid* grid, const VoxelScene
                                       ctx.buffer(s.instances).buffer, ctx.buffer(s.materials).buffer, s.draws};
             grid->recordVoxelize(ctx.cmd(), buffers, set);
         });
+}
+
+// Lists the voxels of the touched bits in `list` (grid order) and zeroes the bits.
+void addTouchedList(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHandle& bits, rg::BufferHandle& list,
+                    const char* listName) {
     graph.addPass(
         listName,
         [&](rg::PassBuilder& b) {
@@ -127,10 +131,10 @@ void addVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHa
     const VoxelGrid* g = &grid;
     addClear(graph, g, accum, bits, touched, target, physical, plan.clearAccum, previous.valid(),
              isStatic ? "gi.voxel.clear.static" : "gi.voxel.clear");
-    addVoxelize(graph, g, scene, accum, bits, touched, set, isStatic ? "gi.voxel.voxelize.static" : "gi.voxel.voxelize",
-                isStatic ? "gi.voxel.list.static" : "gi.voxel.list");
+    addVoxelize(graph, g, scene, accum, bits, set, isStatic ? "gi.voxel.voxelize.static" : "gi.voxel.voxelize");
     if (previous.valid())
-        addClearStale(graph, g, accum, previous, target, physical, isStatic ? "gi.voxel.stale.static" : "gi.voxel.stale");
+        addClearStale(graph, g, bits, previous, target, physical, isStatic ? "gi.voxel.stale.static" : "gi.voxel.stale");
+    addTouchedList(graph, g, bits, touched, isStatic ? "gi.voxel.list.static" : "gi.voxel.list");
     addResolve(graph, g, accum, touched, target, physical, isStatic ? "gi.voxel.resolve.static" : "gi.voxel.resolve");
 }
 
@@ -187,8 +191,8 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
                                     ctx.layout(d.faces)};
             g->recordCopyStatic(ctx.cmd(), src, dst);
         });
-    addVoxelize(graph, g, scene, accum, bits, data.touchedDynamic, VoxelDrawSet::Dynamic, "gi.voxel.voxelize.dynamic",
-                "gi.voxel.list.dynamic");
+    addVoxelize(graph, g, scene, accum, bits, VoxelDrawSet::Dynamic, "gi.voxel.voxelize.dynamic");
+    addTouchedList(graph, g, bits, data.touchedDynamic, "gi.voxel.list.dynamic");
     graph.addPass(
         "gi.voxel.merge",
         [&](rg::PassBuilder& b) {

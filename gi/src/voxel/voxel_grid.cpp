@@ -223,7 +223,7 @@ void VoxelGrid::recordClearStale(VkCommandBuffer cmd, const VoxelVolumes& target
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_stale.pipeline);
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_stale, &push, sizeof(push));
-    DescriptorItem items[] = {storageBuffer(0, m_accum.buffer.buffer),  storageImage(1, target.albedo.image),
+    DescriptorItem items[] = {storageBuffer(0, m_bits.buffer.buffer),   storageImage(1, target.albedo.image),
                               storageImage(2, target.normal.image),     storageImage(3, target.emission.image),
                               storageImage(4, target.faces.image),      storageBuffer(9, previous)};
     pushDescriptors(m_ctx, cmd, m_stale, items);

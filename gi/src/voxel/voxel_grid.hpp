@@ -111,9 +111,9 @@ public:
     // The four volumes of `target` := 0 (transfer write, images in `layouts`: albedo, normal,
     // emission, faces).
     void recordClearVolumes(VkCommandBuffer cmd, const VoxelVolumes& target, const VkImageLayout layouts[4]) const;
-    // After a voxelization into `target`, before its resolve: the voxels of touched list
-    // `previous` that the accumulation holds no contribution for := 0 (indirect over it;
-    // accumulation read, storage write).
+    // After a voxelization into `target`, before its touched bits are listed: the voxels of
+    // touched list `previous` whose touched bit is not set := 0 (indirect over it; bits read,
+    // storage write).
     void recordClearStale(VkCommandBuffer cmd, const VoxelVolumes& target, VkBuffer previous) const;
     // volumes() := staticVolumes() (transfer read / write, layouts in the same order).
     void recordCopyStatic(VkCommandBuffer cmd, const VkImageLayout src[4], const VkImageLayout dst[4]) const;
