@@ -14,13 +14,53 @@ const float kConeOpaque = 0.99;
 // 1 - 2^-11, so an opaque texel reads as optical depth ln(2^11) ~ 7.6 (transmittance 5e-4).
 const float kMinTransmit = 1.0 / 2048.0;
 
-// Optical depth of one texel seen along an axis, from its stored opacity.
-float opticalDepth(float a) {
-    return -log(max(1.0 - a, kMinTransmit));
+// Per-cone constants of the sampling, computed once per cone instead of once per step.
+struct ConeFrame {
+    vec3 w;          // |dir|: the weights of the three views' optical depths
+    vec3 stack;      // first layer of the view facing dir, per axis (+X,-X,+Y,-Y,+Z,-Z stacks of N)
+    vec3 aheadSign;  // the `ahead` slice is aheadSign * floor(aheadSign * q + 0.5) + aheadShift:
+    vec3 aheadShift; // ceil(q - 0.5) where dir >= 0, floor(q + 0.5) - 1 where dir < 0
+    float n;         // N: layers per view at every level
+    float invN;
+    int maxLevel;    // log2(N)
+};
+
+ConeFrame coneFrame(vec3 dir, float n) {
+    ConeFrame f;
+    f.w = abs(dir);
+    // Stacks are picked by arithmetic, not by branching, so SIMD lanes with different
+    // directions still take one path (three fetches instead of up to six).
+    f.stack = (vec3(0.0, 2.0, 4.0) + step(dir, vec3(0.0))) * n;
+    vec3 forward = step(vec3(0.0), dir);
+    f.aheadSign = 1.0 - 2.0 * forward;
+    f.aheadShift = forward - 1.0;
+    f.n = n;
+    f.invN = 1.0 / n;
+    f.maxLevel = findMSB(int(n)); // the grid is a power of two
+    return f;
 }
 
-// Directional sample of level `lod` of the directional volume: rgb = radiance (not
-// premultiplied) of what the sample holds, a = optical depth per texel width along `dir`.
+// 2^k for an integer k in [-126, 127], from the exponent bits (exact; no exp2 polynomial).
+float exp2Int(int k) {
+    return intBitsToFloat((k + 127) << 23);
+}
+
+// Mip level of a sample: the one nearest to the cone's diameter (round(log2(diameter)),
+// diameter >= 1), capped at floor(log2(max(reach, 1))) (no self-reads, traceCone) and at the
+// coarsest level. Both from the exponent bits instead of log2 per step: adding 2^23 - 0x3504F4
+// to the bits carries a mantissa >= sqrt(2) (1 + 0x3504F4 / 2^23 is the first float above it)
+// into the exponent, which rounds log2 to the nearest integer.
+int coneLevel(float diameter, float reach, int maxLevel) {
+    int nearest = (floatBitsToInt(diameter) + 0x4AFB0C) >> 23;
+    int below = floatBitsToInt(max(reach, 1.0)) >> 23;
+    return min(min(nearest, below) - 127, maxLevel);
+}
+
+// Directional sample at p (voxels) of level `level` (texels 2^level = 1 / invSize voxels
+// wide) of the directional volume: a = optical depth per texel width along the cone's dir, in
+// units of ln 2 (log2 of the transmittance: exp2 of it needs no constant, and the radiance
+// weights below are ratios of optical depths, which the unit leaves unchanged), rgb = the
+// radiance of what the sample holds times a (the caller divides once, folded into its opacity).
 // The voxels are surfaces, i.e. sheets: a path of unit length along dir crosses the sheets
 // perpendicular to axis k |dir_k| times as often as a path along k does, so the optical depths
 // of the three views facing dir add with weights |dir_k| (Crassin's dir^2 blend of the
@@ -29,13 +69,8 @@ float opticalDepth(float a) {
 // its opacity at 64^3, more the finer the grid, i.e. the coarser the level its walls are
 // reached at). The radiance is the mean of the views' radiances weighted by what each
 // contributes to the extinction, so an opaque face-on view hides the edge-on views behind it.
-// Stacks are picked by arithmetic, not by branching, so SIMD lanes with different directions
-// still take one path (three fetches instead of up to six).
-vec4 sampleAniso(vec3 uvw, vec3 dir, float lod, bool ahead) {
-    float n = float(textureSize(aniso, 0).x); // N: layers per view at every level
-    float texels = n * exp2(-lod);            // this level's resolution
-    vec3 w = abs(dir);
-    vec3 stack = (vec3(0.0, 2.0, 4.0) + step(dir, vec3(0.0))) * n; // first layer of +X,-X,+Y,-Y,+Z,-Z
+vec4 sampleAniso(ConeFrame f, vec3 p, int level, float invSize, bool ahead) {
+    float texels = f.n * invSize; // this level's resolution
     // Each view is read at the centre of its texel along its own axis (filtered across it): a
     // texel of view k is a slab along k whose opacity already integrates what lies along k, so
     // the steps that fall inside it add up to its optical depth. Filtering along k as well
@@ -58,36 +93,52 @@ vec4 sampleAniso(vec3 uvw, vec3 dir, float lod, bool ahead) {
     // holds no wall's far side next to its near side (walls of two voxels or more). Shadow
     // cones (coneVisibility) keep it at every level: an occluder right at the receiver's side
     // must still shade it.
-    vec3 q = uvw * texels; // in texels of this level
+    vec3 q = p * invSize; // in texels of this level (exact: powers of two)
     vec3 slice = floor(q);
-    if (ahead && lod >= 0.5)
-        slice = mix(floor(q + 0.5) - 1.0, ceil(q - 0.5), step(0.0, dir));
+    if (ahead && level > 0)
+        slice = f.aheadSign * floor(f.aheadSign * q + 0.5) + f.aheadShift;
     // Beyond the grid every view is empty. Along a view's axis a slice outside [0, texels)
     // (whose layer would belong to another slice or view) weighs 0. Across it the sampler
     // clamps to the edge (lavapipe filters ~8% faster than with a border colour) and `edge`
     // restores the transparent border exactly: within half a texel of the grid's face the
     // bilinear taps are the edge texel and one beyond it, which the border makes 0, i.e. the
     // clamped value times the edge texel's weight q + 0.5 (texels + 0.5 - q at the far face);
-    // inside the grid the factor is 1.
+    // inside the grid the factor is 1. So a sample half a texel or more outside the grid on
+    // any axis reads exactly 0 (coneExit relies on it).
     vec3 inside = step(vec3(0.0), slice) * step(slice, vec3(texels - 1.0));
     vec3 edge = clamp(q + 0.5, 0.0, 1.0) * clamp(texels + 0.5 - q, 0.0, 1.0);
-    vec3 layer = stack + clamp(slice, vec3(0.0), vec3(texels - 1.0));
+    vec3 layer = f.stack + clamp(slice, vec3(0.0), vec3(texels - 1.0));
+    vec3 uvw = p * f.invN;
+    float lod = float(level);
     vec4 sx = (inside.x * edge.y * edge.z) * textureLod(aniso, vec3(uvw.yz, layer.x), lod);
     vec4 sy = (inside.y * edge.x * edge.z) * textureLod(aniso, vec3(uvw.xz, layer.y), lod);
     vec4 sz = (inside.z * edge.x * edge.y) * textureLod(aniso, vec3(uvw.xy, layer.z), lod);
-    vec3 tau = w * vec3(opticalDepth(sx.a), opticalDepth(sy.a), opticalDepth(sz.a));
-    float depth = tau.x + tau.y + tau.z;
-    // radiance of view k = rgb_k / a_k (premultiplied); weights tau_k / depth
-    vec3 radiance = tau.x * sx.rgb / max(sx.a, 1e-6) + tau.y * sy.rgb / max(sy.a, 1e-6) + tau.z * sz.rgb / max(sz.a, 1e-6);
-    return vec4(depth > 0.0 ? radiance / depth : vec3(0.0), depth);
+    vec3 alpha = vec3(sx.a, sy.a, sz.a);
+    // optical depth of one texel seen along each axis, from its stored opacity (units of ln 2)
+    vec3 tau = f.w * -log2(max(1.0 - alpha, kMinTransmit));
+    // radiance of view k = rgb_k / a_k (premultiplied): one division for the three
+    vec3 opacity = max(alpha, 1e-6);
+    float inv = 1.0 / (opacity.x * opacity.y * opacity.z);
+    vec3 weight = tau * vec3(opacity.y * opacity.z, opacity.x * opacity.z, opacity.x * opacity.y) * inv;
+    return vec4(weight.x * sx.rgb + weight.y * sy.rgb + weight.z * sz.rgb, tau.x + tau.y + tau.z);
 }
 
-// Sample of mip level `level` (a footprint 2^level voxels wide; level 0 = the voxels' own
-// views). One level per sample (the sampler's mip mode is NEAREST): blending two levels
-// doubles the texels a sample reads, and the cone accounts for the footprint it actually got
-// (traceCone). Returns rgb = radiance, a = optical depth per texel width along dir.
-vec4 sampleVoxels(vec3 p, vec3 dir, float level, float n, bool ahead) {
-    return sampleAniso(p / n, dir, level, ahead);
+// Distance along a cone beyond which every sample lies half a texel or more outside the grid on
+// some axis, where it reads exactly 0 (sampleAniso): stopping there changes no result, and a
+// cone leaving the grid no longer steps through empty space up to the grid diagonal (a 30-degree
+// cone's own bounds test, |p| beyond the grid by a diameter, never fires once t > 1 / (2 tan)).
+// Along the axis j the sample at t is speed_j * t - dist_j past the face ahead (dist_j from the
+// origin to it); its texel T = 2^level <= min(N, sqrt(2) * max(1, 2 tanHalf t), max(1, rise t
+// / 1.5)) (coneLevel), so T / 2 <= N / 2 and T / 2 <= 0.7072 + beta t with beta the smaller
+// slope. Both bounds give a t past which the condition holds for good; margins cover rounding.
+float coneExit(vec3 origin, vec3 dir, float rise, float tanHalf, float n) {
+    vec3 speed = abs(dir);
+    vec3 dist = mix(origin, vec3(n) - origin, step(vec3(0.0), dir));
+    float beta = min(1.4143 * tanHalf, max(rise, 0.0) / 3.0);
+    vec3 byGrid = (dist + 0.5 * n) / max(speed, 1e-6);
+    vec3 byLevel = mix(vec3(1e30), (dist + 0.7072) / max(speed - beta, 1e-6), greaterThan(speed, vec3(beta)));
+    vec3 exit = min(byGrid, byLevel);
+    return min(min(exit.x, exit.y), exit.z) * 1.001 + 0.01;
 }
 
 // Front-to-back accumulation along a cone of half-angle atan(tanHalf). Each sample reads the
@@ -109,20 +160,23 @@ vec4 sampleVoxels(vec3 p, vec3 dir, float level, float n, bool ahead) {
 // usual stepFactor * d.
 // `occlusion` gets Villegas' AO: opacity weighted by 1 / (1 + decay * distance).
 vec4 traceCone(vec3 origin, vec3 dir, float rise, float tanHalf, float stepFactor, float decay, float n, out float occlusion) {
+    ConeFrame f = coneFrame(dir, n);
     vec4 acc = vec4(0.0);
     occlusion = 0.0;
-    float maxLod = log2(n);
-    float tMax = 1.7321 * n; // the grid diagonal
+    // the grid diagonal, or where the cone has left the grid for good
+    float tMax = min(1.7321 * n, coneExit(origin, dir, rise, tanHalf, n));
     for (float t = kConeStart; t < tMax && acc.a < kConeOpaque;) {
         float diameter = max(1.0, 2.0 * tanHalf * t);
         vec3 p = origin + t * dir;
         if (any(lessThan(p, vec3(-diameter))) || any(greaterThan(p, vec3(n + diameter))))
             break;
-        float level = min(min(round(log2(diameter)), floor(log2(max(rise * t / 1.5, 1.0)))), maxLod);
-        float stepLength = stepFactor * min(diameter, exp2(level));
-        vec4 s = sampleVoxels(p, dir, level, n, true);
-        float a = 1.0 - exp(-s.a * stepLength * exp2(-level));
-        acc += (1.0 - acc.a) * vec4(s.rgb * a, a);
+        int level = coneLevel(diameter, rise * t / 1.5, f.maxLevel);
+        float invSize = exp2Int(-level);
+        float stepLength = stepFactor * min(diameter, exp2Int(level));
+        vec4 s = sampleAniso(f, p, level, invSize, true);
+        float a = 1.0 - exp2(-s.a * stepLength * invSize);
+        acc.rgb += ((1.0 - acc.a) * (s.a > 0.0 ? a / s.a : 0.0)) * s.rgb;
+        acc.a += (1.0 - acc.a) * a;
         occlusion += (1.0 - occlusion) * a / (1.0 + decay * t);
         t += stepLength;
     }
@@ -135,22 +189,25 @@ vec4 traceCone(vec3 origin, vec3 dir, float rise, float tanHalf, float stepFacto
 // own voxel begins (as the voxel light's march does): a surface within a voxel of the light
 // cannot be resolved as lying in front of it.
 float coneVisibility(vec3 origin, vec3 dir, float rise, float tanHalf, float stepFactor, float tEnd, float n) {
-    float maxLod = log2(n);
-    float depth = 0.0; // optical depth along the cone
+    ConeFrame f = coneFrame(dir, n);
+    float depth = 0.0; // optical depth along the cone, in units of ln 2
     ivec3 lightVoxel = ivec3(floor(origin + tEnd * dir));
-    for (float t = kConeStart; t < tEnd && depth < 7.0;) { // exp(-7) < 1e-3
+    float tStop = min(tEnd, coneExit(origin, dir, rise, tanHalf, n));
+    // depth < 7 / ln 2: transmittance exp(-7) < 1e-3
+    for (float t = kConeStart; t < tStop && depth < 10.098865;) {
         float diameter = max(1.0, 2.0 * tanHalf * t);
         vec3 p = origin + t * dir;
         if (any(lessThan(p, vec3(-diameter))) || any(greaterThan(p, vec3(n + diameter))) ||
             ivec3(floor(p)) == lightVoxel)
             break;
-        float level = min(min(round(log2(diameter)), floor(log2(max(rise * t / 1.5, 1.0)))), maxLod);
-        float stepLength = stepFactor * min(diameter, exp2(level));
+        int level = coneLevel(diameter, rise * t / 1.5, f.maxLevel);
+        float invSize = exp2Int(-level);
+        float stepLength = stepFactor * min(diameter, exp2Int(level));
         // Only the part of the step before the light occludes it.
-        depth += sampleVoxels(p, dir, level, n, false).a * min(stepLength, tEnd - t) * exp2(-level);
+        depth += sampleAniso(f, p, level, invSize, false).a * min(stepLength, tEnd - t) * invSize;
         t += stepLength;
     }
-    return exp(-depth);
+    return exp2(-depth);
 }
 
 // Direction i of n over the hemisphere around +z, cosine-distributed (Fibonacci spiral): each
