@@ -484,6 +484,84 @@ TEST_F(Vct, ReVoxelizingClearsWhatTheOldGeometryWrote) {
     EXPECT_GT(both, opaque + 16u) << "the wall's own texels (16 voxels, 4 blocks) were written";
 }
 
+// A voxel that stays occupied with other faces keeps none of its old views: re-voxelizing
+// zeroes only what went stale (gi.vct.list.stale), so the views along an axis the voxel no
+// longer has coverage on must go too. A wall facing +x (voxels x = 9) and a sheet facing +y
+// (voxels y = 5) share the voxels (9, 5, 4..7); draw sets that switch either on and off change
+// those voxels' faces (x and y, y only, x only), empty other voxels and blocks and fill new ones.
+// After each change every view of levels 0 and 1 equals a fresh volume's.
+TEST_F(Vct, ReVoxelizingZeroesTheViewsOfFacesAVoxelNoLongerHas) {
+    TestScene scene;
+    uint32_t glow = scene.addMaterial(glm::vec3(0.5f), glm::vec3(1.0f, 0.5f, 0.25f));
+    scene.addDraw({{{9.5f, 4.2f, 4.2f}, {9.5f, 7.8f, 4.2f}, {9.5f, 4.2f, 7.8f}},
+                   {{9.5f, 7.8f, 4.2f}, {9.5f, 7.8f, 7.8f}, {9.5f, 4.2f, 7.8f}}},
+                  glow);
+    scene.addDraw({{{8.2f, 5.5f, 4.2f}, {8.2f, 5.5f, 7.8f}, {9.8f, 5.5f, 4.2f}},
+                   {{9.8f, 5.5f, 4.2f}, {8.2f, 5.5f, 7.8f}, {9.8f, 5.5f, 7.8f}}},
+                  glow);
+    gpu::VoxelGridParams params{};
+    params.originSize = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    params.scales = glm::vec4(1.0f, 1.0f, 1.0f, 0.0f);
+    params.dims = glm::uvec4(16, 4, 0, 0);
+    VctSettings s;
+    s.bounces = 1;
+    auto levels01 = [&] {
+        std::vector<glm::vec4> views;
+        for (uint32_t mip : {0u, 1u}) {
+            auto level = readHalf4(ctx(), m_volumes->aniso(), mip);
+            int side = 16 >> mip;
+            for (uint32_t d = 0; d < 6; ++d)
+                for (int z = 0; z < side; ++z)
+                    for (int y = 0; y < side; ++y)
+                        for (int x = 0; x < side; ++x)
+                            views.push_back(anisoTexel(level, 16, mip, {x, y, z}, d));
+        }
+        return views;
+    };
+    const std::vector<VoxelDraw> all = scene.draws;
+    auto select = [&](std::initializer_list<int> which) {
+        std::vector<VoxelDraw> draws;
+        for (int i : which)
+            draws.push_back(all[size_t(i)]);
+        return draws;
+    };
+    const glm::ivec3 shared(9, 5, 5);
+    auto fresh = [&](const std::vector<VoxelDraw>& draws) {
+        TearDownResources();
+        setup(scene, {}, params);
+        m_scene.draws = draws;
+        runVoxels(s);
+        return levels01();
+    };
+    setup(scene, {}, params);
+    std::vector<std::vector<VoxelDraw>> sequence = {select({0, 1}), select({1}), select({0}), select({0, 1})};
+    // The kept volume goes through the sequence in one VctVolumes; each step's fresh volume is
+    // made afterwards (a new grid each), so the kept results are collected first.
+    std::vector<std::vector<glm::vec4>> kept;
+    for (const auto& draws : sequence) {
+        m_scene.draws = draws;
+        runVoxels(s);
+        kept.push_back(levels01());
+    }
+    size_t levelTexels = 6 * 16 * 16 * 16;
+    auto view = [&](const std::vector<glm::vec4>& v, uint32_t d) {
+        return v[size_t(d) * 16 * 16 * 16 + size_t((shared.z * 16 + shared.y) * 16 + shared.x)];
+    };
+    for (size_t step = 0; step < sequence.size(); ++step) {
+        std::vector<glm::vec4> expected = fresh(sequence[step]);
+        ASSERT_EQ(kept[step].size(), expected.size());
+        size_t differ = 0;
+        for (size_t i = 0; i < expected.size(); ++i)
+            differ += kept[step][i] != expected[i];
+        EXPECT_EQ(differ, 0u) << "step " << step;
+        ASSERT_GT(expected.size(), levelTexels);
+        // The shared voxel's x views are opaque exactly when the wall is drawn, its y views when the sheet is.
+        bool wall = step != 1, sheet = step != 2;
+        EXPECT_EQ(view(expected, 0).a > 0.0f, wall) << "step " << step;
+        EXPECT_EQ(view(expected, 2).a > 0.0f, sheet) << "step " << step;
+    }
+}
+
 namespace {
 struct FurnaceResult {
     double mean = 0.0, minimum = 1e300, maximum = -1e300, aoMean = 0.0;

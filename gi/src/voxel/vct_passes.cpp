@@ -75,6 +75,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
         const char* shader;
     } shaders[] = {{&v->m_compact, "gi/voxel/voxel_compact.comp"},
                    {&v->m_listAppend, "gi/voxel/voxel_list_append.comp"},
+                   {&v->m_listStale, "gi/voxel/voxel_list_stale.comp"},
                    {&v->m_light, "gi/voxel/voxel_light.comp"},
                    {&v->m_lightSoft, "gi/voxel/voxel_light_soft.comp"},
                    {&v->m_lightShadowMap, "gi/voxel/voxel_light_shadow_map.comp"},
@@ -105,6 +106,16 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     list.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
                  VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     v->m_list.buffer = createBuffer(ctx, list, "vct.voxel_list");
+    ImageDesc written;
+    written.type = VK_IMAGE_TYPE_3D;
+    written.format = VK_FORMAT_R8_UINT;
+    written.width = written.height = written.depth = n;
+    written.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    v->m_written.image = createImage(ctx, written, "vct.written");
+    BufferDesc bits;
+    bits.size = VkDeviceSize(gpu::voxelWrittenBitsWords(n)) * sizeof(uint32_t);
+    bits.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    v->m_writtenBits.buffer = createBuffer(ctx, bits, "vct.written_bits");
     SamplerDesc s;
     // Outside the grid is empty space: sampleAniso (voxel_cone.glsl) turns the clamped edge
     // into the transparent border (exactly, and faster on lavapipe than a border colour).
@@ -121,10 +132,12 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
 
 VctVolumes::~VctVolumes() {
     destroyBuffer(m_ctx, m_list.buffer);
+    destroyBuffer(m_ctx, m_writtenBits.buffer);
+    destroyImage(m_ctx, m_written.image);
     for (rg::PersistentBuffer* b : {&m_jobBuffer, &m_resultBuffer})
         if (b->buffer.buffer)
             destroyBuffer(m_ctx, b->buffer);
-    for (Pipeline* p : {&m_compact, &m_listAppend, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_mipList, &m_mipTail, &m_bounceJobs, &m_bounce, &m_bounceApply, &m_bounceMisfits, &m_bounceAdd,
+    for (Pipeline* p : {&m_compact, &m_listAppend, &m_listStale, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_mipList, &m_mipTail, &m_bounceJobs, &m_bounce, &m_bounceApply, &m_bounceMisfits, &m_bounceAdd,
                         &m_trace, &m_traceRefine, &m_upsample, &m_softShadow})
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_aniso.image);
@@ -134,7 +147,9 @@ VctVolumes::~VctVolumes() {
 }
 
 VkDeviceSize VctVolumes::bytes() const {
-    return imageBytes(m_aniso.image.desc) + m_list.buffer.desc.size + m_jobBuffer.buffer.desc.size +
+    return imageBytes(m_aniso.image.desc) + imageBytes(m_written.image.desc) + m_list.buffer.desc.size +
+           m_writtenBits.buffer.desc.size +
+           m_jobBuffer.buffer.desc.size +
            m_resultBuffer.buffer.desc.size;
 }
 
@@ -170,7 +185,20 @@ void VctVolumes::recordListAppend(VkCommandBuffer cmd) const {
     dispatch(m_ctx, cmd, m_listAppend, push, {bufferItem(1, m_list.buffer.buffer)}, glm::uvec3(words, 1u, 1u));
 }
 
-void VctVolumes::recordClearLevels01(VkCommandBuffer cmd, VkImageLayout layout) const {
+void VctVolumes::recordListStale(VkCommandBuffer cmd) const {
+    gpu::VoxelGridPush push{m_grid.params()};
+    dispatch(m_ctx, cmd, m_listStale, push,
+             {bufferItem(0, m_list.buffer.buffer), bufferItem(1, m_writtenBits.buffer.buffer),
+              storage(2, m_written.image.view), storage(3, m_aniso.image.mipViews[0]),
+              storage(4, m_aniso.image.mipViews[1])},
+             glm::uvec3(gpu::voxelWrittenBitsWords(m_grid.resolution()), 1u, 1u));
+}
+
+void VctVolumes::recordClearLevels01(VkCommandBuffer cmd, VkImageLayout layout, VkImageLayout writtenLayout) const {
+    vkCmdFillBuffer(cmd, m_writtenBits.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
+    VkClearColorValue none{};
+    VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdClearColorImage(cmd, m_written.image.image, writtenLayout, &none, 1, &all);
     // Level 0 whole; level 1 only the first N/2 layers of each direction, the ones it uses.
     VkClearColorValue zero{};
     uint32_t n = m_grid.resolution();
@@ -196,7 +224,7 @@ void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t ligh
                           bufferItem(6, m_list.buffer.buffer), bufferItem(7, shadow->lightShadows),
                           bufferItem(8, shadow->views),
                           sampled(9, *shadow->atlas, shadow->compareSampler, shadow->atlasLayout),
-                          storage(10, g.faces.image.view)},
+                          storage(10, g.faces.image.view), storage(11, m_written.image.view)},
                          m_list.buffer.buffer);
         return;
     }
@@ -206,7 +234,7 @@ void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t ligh
                      {lightItem, storage(3, g.emission.image.view),
                       soft ? sampled(4, g.albedo.image, m_occupancySampler, sampledLayout) : storage(4, g.albedo.image.view),
                       storage(5, m_aniso.image.mipViews[0]), bufferItem(6, m_list.buffer.buffer),
-                      storage(10, g.faces.image.view)},
+                      storage(10, g.faces.image.view), storage(11, m_written.image.view)},
                      m_list.buffer.buffer);
 }
 

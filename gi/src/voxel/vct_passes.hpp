@@ -63,6 +63,13 @@ public:
     rg::PersistentBuffer& bounceResultsState();
     bool listBuilt() const { return m_listBuilt; }
     void setListBuilt(bool built) { m_listBuilt = built; }
+    // What levels 0 and 1 of aniso() hold from the last voxelizations (gi/voxel_passes.h,
+    // "written", "written bits"); `writtenKnown` says whether they describe them (false until the
+    // first voxelization cleared both levels and these).
+    rg::PersistentImage& writtenState() { return m_written; }
+    rg::PersistentBuffer& writtenBitsState() { return m_writtenBits; }
+    bool writtenKnown() const { return m_writtenKnown; }
+    void setWrittenKnown(bool known) { m_writtenKnown = known; }
     const VoxelGrid& grid() const { return m_grid; }
     uint32_t anisoLevels() const { return m_levels; }
     // First level of the mip tail (recordMip builds it and all coarser ones in one dispatch):
@@ -83,17 +90,24 @@ public:
     void recordCompact(VkCommandBuffer cmd, VkBuffer touched) const;
     // The list's bits (recordCompact) -> its voxel and block entries in grid order (storage read-write).
     void recordListAppend(VkCommandBuffer cmd) const;
-    // Levels 0 and 1 of aniso() := 0 (transfer write, the image in `layout`): the voxel light
-    // and the bounce add write level 0, the level-1 mip level 1, at listed voxels / blocks only.
-    void recordClearLevels01(VkCommandBuffer cmd, VkImageLayout layout) const;
+    // Levels 0 and 1 of aniso() (in `layout`), the written image (in `writtenLayout`) and the
+    // written bits := 0 (transfer writes), at the first voxelization: the voxel light and the
+    // bounce add write level 0, the level-1 mip level 1, at listed voxels / blocks only, and later
+    // voxelizations zero only what went stale (recordListStale, recordLight).
+    void recordClearLevels01(VkCommandBuffer cmd, VkImageLayout layout, VkImageLayout writtenLayout) const;
+    // After recordListAppend: zeroes the level-0 views and level-1 views of the voxels and blocks
+    // the last list held and the new one does not, and their written (storage read-write), and
+    // keeps the new list's bits as the written bits.
+    void recordListStale(VkCommandBuffer cmd) const;
     // grid volumes + lights (+ the emission volume when `emission`) -> the six level-0 views of
-    // aniso() at the listed voxels (indirect dispatch over the list).
+    // aniso() at the listed voxels (indirect dispatch over the list); reads and updates the
+    // written image (storage read-write).
     // `shadow` (non-null) selects the shadow-atlas variant, else `occlusion` the ray march.
     void recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t lightCount, VctOcclusion occlusion,
                      VkImageLayout sampledLayout, bool emission = true,
                      const VctShadowInputs* shadow = nullptr) const;
     // aniso level `level` (>= 1) from level - 1; level 1 at the listed occupied blocks only
-    // (indirect over the list; the others keep the zeros of recordClearLevels01); from
+    // (indirect over the list; the others keep their zeros: recordClearLevels01, recordListStale); from
     // mipTailLevel() on, that level and all coarser ones (one work group).
     void recordMip(VkCommandBuffer cmd, uint32_t level) const;
     // Second bounce (gi/voxel_passes.h, docs/vct.md); the gathers read aniso() (direct light
@@ -130,11 +144,14 @@ private:
     rg::PersistentImage m_aniso;
     rg::PersistentBuffer m_list;
     rg::PersistentBuffer m_jobBuffer, m_resultBuffer;
+    rg::PersistentImage m_written;
+    rg::PersistentBuffer m_writtenBits;
     bool m_listBuilt = false;
+    bool m_writtenKnown = false;
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;          // directional volume: clamp to edge (sampleAniso)
     VkSampler m_occupancySampler = VK_NULL_HANDLE; // soft voxel-light march: transparent border
-    Pipeline m_compact, m_listAppend, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_mipList, m_mipTail, m_bounceJobs, m_bounce, m_bounceApply, m_bounceMisfits, m_bounceAdd, m_trace, m_traceRefine,
+    Pipeline m_compact, m_listAppend, m_listStale, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_mipList, m_mipTail, m_bounceJobs, m_bounce, m_bounceApply, m_bounceMisfits, m_bounceAdd, m_trace, m_traceRefine,
         m_upsample, m_softShadow;
 };
 

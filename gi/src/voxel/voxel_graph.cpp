@@ -213,7 +213,7 @@ namespace {
 
 // Adds one pass per level k >= 1 of aniso, built from level k - 1, up to the tail, and one for
 // the tail's levels ("prefix[t-L]"); returns the newest version. Level 1 is written at the listed
-// occupied blocks only and keeps the list clear's zeros elsewhere (no discard).
+// occupied blocks only and keeps the zeros elsewhere (gi.vct.list.clear / .stale; no discard).
 rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::ImageHandle aniso, rg::BufferHandle list,
                              const char* prefix) {
     uint32_t tail = v->mipTailLevel(), last = v->anisoLevels() - 1;
@@ -294,20 +294,32 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
         return gbuffer ? addTracePasses(graph, volumes, out, settings, gbuffer, options.glossyImage) : out;
     }
     const rg::SubresourceRange level0 = rg::SubresourceRange::mip(0);
+    // The axes whose level-0 views each voxel last stored (gi/voxel_passes.h): the voxel light
+    // zeroes those its faces no longer cover, gi.vct.list.stale those of emptied voxels.
+    rg::ImageHandle written = graph.importImage("gi.vct.written", volumes.writtenState());
     if (grid.changed || !volumes.listBuilt()) {
         // Once per voxelization: the occupied-voxel list the light and bounce passes run over.
-        // The list header and levels 0 and 1 (the voxel light writes only the listed voxels,
-        // the level-1 mip only the listed blocks; the rest must read empty) are zeroed by
-        // transfer clears, which stream at memset speed.
+        // The voxel light writes only the listed voxels' views, the level-1 mip only the listed
+        // blocks, and the rest must read empty: the first voxelization zeroes levels 0 and 1 (and
+        // the record of what they hold) by transfer clears, later ones only what went stale
+        // (gi.vct.list.stale, after the list is built). The list header and bits are zeroed here.
+        rg::BufferHandle writtenBits = graph.importBuffer("gi.vct.written_bits", volumes.writtenBitsState());
+        const rg::SubresourceRange levels01{0, 2, 0, rg::kAll};
+        bool first = !volumes.writtenKnown();
         graph.addPass(
             "gi.vct.list.clear",
             [&](rg::PassBuilder& b) {
                 list = b.write(list, Access::TransferWrite);
-                out.aniso = b.write(out.aniso, Access::TransferWrite, rg::SubresourceRange{0, 2, 0, rg::kAll});
+                if (first) {
+                    out.aniso = b.write(out.aniso, Access::TransferWrite, levels01);
+                    written = b.write(written, Access::TransferWrite);
+                    writtenBits = b.write(writtenBits, Access::TransferWrite);
+                }
             },
-            [v, list, aniso = out.aniso](rg::PassContext& ctx) {
+            [v, list, aniso = out.aniso, written, first](rg::PassContext& ctx) {
                 v->recordClearList(ctx.cmd(), ctx.buffer(list).buffer);
-                v->recordClearLevels01(ctx.cmd(), ctx.layout(aniso));
+                if (first)
+                    v->recordClearLevels01(ctx.cmd(), ctx.layout(aniso), ctx.layout(written));
             });
         // One pass per touched list of the grid (the whole scene's or the static draws', then
         // the dynamic draws'), each an indirect dispatch over its list setting the list's
@@ -327,7 +339,17 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
         graph.addPass(
             "gi.vct.list.append", [&](rg::PassBuilder& b) { list = b.write(list, Access::ComputeStorageReadWrite); },
             [v](rg::PassContext& ctx) { v->recordListAppend(ctx.cmd()); });
+        graph.addPass(
+            "gi.vct.list.stale",
+            [&](rg::PassBuilder& b) {
+                b.read(list, Access::ComputeStorageRead);
+                writtenBits = b.write(writtenBits, Access::ComputeStorageReadWrite);
+                written = b.write(written, Access::ComputeStorageReadWrite);
+                out.aniso = b.write(out.aniso, Access::ComputeStorageWrite, levels01);
+            },
+            [v](rg::PassContext& ctx) { v->recordListStale(ctx.cmd()); });
         volumes.setListBuilt(true);
+        volumes.setWrittenKnown(true);
     }
     VctOcclusion occlusion = settings.occlusion;
     bool emission = options.emission;
@@ -348,6 +370,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
             b.read(grid.albedo, soft ? Access::ComputeSampledRead : Access::ComputeStorageRead);
             b.read(grid.faces, Access::ComputeStorageRead);
             b.read(grid.emission, Access::ComputeStorageRead);
+            written = b.write(written, Access::ComputeStorageReadWrite);
             out.aniso = b.write(out.aniso, Access::ComputeStorageWrite, level0); // the listed voxels
         },
         [v, lights, lightCount, occlusion, emission, albedo = grid.albedo, useShadowMap, options](rg::PassContext& ctx) {

@@ -34,6 +34,7 @@ vec4 albedoAt(ivec3 c) { return imageLoad(albedoVol, c); }
 layout(set = 1, binding = 5, rgba16f) uniform writeonly image2DArray anisoOut; // level 0 of the directional volume
 layout(set = 1, binding = 6, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint voxels[]; };
 layout(set = 1, binding = 10, r32ui) uniform readonly uimage3D facesVol;
+layout(set = 1, binding = 11, r8ui) uniform uimage3D writtenVol; // the axes stored last time (voxel_passes.h)
 #ifdef GI_VOXEL_LIGHT_SHADOW_MAP
 layout(set = 1, binding = 7, std430) readonly buffer LightShadows { GpuLightShadow lightShadows[]; };
 layout(set = 1, binding = 8, std430) readonly buffer ShadowViews { GpuShadowView shadowViews[]; };
@@ -214,6 +215,11 @@ void main() {
     // (its back is the inside of a closed surface), like the path tracer's one-sided faces.
     float maxCover = max(max(cover[0] + cover[1], cover[2] + cover[3]), cover[4] + cover[5]);
     uint n = pc.grid.dims.x;
+    // The views stored: those with opacity > 0 (gi/voxel_passes.h), and, once, zeros into the
+    // views of the axes stored last time that the voxel's faces (re-voxelized) no longer cover.
+    uint axes = voxelViewAxes(faces), before = imageLoad(writtenVol, c).x;
+    if (before != axes)
+        imageStore(writtenVol, c, uvec4(axes));
     for (uint v = 0u; v < 6u; ++v) {
         uint k = v >> 1u;
         float axisCover = cover[2u * k] + cover[2u * k + 1u];
@@ -223,10 +229,10 @@ void main() {
         // Half-float ceiling: radianceScale maps the brightest light to GI_VOXEL_RADIANCE_TARGET,
         // 16x below it; clamping keeps the volume finite whatever happens.
         vec3 rgb = min(radiance[v ^ 1u], vec3(65000.0)) * (alpha * shown);
-        // A view the voxel's sheets are edge-on to stays (0, 0): the level-0 clear at every
-        // re-voxelization wrote that, and it depends on the geometry alone. Skipping its store
-        // saves four of six scattered half-float stores for a flat wall.
-        if (alpha > 0.0)
-            imageStore(anisoOut, voxelAnisoTexel(c, v, n), vec4(rgb, alpha));
+        // A view the voxel's sheets are edge-on to (alpha 0) stays (0, 0): it depends on the
+        // faces alone, so it was zeroed when the faces changed (or by the first clear). Skipping
+        // its store saves four of six scattered half-float stores for a flat wall.
+        if (((axes | before) & (1u << k)) != 0u)
+            imageStore(anisoOut, voxelAnisoTexel(c, v, n), (axes & (1u << k)) != 0u ? vec4(rgb, alpha) : vec4(0.0));
     }
 }

@@ -82,6 +82,26 @@ GI_INLINE uint voxelListCoarseBitsOffset(uint n) { return voxelListBitsOffset(n)
 GI_INLINE uint voxelListWords(uint n) { return voxelListCoarseBitsOffset(n) + ((n / 4u) * (n / 4u) * (n / 4u) + 31u) / 32u; }
 GI_INLINE uvec3 voxelListUnpack(uint v) { return uvec3(v & 1023u, (v >> 10u) & 1023u, v >> 20u); }
 
+// The axes k whose two level-0 views (2k, 2k + 1) the voxel light stores for a voxel with packed
+// faces `faces` (voxel_grid.h), bit k each: those with coverage along k (opacity > 0; the views
+// along an axis the voxel's sheets are edge-on to stay 0), all three for an occupied voxel
+// without coverage (opacity 1). Never 0 for an occupied voxel.
+GI_INLINE uint voxelViewAxes(uint faces) {
+    uint axes = 0u;
+    for (uint k = 0u; k < 3u; ++k)
+        axes |= ((faces >> (10u * k)) & 1023u) != 0u ? 1u << k : 0u;
+    return axes != 0u ? axes : 7u;
+}
+// What levels 0 and 1 of aniso hold from the last voxelizations, so that a voxelization zeroes
+// only what went stale instead of clearing both levels (both zeroed with these at the first):
+//   written       R8UI N^3: the voxelViewAxes each voxel's level-0 views were last stored with (0:
+//                 none stored). The voxel light compares it with the voxel's faces and zeroes the
+//                 views along the axes it no longer stores (voxel_light_body.glsl);
+//   written bits  a storage buffer of the last list's voxel and block bits ((N^3 + (N/2)^3) / 32
+//                 words, the list's layout): voxel_list_stale.comp zeroes the views of the voxels
+//                 listed then and not now (and their `written`) and the level-1 views of such blocks.
+GI_INLINE uint voxelWrittenBitsWords(uint n) { return voxelListBitsOffset(n) / 32u; }
+
 // Occlusion of voxel direct light (VctOcclusion).
 #define GI_VCT_OCCLUSION_HARD 0u
 #define GI_VCT_OCCLUSION_SOFT 1u
