@@ -140,7 +140,8 @@ float visibility(vec3 p, vec3 dir, float tMax) {
     // runs again reading its voxel's bit, as do the following samples inside that block.
     uint knownCoarse = ~0u;
     for (float t = kShadowStart; t < tEnd; t += kShadowStep) {
-        uvec3 v = uvec3(ivec3(floor(p + t * dir)));
+        // Samples before tEnd lie in the grid (q >= 0): truncation is floor.
+        uvec3 v = uvec3(ivec3(p + t * dir));
         uvec3 b = v >> 2u;
         uint coarse = b.x | (b.y << log2Quarter) | (b.z << (2u * log2Quarter));
         uint i = v.x | (v.y << log2Res) | (v.z << (2u * log2Res));
