@@ -505,3 +505,30 @@ TEST_F(Voxelize, RevoxelizingEqualsAFreshVoxelization) {
         EXPECT_GT(occupiedVoxels(grid.albedo).size(), 200u); // the floor (14^2) and the mover
     }
 }
+
+// A frame graph that is built but never run (a failed compile) leaves the grid's bookkeeping
+// as it was: the next voxelization still clears what the last executed one wrote.
+TEST_F(Voxelize, AGraphThatNeverRunsChangesNothing) {
+    std::vector<Tri> a = {{{1.3f, 1.2f, 3.5f}, {14.6f, 2.1f, 3.5f}, {2.2f, 13.9f, 3.5f}}};
+    std::vector<Tri> b = {{{1.3f, 1.2f, 11.5f}, {14.6f, 2.1f, 11.5f}, {2.2f, 13.9f, 11.5f}}};
+    std::vector<Tri> c = {{{1.3f, 7.2f, 7.5f}, {4.6f, 7.1f, 7.5f}, {2.2f, 9.9f, 7.5f}}};
+    TestScene sceneA, sceneB, sceneC;
+    sceneA.addDraw(a, sceneA.addMaterial(glm::vec3(0.9f, 0.8f, 0.7f)));
+    sceneB.addDraw(b, sceneB.addMaterial(glm::vec3(0.9f, 0.8f, 0.7f)));
+    sceneC.addDraw(c, sceneC.addMaterial(glm::vec3(0.9f, 0.8f, 0.7f)));
+    makeGrid(unitGrid(16));
+    upload(sceneC);
+    voxelizeAll();
+    upload(sceneA);
+    voxelizeAll(); // the touched lists (used in turn) hold C's and A's voxels
+    upload(sceneB);
+    {   // built, never compiled or run
+        rg::RenderGraph unused;
+        addVoxelGridPasses(unused, *m_grid, importScene(unused, m_buf, m_scene.draws), VoxelUpdate::Full);
+    }
+    voxelizeAll();
+    std::vector<uint8_t> moved = read().albedo;
+    makeGrid(unitGrid(16));
+    voxelizeAll();
+    EXPECT_TRUE(moved == read().albedo) << "voxels of the first placement left in the grid";
+}

@@ -70,8 +70,8 @@ void addClearStale(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHand
 // new versions; the other voxels keep the clear's zeros) and zeroes those records; `physical`
 // is the VoxelVolumes those handles were imported from. A side effect: the zeroed
 // accumulation is what the next voxelization relies on, even when nothing reads this grid.
-void addResolve(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHandle& accum, rg::BufferHandle list,
-                VolumeHandles& target, const VoxelVolumes* physical, const char* name) {
+void addResolve(rg::RenderGraph& graph, VoxelGrid* grid, rg::BufferHandle& accum, rg::BufferHandle list,
+                VolumeHandles& target, const VoxelVolumes* physical, const char* name, bool commit) {
     graph.addPass(
         name,
         [&](rg::PassBuilder& b) {
@@ -82,8 +82,10 @@ void addResolve(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHandle&
                 *h = b.write(*h, Access::ComputeStorageWrite);
             b.sideEffect();
         },
-        [grid, physical, list](rg::PassContext& ctx) {
+        [grid, physical, list, commit, planned = grid->planned()](rg::PassContext& ctx) {
             grid->recordResolve(ctx.cmd(), *physical, ctx.buffer(list).buffer);
+            if (commit)
+                grid->commitPlanned(planned); // this graph runs: its plan is the grid's state
         });
 }
 
@@ -120,7 +122,8 @@ void addTouchedList(rg::RenderGraph& graph, const VoxelGrid* grid, rg::BufferHan
 
 // Clear, voxelize and resolve of the draws `set` (All or Static) into `target`.
 void addVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHandles& scene, rg::BufferHandle& accum,
-                     rg::BufferHandle& bits, rg::BufferHandle& touched, VolumeHandles& target, VoxelDrawSet set) {
+                     rg::BufferHandle& bits, rg::BufferHandle& touched, VolumeHandles& target, VoxelDrawSet set,
+                     bool commit) {
     bool isStatic = set == VoxelDrawSet::Static;
     VoxelizationPlan plan = grid.beginVoxelization(set);
     rg::BufferHandle previous;
@@ -135,7 +138,8 @@ void addVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHa
     if (previous.valid())
         addClearStale(graph, g, bits, previous, target, physical, isStatic ? "gi.voxel.stale.static" : "gi.voxel.stale");
     addTouchedList(graph, g, bits, touched, isStatic ? "gi.voxel.list.static" : "gi.voxel.list");
-    addResolve(graph, g, accum, touched, target, physical, isStatic ? "gi.voxel.resolve.static" : "gi.voxel.resolve");
+    addResolve(graph, &grid, accum, touched, target, physical, isStatic ? "gi.voxel.resolve.static" : "gi.voxel.resolve",
+               commit);
 }
 
 } // namespace
@@ -154,16 +158,17 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
         data.touched = graph.importBuffer("gi.voxel.touched", grid.touchedState(VoxelDrawSet::All));
         return data;
     }
+    grid.startPlanning();
     rg::BufferHandle accum = graph.importBuffer("gi.voxel.accumulation", grid.accumulationState());
     rg::BufferHandle bits = graph.importBuffer("gi.voxel.touched_bits", grid.touchedBitsState());
     if (!anyDynamic) {
         // Static scene: one voxelization straight into the grid (no static copy, no merge).
-        addVoxelization(graph, grid, scene, accum, bits, data.touched, out, VoxelDrawSet::All);
+        addVoxelization(graph, grid, scene, accum, bits, data.touched, out, VoxelDrawSet::All, true);
         return {out.albedo, out.normal, out.emission, out.faces, grid.params(), true, data.touched};
     }
     VolumeHandles st = importVolumes(graph, grid.staticState(), "gi.voxel.static");
     if (update == VoxelUpdate::Full)
-        addVoxelization(graph, grid, scene, accum, bits, data.touched, st, VoxelDrawSet::Static);
+        addVoxelization(graph, grid, scene, accum, bits, data.touched, st, VoxelDrawSet::Static, false);
     else
         data.touched = graph.importBuffer("gi.voxel.touched", grid.touchedState(VoxelDrawSet::Static));
     // The grid starts as a copy of the static volumes; the merge writes only the dynamic voxels
@@ -204,7 +209,10 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
                 *h = b.write(*h, Access::ComputeStorageWrite);
             b.sideEffect(); // the zeroed accumulation (addResolve)
         },
-        [g](rg::PassContext& ctx) { g->recordResolveMerge(ctx.cmd()); });
+        [gm = &grid, planned = grid.planned()](rg::PassContext& ctx) {
+            gm->recordResolveMerge(ctx.cmd());
+            gm->commitPlanned(planned); // this graph runs: its plan is the grid's state
+        });
     data.changed = true;
     return data;
 }

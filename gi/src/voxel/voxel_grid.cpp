@@ -165,23 +165,24 @@ VkDeviceSize VoxelGrid::bytes() const {
 }
 
 VoxelizationPlan VoxelGrid::beginVoxelization(VoxelDrawSet set) {
+    State& st = m_planned;
     VoxelizationPlan plan;
-    plan.clearAccum = !m_accumZero;
-    m_accumZero = true; // the resolve (or merge) zeroes every record the voxelization touches
+    plan.clearAccum = !st.accumZero;
+    st.accumZero = true; // the resolve (or merge) zeroes every record the voxelization touches
     if (set == VoxelDrawSet::Dynamic) {
         // The grid becomes the static copy plus the merged dynamic voxels: no list covers it.
         plan.next = 2;
-        m_cover[0] = -1;
+        st.cover[0] = -1;
         return plan;
     }
     int target = set == VoxelDrawSet::Static ? 1 : 0;
-    plan.previous = m_cover[target];
-    // The new list must not be the one whose voxels the clear reads.
-    plan.next = 1 - (plan.previous >= 0 ? plan.previous : m_current);
-    if (m_cover[1 - target] == plan.next)
-        m_cover[1 - target] = -1; // that list is overwritten
-    m_cover[target] = plan.next;
-    m_current = plan.next;
+    plan.previous = st.cover[target];
+    // The new list must not be the one whose voxels the stale clear reads.
+    plan.next = 1 - (plan.previous >= 0 ? plan.previous : st.current);
+    if (st.cover[1 - target] == plan.next)
+        st.cover[1 - target] = -1; // that list is overwritten
+    st.cover[target] = plan.next;
+    st.current = plan.next;
     return plan;
 }
 

@@ -98,11 +98,22 @@ public:
     VkDeviceSize bytes() const;
 
     // Called while building the graph of a voxelization of `set` (into staticVolumes() for
-    // Static, volumes() otherwise): picks its touched list and what must be cleared, and
-    // records that afterwards the accumulation is zero (the resolve zeroes what it reads) and
-    // that the target's nonzero voxels are those of the new list (Dynamic: not tracked, the
-    // grid is a copy of the static volumes plus the merge).
+    // Static, volumes() otherwise): picks its touched list and what must be cleared, and plans
+    // that afterwards the accumulation is zero (the resolve zeroes what it reads) and that the
+    // target's nonzero voxels are those of the new list (Dynamic: not tracked, the grid is a
+    // copy of the static volumes plus the merge). The plan starts from the state of the last
+    // executed graph (startPlanning) and takes effect when the graph runs (commitPlanned, from
+    // the last voxel pass), so a graph that is built but never run changes nothing.
+    void startPlanning() { m_planned = m_state; }
     VoxelizationPlan beginVoxelization(VoxelDrawSet set);
+    struct State {
+        int current = 0;          // the All / Static list of the last such voxelization
+        int cover[2] = {-1, -1};  // per target (volumes(), staticVolumes()): the list (0 or 1)
+                                  // holding all its nonzero voxels, or -1 (unknown)
+        bool accumZero = false;   // the accumulation and the touched bits are zero
+    };
+    const State& planned() const { return m_planned; }
+    void commitPlanned(const State& s) { m_state = s; }
 
     // Pass bodies (all images in GENERAL layout unless a layout is passed; the graph passes in
     // voxel_graph.cpp declare the accesses). clear: the touched list `list` emptied, and with
@@ -133,18 +144,14 @@ public:
 
 private:
     VoxelGrid(Context& ctx) : m_ctx(ctx) {}
-    int listIndex(VoxelDrawSet set) const { return set == VoxelDrawSet::Dynamic ? 2 : m_current; }
+    int listIndex(VoxelDrawSet set) const { return set == VoxelDrawSet::Dynamic ? 2 : m_state.current; }
     Context& m_ctx;
     gpu::VoxelGridParams m_params{};
     VoxelVolumes m_volumes, m_static;
     rg::PersistentBuffer m_accum, m_bits;
     // 0, 1: the All / Static lists, used in turn; 2: the Dynamic list.
     rg::PersistentBuffer m_lists[3];
-    int m_current = 0; // the All / Static list of the last such voxelization
-    // Per target (0 = volumes(), 1 = staticVolumes()): the list (0 or 1) whose voxels include
-    // every nonzero voxel of the volumes, or -1 when unknown (never cleared, or a merge wrote it).
-    int m_cover[2] = {-1, -1};
-    bool m_accumZero = false;
+    State m_state, m_planned;
     Pipeline m_voxelize, m_resolve, m_resolveMerge, m_stale, m_touchedList;
 };
 
