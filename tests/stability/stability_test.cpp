@@ -308,6 +308,11 @@ TEST_F(Stability, SmallestAndLargestGridsAreFiniteOrAClearError) {
         settings.vct.gridResolution = c.grid;
         std::string what = std::string(toString(c.t)) + " grid " + std::to_string(c.grid);
         auto f = render(settings, scene);
+        // VCT binds its voxel records in ranges within the spec's minimum storage-buffer range
+        // (gi/voxel_grid.h), so every grid size renders on every device with the memory.
+        if (c.t == Technique::Vct) {
+            ASSERT_TRUE(f) << what << ": " << f.error().message;
+        }
         if (!f) {
             EXPECT_FALSE(f.error().message.empty()) << what;
             EXPECT_NE(f.error().message.find("grid"), std::string::npos) << what << ": " << f.error().message;

@@ -49,11 +49,17 @@ DescriptorItem storageImage(uint32_t binding, const Image& image) {
     return item;
 }
 
-DescriptorItem storageBuffer(uint32_t binding, VkBuffer buffer) {
+DescriptorItem storageBuffer(uint32_t binding, VkBuffer buffer, VkDeviceSize offset = 0,
+                             VkDeviceSize range = VK_WHOLE_SIZE) {
     DescriptorItem item;
     item.binding = binding;
-    item.buffer = {buffer, 0, VK_WHOLE_SIZE};
+    item.buffer = {buffer, offset, range};
     return item;
+}
+
+// Bytes of the records of `layers` z-layers of an N^3 grid.
+VkDeviceSize accumBytes(uint32_t n, uint32_t layers) {
+    return VkDeviceSize(n) * n * layers * GI_VOXEL_ACC_STRIDE * sizeof(uint32_t);
 }
 
 } // namespace
@@ -102,13 +108,12 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
     uint32_t n = params.dims.x;
     if (n < GI_VOXEL_MIN_RESOLUTION || n > GI_VOXEL_MAX_RESOLUTION || (n & (n - 1)) != 0)
         return makeError("voxel grid: resolution " + std::to_string(n) + " must be a power of two in [16, 256]");
-    // The accumulation records are bound as one storage buffer.
-    VkDeviceSize accumBytes = VkDeviceSize(n) * n * n * GI_VOXEL_ACC_STRIDE * sizeof(uint32_t);
-    VkDeviceSize maxRange = ctx.properties().limits.maxStorageBufferRange;
-    if (accumBytes > maxRange)
-        return makeError("voxel grid: resolution " + std::to_string(n) + " needs a " +
-                         std::to_string(accumBytes >> 20) + " MiB accumulation buffer, more than the device's " +
-                         "maxStorageBufferRange (" + std::to_string(maxRange >> 20) + " MiB)");
+    // The accumulation records are bound as GI_VOXEL_ACC_SLABS ranges of whole z-layers, each
+    // within the spec's minimum maxStorageBufferRange (gi/voxel_grid.h).
+    const VkDeviceSize slabBytes = accumBytes(n, gpu::voxelAccSlabLayers(n));
+    if (slabBytes > ctx.properties().limits.maxStorageBufferRange)
+        return makeError("voxel grid: resolution " + std::to_string(n) + " binds " + std::to_string(slabBytes >> 20) +
+                         " MiB of accumulation records per range, more than the device's maxStorageBufferRange");
     std::unique_ptr<VoxelGrid> g(new VoxelGrid(ctx));
     g->m_params = params;
     struct Named {
@@ -119,8 +124,10 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
                    {&g->m_resolveMerge, "gi/voxel/voxel_resolve_merge.comp"},
                    {&g->m_stale, "gi/voxel/voxel_resolve_stale.comp"},
                    {&g->m_touchedList, "gi/voxel/voxel_touched_list.comp"}};
+    // Records in slabs (voxel_acc.glsl's kVoxelAccSlabs) only where one range cannot hold them.
+    const std::vector<SpecConstant> slabs{{0, gpu::voxelAccSlabLayers(n) < n ? 1u : 0u}};
     for (const Named& s : shaders) {
-        auto p = createComputePipeline(ctx, {s.shader, {}});
+        auto p = createComputePipeline(ctx, {s.shader, slabs});
         if (!p)
             return p.error();
         *s.pipeline = std::move(*p);
@@ -128,7 +135,7 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
     g->m_volumes = createVolumes(ctx, n, "voxel.grid");
     g->m_static = createVolumes(ctx, n, "voxel.static");
     BufferDesc accum;
-    accum.size = accumBytes;
+    accum.size = accumBytes(n, n);
     accum.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     g->m_accum.buffer = createBuffer(ctx, accum, "voxel.accumulation");
     accum.size = VkDeviceSize(n) * n * n / 8; // one bit per voxel
@@ -231,12 +238,21 @@ void VoxelGrid::recordClearStale(VkCommandBuffer cmd, const VoxelVolumes& target
     vkCmdDispatchIndirect(cmd, previous, 0);
 }
 
+std::vector<DescriptorItem> VoxelGrid::withRecords(std::span<const DescriptorItem> items) const {
+    std::vector<DescriptorItem> all(items.begin(), items.end());
+    const uint32_t n = resolution(), layers = gpu::voxelAccSlabLayers(n);
+    const VkDeviceSize slab = accumBytes(n, layers);
+    for (uint32_t k = 0; k < GI_VOXEL_ACC_SLABS; ++k) // bindings 10..17 (voxel_acc.glsl)
+        all.push_back(storageBuffer(10 + k, m_accum.buffer.buffer, layers == n ? 0 : k * slab, slab));
+    return all;
+}
+
 void VoxelGrid::recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set) const {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_voxelize.pipeline);
     DescriptorItem items[] = {storageBuffer(0, scene.vertices), storageBuffer(1, scene.indices),
                               storageBuffer(2, scene.instances), storageBuffer(3, scene.materials),
-                              storageBuffer(4, m_accum.buffer.buffer), storageBuffer(5, m_bits.buffer.buffer)};
-    pushDescriptors(m_ctx, cmd, m_voxelize, items);
+                              storageBuffer(5, m_bits.buffer.buffer)};
+    pushDescriptors(m_ctx, cmd, m_voxelize, withRecords(items));
     // Row slices per triangle (voxelize.comp), for draws that fit in one work group (one CPU
     // thread otherwise; the Cornell walls): about 8 rows each for a grid-wide triangle. Draws
     // of more triangles already spread over work groups, and their triangles are mostly small:
@@ -273,10 +289,10 @@ void VoxelGrid::recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target, V
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_resolve.pipeline);
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_resolve, &push, sizeof(push));
-    DescriptorItem items[] = {storageBuffer(0, m_accum.buffer.buffer),         storageImage(1, target.albedo.image),
-                              storageImage(2, target.normal.image),   storageImage(3, target.emission.image),
-                              storageImage(4, target.faces.image),    storageBuffer(9, list)};
-    pushDescriptors(m_ctx, cmd, m_resolve, items);
+    DescriptorItem items[] = {storageImage(1, target.albedo.image), storageImage(2, target.normal.image),
+                              storageImage(3, target.emission.image), storageImage(4, target.faces.image),
+                              storageBuffer(9, list)};
+    pushDescriptors(m_ctx, cmd, m_resolve, withRecords(items));
     vkCmdDispatchIndirect(cmd, list, 0);
 }
 
@@ -285,11 +301,10 @@ void VoxelGrid::recordResolveMerge(VkCommandBuffer cmd) const {
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_resolveMerge, &push, sizeof(push));
     VkBuffer list = touched(VoxelDrawSet::Dynamic).buffer;
-    DescriptorItem items[] = {storageBuffer(0, m_accum.buffer.buffer), storageImage(1, m_volumes.albedo.image),
-                              storageImage(2, m_volumes.normal.image), storageImage(3, m_volumes.emission.image),
-                              storageImage(4, m_volumes.faces.image),  storageImage(5, m_static.albedo.image),
-                              storageBuffer(9, list)};
-    pushDescriptors(m_ctx, cmd, m_resolveMerge, items);
+    DescriptorItem items[] = {storageImage(1, m_volumes.albedo.image), storageImage(2, m_volumes.normal.image),
+                              storageImage(3, m_volumes.emission.image), storageImage(4, m_volumes.faces.image),
+                              storageImage(5, m_static.albedo.image), storageBuffer(9, list)};
+    pushDescriptors(m_ctx, cmd, m_resolveMerge, withRecords(items));
     vkCmdDispatchIndirect(cmd, list, 0);
 }
 

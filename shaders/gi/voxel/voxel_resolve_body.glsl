@@ -10,7 +10,7 @@
 
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in;
 layout(push_constant) uniform Push { VoxelGridPush pc; };
-layout(set = 1, binding = 0, std430) buffer Accum { uvec4 acc[]; }; // records (gi/voxel_grid.h), 4 uvec4 each
+#include "voxel_acc.glsl" // the records (gi/voxel_grid.h), 4 uvec4 each, bindings 10..17
 layout(set = 1, binding = 1, rgba8) uniform writeonly image3D outAlbedo;
 layout(set = 1, binding = 2, rgba8) uniform writeonly image3D outNormal;
 layout(set = 1, binding = 3, rgba16f) uniform writeonly image3D outEmission;
@@ -25,10 +25,13 @@ void main() {
         return;
     ivec3 c = ivec3(voxelListUnpack(touched[gl_GlobalInvocationID.x]));
     int n = int(pc.grid.dims.x);
-    uint rec = (GI_VOXEL_ACC_STRIDE / 4u) * uint(c.x + n * (c.y + n * c.z));
+    uint slab = voxelAccSlab(c, uint(n));
+    uint rec = (GI_VOXEL_ACC_STRIDE / 4u) * voxelAccRecord(c, uint(n));
     // Words 0..12: count, albedo rgb, faces +x -x +y -y +z -z, emission rgb (gi/voxel_grid.h).
-    uvec4 w0 = acc[rec], w1 = acc[rec + 1u], w2 = acc[rec + 2u], w3 = acc[rec + 3u];
-    acc[rec] = acc[rec + 1u] = acc[rec + 2u] = acc[rec + 3u] = uvec4(0u);
+    uvec4 w0 = voxelAccLoad(slab, rec), w1 = voxelAccLoad(slab, rec + 1u), w2 = voxelAccLoad(slab, rec + 2u),
+          w3 = voxelAccLoad(slab, rec + 3u);
+    for (uint k = 0u; k < 4u; ++k)
+        voxelAccStore(slab, rec + k, uvec4(0u));
 #ifdef GI_VOXEL_MERGE
     if (imageLoad(staticAlbedo, c).a > 0.0)
         return; // the static voxel copied into the target stays

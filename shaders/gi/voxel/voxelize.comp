@@ -23,7 +23,8 @@ layout(set = 1, binding = 0, std430) readonly buffer Vertices { GpuVertex vertic
 layout(set = 1, binding = 1, std430) readonly buffer Indices { uint indices[]; };
 layout(set = 1, binding = 2, std430) readonly buffer Instances { GpuInstance instances[]; };
 layout(set = 1, binding = 3, std430) readonly buffer Materials { GpuMaterial materials[]; };
-layout(set = 1, binding = 4, std430) buffer Accum { uint acc[]; }; // records (gi/voxel_grid.h)
+#define GI_VOXEL_ACC_WORDS
+#include "voxel_acc.glsl" // the records (gi/voxel_grid.h), bindings 10..17
 layout(set = 1, binding = 5, std430) buffer TouchedBits { uint touchedBits[]; }; // bit x + N (y + N z)
 
 // Slack added to every separating-axis radius, in voxel units: rounding may then only add a
@@ -56,8 +57,9 @@ bool overlapsUnitBox(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
 uint toFixed(float v) { return uint(clamp(v, 0.0, 1.0) * GI_VOXEL_FIXED_ONE + 0.5); }
 
 void splat(ivec3 c, int n, vec3 albedo, vec3 normal, vec3 emission, bool emissive) {
-    uint rec = GI_VOXEL_ACC_STRIDE * uint(c.x + n * (c.y + n * c.z));
-    uint old = atomicAdd(acc[rec + GI_VOXEL_ACC_COUNT], 1u);
+    uint slab = voxelAccSlab(c, uint(n));
+    uint rec = GI_VOXEL_ACC_STRIDE * voxelAccRecord(c, uint(n));
+    uint old = voxelAccAdd(slab, rec + GI_VOXEL_ACC_COUNT, 1u);
     // The first contribution marks the voxel; voxel_touched_list.comp lists the marks in grid order.
     if (old == 0u) {
         uint i = uint(c.x + n * (c.y + n * c.z));
@@ -66,13 +68,13 @@ void splat(ivec3 c, int n, vec3 albedo, vec3 normal, vec3 emission, bool emissiv
     if (old >= GI_VOXEL_MAX_CONTRIBUTIONS)
         return;
     for (int k = 0; k < 3; ++k) {
-        atomicAdd(acc[rec + GI_VOXEL_ACC_ALBEDO + k], toFixed(albedo[k]));
+        voxelAccAdd(slab, rec + GI_VOXEL_ACC_ALBEDO + k, toFixed(albedo[k]));
         // The face is seen from the side its normal points to: +axis channel for n_k > 0.
         int side = normal[k] > 0.0 ? 0 : 1;
         if (normal[k] != 0.0)
-            atomicAdd(acc[rec + GI_VOXEL_ACC_FACES + 2 * k + side], toFixed(abs(normal[k])));
+            voxelAccAdd(slab, rec + GI_VOXEL_ACC_FACES + 2 * k + side, toFixed(abs(normal[k])));
         if (emissive)
-            atomicAdd(acc[rec + GI_VOXEL_ACC_EMISSION + k], toFixed(emission[k]));
+            voxelAccAdd(slab, rec + GI_VOXEL_ACC_EMISSION + k, toFixed(emission[k]));
     }
 }
 

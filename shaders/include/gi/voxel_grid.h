@@ -52,12 +52,22 @@ GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 // volumes put each of a voxel's ten atomics on a different line). Words 13..15 are padding.
 // Empty records are zero; the resolve zeroes each record it reads, so the buffer is zero
 // between voxelizations and needs no clear after the first.
+// The records are bound as GI_VOXEL_ACC_SLABS descriptor ranges of whole z-layers
+// (shaders/gi/voxel/voxel_acc.glsl): every device binds at least 2^27 bytes per storage buffer
+// (the spec's minimum maxStorageBufferRange, lavapipe's value), and a 256^3 grid's records are
+// 2^30 bytes, so there the eight ranges hold N/8 layers each; smaller grids fit in the first
+// range (the others alias it, unused).
+#define GI_VOXEL_ACC_SLABS 8u
 #define GI_VOXEL_ACC_COUNT 0
 #define GI_VOXEL_ACC_ALBEDO 1   // 3 channels: r, g, b
 #define GI_VOXEL_ACC_FACES 4    // 6 channels: max(0, n.x), max(0, -n.x), max(0, n.y), ... (unsigned)
 #define GI_VOXEL_ACC_EMISSION 10 // 3 channels: r, g, b (emission * radianceScale / GI_VOXEL_RADIANCE_TARGET, <= 1)
 #define GI_VOXEL_ACC_CHANNELS 13u
 #define GI_VOXEL_ACC_STRIDE 16u
+// z-layers per descriptor range of the records of an N^3 grid.
+GI_INLINE uint voxelAccSlabLayers(uint n) {
+    return n * n * n * GI_VOXEL_ACC_STRIDE * 4u > (1u << 27u) ? n / GI_VOXEL_ACC_SLABS : n;
+}
 
 // Supported grid resolutions (powers of two).
 #define GI_VOXEL_MIN_RESOLUTION 16u

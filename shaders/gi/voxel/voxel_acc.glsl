@@ -1,0 +1,79 @@
+// The accumulation records (gi/voxel_grid.h) as GI_VOXEL_ACC_SLABS storage-buffer ranges of
+// whole z-layers at bindings 10..17. The includer defines GI_VOXEL_ACC_WORDS (uint words,
+// atomics: voxelize.comp) or neither (uvec4 loads and stores: the resolves). Below 256^3 the
+// records fit in the first range: the specialization constant kVoxelAccSlabs is false
+// (VoxelGrid::create), the compiler drops the switch, and only binding 10 is read (the other
+// bindings alias it). With slabs a switch picks the binding; llvmpipe runs every case of a
+// switch masked, so the single-range variant keeps the 64^3 voxelization at its speed
+// (voxelize 2.65 ms; with the switch at every size 6.1 ms).
+#ifdef GI_VOXEL_ACC_WORDS
+#define GI_VOXEL_ACC_TYPE uint
+#else
+#define GI_VOXEL_ACC_TYPE uvec4
+#endif
+layout(set = 1, binding = 10, std430) buffer Accum0 { GI_VOXEL_ACC_TYPE acc0[]; };
+layout(set = 1, binding = 11, std430) buffer Accum1 { GI_VOXEL_ACC_TYPE acc1[]; };
+layout(set = 1, binding = 12, std430) buffer Accum2 { GI_VOXEL_ACC_TYPE acc2[]; };
+layout(set = 1, binding = 13, std430) buffer Accum3 { GI_VOXEL_ACC_TYPE acc3[]; };
+layout(set = 1, binding = 14, std430) buffer Accum4 { GI_VOXEL_ACC_TYPE acc4[]; };
+layout(set = 1, binding = 15, std430) buffer Accum5 { GI_VOXEL_ACC_TYPE acc5[]; };
+layout(set = 1, binding = 16, std430) buffer Accum6 { GI_VOXEL_ACC_TYPE acc6[]; };
+layout(set = 1, binding = 17, std430) buffer Accum7 { GI_VOXEL_ACC_TYPE acc7[]; };
+
+layout(constant_id = 0) const bool kVoxelAccSlabs = false; // voxelAccSlabLayers(N) < N
+
+// Slab of voxel c and the index of its record within the slab (in records); layer counts are
+// powers of two.
+uint voxelAccSlab(ivec3 c, uint n) { return kVoxelAccSlabs ? uint(c.z) >> findMSB(voxelAccSlabLayers(n)) : 0u; }
+uint voxelAccRecord(ivec3 c, uint n) {
+    uint z = kVoxelAccSlabs ? uint(c.z) & (voxelAccSlabLayers(n) - 1u) : uint(c.z);
+    return uint(c.x) + n * (uint(c.y) + n * z);
+}
+
+#ifdef GI_VOXEL_ACC_WORDS
+uint voxelAccAdd(uint slab, uint word, uint value) {
+    if (!kVoxelAccSlabs)
+        return atomicAdd(acc0[word], value);
+    switch (slab) {
+    case 0u: return atomicAdd(acc0[word], value);
+    case 1u: return atomicAdd(acc1[word], value);
+    case 2u: return atomicAdd(acc2[word], value);
+    case 3u: return atomicAdd(acc3[word], value);
+    case 4u: return atomicAdd(acc4[word], value);
+    case 5u: return atomicAdd(acc5[word], value);
+    case 6u: return atomicAdd(acc6[word], value);
+    default: return atomicAdd(acc7[word], value);
+    }
+}
+#else
+uvec4 voxelAccLoad(uint slab, uint i) {
+    if (!kVoxelAccSlabs)
+        return acc0[i];
+    switch (slab) {
+    case 0u: return acc0[i];
+    case 1u: return acc1[i];
+    case 2u: return acc2[i];
+    case 3u: return acc3[i];
+    case 4u: return acc4[i];
+    case 5u: return acc5[i];
+    case 6u: return acc6[i];
+    default: return acc7[i];
+    }
+}
+void voxelAccStore(uint slab, uint i, uvec4 v) {
+    if (!kVoxelAccSlabs) {
+        acc0[i] = v;
+        return;
+    }
+    switch (slab) {
+    case 0u: acc0[i] = v; break;
+    case 1u: acc1[i] = v; break;
+    case 2u: acc2[i] = v; break;
+    case 3u: acc3[i] = v; break;
+    case 4u: acc4[i] = v; break;
+    case 5u: acc5[i] = v; break;
+    case 6u: acc6[i] = v; break;
+    default: acc7[i] = v; break;
+    }
+}
+#endif
