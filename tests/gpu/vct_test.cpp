@@ -88,6 +88,16 @@ std::vector<glm::vec4> readHalf4(Context& ctx, const Image& img, uint32_t mip = 
     return out;
 }
 
+// A 16^3 grid of unit voxels at the origin (no radiance scale): scene coordinates are voxel
+// coordinates.
+gpu::VoxelGridParams unitGrid16() {
+    gpu::VoxelGridParams params{};
+    params.originSize = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    params.scales = glm::vec4(1.0f, 1.0f, 1.0f, 0.0f);
+    params.dims = glm::uvec4(16, 4, 0, 0);
+    return params;
+}
+
 class Vct : public GpuTest {
 protected:
     void TearDown() override {
@@ -114,6 +124,21 @@ protected:
         m_scene = {m_buf.vertices.buffer, m_buf.indices.buffer, m_buf.instances.buffer, m_buf.materials.buffer,
                    scene.draws};
         m_pool = std::make_unique<rg::TransientPool>(ctx());
+    }
+
+    // Every view of every voxel and 2^3 block of a 16^3 grid (the layers levels 0 and 1 use).
+    std::vector<glm::vec4> levels01Views() {
+        std::vector<glm::vec4> views;
+        for (uint32_t mip : {0u, 1u}) {
+            auto level = readHalf4(ctx(), m_volumes->aniso(), mip);
+            int side = 16 >> mip;
+            for (uint32_t d = 0; d < 6; ++d)
+                for (int z = 0; z < side; ++z)
+                    for (int y = 0; y < side; ++y)
+                        for (int x = 0; x < side; ++x)
+                            views.push_back(anisoTexel(level, 16, mip, {x, y, z}, d));
+        }
+        return views;
     }
 
     // Voxelize, light, mips, and (bounces = 2) the voxel bounce with mips rebuilt from it.
@@ -323,10 +348,7 @@ TEST_F(Vct, AnisotropicMipsPreIntegrateFrontToBack) {
     scene.addDraw({{{9.5f, 4.2f, 4.2f}, {9.5f, 7.8f, 4.2f}, {9.5f, 4.2f, 7.8f}},
                    {{9.5f, 7.8f, 4.2f}, {9.5f, 7.8f, 7.8f}, {9.5f, 4.2f, 7.8f}}},
                   dim);
-    gpu::VoxelGridParams params{};
-    params.originSize = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
-    params.scales = glm::vec4(1.0f, 1.0f, 1.0f, 0.0f);
-    params.dims = glm::uvec4(16, 4, 0, 0);
+    const gpu::VoxelGridParams params = unitGrid16();
     setup(scene, {}, params);
     VctSettings s;
     s.bounces = 1;
@@ -441,38 +463,22 @@ TEST_F(Vct, ReVoxelizingClearsWhatTheOldGeometryWrote) {
                    {{9.5f, 7.8f, 4.2f}, {9.5f, 7.8f, 7.8f}, {9.5f, 4.2f, 7.8f}}},
                   glow);
     scene.addDraw({{{2.2f, 3.3f, 1.1f}, {12.7f, 3.9f, 2.4f}, {5.1f, 4.6f, 13.8f}}}, glow);
-    gpu::VoxelGridParams params{};
-    params.originSize = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
-    params.scales = glm::vec4(1.0f, 1.0f, 1.0f, 0.0f);
-    params.dims = glm::uvec4(16, 4, 0, 0);
+    const gpu::VoxelGridParams params = unitGrid16();
     VctSettings s;
     s.bounces = 1;
-    auto levels01 = [&] { // every view of every voxel and 2^3 block (the layers the levels use)
-        std::vector<glm::vec4> views;
-        for (uint32_t mip : {0u, 1u}) {
-            auto level = readHalf4(ctx(), m_volumes->aniso(), mip);
-            int side = 16 >> mip;
-            for (uint32_t d = 0; d < 6; ++d)
-                for (int z = 0; z < side; ++z)
-                    for (int y = 0; y < side; ++y)
-                        for (int x = 0; x < side; ++x)
-                            views.push_back(anisoTexel(level, 16, mip, {x, y, z}, d));
-        }
-        return views;
-    };
     setup(scene, {}, params);
     runVoxels(s); // both: the list holds the wall and the slanted triangle
     size_t both = 0;
-    for (const glm::vec4& t : levels01())
+    for (const glm::vec4& t : levels01Views())
         both += t.a > 0.0f;
     m_scene.draws = {m_scene.draws[1]};
     runVoxels(s); // the triangle only
-    std::vector<glm::vec4> kept = levels01();
+    std::vector<glm::vec4> kept = levels01Views();
     TearDownResources();
     setup(scene, {}, params);
     m_scene.draws = {m_scene.draws[1]};
     runVoxels(s); // a fresh volume with the triangle only
-    std::vector<glm::vec4> fresh = levels01();
+    std::vector<glm::vec4> fresh = levels01Views();
     ASSERT_EQ(kept.size(), fresh.size());
     size_t differ = 0, opaque = 0;
     for (size_t i = 0; i < fresh.size(); ++i) {
@@ -499,25 +505,9 @@ TEST_F(Vct, ReVoxelizingZeroesTheViewsOfFacesAVoxelNoLongerHas) {
     scene.addDraw({{{8.2f, 5.5f, 4.2f}, {8.2f, 5.5f, 7.8f}, {9.8f, 5.5f, 4.2f}},
                    {{9.8f, 5.5f, 4.2f}, {8.2f, 5.5f, 7.8f}, {9.8f, 5.5f, 7.8f}}},
                   glow);
-    gpu::VoxelGridParams params{};
-    params.originSize = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
-    params.scales = glm::vec4(1.0f, 1.0f, 1.0f, 0.0f);
-    params.dims = glm::uvec4(16, 4, 0, 0);
+    const gpu::VoxelGridParams params = unitGrid16();
     VctSettings s;
     s.bounces = 1;
-    auto levels01 = [&] {
-        std::vector<glm::vec4> views;
-        for (uint32_t mip : {0u, 1u}) {
-            auto level = readHalf4(ctx(), m_volumes->aniso(), mip);
-            int side = 16 >> mip;
-            for (uint32_t d = 0; d < 6; ++d)
-                for (int z = 0; z < side; ++z)
-                    for (int y = 0; y < side; ++y)
-                        for (int x = 0; x < side; ++x)
-                            views.push_back(anisoTexel(level, 16, mip, {x, y, z}, d));
-        }
-        return views;
-    };
     const std::vector<VoxelDraw> all = scene.draws;
     auto select = [&](std::initializer_list<int> which) {
         std::vector<VoxelDraw> draws;
@@ -531,7 +521,7 @@ TEST_F(Vct, ReVoxelizingZeroesTheViewsOfFacesAVoxelNoLongerHas) {
         setup(scene, {}, params);
         m_scene.draws = draws;
         runVoxels(s);
-        return levels01();
+        return levels01Views();
     };
     setup(scene, {}, params);
     std::vector<std::vector<VoxelDraw>> sequence = {select({0, 1}), select({1}), select({0}), select({0, 1})};
@@ -541,7 +531,7 @@ TEST_F(Vct, ReVoxelizingZeroesTheViewsOfFacesAVoxelNoLongerHas) {
     for (const auto& draws : sequence) {
         m_scene.draws = draws;
         runVoxels(s);
-        kept.push_back(levels01());
+        kept.push_back(levels01Views());
     }
     size_t levelTexels = 6 * 16 * 16 * 16;
     auto view = [&](const std::vector<glm::vec4>& v, uint32_t d) {
