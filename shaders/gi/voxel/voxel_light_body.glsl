@@ -202,16 +202,33 @@ vec3 irradianceAt(vec3 pGrid, vec3 pWorld, vec3 normal) {
     return irradiance;
 }
 
+// Stores view v (0..5) of voxel c: what a ray travelling along v sees, the radiance of the faces
+// looking back at it (direction v ^ 1, coverage `front`) over the sheets across v's axis k
+// (coverage axisCover of the voxel's largest maxCover). See main().
+void storeView(ivec3 c, uint v, vec3 faceRadiance, float front, float axisCover, float maxCover, uint axes, uint before) {
+    uint k = v >> 1u;
+    float alpha = maxCover > 0.0 ? axisCover / maxCover : 1.0;
+    float shown = front > 0.0 ? min(1.0, 2.0 * front / axisCover) : 0.0;
+    // Half-float ceiling: radianceScale maps the brightest light to GI_VOXEL_RADIANCE_TARGET,
+    // 16x below it; clamping keeps the volume finite whatever happens.
+    vec3 rgb = min(faceRadiance, vec3(65000.0)) * (alpha * shown);
+    // A view the voxel's sheets are edge-on to (alpha 0) stays (0, 0): it depends on the
+    // faces alone, so it was zeroed when the faces changed (or by the first clear). Skipping
+    // its store saves four of six scattered half-float stores for a flat wall.
+    if (((axes | before) & (1u << k)) != 0u)
+        imageStore(anisoOut, voxelAnisoTexel(c, v, pc.grid.dims.x), (axes & (1u << k)) != 0u ? vec4(rgb, alpha) : vec4(0.0));
+}
+
 void main() {
     if (gl_GlobalInvocationID.x >= header[3])
         return;
     ivec3 c = ivec3(voxelListUnpack(voxels[gl_GlobalInvocationID.x]));
     vec3 albedo = albedoAt(c).rgb;
     uint faces = imageLoad(facesVol, c).x;
-    float cover[6];
-    for (uint d = 0u; d < 6u; ++d)
-        cover[d] = voxelFaceCoverage(faces, d);
-    vec3 meanNormal = vec3(cover[0] - cover[1], cover[2] - cover[3], cover[4] - cover[5]);
+    // Coverage of the faces looking towards +X, +Y, +Z (pos) and -X, -Y, -Z (neg).
+    vec3 coverPos = vec3(voxelFaceCoverage(faces, 0u), voxelFaceCoverage(faces, 2u), voxelFaceCoverage(faces, 4u));
+    vec3 coverNeg = vec3(voxelFaceCoverage(faces, 1u), voxelFaceCoverage(faces, 3u), voxelFaceCoverage(faces, 5u));
+    vec3 meanNormal = coverPos - coverNeg;
     // One-sided: the faces mostly agree (a flat or gently curved surface, a box edge seen from
     // outside); the mean normal then lights every direction on its side, as a single surface.
     bool oneSided = dot(meanNormal, meanNormal) >= 0.25;
@@ -221,23 +238,31 @@ void main() {
     vec3 emission = (pc.info.z & GI_VOXEL_LIGHT_EMISSION) != 0u ? imageLoad(emissionVol, c).rgb : vec3(0.0);
     vec3 scale = albedo / kPi * pc.grid.scales.y;
 
-    // Radiance of the faces looking towards each direction (those present).
-    vec3 radiance[6];
-    vec3 meanRadiance = vec3(-1.0); // computed once, on first use
-    for (uint d = 0u; d < 6u; ++d) {
-        radiance[d] = vec3(0.0);
-        if (cover[d] == 0.0)
-            continue;
-        vec3 axis = vec3(0.0);
-        axis[d >> 1u] = (d & 1u) == 0u ? 1.0 : -1.0;
-        bool useMean = dot(axis, mean) > 0.0;
-        if (useMean && meanRadiance.x >= 0.0) {
-            radiance[d] = meanRadiance;
-            continue;
-        }
-        radiance[d] = scale * irradianceAt(pGrid, pWorld, useMean ? mean : axis) + emission;
-        if (useMean)
-            meanRadiance = radiance[d];
+    // Radiance of the faces looking towards each direction d (those present, bit d; 0 where
+    // absent): the directions on the mean normal's side (dot(axis, mean) > 0) share one
+    // irradiance with the mean normal, the others use their own axis. Each distinct normal is
+    // evaluated once, in a loop over those the voxel needs (llvmpipe runs a loop as often as
+    // its busiest lane needs: once for most voxels, where a loop over the six directions ran
+    // the light loop six times, masked).
+    uvec3 pos = uvec3(greaterThan(coverPos, vec3(0.0))), neg = uvec3(greaterThan(coverNeg, vec3(0.0)));
+    uint present = pos.x | (neg.x << 1u) | (pos.y << 2u) | (neg.y << 3u) | (pos.z << 4u) | (neg.z << 5u);
+    uvec3 meanPos = uvec3(greaterThan(mean, vec3(0.0))), meanNeg = uvec3(lessThan(mean, vec3(0.0)));
+    uint meanDirs = present & (meanPos.x | (meanNeg.x << 1u) | (meanPos.y << 2u) | (meanNeg.y << 3u) | (meanPos.z << 4u) | (meanNeg.z << 5u));
+    uint todo = (present & ~meanDirs) | (meanDirs != 0u ? 64u : 0u);
+    vec3 r0 = vec3(0.0), r1 = vec3(0.0), r2 = vec3(0.0), r3 = vec3(0.0), r4 = vec3(0.0), r5 = vec3(0.0);
+    while (todo != 0u) {
+        uint j = uint(findLSB(todo));
+        todo &= todo - 1u;
+        uint k = j >> 1u;
+        vec3 axis = mix(vec3(0.0), vec3((j & 1u) == 0u ? 1.0 : -1.0), equal(uvec3(k), uvec3(0u, 1u, 2u)));
+        uint dirs = j == 6u ? meanDirs : 1u << j;
+        vec3 r = scale * irradianceAt(pGrid, pWorld, j == 6u ? mean : axis) + emission;
+        r0 = (dirs & 1u) != 0u ? r : r0;
+        r1 = (dirs & 2u) != 0u ? r : r1;
+        r2 = (dirs & 4u) != 0u ? r : r2;
+        r3 = (dirs & 8u) != 0u ? r : r3;
+        r4 = (dirs & 16u) != 0u ? r : r4;
+        r5 = (dirs & 32u) != 0u ? r : r5;
     }
 
     // Level-0 views. A ray travelling along direction v crosses the sheets perpendicular to
@@ -247,26 +272,17 @@ void main() {
     // it (direction v ^ 1), in proportion to their share of that axis's coverage: a closed thin
     // wall (equal front and back) shows its front, a one-sided sheet seen from behind is black
     // (its back is the inside of a closed surface), like the path tracer's one-sided faces.
-    float maxCover = max(max(cover[0] + cover[1], cover[2] + cover[3]), cover[4] + cover[5]);
-    uint n = pc.grid.dims.x;
+    vec3 axisCover = coverPos + coverNeg;
+    float maxCover = max(max(axisCover.x, axisCover.y), axisCover.z);
     // The views stored: those with opacity > 0 (gi/voxel_passes.h), and, once, zeros into the
     // views of the axes stored last time that the voxel's faces (re-voxelized) no longer cover.
     uint axes = voxelViewAxes(faces), before = imageLoad(writtenVol, c).x;
     if (before != axes)
         imageStore(writtenVol, c, uvec4(axes));
-    for (uint v = 0u; v < 6u; ++v) {
-        uint k = v >> 1u;
-        float axisCover = cover[2u * k] + cover[2u * k + 1u];
-        float alpha = maxCover > 0.0 ? axisCover / maxCover : 1.0;
-        float front = cover[v ^ 1u];
-        float shown = front > 0.0 ? min(1.0, 2.0 * front / axisCover) : 0.0;
-        // Half-float ceiling: radianceScale maps the brightest light to GI_VOXEL_RADIANCE_TARGET,
-        // 16x below it; clamping keeps the volume finite whatever happens.
-        vec3 rgb = min(radiance[v ^ 1u], vec3(65000.0)) * (alpha * shown);
-        // A view the voxel's sheets are edge-on to (alpha 0) stays (0, 0): it depends on the
-        // faces alone, so it was zeroed when the faces changed (or by the first clear). Skipping
-        // its store saves four of six scattered half-float stores for a flat wall.
-        if (((axes | before) & (1u << k)) != 0u)
-            imageStore(anisoOut, voxelAnisoTexel(c, v, n), (axes & (1u << k)) != 0u ? vec4(rgb, alpha) : vec4(0.0));
-    }
+    storeView(c, 0u, r1, coverNeg.x, axisCover.x, maxCover, axes, before);
+    storeView(c, 1u, r0, coverPos.x, axisCover.x, maxCover, axes, before);
+    storeView(c, 2u, r3, coverNeg.y, axisCover.y, maxCover, axes, before);
+    storeView(c, 3u, r2, coverPos.y, axisCover.y, maxCover, axes, before);
+    storeView(c, 4u, r5, coverNeg.z, axisCover.z, maxCover, axes, before);
+    storeView(c, 5u, r4, coverPos.z, axisCover.z, maxCover, axes, before);
 }
