@@ -39,8 +39,11 @@ std::vector<std::string> sweepFor(const std::string& technique, bool quick);
 // first dispatch), readback passes excluded, and the last frame's result.
 struct Timing {
     std::vector<std::pair<std::string, double>> passMs; // median per pass, first-seen order
-    double totalMs = 0.0;                               // median of the per-frame sums
-    double wallMs = 0.0; // median host time of renderFrame (record, submit, wait, readback)
+    // Median GPU ms of the frame, readbacks excluded: without pass timestamps (totalMs), and with
+    // them (profiledMs, what passMs splits; each pass scope costs ~0.1 ms on lavapipe).
+    double totalMs = 0.0;
+    double profiledMs = 0.0;
+    double wallMs = 0.0; // median host time of renderFrame without pass timestamps (record, submit, wait, readback)
     gi::FrameResult last;
 };
 // Renders `scene` with `settings` 1 + repeat times. `beforeFrame`, when given, runs before every

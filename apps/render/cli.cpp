@@ -136,13 +136,16 @@ Usage: vkgi-render [options]
   --exposure E        PNG only: linear radiance is multiplied by E before the tone map (default 1;
                       sun-lit scenes of ~1e3 nits want ~1e-3)
   --json FILE         write {scene, technique, width, height, passes[{name, ms}], total_ms,
+                      unprofiled_ms (GPU techniques: the frame without pass timestamps) or null,
                       left_out[{name, reason: culled|not-needed|not-dirty, detail}],
                       static_frame{passes, total_ms, left_out} or null,
                       error{relmse, rmse, relmse_indirect, rmse_indirect} or null}
   --help              this text
 
 GPU times are of a second frame that recomputes everything (the first pays the driver's shader
-compilation); static_frame is a third one with nothing changed, which reuses the persistent volumes.
+compilation); unprofiled_ms is a third such frame timed without a timestamp per pass (they cost
+~0.1 ms each on lavapipe); static_frame is a fourth one with nothing changed, which reuses the
+persistent volumes.
 Environment: VKGI_DEVICE=<substring> picks the Vulkan device by name; VKGI_VALIDATION=1 enables
 the validation layers.
 Exit codes: 0 success, 1 scene/render/output failure, 2 bad arguments.
@@ -154,7 +157,7 @@ Exit codes: 0 success, 1 scene/render/output failure, 2 bad arguments.
     return text + "\nTechnique settings (--name value or --name=value):\n" + gi::knobHelp();
 }
 
-std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalMs,
+std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalMs, std::optional<double> unprofiledMs,
                         const std::vector<gi::LeftOutPass>& leftOut, const std::optional<MemoryUse>& memory,
                         const std::optional<StaticFrame>& staticFrame) {
     std::ostringstream out;
@@ -175,6 +178,12 @@ std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalM
     }
     std::snprintf(line, sizeof(line), "%-32s %10.3f\n", "total", totalMs);
     out << line;
+    // Each pass's timestamp scope costs ~0.1 ms on lavapipe (rg::TimestampScopes): the same frame
+    // timed by its own scope only.
+    if (unprofiledMs) {
+        std::snprintf(line, sizeof(line), "%-32s %10.3f\n", "frame without pass timestamps", *unprofiledMs);
+        out << line;
+    }
     for (const gi::LeftOutPass& p : leftOut)
         out << "left out: " << p.name << " (" << gi::toString(p.reason) << ": " << p.detail << ")\n";
     if (staticFrame) {
@@ -214,8 +223,9 @@ nlohmann::json leftOutJson(const std::vector<gi::LeftOutPass>& leftOut) {
 } // namespace
 
 std::string jsonReport(const Options& o, const std::vector<rg::PassTiming>& passes, double totalMs,
-                       const std::vector<gi::LeftOutPass>& leftOut, const std::optional<StaticFrame>& staticFrame,
-                       const std::optional<MemoryUse>& memory, const std::optional<Errors>& errors) {
+                       std::optional<double> unprofiledMs, const std::vector<gi::LeftOutPass>& leftOut,
+                       const std::optional<StaticFrame>& staticFrame, const std::optional<MemoryUse>& memory,
+                       const std::optional<Errors>& errors) {
     nlohmann::json j;
     j["scene"] = o.scene;
     j["technique"] = o.technique;
@@ -223,6 +233,10 @@ std::string jsonReport(const Options& o, const std::vector<rg::PassTiming>& pass
     j["height"] = o.height;
     j["passes"] = passesJson(passes);
     j["total_ms"] = totalMs;
+    if (unprofiledMs)
+        j["unprofiled_ms"] = *unprofiledMs;
+    else
+        j["unprofiled_ms"] = nullptr;
     j["left_out"] = leftOutJson(leftOut);
     if (staticFrame)
         j["static_frame"] = {{"passes", passesJson(staticFrame->passes)},

@@ -62,7 +62,7 @@ struct MemoryUse {
 
 // The per-pass GPU time table (plus total, the passes left out with their reason, memory, and
 // the static frame's total) for stdout.
-std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalMs,
+std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalMs, std::optional<double> unprofiledMs,
                         const std::vector<gi::LeftOutPass>& leftOut, const std::optional<MemoryUse>& memory,
                         const std::optional<StaticFrame>& staticFrame);
 // The --json report: scene, technique, size, passes, total_ms, left_out[{name, reason, detail}],
@@ -70,7 +70,8 @@ std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalM
 // readback, technique}, transient_bytes, passes[{name, created_bytes, touched_bytes, accessed_bytes}]}
 // or null (path tracer), error (null without --compare).
 std::string jsonReport(const Options& o, const std::vector<rg::PassTiming>& passes, double totalMs,
-                       const std::vector<gi::LeftOutPass>& leftOut, const std::optional<StaticFrame>& staticFrame,
-                       const std::optional<MemoryUse>& memory, const std::optional<Errors>& errors);
+                       std::optional<double> unprofiledMs, const std::vector<gi::LeftOutPass>& leftOut,
+                       const std::optional<StaticFrame>& staticFrame, const std::optional<MemoryUse>& memory,
+                       const std::optional<Errors>& errors);
 
 } // namespace vkgi::render

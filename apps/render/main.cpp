@@ -25,6 +25,7 @@ struct Rendered {
     HdrImage glossy, ao; // VCT only, when asked for (gi::FrameRequest)
     std::vector<rg::PassTiming> passes;
     double totalMs = 0.0;
+    std::optional<double> unprofiledMs; // GI techniques: the same frame without pass timestamps
     std::vector<gi::LeftOutPass> leftOut;
     std::optional<render::MemoryUse> memory; // none for the path tracer
     // GPU times and passes of a third frame with nothing changed (GI techniques only): what a
@@ -74,6 +75,12 @@ Result<Rendered> renderGi(const Scene& scene, const Camera& camera, const render
     }
     if (!frame)
         return frame.error();
+    (*system)->invalidate();
+    gi::FrameRequest unprofiled = request;
+    unprofiled.passTimings = false;
+    auto plain = (*system)->renderFrame(camera, o.width, o.height, unprofiled);
+    if (!plain)
+        return plain.error();
     auto still = (*system)->renderFrame(camera, o.width, o.height, request);
     if (!still)
         return still.error();
@@ -87,6 +94,7 @@ Result<Rendered> renderGi(const Scene& scene, const Camera& camera, const render
                     std::move(frame->ao),
                     frame->passes,
                     frame->totalMs,
+                    plain->totalMs,
                     frame->leftOut,
                     render::MemoryUse{frame->persistentByOwner, frame->transientBytes, frame->passMemory},
                     render::StaticFrame{still->passes, still->totalMs, still->leftOut}};
@@ -97,7 +105,17 @@ Result<Rendered> renderPathTraced(const Scene& scene, const Camera& camera, cons
     if (!ref)
         return ref.error();
     double ms = ref->seconds * 1000.0;
-    return Rendered{std::move(ref->full), std::move(ref->direct), std::move(ref->indirect), {}, {}, {{"reference (CPU wall time)", ms}}, ms, {}, std::nullopt, {}};
+    return Rendered{std::move(ref->full),
+                    std::move(ref->direct),
+                    std::move(ref->indirect),
+                    {},
+                    {},
+                    {{"reference (CPU wall time)", ms}},
+                    ms,
+                    std::nullopt,
+                    {},
+                    std::nullopt,
+                    {}};
 }
 
 // Errors of the full image and of its indirect part (full - direct) against the reference.
@@ -165,8 +183,9 @@ int main(int argc, char** argv) {
                                             : "--out-ao: technique " + o.technique +
                                                   " produces no ambient occlusion (vct does)");
     std::printf("%s %ux%u, technique %s\n", o.scene.c_str(), o.width, o.height, o.technique.c_str());
-    std::fputs(render::timingTable(rendered->passes, rendered->totalMs, rendered->leftOut, rendered->memory,
-                                   rendered->staticFrame).c_str(),
+    std::fputs(render::timingTable(rendered->passes, rendered->totalMs, rendered->unprofiledMs, rendered->leftOut,
+                                   rendered->memory, rendered->staticFrame)
+                   .c_str(),
                stdout);
 
     std::optional<render::Errors> errors;
@@ -193,8 +212,9 @@ int main(int argc, char** argv) {
             std::printf("wrote %s\n", out.string().c_str());
         }
     if (o.json) {
-        if (auto ok = writeFileAtomic(*o.json, render::jsonReport(o, rendered->passes, rendered->totalMs, rendered->leftOut,
-                                                                   rendered->staticFrame, rendered->memory, errors));
+        if (auto ok = writeFileAtomic(*o.json, render::jsonReport(o, rendered->passes, rendered->totalMs,
+                                                                  rendered->unprofiledMs, rendered->leftOut,
+                                                                  rendered->staticFrame, rendered->memory, errors));
             !ok)
             return fail(1, ok.error().message);
         std::printf("wrote %s\n", o.json->string().c_str());

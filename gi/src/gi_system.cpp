@@ -91,7 +91,7 @@ struct GiSystem::Impl {
                                 uint32_t height, const FrameRequest& request, const HostGBuffer* host = nullptr);
     FrameData frameData(const Camera& camera, uint32_t width, uint32_t height);
     const Buffer& readbackBuffer(uint32_t slot, uint32_t width, uint32_t height);
-    void submitAndWait(rg::RenderGraph& graph);
+    void submitAndWait(rg::RenderGraph& graph, rg::TimestampScopes scopes = rg::TimestampScopes::PerPass);
     void invalidate() {
         shadowChanges = SceneChanges{};
         techniqueChanges = SceneChanges{};
@@ -238,12 +238,12 @@ const Buffer& GiSystem::Impl::readbackBuffer(uint32_t slot, uint32_t width, uint
     return b;
 }
 
-void GiSystem::Impl::submitAndWait(rg::RenderGraph& graph) {
+void GiSystem::Impl::submitAndWait(rg::RenderGraph& graph, rg::TimestampScopes scopes) {
     VK_CHECK(vkResetCommandBuffer(cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
-    graph.execute(cmd, *ctx, *pool, ctx->timestampsSupported() ? timestamps.get() : nullptr);
+    graph.execute(cmd, *ctx, *pool, ctx->timestampsSupported() ? timestamps.get() : nullptr, scopes);
     VK_CHECK(vkEndCommandBuffer(cmd));
     VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     submit.commandBufferCount = 1;
@@ -359,7 +359,7 @@ Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, 
         m->invalidate(); // nothing ran: what this frame skipped as clean may be stale
         return makeError("frame graph: " + ok.error().message);
     }
-    m->submitAndWait(graph);
+    m->submitAndWait(graph, request.passTimings ? rg::TimestampScopes::PerPass : rg::TimestampScopes::FrameOnly);
 
     FrameResult r;
     HdrImage* targets[5] = {&r.composite, &r.direct, &r.indirect, &r.glossy, &r.ao};

@@ -233,6 +233,26 @@ TEST_F(RenderGraphGpu, TimingsArePositiveFiniteAndWithinWallClock) {
     EXPECT_LE(sum, wallMs);
 }
 
+// TimestampScopes::FrameOnly: the same work (exact values), one scope for the whole frame and no
+// pass scopes, so timings() is empty and frameMs() still measures the frame.
+TEST_F(RenderGraphGpu, FrameOnlyTimesTheFrameWithoutPassScopes) {
+    TransientPool pool(ctx());
+    TimestampPool timestamps(ctx(), 16);
+    RenderGraph g;
+    addSumChain(g, g.createImage("pyramid", pyramidDesc()));
+    ASSERT_TRUE(g.compile());
+    clearHost();
+    auto start = std::chrono::steady_clock::now();
+    ctx().submitAndWait(
+        [&](VkCommandBuffer cmd) { g.execute(cmd, ctx(), pool, &timestamps, TimestampScopes::FrameOnly); });
+    double wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(wrongValues(), 0u);
+    EXPECT_TRUE(g.timings().empty());
+    EXPECT_GT(g.frameMs(), 0.0);
+    EXPECT_LE(g.frameMs(), wallMs);
+    EXPECT_EQ(validation().count(), 0u);
+}
+
 // A pass's scope holds its own work: one dispatch of 256 x 256 groups between two of one group. On
 // lavapipe a begin timestamp not followed by a barrier was written after the pass's work, which
 // then showed up in the previous pass's scope (execute()).

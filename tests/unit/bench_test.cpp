@@ -63,8 +63,9 @@ TEST(Bench, CsvHasOneRowPerRecordAndOneColumnPerPass) {
     std::getline(in, header);
     std::getline(in, row1);
     std::getline(in, row2);
-    EXPECT_EQ(header, "scene,technique,knobs,total_ms,relmse,rmse,relmse_indirect,rmse_indirect,reference_bounces,"
-                      "relmse_all,rmse_all,relmse_indirect_all,rmse_indirect_all,device_mib,gi.a ms,gi.b ms,gi.c ms");
+    EXPECT_EQ(header,
+              "scene,technique,knobs,total_ms,profiled_ms,relmse,rmse,relmse_indirect,rmse_indirect,reference_bounces,"
+              "relmse_all,rmse_all,relmse_indirect_all,rmse_indirect_all,device_mib,gi.a ms,gi.b ms,gi.c ms");
     EXPECT_EQ(row1.substr(0, 22), "cornell,vct,k=10.00000");
     EXPECT_NE(row2.find("\"grid=32,steps=8\""), std::string::npos);
     EXPECT_EQ(row1.back(), ','); // record 0 has no gi.c pass: empty last field

@@ -35,7 +35,8 @@ void addPreviousUse(const std::vector<AccessState>& state, const std::vector<Acc
 
 } // namespace
 
-void RenderGraph::execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool, TimestampPool* timestamps) {
+void RenderGraph::execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool, TimestampPool* timestamps,
+                          TimestampScopes scopes) {
     GI_ASSERT(m_isCompiled, "RenderGraph::execute: the graph was not compiled successfully");
     acquireTransients(ctx, pool);
     m_timestamps = timestamps;
@@ -47,7 +48,7 @@ void RenderGraph::execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool
     // followed by a barrier before the pass's own work: otherwise its begin was stamped after
     // that work and the work was billed to the previous pass's scope (seen: a 500 ms busy loop
     // in gi.vct.bounce.add read as gi.vct.bounce's time). The pass's own barriers serve; a pass
-    // without any gets an empty one (timed frames only).
+    // without any gets an empty one (pass-timed frames only).
     uint32_t frameScope = 0;
     if (timestamps) {
         timestamps->reset(cmd);
@@ -65,12 +66,13 @@ void RenderGraph::execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool
         ctx.beginLabel(cmd, node.name.c_str());
         closeOpen();
         // Passes beyond the pool's capacity run untimed rather than failing the frame.
-        bool timed = timestamps && m_timedPasses.size() + 1 < timestamps->capacity();
+        bool timed =
+            timestamps && scopes == TimestampScopes::PerPass && m_timedPasses.size() + 1 < timestamps->capacity();
         if (timed) {
             open = timestamps->begin(cmd);
             m_timedPasses.push_back(compiled.pass);
         }
-        if (!recordBarriers(cmd, compiled.barriers) && timestamps)
+        if (!recordBarriers(cmd, compiled.barriers) && timed)
             recordFlush(cmd);
         if (node.execute) {
             PassContext passCtx(*this, compiled.pass, cmd, ctx);

@@ -17,8 +17,9 @@ struct BenchRecord {
     std::string knobs;                                  // "grid=64 cones=6", as given to --set
     std::vector<std::pair<std::string, double>> passMs; // median GPU ms per pass
     double totalMs = 0.0;                               // median GPU ms of the whole frame
-    double relMse = 0.0, rmse = 0.0;                    // full image vs reference
-    double relMseIndirect = 0.0, rmseIndirect = 0.0;    // indirect-only vs reference indirect
+    double profiledMs = 0.0;         // the same with a timestamp scope per pass (what passMs splits; 0 = not measured)
+    double relMse = 0.0, rmse = 0.0; // full image vs reference
+    double relMseIndirect = 0.0, rmseIndirect = 0.0; // indirect-only vs reference indirect
     // The reference above has the bounce count the technique models (at least 2, -1 = unbounded).
     // The same errors against the unbounded reference (all light paths) compare every technique
     // with one truth, whatever it models.

@@ -18,8 +18,8 @@
 #include "engine/rg/render_graph.hpp"
 #include "engine/scene.hpp"
 #include "gi/lpv.hpp"
-#include "gi/vpl.hpp"
 #include "gi/vct.hpp"
+#include "gi/vpl.hpp"
 
 namespace vkgi::gi {
 
@@ -72,6 +72,10 @@ struct FrameRequest {
     // VctSettings::ambientOcclusion off).
     bool glossy = false;
     bool ao = false;
+    // GPU timestamps around every pass (FrameResult::passes). Each costs ~0.1 ms of frame time on
+    // lavapipe (rg::TimestampScopes); off, `passes` is empty and `totalMs` is the frame without
+    // the profile's cost.
+    bool passTimings = true;
 };
 
 // Why a pass of the full pipeline is not in a frame (FrameResult::leftOut).

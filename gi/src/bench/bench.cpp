@@ -76,16 +76,18 @@ std::string toCsv(const std::vector<BenchRecord>& records) {
             if (std::find(passes.begin(), passes.end(), name) == passes.end())
                 passes.push_back(name);
     std::ostringstream out;
-    out << "scene,technique,knobs,total_ms,relmse,rmse,relmse_indirect,rmse_indirect,reference_bounces,relmse_all,"
+    out << "scene,technique,knobs,total_ms,profiled_ms,relmse,rmse,relmse_indirect,rmse_indirect,reference_bounces,"
+           "relmse_all,"
            "rmse_all,relmse_indirect_all,rmse_indirect_all,device_mib";
     for (const auto& p : passes)
         out << "," << csvField(p + " ms");
     out << "\n";
     for (const auto& r : records) {
         out << csvField(r.scene) << "," << csvField(r.technique) << "," << csvField(r.knobs) << "," << num(r.totalMs)
-            << "," << num(r.relMse) << "," << num(r.rmse) << "," << num(r.relMseIndirect) << ","
-            << num(r.rmseIndirect) << "," << r.referenceBounces << "," << num(r.relMseAll) << "," << num(r.rmseAll)
-            << "," << num(r.relMseIndirectAll) << "," << num(r.rmseIndirectAll) << "," << num(r.deviceMiB);
+            << "," << num(r.profiledMs) << "," << num(r.relMse) << "," << num(r.rmse) << "," << num(r.relMseIndirect)
+            << "," << num(r.rmseIndirect) << "," << r.referenceBounces << "," << num(r.relMseAll) << ","
+            << num(r.rmseAll) << "," << num(r.relMseIndirectAll) << "," << num(r.rmseIndirectAll) << ","
+            << num(r.deviceMiB);
         for (const auto& p : passes) {
             auto it = std::find_if(r.passMs.begin(), r.passMs.end(), [&](const auto& e) { return e.first == p; });
             out << "," << (it == r.passMs.end() ? std::string() : num(it->second));
@@ -115,6 +117,7 @@ std::string toJson(const std::vector<BenchRecord>& records) {
                        {"knobs", r.knobs},
                        {"passes", passes},
                        {"total_ms", r.totalMs},
+                       {"profiled_ms", r.profiledMs},
                        {"device_mib", r.deviceMiB},
                        {"stream_gbs", r.streamGBs},
                        {"error",

@@ -256,6 +256,15 @@ private:
     Context& m_ctx;
 };
 
+// What execute() times. A pass scope is not free: on lavapipe each costs ~0.1 ms of the frame
+// (writing a timestamp makes llvmpipe synchronise its threads; measured on the fully dynamic
+// VCT frame, 35 passes: 45 ms with pass scopes, 41 ms with the frame's scope only), so a frame
+// time without the profile's cost needs FrameOnly.
+enum class TimestampScopes {
+    PerPass,   // the frame and every executed pass (timings() lists them)
+    FrameOnly, // the frame only (frameMs(); timings() is empty)
+};
+
 class RenderGraph {
 public:
     RenderGraph() = default;
@@ -311,9 +320,10 @@ public:
     // Validates, culls, orders and derives every barrier. Needs no Vulkan device.
     Result<void> compile();
     // Records the compiled graph into `cmd`. Transients come from `pool`; `timestamps` (may be
-    // null) is reset and gets one scope per executed pass. Stores final states of persistent
-    // resources and pool entries.
-    void execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool, TimestampPool* timestamps = nullptr);
+    // null) is reset and gets the frame's scope and, with TimestampScopes::PerPass, one scope per
+    // executed pass. Stores final states of persistent resources and pool entries.
+    void execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool, TimestampPool* timestamps = nullptr,
+                 TimestampScopes scopes = TimestampScopes::PerPass);
     // Per-pass GPU time of the last execute(); call after its submit has finished.
     std::vector<PassTiming> timings() const;
     // GPU time of the whole last execute(), from before the first barrier to after the export
