@@ -86,7 +86,6 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
                    {&v->m_bounce, "gi/voxel/voxel_bounce.comp"},
                    {&v->m_bounceApply, "gi/voxel/voxel_bounce_apply.comp"},
                    {&v->m_bounceMisfits, "gi/voxel/voxel_bounce_misfits.comp"},
-                   {&v->m_bounceAdd, "gi/voxel/voxel_bounce_add.comp"},
                    {&v->m_trace, "gi/voxel/vct_trace.comp"},
                    {&v->m_traceRefine, "gi/voxel/vct_trace_refine.comp"},
                    {&v->m_upsample, "gi/voxel/vct_upsample.comp"},
@@ -137,7 +136,7 @@ VctVolumes::~VctVolumes() {
     for (rg::PersistentBuffer* b : {&m_jobBuffer, &m_resultBuffer})
         if (b->buffer.buffer)
             destroyBuffer(m_ctx, b->buffer);
-    for (Pipeline* p : {&m_compact, &m_listAppend, &m_listStale, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_mipList, &m_mipTail, &m_bounceJobs, &m_bounce, &m_bounceApply, &m_bounceMisfits, &m_bounceAdd,
+    for (Pipeline* p : {&m_compact, &m_listAppend, &m_listStale, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_mipList, &m_mipTail, &m_bounceJobs, &m_bounce, &m_bounceApply, &m_bounceMisfits,
                         &m_trace, &m_traceRefine, &m_upsample, &m_softShadow})
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_aniso.image);
@@ -304,12 +303,13 @@ void VctVolumes::recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& 
                      jobs);
 }
 
-void VctVolumes::recordBounceApply(VkCommandBuffer cmd, VkBuffer jobs, VkBuffer results, const Image& bounce) const {
+void VctVolumes::recordBounceApply(VkCommandBuffer cmd, VkBuffer jobs, VkBuffer results, const Image& misfits) const {
     const VoxelVolumes& g = m_grid.volumes();
     gpu::VoxelGridPush push{m_grid.params()};
     dispatchIndirect(m_ctx, cmd, m_bounceApply, push,
                      {storage(0, g.albedo.image.view), storage(1, g.normal.image.view), bufferItem(2, jobs),
-                      storage(3, bounce.view), bufferItem(4, m_list.buffer.buffer), bufferItem(5, results)},
+                      storage(3, misfits.view), bufferItem(4, m_list.buffer.buffer), bufferItem(5, results),
+                      storage(6, g.faces.image.view), storage(7, m_aniso.image.mipViews[0])},
                      m_list.buffer.buffer);
 }
 
@@ -321,15 +321,6 @@ void VctVolumes::recordBounceMisfits(VkCommandBuffer cmd, const gpu::ConeParams&
                      {sampled(1, m_aniso.image, m_sampler, sampledLayout), storage(2, g.albedo.image.view),
                       storage(3, g.normal.image.view), storage(4, bounce.view), bufferItem(5, jobs)},
                      jobs, GI_BOUNCE_MISFITS * sizeof(uint32_t));
-}
-
-void VctVolumes::recordBounceAdd(VkCommandBuffer cmd, const Image& bounce) const {
-    const VoxelVolumes& g = m_grid.volumes();
-    gpu::VoxelGridPush push{m_grid.params()};
-    dispatchIndirect(m_ctx, cmd, m_bounceAdd, push,
-                     {storage(0, g.normal.image.view), storage(1, g.faces.image.view), storage(2, bounce.view),
-                      storage(3, m_aniso.image.mipViews[0]), bufferItem(4, m_list.buffer.buffer)},
-                     m_list.buffer.buffer);
 }
 
 void VctVolumes::recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const gpu::VctTracePush& push,

@@ -92,7 +92,7 @@ public:
     void recordListAppend(VkCommandBuffer cmd) const;
     // Levels 0 and 1 of aniso() (in `layout`), the written image (in `writtenLayout`) and the
     // written bits := 0 (transfer writes), at the first voxelization: the voxel light and the
-    // bounce add write level 0, the level-1 mip level 1, at listed voxels / blocks only, and later
+    // bounce apply write level 0, the level-1 mip level 1, at listed voxels / blocks only, and later
     // voxelizations zero only what went stale (recordListStale, recordLight).
     void recordClearLevels01(VkCommandBuffer cmd, VkImageLayout layout, VkImageLayout writtenLayout) const;
     // After recordListAppend: zeroes the level-0 views and level-1 views of the voxels and blocks
@@ -117,13 +117,12 @@ public:
     // Blocks: one diffuse gather per job -> `results`, and the misfit list (indirect).
     void recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkBuffer jobs, VkBuffer results,
                             VkImageLayout sampledLayout) const;
-    // Apply: albedo * the gathers of its class -> `bounce` (N^3 RGBA16F) at the listed voxels.
-    void recordBounceApply(VkCommandBuffer cmd, VkBuffer jobs, VkBuffer results, const Image& bounce) const;
-    // Misfits: albedo * their own gather -> `bounce` at the misfit voxels (indirect).
+    // Misfits: albedo * their own gather -> `bounce` (N^3 RGBA16F) at the misfit voxels (indirect).
     void recordBounceMisfits(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkBuffer jobs, const Image& bounce,
                              VkImageLayout sampledLayout) const;
-    // Add: `bounce` joins level 0 of aniso() at the listed voxels (storage read-write).
-    void recordBounceAdd(VkCommandBuffer cmd, const Image& bounce) const;
+    // Apply, after the misfits: albedo * the gathers of its class (a misfit: `misfits` at it)
+    // joins level 0 of aniso() at the listed voxels (storage read-write).
+    void recordBounceApply(VkCommandBuffer cmd, VkBuffer jobs, VkBuffer results, const Image& misfits) const;
     // Per-pixel trace through aniso().
     void recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const gpu::VctTracePush& push,
                      const VctTraceTargets& targets, VkImageLayout sampledLayout) const;
@@ -151,7 +150,7 @@ private:
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;          // directional volume: clamp to edge (sampleAniso)
     VkSampler m_occupancySampler = VK_NULL_HANDLE; // soft voxel-light march: transparent border
-    Pipeline m_compact, m_listAppend, m_listStale, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_mipList, m_mipTail, m_bounceJobs, m_bounce, m_bounceApply, m_bounceMisfits, m_bounceAdd, m_trace, m_traceRefine,
+    Pipeline m_compact, m_listAppend, m_listStale, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_mipList, m_mipTail, m_bounceJobs, m_bounce, m_bounceApply, m_bounceMisfits, m_trace, m_traceRefine,
         m_upsample, m_softShadow;
 };
 

@@ -435,22 +435,8 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
         struct Gathered {
             rg::ImageHandle image;
         };
-        const Gathered& applied = graph.addPass<Gathered>(
-            "gi.vct.bounce",
-            [&](rg::PassBuilder& b, Gathered& d) {
-                b.read(list, Access::IndirectRead);
-                b.read(list, Access::ComputeStorageRead);
-                b.read(grid.albedo, Access::ComputeStorageRead);
-                b.read(grid.normal, Access::ComputeStorageRead);
-                b.read(blocks.jobs, Access::ComputeStorageRead);
-                b.read(results, Access::ComputeStorageRead);
-                // Only the listed voxels are written; the add pass reads no others.
-                d.image = b.write(b.create("gi.vct.bounce.light", bounceDesc), Access::ComputeStorageWriteDiscard);
-            },
-            [v, jobs = blocks.jobs, results](const Gathered& d, rg::PassContext& ctx) {
-                v->recordBounceApply(ctx.cmd(), ctx.buffer(jobs).buffer, ctx.buffer(results).buffer, ctx.image(d.image));
-            });
-        const Gathered& bounce = graph.addPass<Gathered>(
+        // The misfits first: they read level 0 of the first bounce, which the apply then adds to.
+        const Gathered& misfits = graph.addPass<Gathered>(
             "gi.vct.bounce.misfits",
             [&](rg::PassBuilder& b, Gathered& d) {
                 b.read(blocks.jobs, Access::IndirectRead);
@@ -458,22 +444,28 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                 b.read(out.aniso, Access::ComputeSampledRead);
                 b.read(grid.albedo, Access::ComputeStorageRead);
                 b.read(grid.normal, Access::ComputeStorageRead);
-                d.image = b.write(applied.image, Access::ComputeStorageWrite); // the misfit voxels
+                // Only the misfit voxels are written; the apply reads no others.
+                d.image = b.write(b.create("gi.vct.bounce.light", bounceDesc), Access::ComputeStorageWriteDiscard);
             },
             [v, cones, aniso = out.aniso, jobs = blocks.jobs](const Gathered& d, rg::PassContext& ctx) {
                 v->recordBounceMisfits(ctx.cmd(), cones, ctx.buffer(jobs).buffer, ctx.image(d.image), ctx.layout(aniso));
             });
         graph.addPass(
-            "gi.vct.bounce.add",
+            "gi.vct.bounce",
             [&](rg::PassBuilder& b) {
                 b.read(list, Access::IndirectRead);
                 b.read(list, Access::ComputeStorageRead);
+                b.read(grid.albedo, Access::ComputeStorageRead);
                 b.read(grid.normal, Access::ComputeStorageRead);
                 b.read(grid.faces, Access::ComputeStorageRead);
-                b.read(bounce.image, Access::ComputeStorageRead);
+                b.read(blocks.jobs, Access::ComputeStorageRead);
+                b.read(results, Access::ComputeStorageRead);
+                b.read(misfits.image, Access::ComputeStorageRead);
                 out.aniso = b.write(out.aniso, Access::ComputeStorageReadWrite, level0); // the listed voxels
             },
-            [v, light = bounce.image](rg::PassContext& ctx) { v->recordBounceAdd(ctx.cmd(), ctx.image(light)); });
+            [v, jobs = blocks.jobs, results, light = misfits.image](rg::PassContext& ctx) {
+                v->recordBounceApply(ctx.cmd(), ctx.buffer(jobs).buffer, ctx.buffer(results).buffer, ctx.image(light));
+            });
         out.aniso = addMipPasses(graph, v, out.aniso, list, "gi.vct.bounce.mip");
     }
     out = addSoftShadowPass(graph, volumes, out, settings, gbuffer, lights, lightCount);

@@ -7,8 +7,9 @@
 // out, clears the surface). The voxels of a class lie within 30 degrees of its direction and
 // in one 4^3 block; the cones are 30 degrees wide and their first sample is already 2 voxels
 // across, so the gather changes little over them. The class's voxels whose normal is more than
-// kClassFit from m are appended to the misfit list (they gather their own cones,
-// voxel_bounce_misfits.comp). Sums run over the block in a fixed order: deterministic.
+// kClassFit from m are appended to the misfit list and their misfit bits set (they gather their
+// own cones, voxel_bounce_misfits.comp, and the apply takes those). Sums run over the block in a
+// fixed order: deterministic.
 #include "gi/voxel_passes.h"
 
 // One invocation per job (indirect): work group row k runs the jobs of class k.
@@ -87,6 +88,8 @@ void main() {
                     if (slot % GI_VOXEL_LIST_GROUP == 0u) // x = ceil(count / group)
                         atomicAdd(header[GI_BOUNCE_MISFITS], 1u);
                     words[bounceMisfitOffset(n) + slot] = voxelListPack(uvec3(c));
+                    uvec2 bit = bounceMisfitBit(uvec3(c), n);
+                    atomicOr(words[bounceMisfitBitsOffset(n) + bit.x], 1u << bit.y);
                 }
             }
         }

@@ -1,11 +1,16 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Second bounce, apply half: each occupied voxel with a normal gets albedo * E / pi, with
-// E / pi = (1/n) sum L_i from the gather of its 4^3 block and normal class (voxel_bounce.comp),
-// interpolated between neighbouring blocks (below). The misfits' own
-// gathers (voxel_bounce_misfits.comp) overwrite theirs afterwards. The result goes to the
-// bounce volume; voxel_bounce_add.comp adds it to the level-0 views of the voxel's normal side,
-// so the per-pixel gather then sees emission + one bounce + two bounces.
+// Second bounce, apply half: each occupied voxel with a normal gets B = albedo * E / pi, with
+// E / pi = (1/n) sum L_i from the gather of its block and normal class (voxel_bounce.comp),
+// interpolated between neighbouring blocks (below), or, for a misfit voxel, from its own gather
+// (voxel_bounce_misfits.comp, which ran before and stored B in the bounce volume). B joins the
+// level-0 views that see faces on the normal's side (faces looking towards d with
+// d . normal > 0), weighted as the voxel light weights its own radiance there (opacity * shown
+// share, voxel_light_body.glsl), so view texel rgb = a s (L + B): the per-pixel gather then sees
+// emission + one bounce + two bounces. Reads and writes only its own voxel's texels. B is
+// truncated to half precision first (subnormals included), as lavapipe's RGBA16F stores round
+// and as every B went through the bounce volume until 2026-11-24: the same images bit for bit.
+#extension GL_EXT_control_flow_attributes : require
 #include "gi/voxel_passes.h"
 
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in; // one invocation per occupied voxel (indirect)
@@ -13,9 +18,11 @@ layout(push_constant) uniform Push { VoxelGridPush pc; };
 layout(set = 1, binding = 0, rgba8) uniform readonly image3D albedoVol;
 layout(set = 1, binding = 1, rgba8) uniform readonly image3D normalVol;
 layout(set = 1, binding = 2, std430) readonly buffer Jobs { uint header[GI_BOUNCE_HEADER]; uint words[]; };
-layout(set = 1, binding = 3, rgba16f) uniform writeonly image3D bounceOut;
+layout(set = 1, binding = 3, rgba16f) uniform readonly image3D misfitBounce;
 layout(set = 1, binding = 4, std430) readonly buffer List { uint listHeader[GI_VOXEL_LIST_HEADER]; uint entries[]; };
 layout(set = 1, binding = 5, std430) readonly buffer Results { uint results[]; };
+layout(set = 1, binding = 6, r32ui) uniform readonly uimage3D facesVol;
+layout(set = 1, binding = 7, rgba16f) uniform image2DArray anisoLevel0;
 #include "voxel_block.glsl"
 
 void main() {
@@ -25,37 +32,59 @@ void main() {
     ivec3 c = ivec3(voxelListUnpack(entries[gl_GlobalInvocationID.x]));
     vec3 normal;
     uint k;
-    if (!voxelNormalOf(c, normal, k)) {
-        imageStore(bounceOut, c, vec4(0.0)); // no hemisphere: no second bounce
+    if (!voxelNormalOf(c, normal, k))
+        return; // no hemisphere: no second bounce
+    vec3 b;
+    uvec2 bit = bounceMisfitBit(uvec3(c), n);
+    if ((words[bounceMisfitBitsOffset(n) + bit.x] & (1u << bit.y)) != 0u) {
+        b = imageLoad(misfitBounce, c).rgb;
+    } else {
+        // Bilinear (linear for an edge class, none for a corner) over the gathers of class k at
+        // the centres of the nearest blocks along the axes the class direction lies across, i.e.
+        // along the surface, never across it (a floor under a table top takes nothing of the
+        // top's gather). Blocks without class k are left out and the weights renormalised; the
+        // voxel's own block always weighs at least 5/8 per axis. Fixed order: deterministic.
+        uint kk = k < 13u ? k : k + 1u;
+        bvec3 along = equal(ivec3(kk % 3u, (kk / 3u) % 3u, kk / 9u), ivec3(1)); // class direction component 0
+        vec3 f = (vec3(c) + 0.5) / float(bounceBlockSide(n)) - 0.5;
+        ivec3 own = c / int(bounceBlockSide(n));
+        ivec3 base = mix(own, ivec3(floor(f)), along);
+        vec3 w = mix(vec3(0.0), f - floor(f), along);
+        vec3 e = vec3(0.0);
+        float weights = 0.0;
+        [[unroll]] for (int i = 0; i < 8; ++i) {
+            ivec3 corner = ivec3(i & 1, (i >> 1) & 1, i >> 2);
+            vec3 cw = mix(1.0 - w, w, vec3(corner));
+            float weight = cw.x * cw.y * cw.z;
+            ivec3 q = base + corner;
+            if (weight == 0.0 || any(lessThan(q, ivec3(0))) || any(greaterThanEqual(q, ivec3(side))))
+                continue;
+            uint qb = uint(q.x) + side * (uint(q.y) + side * uint(q.z));
+            if ((words[qb] & (1u << k)) == 0u)
+                continue;
+            uint r = 2u * (GI_BOUNCE_CLASSES * qb + k);
+            e += weight * vec3(unpackHalf2x16(results[r]), unpackHalf2x16(results[r + 1u]).x);
+            weights += weight;
+        }
+        e /= weights;
+        vec3 bounce = imageLoad(albedoVol, c).rgb * e;
+        b = mix(trunc(bounce * 16777216.0) / 16777216.0, uintBitsToFloat(floatBitsToUint(bounce) & 0xFFFFE000u),
+                greaterThanEqual(bounce, vec3(1.0 / 16384.0)));
+    }
+    if (b == vec3(0.0))
         return;
-    }
-    // Bilinear (linear for an edge class, none for a corner) over the gathers of class k at
-    // the centres of the nearest blocks along the axes the class direction lies across, i.e.
-    // along the surface, never across it (a floor under a table top takes nothing of the top's
-    // gather). Blocks without class k are left out and the weights renormalised; the voxel's
-    // own block always weighs at least 5/8 per axis. Fixed order: deterministic.
-    uint kk = k < 13u ? k : k + 1u;
-    bvec3 along = equal(ivec3(kk % 3u, (kk / 3u) % 3u, kk / 9u), ivec3(1)); // class direction component 0
-    vec3 f = (vec3(c) + 0.5) / float(bounceBlockSide(n)) - 0.5;
-    ivec3 own = c / int(bounceBlockSide(n));
-    ivec3 base = mix(own, ivec3(floor(f)), along);
-    vec3 w = mix(vec3(0.0), f - floor(f), along);
-    vec3 e = vec3(0.0);
-    float weights = 0.0;
-    for (int i = 0; i < 8; ++i) {
-        ivec3 corner = ivec3(i & 1, (i >> 1) & 1, i >> 2);
-        vec3 cw = mix(1.0 - w, w, vec3(corner));
-        float weight = cw.x * cw.y * cw.z;
-        ivec3 q = base + corner;
-        if (weight == 0.0 || any(lessThan(q, ivec3(0))) || any(greaterThanEqual(q, ivec3(side))))
+    uint faces = imageLoad(facesVol, c).x;
+    [[unroll]] for (uint v = 0u; v < GI_VOXEL_ANISO_DIRECTIONS; ++v) {
+        uint d = v ^ 1u; // the faces a ray travelling along v sees look towards v ^ 1
+        float towards = (d & 1u) == 0u ? normal[d >> 1u] : -normal[d >> 1u];
+        float front = voxelFaceCoverage(faces, d);
+        if (towards <= 0.0 || front == 0.0)
             continue;
-        uint b = uint(q.x) + side * (uint(q.y) + side * uint(q.z));
-        if ((words[b] & (1u << k)) == 0u)
-            continue;
-        uint r = 2u * (GI_BOUNCE_CLASSES * b + k);
-        e += weight * vec3(unpackHalf2x16(results[r]), unpackHalf2x16(results[r + 1u]).x);
-        weights += weight;
+        float axisCover = voxelFaceCoverage(faces, 2u * (v >> 1u)) + voxelFaceCoverage(faces, 2u * (v >> 1u) + 1u);
+        float shown = min(1.0, 2.0 * front / axisCover);
+        ivec3 t = voxelAnisoTexel(c, v, n);
+        vec4 texel = imageLoad(anisoLevel0, t);
+        texel.rgb = min(texel.rgb + b * (texel.a * shown), vec3(65000.0));
+        imageStore(anisoLevel0, t, texel);
     }
-    e /= weights;
-    imageStore(bounceOut, c, vec4(imageLoad(albedoVol, c).rgb * e, 1.0));
 }

@@ -3,7 +3,7 @@
 // Second bounce, job list: per block (bounceBlockSide^3 voxels), the classes of its voxels'
 // normals (voxel_block.glsl; each 4^3 block's own invocation, OR-ed in shared memory) -> the
 // block's class mask and one job per class, appended to that class's list, and the gathers'
-// indirect dispatch (gi/voxel_passes.h). The order within a class's list follows the
+// indirect dispatch (gi/voxel_passes.h); zeroes the misfit bits. The order within a class's list follows the
 // scheduling; each gather depends only on its block and class and stores its result at them,
 // so the images do not.
 #include "gi/voxel_passes.h"
@@ -36,6 +36,8 @@ void main() {
     // The occupied voxels only, through the list's bits (an empty block's mask is 0: the apply
     // reads the masks of neighbouring blocks).
     ivec3 q4 = bounceSubBlock(ivec3(b % side, (b / side) % side, b / (side * side)), int(s), sub);
+    uint misfitWord = bounceMisfitBitsOffset(n) + bounceMisfitBit(uvec3(4 * q4), n).x;
+    words[misfitWord] = words[misfitWord + 1u] = 0u; // the gathers set them
     uint mask = 0u;
     if (coarseOccupied(q4, n)) {
         for (int row = 0; row < 16; ++row) {

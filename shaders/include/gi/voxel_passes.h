@@ -38,8 +38,9 @@ GI_CHECK_SIZE(VoxelizePush, 80);
 //             weight 0; lavapipe's cost grows with the texels a fetch reads. One image instead of
 //             six lets a cone pick its three stacks by arithmetic, without divergent branches.
 //             Empty voxels are 0. ~17% more memory than six 3D chains (8 N^3 texels, not 48/7 N^3).
-//   bounce    RGBA16F N^3 (transient): the second bounce's albedo * E / pi per voxel, added to
-//             the level-0 views that look at the voxel's normal side (voxel_bounce_add.comp).
+//   bounce    RGBA16F N^3 (transient): the misfit voxels' second bounce, albedo * E / pi from
+//             their own gathers (voxel_bounce_misfits.comp), read by the apply
+//             (voxel_bounce_apply.comp), which adds every voxel's to its level-0 views.
 #define GI_VOXEL_ANISO_DIRECTIONS 6
 // Texel (x, y, layer) of aniso holding view d (0..5) of voxel or block c at any level; n = N
 // (the level-0 resolution: every level keeps N layers per view).
@@ -144,8 +145,10 @@ GI_GPU_STRUCT(ConeParams) {
 //           = 1, w = count), then GI_BOUNCE_CLASSES job counts, one per class;
 //   then (words after the header, offsets below) per block (x + Q (y + Q z), Q = N / side) the
 //   26-bit mask of the classes present; the jobs of class k (block index each) from
-//   k * Q^3 on; the misfit voxels, voxelListPack each.
-// Only the header is cleared; the masks of all blocks are written, the rest before it is read.
+//   k * Q^3 on; the misfit voxels, voxelListPack each; one misfit bit per voxel, two words
+//   per 4^3 block (bounceMisfitBit), zeroed by the job pass, set by the gathers, read by the apply.
+// Only the header is cleared; the masks and misfit bits of all blocks are written, the rest
+// before it is read.
 // The gathers' results go to a second buffer (one storage buffer of both would exceed
 // lavapipe's 128 MiB range at 256^3): 2 words per (block b, class k) at 2 (26 b + k),
 // packHalf2x16 of r, g and of b, 0: (1/n) sum L_i.
@@ -162,8 +165,16 @@ GI_INLINE uint bounceBlockCount(uint n) {
 }
 GI_INLINE uint bounceJobOffset(uint n) { return bounceBlockCount(n); }
 GI_INLINE uint bounceMisfitOffset(uint n) { return bounceJobOffset(n) + GI_BOUNCE_CLASSES * bounceBlockCount(n); }
-// Words after the header (misfits: at most every voxel).
-GI_INLINE uint bounceJobWords(uint n) { return bounceMisfitOffset(n) + n * n * n; }
+GI_INLINE uint bounceMisfitBitsOffset(uint n) { return bounceMisfitOffset(n) + n * n * n; }
+// Word (x, relative to bounceMisfitBitsOffset) and bit (y) of voxel c's misfit bit: the 64 voxels
+// of a 4^3 block share two consecutive words (the job pass zeroes them per 4^3 block).
+GI_INLINE uvec2 bounceMisfitBit(uvec3 c, uint n) {
+    uint b4 = (c.x >> 2u) + (n >> 2u) * ((c.y >> 2u) + (n >> 2u) * (c.z >> 2u));
+    uint v = (c.x & 3u) + 4u * (c.y & 3u) + 16u * (c.z & 3u);
+    return uvec2(2u * b4 + (v >> 5u), v & 31u);
+}
+// Words after the header (misfits: at most every voxel; misfit bits: one per voxel).
+GI_INLINE uint bounceJobWords(uint n) { return bounceMisfitBitsOffset(n) + n * n * n / 32u; }
 GI_INLINE uint bounceResultWords(uint n) { return 2u * GI_BOUNCE_CLASSES * bounceBlockCount(n); }
 
 // voxel_bounce*.comp: the grid and the diffuse cones.
