@@ -81,7 +81,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
                    {&v->m_lightShadowMap, "gi/voxel/voxel_light_shadow_map.comp"},
                    {&v->m_mip, "gi/voxel/voxel_mip.comp"},
                    {&v->m_mipList, "gi/voxel/voxel_mip_list.comp"},
-                   {&v->m_bounceJobs, "gi/voxel/voxel_bounce_jobs.comp"},
+                   {&v->m_mipListJobs, "gi/voxel/voxel_mip_list_jobs.comp"},
                    {&v->m_mipTail, "gi/voxel/voxel_mip_tail.comp"},
                    {&v->m_bounce, "gi/voxel/voxel_bounce.comp"},
                    {&v->m_bounceApply, "gi/voxel/voxel_bounce_apply.comp"},
@@ -136,7 +136,7 @@ VctVolumes::~VctVolumes() {
     for (rg::PersistentBuffer* b : {&m_jobBuffer, &m_resultBuffer})
         if (b->buffer.buffer)
             destroyBuffer(m_ctx, b->buffer);
-    for (Pipeline* p : {&m_compact, &m_listAppend, &m_listStale, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_mipList, &m_mipTail, &m_bounceJobs, &m_bounce, &m_bounceApply, &m_bounceMisfits,
+    for (Pipeline* p : {&m_compact, &m_listAppend, &m_listStale, &m_light, &m_lightSoft, &m_lightShadowMap, &m_mip, &m_mipList, &m_mipTail, &m_mipListJobs, &m_bounce, &m_bounceApply, &m_bounceMisfits,
                         &m_trace, &m_traceRefine, &m_upsample, &m_softShadow})
         destroyPipeline(m_ctx, *p);
     destroyImage(m_ctx, m_aniso.image);
@@ -237,9 +237,17 @@ void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t ligh
                      m_list.buffer.buffer);
 }
 
-void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level) const {
+void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level, VkBuffer jobs) const {
     uint32_t size = std::max(1u, m_grid.resolution() >> level);
     gpu::VoxelMipPush push{m_grid.params(), glm::uvec4(level, size, 0u, 0u)};
+    if (level == 1 && jobs) { // and the bounce jobs (voxel_mip_body.glsl)
+        dispatchIndirect(m_ctx, cmd, m_mipListJobs, push,
+                         {storage(0, m_aniso.image.mipViews[0]), storage(1, m_aniso.image.mipViews[1]),
+                          bufferItem(2, m_list.buffer.buffer), storage(3, m_grid.volumes().normal.image.view),
+                          bufferItem(4, jobs)},
+                         m_list.buffer.buffer, GI_VOXEL_LIST_BLOCKS * sizeof(uint32_t));
+        return;
+    }
     if (level == 1) { // the listed occupied blocks only (voxel_mip_body.glsl)
         dispatchIndirect(m_ctx, cmd, m_mipList, push,
                          {storage(0, m_aniso.image.mipViews[0]), storage(1, m_aniso.image.mipViews[1]),
@@ -287,11 +295,15 @@ rg::PersistentBuffer& VctVolumes::bounceResultsState() {
     return m_resultBuffer;
 }
 
-void VctVolumes::recordBounceJobs(VkCommandBuffer cmd, VkBuffer jobs) const {
-    gpu::VoxelGridPush push{m_grid.params()};
-    dispatch(m_ctx, cmd, m_bounceJobs, push,
-             {storage(0, m_grid.volumes().normal.image.view), bufferItem(1, m_list.buffer.buffer), bufferItem(2, jobs)},
-             glm::uvec3(m_grid.resolution() * m_grid.resolution() * m_grid.resolution() / 64u, 1u, 1u)); // 4^3 blocks
+void VctVolumes::recordClearBounceJobs(VkCommandBuffer cmd, VkBuffer jobs) const {
+    // Header: the gathers' dispatch (x = 0, one work-group row per class), the misfits' (x = 0),
+    // zero counts; then every block's class mask 0 and the misfit bits 0 (gi/voxel_passes.h).
+    uint32_t header[GI_BOUNCE_HEADER] = {0u, GI_BOUNCE_CLASSES, 1u, 0u, 0u, 1u, 1u, 0u};
+    vkCmdUpdateBuffer(cmd, jobs, 0, sizeof(header), header);
+    uint32_t n = m_grid.resolution();
+    vkCmdFillBuffer(cmd, jobs, sizeof(header), VkDeviceSize(gpu::bounceBlockCount(n)) * sizeof(uint32_t), 0);
+    vkCmdFillBuffer(cmd, jobs, sizeof(header) + VkDeviceSize(gpu::bounceMisfitBitsOffset(n)) * sizeof(uint32_t),
+                    VkDeviceSize(n) * n * n / 32 * sizeof(uint32_t), 0);
 }
 
 void VctVolumes::recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkBuffer jobs,

@@ -108,12 +108,14 @@ public:
                      const VctShadowInputs* shadow = nullptr) const;
     // aniso level `level` (>= 1) from level - 1; level 1 at the listed occupied blocks only
     // (indirect over the list; the others keep their zeros: recordClearLevels01, recordListStale); from
-    // mipTailLevel() on, that level and all coarser ones (one work group).
-    void recordMip(VkCommandBuffer cmd, uint32_t level) const;
+    // mipTailLevel() on, that level and all coarser ones (one work group). With `jobs` (level 1
+    // only, cleared by recordClearBounceJobs) it also lists the second bounce's jobs: the normal
+    // classes of the listed blocks' voxels (storage read-write).
+    void recordMip(VkCommandBuffer cmd, uint32_t level, VkBuffer jobs = VK_NULL_HANDLE) const;
     // Second bounce (gi/voxel_passes.h, docs/vct.md); the gathers read aniso() (direct light
-    // and its mips). `jobs` is a buffer of bounceJobBytes() whose header is zeroed before.
-    // Jobs: the normal classes of every occupied 4^3 block -> the job list (storage read-write).
-    void recordBounceJobs(VkCommandBuffer cmd, VkBuffer jobs) const;
+    // and its mips). `jobs` is the buffer of bounceJobsState(), its job list built by recordMip.
+    // Clear: the job header, class masks and misfit bits before the level-1 mip (transfer writes).
+    void recordClearBounceJobs(VkCommandBuffer cmd, VkBuffer jobs) const;
     // Blocks: one diffuse gather per job -> `results`, and the misfit list (indirect).
     void recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkBuffer jobs, VkBuffer results,
                             VkImageLayout sampledLayout) const;
@@ -150,7 +152,7 @@ private:
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;          // directional volume: clamp to edge (sampleAniso)
     VkSampler m_occupancySampler = VK_NULL_HANDLE; // soft voxel-light march: transparent border
-    Pipeline m_compact, m_listAppend, m_listStale, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_mipList, m_mipTail, m_bounceJobs, m_bounce, m_bounceApply, m_bounceMisfits, m_trace, m_traceRefine,
+    Pipeline m_compact, m_listAppend, m_listStale, m_light, m_lightSoft, m_lightShadowMap, m_mip, m_mipList, m_mipTail, m_mipListJobs, m_bounce, m_bounceApply, m_bounceMisfits, m_trace, m_traceRefine,
         m_upsample, m_softShadow;
 };
 

@@ -222,8 +222,10 @@ namespace {
 // Adds one pass per level k >= 1 of aniso, built from level k - 1, up to the tail, and one for
 // the tail's levels ("prefix[t-L]"); returns the newest version. Level 1 is written at the listed
 // occupied blocks only and keeps the zeros elsewhere (gi.vct.list.clear / .stale; no discard).
+// With `jobs` (and the grid's normal volume) the level-1 pass also lists the second bounce's
+// jobs into it (VctVolumes::recordMip).
 rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::ImageHandle aniso, rg::BufferHandle list,
-                             const char* prefix) {
+                             const char* prefix, rg::BufferHandle* jobs = nullptr, rg::ImageHandle normal = {}) {
     uint32_t tail = v->mipTailLevel(), last = v->anisoLevels() - 1;
     for (uint32_t level = 1; level <= std::min(tail, last); ++level) {
         uint32_t count = level == tail ? last - tail + 1 : 1;
@@ -236,11 +238,17 @@ rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes* v, rg::Im
                 if (level == 1) {
                     b.read(list, Access::IndirectRead);
                     b.read(list, Access::ComputeStorageRead);
+                    if (jobs) {
+                        b.read(normal, Access::ComputeStorageRead);
+                        *jobs = b.write(*jobs, Access::ComputeStorageReadWrite);
+                    }
                 }
                 aniso = b.write(aniso, level == 1 ? Access::ComputeStorageWrite : Access::ComputeStorageWriteDiscard,
                                 rg::SubresourceRange{level, count, 0, rg::kAll});
             },
-            [v, level](rg::PassContext& ctx) { v->recordMip(ctx.cmd(), level); });
+            [v, level, jobBuffer = level == 1 && jobs ? *jobs : rg::BufferHandle{}](rg::PassContext& ctx) {
+                v->recordMip(ctx.cmd(), level, jobBuffer.valid() ? ctx.buffer(jobBuffer).buffer : VK_NULL_HANDLE);
+            });
     }
     return aniso;
 }
@@ -389,39 +397,30 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
             v->recordLight(ctx.cmd(), ctx.buffer(lights).buffer, lightCount, occlusion, ctx.layout(albedo), emission,
                            useShadowMap ? &in : nullptr);
         });
-    out.aniso = addMipPasses(graph, v, out.aniso, list, "gi.vct.mip");
+    // Second bounce: one gather per (block, normal class), its misfit voxels one each
+    // (gi/voxel_passes.h); the level-1 mip lists the jobs after the clear.
+    rg::BufferHandle jobs;
+    if (settings.bounces >= 2) {
+        jobs = graph.importBuffer("gi.vct.bounce.jobs", volumes.bounceJobsState());
+        graph.addPass(
+            "gi.vct.bounce.jobs.clear", [&](rg::PassBuilder& b) { jobs = b.write(jobs, Access::TransferWrite); },
+            [v, jobs](rg::PassContext& ctx) { v->recordClearBounceJobs(ctx.cmd(), ctx.buffer(jobs).buffer); });
+    }
+    out.aniso = addMipPasses(graph, v, out.aniso, list, "gi.vct.mip", jobs.valid() ? &jobs : nullptr, grid.normal);
     gpu::ConeParams cones = volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
     if (settings.bounces >= 2) {
-        // One gather per (4^3 block, normal class), its misfit voxels one each (gi/voxel_passes.h).
         struct Jobs {
             rg::BufferHandle jobs;
         };
-        rg::BufferHandle jobs = graph.importBuffer("gi.vct.bounce.jobs", volumes.bounceJobsState());
         rg::BufferHandle results = graph.importBuffer("gi.vct.bounce.results", volumes.bounceResultsState());
-        const Jobs& cleared = graph.addPass<Jobs>(
-            "gi.vct.bounce.jobs.clear",
-            [&](rg::PassBuilder& b, Jobs& d) {
-                d.jobs = b.write(jobs, Access::TransferWrite);
-            },
-            [](const Jobs& d, rg::PassContext& ctx) {
-                vkCmdFillBuffer(ctx.cmd(), ctx.buffer(d.jobs).buffer, 0, GI_BOUNCE_HEADER * sizeof(uint32_t), 0);
-            });
-        const Jobs& listed = graph.addPass<Jobs>(
-            "gi.vct.bounce.jobs",
-            [&](rg::PassBuilder& b, Jobs& d) {
-                b.read(list, Access::ComputeStorageRead);
-                b.read(grid.normal, Access::ComputeStorageRead);
-                d.jobs = b.write(cleared.jobs, Access::ComputeStorageReadWrite);
-            },
-            [v](const Jobs& d, rg::PassContext& ctx) { v->recordBounceJobs(ctx.cmd(), ctx.buffer(d.jobs).buffer); });
         const Jobs& blocks = graph.addPass<Jobs>(
             "gi.vct.bounce.blocks",
             [&](rg::PassBuilder& b, Jobs& d) {
-                b.read(listed.jobs, Access::IndirectRead);
+                b.read(jobs, Access::IndirectRead);
                 b.read(list, Access::ComputeStorageRead);
                 b.read(out.aniso, Access::ComputeSampledRead);
                 b.read(grid.normal, Access::ComputeStorageRead);
-                d.jobs = b.write(listed.jobs, Access::ComputeStorageReadWrite); // the misfit list
+                d.jobs = b.write(jobs, Access::ComputeStorageReadWrite); // the misfit list
                 results = b.write(results, Access::ComputeStorageWrite);
             },
             [v, cones, aniso = out.aniso, results](const Jobs& d, rg::PassContext& ctx) {

@@ -25,6 +25,42 @@ layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #endif
 layout(push_constant) uniform Push { VoxelMipPush pc; };
 layout(set = 1, binding = 0, rgba16f) uniform readonly image2DArray src; // aniso level - 1
+#ifdef GI_VOXEL_MIP_JOBS
+layout(set = 1, binding = 3, rgba8) uniform readonly image3D normalVol;
+layout(set = 1, binding = 4, std430) buffer Jobs { uint jobHeader[GI_BOUNCE_HEADER]; uint words[]; };
+#include "voxel_block.glsl"
+
+// Second bounce, job list (gi/voxel_passes.h; the clear wrote the header's constant words and
+// zeroed the counts and every block's class mask): the classes of the block's voxels' normals
+// (voxel_block.glsl) join its bounce block's mask, and the invocation that sets a class's bit
+// first appends the (bounce block, class) job to that class's list. The order within a list
+// follows the scheduling; each gather depends only on its block and class and stores its result
+// at them, so the images do not. (A pass of its own over the 4^3 blocks took ~0.5 ms at 64^3.)
+void appendJobs(ivec3 c, uint n) {
+    uint mask = 0u;
+    [[unroll]] for (int i = 0; i < 8; ++i) {
+        vec3 normal;
+        uint k;
+        if (voxelNormalOf(2 * c + ivec3(i & 1, (i >> 1) & 1, i >> 2), normal, k))
+            mask |= 1u << k;
+    }
+    if (mask == 0u)
+        return;
+    uint side = n / bounceBlockSide(n);
+    uvec3 q = uvec3(2 * c) / bounceBlockSide(n);
+    uint b = q.x + side * (q.y + side * q.z);
+    uint fresh = mask & ~atomicOr(words[b], mask);
+    while (fresh != 0u) {
+        uint k = uint(findLSB(fresh));
+        fresh &= fresh - 1u;
+        uint slot = atomicAdd(jobHeader[GI_BOUNCE_COUNTS + k], 1u);
+        if (slot % GI_VOXEL_LIST_GROUP == 0u) // x = ceil(largest count / group)
+            atomicMax(jobHeader[0], slot / GI_VOXEL_LIST_GROUP + 1u);
+        words[bounceJobOffset(n) + k * bounceBlockCount(n) + slot] = b;
+    }
+}
+#endif
+
 #ifdef GI_VOXEL_MIP_TAIL
 // Levels info.x .. info.x + 3 (those past the last are bound to the last and not touched).
 layout(set = 1, binding = 1, rgba16f) uniform coherent image2DArray tail0;
@@ -96,6 +132,9 @@ void main() {
     if (gl_GlobalInvocationID.x >= header[GI_VOXEL_LIST_BLOCKS + 3u])
         return;
     ivec3 c = ivec3(voxelListUnpack(entries[n * n * n + gl_GlobalInvocationID.x]));
+#ifdef GI_VOXEL_MIP_JOBS
+    appendJobs(c, n);
+#endif
 #else
     ivec3 c = ivec3(gl_GlobalInvocationID);
     if (any(greaterThanEqual(c, ivec3(size))))
