@@ -345,7 +345,7 @@ void VctVolumes::recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const gpu::
                                storage(6, t.glossy->view)};
     if (mode == VctTraceMode::Grid) {
         dispatch(m_ctx, cmd, m_trace, push,
-                 {common[0], common[1], common[2], common[3], common[4], common[5]},
+                 {common[0], common[1], common[2], common[3], common[4], common[5], bufferItem(7, t.refineList)},
                  glm::uvec3(push.lowRes.y, push.lowRes.z, 1u));
         return;
     }
@@ -369,11 +369,13 @@ void VctVolumes::recordSoftShadow(VkCommandBuffer cmd, const gpu::VctShadowPush&
 
 void VctVolumes::recordUpsample(VkCommandBuffer cmd, const gpu::VctTracePush& push, const Image& lowIndirect,
                                 const Image& lowGlossy, const VctTraceTargets& t) const {
+    // 4x4 pixel blocks from -((f / 2) & ~1) on (vctRefineBlockOrigin in vct_refine.glsl).
+    auto blocks = [shift = (push.lowRes.x / 2u) & ~1u](uint32_t size) { return (size + shift + 3u) / 4u; };
     dispatch(m_ctx, cmd, m_upsample, push,
              {storage(0, t.position->view), storage(1, t.normal->view), storage(2, lowIndirect.view),
               storage(3, lowGlossy.view), storage(4, t.indirect->view), storage(5, t.glossy->view),
               bufferItem(6, t.refineList)},
-             glm::uvec3((push.cones.info.z + 1u) / 2u, (push.cones.info.w + 1u) / 2u, 1u)); // 2x2 quads
+             glm::uvec3(blocks(push.cones.info.z), blocks(push.cones.info.w), 1u));
 }
 
 } // namespace vkgi::gi

@@ -24,7 +24,7 @@ struct VctTraceTargets {
     const Image* albedo = nullptr;   // RGBA16F, w = metallic
     const Image* indirect = nullptr; // RGBA32F out: rgb indirect radiance (nits), a = AO
     const Image* glossy = nullptr;   // RGBA32F out: glossy cone radiance (nits)
-    VkBuffer refineList = VK_NULL_HANDLE; // refine variant: the pixels to trace (upsample's list)
+    VkBuffer refineList = VK_NULL_HANDLE; // the pixels the refine traces (upsample's list; trace zeroes its header)
     const Image* emission = nullptr; // RGBA32F G-buffer emission (soft shadows)
     const Image* direct = nullptr;   // RGBA32F out: direct light with cone-traced shadows (soft shadows)
 };
@@ -125,7 +125,8 @@ public:
     // Apply, after the misfits: albedo * the gathers of its class (a misfit: `misfits` at it)
     // joins level 0 of aniso() at the listed voxels (storage read-write).
     void recordBounceApply(VkCommandBuffer cmd, VkBuffer jobs, VkBuffer results, const Image& misfits) const;
-    // Per-pixel trace through aniso().
+    // Per-pixel trace through aniso(). The grid mode also zeroes the header of targets.refineList
+    // (the upsample's and the refine's list; a header-only buffer at f = 1).
     void recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const gpu::VctTracePush& push,
                      const VctTraceTargets& targets, VkImageLayout sampledLayout) const;
     // Direct light of `lightCount` lights with cone-traced visibility (vct_soft_shadow.comp):
@@ -133,7 +134,7 @@ public:
     void recordSoftShadow(VkCommandBuffer cmd, const gpu::VctShadowPush& push, VkBuffer lights,
                           const VctTraceTargets& targets, VkImageLayout sampledLayout) const;
     // Low-res indirect + glossy -> full resolution (targets.indirect/glossy), appending the
-    // pixels across discontinuities to `refineList` (count zeroed before). G-buffer position
+    // pixels across discontinuities to `refineList` (header zeroed by the trace). G-buffer position
     // and normal and the low-res images are read as storage images (GENERAL).
     void recordUpsample(VkCommandBuffer cmd, const gpu::VctTracePush& push, const Image& lowIndirect,
                         const Image& lowGlossy, const VctTraceTargets& targets) const;

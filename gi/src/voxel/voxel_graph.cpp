@@ -494,6 +494,7 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, VctOutput
     };
     struct TraceData {
         rg::ImageHandle indirect, glossy;
+        rg::BufferHandle list;
     };
     const TraceData& data = graph.addPass<TraceData>(
         "gi.vct.trace",
@@ -507,10 +508,16 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, VctOutput
                                  Access::ComputeStorageWriteDiscard);
             d.glossy = b.write(b.create(f == 1 ? "gi.vct.glossy" : "gi.vct.glossy.low", desc),
                                Access::ComputeStorageWriteDiscard);
+            // The refine list of the upsample and refine, whose header the trace zeroes (at f = 1
+            // the header alone, unused: one shader for both).
+            BufferDesc list;
+            list.size = VkDeviceSize(GI_VCT_REFINE_HEADER + (f == 1 ? 0u : 2u * push.lowRes.w)) * sizeof(uint32_t);
+            list.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
+            d.list = b.write(b.create("gi.vct.refine_list", list), Access::ComputeStorageWrite);
         },
         [v, push, aniso = out.aniso, g](const TraceData& d, rg::PassContext& ctx) {
             VctTraceTargets t{&ctx.image(g.position), &ctx.image(g.normal),   &ctx.image(g.albedo),
-                              &ctx.image(d.indirect), &ctx.image(d.glossy), VK_NULL_HANDLE};
+                              &ctx.image(d.indirect), &ctx.image(d.glossy), ctx.buffer(d.list).buffer};
             v->recordTrace(ctx.cmd(), VctTraceMode::Grid, push, t, ctx.layout(aniso));
         });
     if (f == 1) {
@@ -523,18 +530,6 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, VctOutput
         rg::ImageHandle indirect, glossy;
         rg::BufferHandle list;
     };
-    const UpsampleData& up = graph.addPass<UpsampleData>(
-        "gi.vct.refine.clear",
-        [&](rg::PassBuilder& b, UpsampleData& d) {
-            BufferDesc desc;
-            desc.size = VkDeviceSize(GI_VCT_REFINE_HEADER + push.lowRes.w) * sizeof(uint32_t);
-            desc.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                         VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-            d.list = b.write(b.create("gi.vct.refine_list", desc), Access::TransferWrite);
-        },
-        [](const UpsampleData& d, rg::PassContext& ctx) {
-            vkCmdFillBuffer(ctx.cmd(), ctx.buffer(d.list).buffer, 0, GI_VCT_REFINE_HEADER * sizeof(uint32_t), 0);
-        });
     const UpsampleData& us = graph.addPass<UpsampleData>(
         "gi.vct.upsample",
         [&](rg::PassBuilder& b, UpsampleData& d) {
@@ -545,7 +540,7 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, VctOutput
             ImageDesc desc = image(g.width, g.height);
             d.indirect = b.write(b.create("gi.vct.indirect", desc), Access::ComputeStorageWriteDiscard);
             d.glossy = b.write(b.create("gi.vct.glossy", desc), Access::ComputeStorageWriteDiscard);
-            d.list = b.write(up.list, Access::ComputeStorageReadWrite);
+            d.list = b.write(data.list, Access::ComputeStorageReadWrite);
         },
         [v, push, g, low = data](const UpsampleData& d, rg::PassContext& ctx) {
             VctTraceTargets t{&ctx.image(g.position), &ctx.image(g.normal),   nullptr,

@@ -27,9 +27,15 @@ layout(set = 1, binding = 6, rgba32f) uniform writeonly image2D outGlossy;   // 
 layout(set = 1, binding = 7, std430) readonly buffer RefineList {
     uint refineCount;
     uint refinePad[3];
-    uint refineEntries[]; // vctRefineEntry
+    uvec2 refineEntries[]; // vctRefineEntry
 };
 #include "vct_refine.glsl"
+#else
+// The refine list's header, zeroed here for the upsample (which appends) and the refine (an
+// indirect dispatch of its groups): count 0, groups {0, 1, 1}. Saves a pass.
+layout(set = 1, binding = 7, std430) writeonly buffer RefineList {
+    uvec4 refineHeader;
+};
 #endif
 
 void main() {
@@ -38,11 +44,13 @@ void main() {
 #ifdef GI_VCT_REFINE
     if (gl_GlobalInvocationID.x >= min(refineCount, pc.lowRes.w))
         return;
-    uint entry = refineEntries[gl_GlobalInvocationID.x];
+    uvec2 entry = refineEntries[gl_GlobalInvocationID.x];
     uint leader = vctRefineIndex(entry);
-    ivec2 dst = vctRefineQuad(entry) * 2 + ivec2(leader & 1u, leader >> 1);
+    ivec2 dst = vctRefinePixel(entry);
     ivec2 px = dst;
 #else
+    if (gl_GlobalInvocationID.xy == uvec2(0u))
+        refineHeader = uvec4(0u, 0u, 1u, 1u);
     ivec2 dst = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(dst, ivec2(pc.lowRes.yz))))
         return;
@@ -79,13 +87,14 @@ void main() {
     if (glossyImage)
         imageStore(outGlossy, dst, vec4(glossy * pc.grid.scales.z, 1.0));
 #ifdef GI_VCT_REFINE
-    // The refined pixels of this quad that take this trace (the upsample's mask,
+    // The refined pixels of this block that take this trace (the upsample's mask,
     // vct_refine.glsl), with their own albedo and metallic.
     uint serves = vctRefineServes(entry) & ~(1u << leader);
-    for (int k = 0; k < 4; ++k) {
-        if ((serves & (1u << uint(k))) == 0u)
-            continue;
-        ivec2 q = (dst & ~1) + ivec2(k & 1, k >> 1);
+    ivec2 base = dst - ivec2(leader & 3u, leader >> 2);
+    while (serves != 0u) {
+        int k = findLSB(serves);
+        serves &= serves - 1u;
+        ivec2 q = base + ivec2(k & 3, k >> 2);
         vec4 aq = imageLoad(gAlbedo, q);
         vec3 iq = aq.rgb * mix(diffuse, glossy, clamp(aq.w, 0.0, 1.0)) * pc.grid.scales.z;
         imageStore(outIndirect, q, vec4(iq, ao));

@@ -1,21 +1,21 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Low-res VCT trace -> full resolution, one invocation per 2x2 quad of pixels: bilinear from
-// the low-res indirect (a = AO) and glossy images, next to edges from the taps on the pixel's
-// own surface only; the pixels near edges that no tap can stand in for are refined
-// (lowResFitTaps in gi/lowres_upsample.h), and a refined pixel takes the trace of an earlier
-// refined pixel of its quad on the same spot (vctSameSpot). Each quad appends its traced pixels
-// to the refine list with the quad's pixels each serves (vctRefineEntry). The list header is
-// also the indirect dispatch of the refine trace: {count, groups x, 1, 1}, the dispatch read at
-// byte offset 4.
+// Low-res VCT trace -> full resolution, one invocation per 4x4 block of pixels (vctRefineBlock):
+// bilinear from the low-res indirect (a = AO) and glossy images, next to edges from the taps on
+// the pixel's own surface only; the pixels near edges that no tap can stand in for are refined
+// (lowResFitTapsAt in gi/lowres_upsample.h), and a refined pixel takes the trace of an earlier
+// refined pixel of its block on the same spot (vctSameSpot). Each block appends its traced
+// pixels to the refine list with the block's pixels each serves (vctRefineEntry). The list
+// header is also the indirect dispatch of the refine trace: {count, groups x, 1, 1}, the
+// dispatch read at byte offset 4.
 //
-// Per quad, not per pixel: deciding which refined pixels share a trace needs the other pixels'
-// decisions, which a per-pixel invocation recomputed (up to three more tap fits for a refined
-// pixel, and again in the refine pass). (Loading a quad's taps once where they are shared, at
-// f = 4, measured slower than each pixel loading its own.)
+// Per block, not per pixel: deciding which refined pixels share a trace needs the other pixels'
+// decisions, and at f = 4 the blocks are aligned so that all 16 pixels interpolate the same 2x2
+// low-res texels, whose G-buffer samples and values are loaded once per block (12 loads instead
+// of 12 per pixel).
 #include "gi/voxel_passes.h"
 
-layout(local_size_x = 8, local_size_y = 8) in; // quads
+layout(local_size_x = 8, local_size_y = 8) in; // blocks
 layout(push_constant) uniform Push { VctTracePush pc; };
 // Point reads only: storage images (lavapipe loads their texels much faster than it fetches
 // through a sampler).
@@ -27,80 +27,135 @@ layout(set = 1, binding = 4, rgba32f) uniform writeonly image2D outIndirect;
 layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D outGlossy;
 layout(set = 1, binding = 6, std430) buffer RefineList {
     uint refineCount;
-    uint refineGroups[3]; // VkDispatchIndirectCommand of vct_trace_refine.comp (zeroed before)
-    uint refineEntries[]; // vctRefineEntry
+    uint refineGroups[3]; // VkDispatchIndirectCommand of vct_trace_refine.comp ({0, 1, 1} before: vct_trace.comp)
+    uvec2 refineEntries[]; // vctRefineEntry
 };
 #define GI_LOWRES_GBUFFER_FETCH(image, pixel) imageLoad(image, pixel)
 #include "gi/lowres_upsample.h"
 
 #include "vct_refine.glsl"
 
+// Traced pixels a block keeps as candidates for serving its later refined pixels (Cornell 256^2:
+// 1845 traced pixels against 1818 with all 16 kept, 1943 with 4).
+const int kSlots = 6;
+
+// Writes entry `slot` of the refine list (up to its capacity) and counts the refine trace's groups.
+void listEntry(uint slot, uvec2 entry) {
+    if (slot >= pc.lowRes.w)
+        return;
+    refineEntries[slot] = entry;
+    if (slot % GI_VCT_REFINE_GROUP == 0u)
+        atomicAdd(refineGroups[0], 1u); // x = ceil(listed / group)
+}
+
+// The G-buffer samples (q, nq) and low-res indirect and glossy values (li, lg) of pixel px's taps.
+void loadTaps(ivec2 px, int f, ivec2 low, ivec2 full, bool glossyImage, out vec4 q[4], out vec3 nq[4], out vec4 li[4],
+              out vec4 lg[4]) {
+    ivec2 taps[4];
+    vec4 unused;
+    lowResTapCell(px, f, low, taps, unused);
+    for (int j = 0; j < 4; ++j) {
+        ivec2 src = lowResSource(taps[j], f, full);
+        q[j] = imageLoad(gPosition, src);
+        nq[j] = imageLoad(gNormal, src).xyz;
+        li[j] = imageLoad(lowIndirect, taps[j]);
+        lg[j] = glossyImage ? imageLoad(lowGlossy, taps[j]) : vec4(0.0);
+    }
+}
+
 void main() {
-    ivec2 quad = ivec2(gl_GlobalInvocationID.xy);
     ivec2 full = ivec2(pc.cones.info.zw);
-    ivec2 base = quad * 2;
+    int f = int(pc.lowRes.x);
+    ivec2 low = ivec2(pc.lowRes.yz);
+    // llvmpipe runs 8 invocations of a group row as one SIMD batch, which runs the edge pixels'
+    // code (the tap fit's second half, the sharing) whenever one of its lanes needs it: each
+    // batch takes a 4x2 tile of the group's 8x8 blocks (16x8 pixels) instead of a row (32x4),
+    // which crosses fewer edges (upsample -20%).
+    uint lane = gl_LocalInvocationIndex;
+    ivec2 block = ivec2(gl_WorkGroupID.xy) * 8 +
+                  ivec2((lane & 3u) | ((lane >> 1u) & 4u), ((lane >> 2u) & 1u) | ((lane >> 3u) & 6u));
+    ivec2 base = vctRefineBlockOrigin(block, f);
     bool glossyImage = (pc.cones.info.y & GI_VCT_FLAG_GLOSSY_IMAGE) != 0u;
     if (any(greaterThanEqual(base, full)))
         return;
-    if (quad == ivec2(0)) {
-        refineGroups[1] = 1u;
-        refineGroups[2] = 1u;
-    }
-    vec4 pos[4];
-    vec3 nrm[4];
-    bool refined[4] = bool[4](false, false, false, false);
-    uint serves[4] = uint[4](0u, 0u, 0u, 0u); // per quad pixel k: the quad pixels its trace writes
-    for (int k = 0; k < 4; ++k) {
-        ivec2 px = base + ivec2(k & 1, k >> 1);
-        pos[k] = vec4(0.0);
-        nrm[k] = vec3(0.0, 0.0, 1.0);
-        if (any(greaterThanEqual(px, full)))
-            continue; // outside the image (odd sizes)
-        pos[k] = imageLoad(gPosition, px);
-        if (pos[k].w == 0.0) {
+    // The taps' G-buffer samples and low-res values: at f = 4 the block's pixels share their
+    // cell (vctRefineBlockOrigin), loaded once; else each pixel loads its own. (llvmpipe runs
+    // both sides of a branch that differs between SIMD lanes, masked; a branch on f is uniform.)
+    bool sharedCell = f == 4;
+    vec4 q[4];
+    vec3 nq[4];
+    vec4 li[4], lg[4];
+    if (sharedCell)
+        loadTaps(base + 2, f, low, full, glossyImage, q, nq, li, lg);
+    // The block's first kSlots traced pixels: position, normal, index in the block, pixels
+    // served (indexed in loops of constant length, so they stay in registers; a traced pixel
+    // beyond them, rare, serves only itself).
+    vec4 leadPos[kSlots];
+    vec3 leadNrm[kSlots];
+    uint leadK[kSlots];
+    uint leadServes[kSlots];
+    int leaders = 0;
+    uint alone = 0u; // traced pixels beyond the slots
+    for (int s = 0; s < 16; ++s) {
+        uint k = vctRefineOrder(s);
+        ivec2 px = base + ivec2(k & 3u, k >> 2);
+        if (any(lessThan(px, ivec2(0))) || any(greaterThanEqual(px, full)))
+            continue; // outside the image (the first blocks and odd sizes)
+        vec4 pos = imageLoad(gPosition, px);
+        if (pos.w == 0.0) {
             imageStore(outIndirect, px, vec4(0.0, 0.0, 0.0, 1.0));
             if (glossyImage)
                 imageStore(outGlossy, px, vec4(0.0));
             continue;
         }
-        nrm[k] = normalize(imageLoad(gNormal, px).xyz);
+        vec3 n = normalize(imageLoad(gNormal, px).xyz);
         ivec2 taps[4];
         vec4 w;
-        refined[k] = vctRefines(px, pos[k], nrm[k], taps, w);
+        lowResTapCell(px, f, low, taps, w);
+        if (!sharedCell)
+            loadTaps(px, f, low, full, glossyImage, q, nq, li, lg);
+        float depth = distance(pos.xyz, pc.eye.xyz);
+        bool refined = lowResFitTapsAt(pos.xyz, n, depth, pc.eye.w, pc.grid.originSize.w, kUpsampleReach, q, nq, w);
         // Refined pixels get these too, overwritten by the refine trace.
-        vec4 indirect = vec4(0.0);
-        for (int j = 0; j < 4; ++j)
-            indirect += w[j] * imageLoad(lowIndirect, taps[j]);
-        imageStore(outIndirect, px, indirect);
-        if (glossyImage) {
-            vec4 glossy = vec4(0.0);
-            for (int j = 0; j < 4; ++j)
-                glossy += w[j] * imageLoad(lowGlossy, taps[j]);
-            imageStore(outGlossy, px, glossy);
-        }
-        if (!refined[k])
+        imageStore(outIndirect, px, w[0] * li[0] + w[1] * li[1] + w[2] * li[2] + w[3] * li[3]);
+        if (glossyImage)
+            imageStore(outGlossy, px, w[0] * lg[0] + w[1] * lg[1] + w[2] * lg[2] + w[3] * lg[3]);
+        if (!refined)
             continue;
-        // In quad order: the first traced pixel before k on the same spot serves k, else k is traced.
-        int leader = k;
-        for (int j = k - 1; j >= 0; --j)
-            if (serves[j] != 0u && vctSameSpot(pos[k], nrm[k], pos[j], nrm[j]))
-                leader = j;
-        serves[leader] |= 1u << uint(k);
+        // In block order: the first traced pixel before this one on the same spot serves it,
+        // else it is traced.
+        bool served = false;
+        for (int j = 0; j < kSlots; ++j) {
+            if (!served && j < leaders && vctSameSpot(pos, n, leadPos[j], leadNrm[j])) {
+                leadServes[j] |= 1u << k;
+                served = true;
+            }
+        }
+        if (served)
+            continue;
+        if (leaders == kSlots) {
+            alone |= 1u << k;
+            continue;
+        }
+        for (int j = 0; j < kSlots; ++j) {
+            if (j == leaders) {
+                leadPos[j] = pos;
+                leadNrm[j] = n;
+                leadK[j] = k;
+                leadServes[j] = 1u << k;
+            }
+        }
+        ++leaders;
     }
-    uint traced = 0u;
-    for (int k = 0; k < 4; ++k)
-        traced += serves[k] != 0u ? 1u : 0u;
-    if (traced == 0u)
+    if (leaders == 0)
         return;
-    uint slot = atomicAdd(refineCount, traced);
-    for (int k = 0; k < 4; ++k) {
-        if (serves[k] == 0u)
-            continue;
-        if (slot < pc.lowRes.w) {
-            refineEntries[slot] = vctRefineEntry(quad, uint(k), serves[k]);
-            if (slot % GI_VCT_REFINE_GROUP == 0u)
-                atomicAdd(refineGroups[0], 1u); // x = ceil(listed / group)
-        }
-        ++slot;
+    uint slot = atomicAdd(refineCount, uint(leaders) + uint(bitCount(alone)));
+    for (int j = 0; j < kSlots; ++j)
+        if (j < leaders)
+            listEntry(slot + uint(j), vctRefineEntry(base, leadK[j], leadServes[j]));
+    slot += uint(leaders);
+    for (; alone != 0u; alone &= alone - 1u) {
+        uint k = uint(findLSB(alone));
+        listEntry(slot++, vctRefineEntry(base, k, 1u << k));
     }
 }

@@ -59,8 +59,7 @@ bool lowResTaps(ivec2 px, vec3 position, vec3 n, float depth, int f, ivec2 low, 
 //
 // lowResTapCell gives the taps (low-res texels i0 + (k & 1, k >> 1)) and the bilinear weights;
 // lowResFitTapsAt decides from the taps' G-buffer samples (q = position, nq = normal), which
-// the caller may have loaded once for several pixels with the same taps; lowResFitTaps loads
-// them itself.
+// the caller loads once for all pixels with the same taps (at f = 4 a 4x4 block of pixels).
 void lowResTapCell(ivec2 px, int f, ivec2 low, out ivec2 taps[4], out vec4 weights) {
     vec2 c = (vec2(px) - float(f / 2)) / float(f);
     ivec2 i0 = ivec2(floor(c));
@@ -106,18 +105,6 @@ bool lowResFitTapsAt(vec3 position, vec3 n, float depth, float threshold, float 
     return false;
 }
 
-bool lowResFitTaps(ivec2 px, vec3 position, vec3 n, float depth, int f, ivec2 low, ivec2 full, float threshold,
-                   float voxel, float reach, out ivec2 taps[4], out vec4 weights) {
-    lowResTapCell(px, f, low, taps, weights);
-    vec4 q[4];
-    vec3 nq[4];
-    for (int k = 0; k < 4; ++k) {
-        ivec2 s = lowResSource(taps[k], f, full);
-        q[k] = GI_LOWRES_GBUFFER_FETCH(gPosition, s);
-        nq[k] = GI_LOWRES_GBUFFER_FETCH(gNormal, s).xyz;
-    }
-    return lowResFitTapsAt(position, n, depth, threshold, voxel, reach, q, nq, weights);
-}
 #endif
 
 #endif
