@@ -297,13 +297,13 @@ rg::PersistentBuffer& VctVolumes::bounceResultsState() {
 
 void VctVolumes::recordClearBounceJobs(VkCommandBuffer cmd, VkBuffer jobs) const {
     // Header: the gathers' dispatch (x = 0, one work-group row per class), the misfits' (x = 0),
-    // zero counts; then every block's class mask 0 and the misfit bits 0 (gi/voxel_passes.h).
+    // zero counts; then every block's class mask, the misfit bits and the sums 0 (gi/voxel_passes.h).
     uint32_t header[GI_BOUNCE_HEADER] = {0u, GI_BOUNCE_CLASSES, 1u, 0u, 0u, 1u, 1u, 0u};
     vkCmdUpdateBuffer(cmd, jobs, 0, sizeof(header), header);
     uint32_t n = m_grid.resolution();
     vkCmdFillBuffer(cmd, jobs, sizeof(header), VkDeviceSize(gpu::bounceBlockCount(n)) * sizeof(uint32_t), 0);
     vkCmdFillBuffer(cmd, jobs, sizeof(header) + VkDeviceSize(gpu::bounceMisfitBitsOffset(n)) * sizeof(uint32_t),
-                    VkDeviceSize(n) * n * n / 32 * sizeof(uint32_t), 0);
+                    VkDeviceSize(n * n * n / 32 + gpu::bounceGeometryWords(n)) * sizeof(uint32_t), 0);
 }
 
 void VctVolumes::recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& cones, VkBuffer jobs,

@@ -23,9 +23,10 @@ uint voxelNormalClass(ivec3 v) {
 
 // Voxel c's unit normal and class; false when it has none: empty, or its faces' normals cancel
 // (decoded |n| < 1/2, e.g. both sides of a thin wall): no hemisphere to gather over.
-bool voxelNormalOf(ivec3 c, out vec3 normal, out uint k) {
+// v: the normal's integers (voxelNormalInt).
+bool voxelNormalOf(ivec3 c, out vec3 normal, out uint k, out ivec3 v) {
     vec4 e = imageLoad(normalVol, c);
-    ivec3 v = voxelNormalInt(e);
+    v = voxelNormalInt(e);
     normal = vec3(v) / 255.0;
     k = 0u;
     if (e.a == 0.0 || 4 * (v.x * v.x + v.y * v.y + v.z * v.z) < 255 * 255)
@@ -33,6 +34,30 @@ bool voxelNormalOf(ivec3 c, out vec3 normal, out uint k) {
     normal = normalize(normal);
     k = voxelNormalClass(v);
     return true;
+}
+bool voxelNormalOf(ivec3 c, out vec3 normal, out uint k) {
+    ivec3 v;
+    return voxelNormalOf(c, normal, k, v);
+}
+
+// The stored normal's bytes as one uint (r | g << 8 | b << 16), and back to voxelNormalOf's
+// normal (the same arithmetic: the same bits).
+uint voxelNormalBytes(ivec3 v) {
+    uvec3 b = uvec3((v + 255) >> 1);
+    return b.x | (b.y << 8u) | (b.z << 16u);
+}
+vec3 voxelNormalFromBytes(uint b) {
+    ivec3 v = 2 * ivec3(b & 255u, (b >> 8u) & 255u, b >> 16u) - 255;
+    return normalize(vec3(v) / 255.0);
+}
+
+// Floats as uints of the same order (for atomicMax), and back.
+uint orderedFromFloat(float f) {
+    uint u = floatBitsToUint(f);
+    return (u & 0x80000000u) != 0u ? ~u : u | 0x80000000u;
+}
+float floatFromOrdered(uint u) {
+    return uintBitsToFloat((u & 0x80000000u) != 0u ? u & 0x7FFFFFFFu : ~u);
 }
 
 // Occupied-list helpers (the includer declares that list's words after its header as `entries`

@@ -44,7 +44,20 @@ void main() {
     vec3 sumPosition = vec3(0.0), sumNormal = vec3(0.0), first = vec3(0.0);
     float count = 0.0, highest = -1e30;
     bool same = true;
-    for (int s = 0; s < sub * sub * sub; ++s) {
+    // The sums the job listing added (gi/voxel_passes.h) when all the class's voxels store the
+    // same normal (its largest and smallest normal bytes agree): the values the loop below
+    // finds, bit for bit (integer sums below 2^24 are exact in floats in any order).
+    uint record = bounceGeometryOffset(n) + GI_BOUNCE_GEOMETRY * (GI_BOUNCE_CLASSES * b + cls);
+    bool summed = words[record + 2u] == ~words[record + 3u];
+    if (summed) {
+        uint counted = words[record] & 1023u;
+        uvec3 offsets = uvec3(words[record] >> 10u, words[record + 1u] & 0xFFFFu, words[record + 1u] >> 16u);
+        count = float(counted);
+        sumPosition = vec3(uvec3(q) * bounceBlockSide(n) * counted + offsets);
+        first = voxelNormalFromBytes(words[record + 2u]);
+        highest = floatFromOrdered(words[record + 4u]);
+    }
+    for (int s = 0; s < sub * sub * sub && !summed; ++s) {
         ivec3 q4 = bounceSubBlock(q, s, sub);
         if (!coarseOccupied(q4, n))
             continue;

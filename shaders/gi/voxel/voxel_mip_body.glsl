@@ -36,19 +36,86 @@ layout(set = 1, binding = 4, std430) buffer Jobs { uint jobHeader[GI_BOUNCE_HEAD
 // first appends the (bounce block, class) job to that class's list. The order within a list
 // follows the scheduling; each gather depends only on its block and class and stores its result
 // at them, so the images do not. (A pass of its own over the 4^3 blocks took ~0.5 ms at 64^3.)
+// It also adds the voxels to their (bounce block, class)'s sums, which spare most gathers their
+// loops over the block's voxels (voxel_bounce.comp).
+// The sums of the voxels of one class in a bounce block (gi/voxel_passes.h) gain those of
+// `count` voxels: integer adds and maxima, so they do not depend on the order. The largest
+// dot(c, normal) uses `first`, the normal of one of them: it is read only when every voxel of
+// the class stores the same normal.
+void addSums(uint record, uint count, uvec3 offsets, uint largest, uint smallest, uint highest) {
+    atomicAdd(words[record], count | (offsets.x << 10u));
+    atomicAdd(words[record + 1u], offsets.y | (offsets.z << 16u));
+    atomicMax(words[record + 2u], largest);
+    atomicMax(words[record + 3u], ~smallest);
+    atomicMax(words[record + 4u], highest);
+}
+
 void appendJobs(ivec3 c, uint n) {
-    uint mask = 0u;
-    [[unroll]] for (int i = 0; i < 8; ++i) {
-        vec3 normal;
-        uint k;
-        if (voxelNormalOf(2 * c + ivec3(i & 1, (i >> 1) & 1, i >> 2), normal, k))
-            mask |= 1u << k;
-    }
-    if (mask == 0u)
-        return;
     uint side = n / bounceBlockSide(n);
     uvec3 q = uvec3(2 * c) / bounceBlockSide(n);
     uint b = q.x + side * (q.y + side * q.z);
+    uint records = bounceGeometryOffset(n) + GI_BOUNCE_GEOMETRY * GI_BOUNCE_CLASSES * b;
+    uvec3 origin = q * bounceBlockSide(n);
+    // The eight voxels; the class of the first with a normal gathers the others of its class
+    // (usually all) into one set of sums, any other voxel adds its own.
+    bool has[8];
+    uint classes[8], bytes[8];
+    uint mask = 0u, first = ~0u, firstBytes = 0u;
+    [[unroll]] for (int i = 0; i < 8; ++i) {
+        vec3 normal;
+        ivec3 v;
+        has[i] = voxelNormalOf(2 * c + ivec3(i & 1, (i >> 1) & 1, i >> 2), normal, classes[i], v);
+        bytes[i] = voxelNormalBytes(v);
+        if (has[i]) {
+            mask |= 1u << classes[i];
+            if (first == ~0u) {
+                first = classes[i];
+                firstBytes = bytes[i];
+            }
+        }
+    }
+    if (mask == 0u)
+        return;
+    vec3 firstNormal = voxelNormalFromBytes(firstBytes);
+    uint count = 0u, largest = 0u, smallest = ~0u, highest = 0u;
+    uvec3 offsets = uvec3(0u);
+    [[unroll]] for (int i = 0; i < 8; ++i) {
+        ivec3 p = 2 * c + ivec3(i & 1, (i >> 1) & 1, i >> 2);
+        if (has[i] && classes[i] == first) {
+            count += 1u;
+            offsets += uvec3(p) - origin;
+            largest = max(largest, bytes[i]);
+            smallest = min(smallest, bytes[i]);
+            highest = max(highest, orderedFromFloat(dot(vec3(p), firstNormal)));
+        }
+    }
+    // Neighbouring listed blocks mostly share their bounce block and class: one set of atomics
+    // per subgroup and record (integer sums: the same result).
+    uint record = records + GI_BOUNCE_GEOMETRY * first;
+    for (;;) {
+        uint leader = subgroupBroadcastFirst(record);
+        if (record == leader) {
+            uint packed0 = subgroupAdd(count | (offsets.x << 10u));
+            uint packed1 = subgroupAdd(offsets.y | (offsets.z << 16u));
+            largest = subgroupMax(largest);
+            smallest = subgroupMin(smallest);
+            highest = subgroupMax(highest);
+            if (subgroupElect()) {
+                atomicAdd(words[record], packed0);
+                atomicAdd(words[record + 1u], packed1);
+                atomicMax(words[record + 2u], largest);
+                atomicMax(words[record + 3u], ~smallest);
+                atomicMax(words[record + 4u], highest);
+            }
+            break;
+        }
+    }
+    [[unroll]] for (int i = 0; i < 8; ++i) {
+        ivec3 p = 2 * c + ivec3(i & 1, (i >> 1) & 1, i >> 2);
+        if (has[i] && classes[i] != first)
+            addSums(records + GI_BOUNCE_GEOMETRY * classes[i], 1u, uvec3(p) - origin, bytes[i], bytes[i],
+                    orderedFromFloat(dot(vec3(p), voxelNormalFromBytes(bytes[i]))));
+    }
     uint fresh = mask & ~atomicOr(words[b], mask);
     while (fresh != 0u) {
         uint k = uint(findLSB(fresh));

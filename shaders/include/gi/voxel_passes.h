@@ -146,7 +146,12 @@ GI_GPU_STRUCT(ConeParams) {
 //   then (words after the header, offsets below) per block (x + Q (y + Q z), Q = N / side) the
 //   26-bit mask of the classes present; the jobs of class k (block index each) from
 //   k * Q^3 on; the misfit voxels, voxelListPack each; one misfit bit per voxel, two words
-//   per 4^3 block (bounceMisfitBit), zeroed by the job pass, set by the gathers, read by the apply.
+//   per 4^3 block (bounceMisfitBit), zeroed by the clear, set by the gathers, read by the apply;
+//   per (block b, class k) at bounceGeometryOffset + GI_BOUNCE_GEOMETRY (26 b + k) the sums over
+//   the class's voxels that the job listing adds (voxel_mip_body.glsl) and the gathers read:
+//   count | (sum of x - block x) << 10, (sum of y - block y) | (sum of z - block z) << 16, the
+//   largest and the complement of the smallest of their normals' bytes (voxelNormalBytes: equal
+//   when all store the same normal), the largest dot(c, normal) (orderedFromFloat).
 // Only the header is cleared; the masks and misfit bits of all blocks are written, the rest
 // before it is read.
 // The gathers' results go to a second buffer (one storage buffer of both would exceed
@@ -173,8 +178,11 @@ GI_INLINE uvec2 bounceMisfitBit(uvec3 c, uint n) {
     uint v = (c.x & 3u) + 4u * (c.y & 3u) + 16u * (c.z & 3u);
     return uvec2(2u * b4 + (v >> 5u), v & 31u);
 }
+#define GI_BOUNCE_GEOMETRY 5u // words per (block, class) of the sums over its voxels
+GI_INLINE uint bounceGeometryOffset(uint n) { return bounceMisfitBitsOffset(n) + n * n * n / 32u; }
+GI_INLINE uint bounceGeometryWords(uint n) { return GI_BOUNCE_GEOMETRY * GI_BOUNCE_CLASSES * bounceBlockCount(n); }
 // Words after the header (misfits: at most every voxel; misfit bits: one per voxel).
-GI_INLINE uint bounceJobWords(uint n) { return bounceMisfitBitsOffset(n) + n * n * n / 32u; }
+GI_INLINE uint bounceJobWords(uint n) { return bounceGeometryOffset(n) + bounceGeometryWords(n); }
 GI_INLINE uint bounceResultWords(uint n) { return 2u * GI_BOUNCE_CLASSES * bounceBlockCount(n); }
 
 // voxel_bounce*.comp: the grid and the diffuse cones.
