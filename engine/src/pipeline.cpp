@@ -339,8 +339,12 @@ void pushDescriptors(const Context& ctx, VkCommandBuffer cmd, const Pipeline& p,
         w.descriptorCount = 1;
         w.descriptorType = b->type;
         bool isBuffer = b->type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        bool isTexelBuffer =
+            b->type == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER || b->type == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
         if (isBuffer)
             w.pBufferInfo = &it.buffer;
+        else if (isTexelBuffer)
+            w.pTexelBufferView = &it.texelBuffer;
         else
             w.pImageInfo = &it.image;
         writes.push_back(w);

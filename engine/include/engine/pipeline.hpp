@@ -90,6 +90,7 @@ struct DescriptorItem {
     uint32_t binding = 0;
     VkDescriptorImageInfo image{};
     VkDescriptorBufferInfo buffer{};
+    VkBufferView texelBuffer = VK_NULL_HANDLE; // uniform or storage texel buffer bindings
 };
 // Pushes set 1 for the bound pipeline; every binding the shaders declare in set 1 must be
 // given exactly once (checked: a missing or unknown binding is a fatal programming error).

@@ -102,9 +102,18 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     BufferDesc list;
     // Header, voxel and block slots, the voxels' and blocks' "listed" bits, the 4^3 blocks' bits.
     list.size = VkDeviceSize(GI_VOXEL_LIST_HEADER + gpu::voxelListWords(n)) * sizeof(uint32_t);
-    list.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                 VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    list.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT |
+                 VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     v->m_list.buffer = createBuffer(ctx, list, "vct.voxel_list");
+    // The hard voxel-light march reads the list's occupancy bits through an R32_UINT storage texel
+    // buffer: lavapipe loads a texel per lane without the per-lane branches of an SSBO load
+    // (voxel_light_body.glsl). 4 (N^3 + ...) bytes: 78 MB at 256^3, within lavapipe's 2^27 texels.
+    VkBufferViewCreateInfo words{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    words.buffer = v->m_list.buffer.buffer;
+    words.format = VK_FORMAT_R32_UINT;
+    words.offset = 0;
+    words.range = VK_WHOLE_SIZE;
+    VK_CHECK(vkCreateBufferView(ctx.device(), &words, nullptr, &v->m_listWords));
     ImageDesc written;
     written.type = VK_IMAGE_TYPE_3D;
     written.format = VK_FORMAT_R8_UINT;
@@ -130,6 +139,8 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
 }
 
 VctVolumes::~VctVolumes() {
+    if (m_listWords)
+        vkDestroyBufferView(m_ctx.device(), m_listWords, nullptr);
     destroyBuffer(m_ctx, m_list.buffer);
     destroyBuffer(m_ctx, m_writtenBits.buffer);
     destroyImage(m_ctx, m_written.image);
@@ -228,12 +239,22 @@ void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t ligh
         return;
     }
     // The soft march filters the occupancy (sampler); the hard one loads texels (storage image).
-    bool soft = mode == GI_VCT_OCCLUSION_SOFT;
-    dispatchIndirect(m_ctx, cmd, soft ? m_lightSoft : m_light, push,
-                     {lightItem, storage(3, g.emission.image.view),
-                      soft ? sampled(4, g.albedo.image, m_occupancySampler, sampledLayout) : storage(4, g.albedo.image.view),
+    if (mode == GI_VCT_OCCLUSION_SOFT) {
+        dispatchIndirect(m_ctx, cmd, m_lightSoft, push,
+                         {lightItem, storage(3, g.emission.image.view),
+                          sampled(4, g.albedo.image, m_occupancySampler, sampledLayout),
+                          storage(5, m_aniso.image.mipViews[0]), bufferItem(6, m_list.buffer.buffer),
+                          storage(10, g.faces.image.view), storage(11, m_written.image.view)},
+                         m_list.buffer.buffer);
+        return;
+    }
+    DescriptorItem listWords;
+    listWords.binding = 12;
+    listWords.texelBuffer = m_listWords;
+    dispatchIndirect(m_ctx, cmd, m_light, push,
+                     {lightItem, storage(3, g.emission.image.view), storage(4, g.albedo.image.view),
                       storage(5, m_aniso.image.mipViews[0]), bufferItem(6, m_list.buffer.buffer),
-                      storage(10, g.faces.image.view), storage(11, m_written.image.view)},
+                      storage(10, g.faces.image.view), storage(11, m_written.image.view), listWords},
                      m_list.buffer.buffer);
 }
 

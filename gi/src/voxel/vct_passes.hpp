@@ -145,6 +145,7 @@ private:
     const VoxelGrid& m_grid;
     rg::PersistentImage m_aniso;
     rg::PersistentBuffer m_list;
+    VkBufferView m_listWords = VK_NULL_HANDLE; // m_list as R32_UINT texels (the hard voxel-light march)
     rg::PersistentBuffer m_jobBuffer, m_resultBuffer;
     rg::PersistentImage m_written;
     rg::PersistentBuffer m_writtenBits;

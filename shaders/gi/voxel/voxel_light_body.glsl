@@ -35,6 +35,12 @@ layout(set = 1, binding = 5, rgba16f) uniform writeonly image2DArray anisoOut; /
 layout(set = 1, binding = 6, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint voxels[]; };
 layout(set = 1, binding = 10, r32ui) uniform readonly uimage3D facesVol;
 layout(set = 1, binding = 11, r8ui) uniform uimage3D writtenVol; // the axes stored last time (voxel_passes.h)
+#if !defined(GI_VOXEL_LIGHT_SOFT) && !defined(GI_VOXEL_LIGHT_SHADOW_MAP)
+// The list buffer (binding 6) again, as R32_UINT texels, for the hard march's occupancy bits:
+// lavapipe loads an SSBO word per lane in a loop with a branch each, a texel without (one more
+// load per march step cost ~1.1 ms as an SSBO word, ~0.5 ms as a 3D image texel, Cornell 64^3).
+layout(set = 1, binding = 12, r32ui) uniform readonly uimageBuffer listWords;
+#endif
 #ifdef GI_VOXEL_LIGHT_SHADOW_MAP
 layout(set = 1, binding = 7, std430) readonly buffer LightShadows { GpuLightShadow lightShadows[]; };
 layout(set = 1, binding = 8, std430) readonly buffer ShadowViews { GpuShadowView shadowViews[]; };
@@ -73,6 +79,7 @@ const float kShadowStep = 0.5;
 // itself and its neighbours in the same wall do not shadow it.
 const float kShadowStart = 1.0;
 
+#ifndef GI_VOXEL_LIGHT_SHADOW_MAP
 #ifndef GI_VOXEL_LIGHT_SOFT
 // The plain march's stop rule at sample t: at or past the light, out of the grid (floor as an
 // unsigned: q < 0 wraps to a huge value) or in the light's voxel.
@@ -109,7 +116,7 @@ float visibility(vec3 p, vec3 dir, float tMax) {
     // iteration costs the same whatever it does (lavapipe runs both sides of a branch), so the
     // per-ray work is done once before the loop and the loop tests nothing else per sample.
     uint res = pc.grid.dims.x, log2Res = pc.grid.dims.y, log2Quarter = log2Res - 2u;
-    uint bits = voxelListBitsOffset(res), coarseBits = voxelListCoarseBitsOffset(res);
+    uint bits = GI_VOXEL_LIST_HEADER + voxelListBitsOffset(res), coarseBits = GI_VOXEL_LIST_HEADER + voxelListCoarseBitsOffset(res);
     // 1 / dir, a near-zero component (which never reaches a plane) a huge t of its own sign.
     bvec3 up = greaterThanEqual(dir, vec3(0.0));
     vec3 invDir = mix(vec3(1.0) / dir, mix(vec3(-1e30), vec3(1e30), up), lessThan(abs(dir), vec3(1e-20)));
@@ -127,17 +134,19 @@ float visibility(vec3 p, vec3 dir, float tMax) {
         tEnd -= kShadowStep;
     while (!marchStops(p, dir, tEnd, tMax, lightVoxel, res))
         tEnd += kShadowStep;
-    // In an empty 4^3 block the march jumps to its last sample whose exact position lies at
-    // least kSkipMargin inside the block's exit planes: t = (4 b + exitOffset) / dir per axis.
+    // In an empty 4^3 block (and, inside an occupied one, in an empty voxel) the march jumps to
+    // its last sample whose exact position lies at least kSkipMargin inside the block's (voxel's)
+    // exit planes: t = (4 b + exitOffset) / dir per axis.
     // Rounding moves the computed positions and exit times by < 1e-3 voxels (t < 2^10,
     // N <= 256), so that sample's computed position lies in the block, and by monotonicity so do the
     // samples jumped over: the samples tested are exactly those the plain march finds occupied
     // or not, and the result is the same (the light's block too: no sample before tMax leaves it).
     const float kSkipMargin = 1.0 / 64.0;
     vec3 exitT = (mix(vec3(kSkipMargin), vec3(4.0 - kSkipMargin), up) - p) * invDir;
-    // One load per iteration (each costs a quarter of one): a sample outside the block last
-    // found occupied reads its block's bit; if set, the block is remembered and the same sample
-    // runs again reading its voxel's bit, as do the following samples inside that block.
+    vec3 exitVoxelT = (mix(vec3(kSkipMargin), vec3(1.0 - kSkipMargin), up) - p) * invDir;
+    // One load per iteration: a sample outside the block last found occupied reads its block's
+    // bit; if set, the block is remembered and the same sample runs again reading its voxel's
+    // bit, as do the following samples inside that block (one per voxel crossed).
     uint knownCoarse = ~0u;
     for (float t = kShadowStart; t < tEnd; t += kShadowStep) {
         // Samples before tEnd lie in the grid (q >= 0): truncation is floor.
@@ -147,18 +156,19 @@ float visibility(vec3 p, vec3 dir, float tMax) {
         uint i = v.x | (v.y << log2Res) | (v.z << (2u * log2Res));
         bool fine = coarse == knownCoarse;
         uint bit = fine ? i : coarse;
-        bool set = (voxels[(fine ? bits : coarseBits) + (bit >> 5u)] & (1u << (bit & 31u))) != 0u;
+        bool set = (imageLoad(listWords, int((fine ? bits : coarseBits) + (bit >> 5u))).x & (1u << (bit & 31u))) != 0u;
         if (fine && set)
             return 0.0;
-        vec3 tAxis = vec3(b << 2u) * invDir + exitT;
+        vec3 tAxis = vec3(fine ? v : b << 2u) * invDir + (fine ? exitVoxelT : exitT);
         float tExit = min(tAxis.x, min(tAxis.y, tAxis.z));
         float tSkip = max(t, t + floor((tExit - t) / kShadowStep) * kShadowStep);
         knownCoarse = set ? coarse : knownCoarse;
-        t = fine ? t : (set ? t - kShadowStep : tSkip);
+        t = !fine && set ? t - kShadowStep : tSkip;
     }
     return 1.0;
 #endif
 }
+#endif
 
 // Irradiance (rgb) of a surface with unit normal `normal` at voxel centre pGrid / pWorld.
 vec3 irradianceAt(vec3 pGrid, vec3 pWorld, vec3 normal) {
@@ -212,11 +222,7 @@ void storeView(ivec3 c, uint v, vec3 faceRadiance, float front, float axisCover,
     // Half-float ceiling: radianceScale maps the brightest light to GI_VOXEL_RADIANCE_TARGET,
     // 16x below it; clamping keeps the volume finite whatever happens.
     vec3 rgb = min(faceRadiance, vec3(65000.0)) * (alpha * shown);
-    // A view the voxel's sheets are edge-on to (alpha 0) stays (0, 0): it depends on the
-    // faces alone, so it was zeroed when the faces changed (or by the first clear). Skipping
-    // its store saves four of six scattered half-float stores for a flat wall.
-    if (((axes | before) & (1u << k)) != 0u)
-        imageStore(anisoOut, voxelAnisoTexel(c, v, pc.grid.dims.x), (axes & (1u << k)) != 0u ? vec4(rgb, alpha) : vec4(0.0));
+    imageStore(anisoOut, voxelAnisoTexel(c, v, pc.grid.dims.x), (axes & (1u << k)) != 0u ? vec4(rgb, alpha) : vec4(0.0));
 }
 
 void main() {
@@ -279,10 +285,19 @@ void main() {
     uint axes = voxelViewAxes(faces), before = imageLoad(writtenVol, c).x;
     if (before != axes)
         imageStore(writtenVol, c, uvec4(axes));
-    storeView(c, 0u, r1, coverNeg.x, axisCover.x, maxCover, axes, before);
-    storeView(c, 1u, r0, coverPos.x, axisCover.x, maxCover, axes, before);
-    storeView(c, 2u, r3, coverNeg.y, axisCover.y, maxCover, axes, before);
-    storeView(c, 3u, r2, coverPos.y, axisCover.y, maxCover, axes, before);
-    storeView(c, 4u, r5, coverNeg.z, axisCover.z, maxCover, axes, before);
-    storeView(c, 5u, r4, coverPos.z, axisCover.z, maxCover, axes, before);
+    // A view the voxel's sheets are edge-on to (alpha 0) stays (0, 0): it depends on the
+    // faces alone, so it was zeroed when the faces changed (or by the first clear). The axes
+    // stored run one loop iteration each (two views): one for a flat wall, where six masked
+    // stores (llvmpipe runs a store for the batch whatever its mask) ran for every voxel.
+    uint storeAxes = axes | before;
+    while (storeAxes != 0u) {
+        uint k = uint(findLSB(storeAxes));
+        storeAxes &= storeAxes - 1u;
+        float pk = k == 0u ? coverPos.x : (k == 1u ? coverPos.y : coverPos.z);
+        float nk = k == 0u ? coverNeg.x : (k == 1u ? coverNeg.y : coverNeg.z);
+        float ak = k == 0u ? axisCover.x : (k == 1u ? axisCover.y : axisCover.z);
+        vec3 rPos = k == 0u ? r0 : (k == 1u ? r2 : r4), rNeg = k == 0u ? r1 : (k == 1u ? r3 : r5);
+        storeView(c, 2u * k, rNeg, nk, ak, maxCover, axes, before);
+        storeView(c, 2u * k + 1u, rPos, pk, ak, maxCover, axes, before);
+    }
 }
