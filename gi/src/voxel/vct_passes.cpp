@@ -395,7 +395,7 @@ void VctVolumes::recordUpsample(VkCommandBuffer cmd, const gpu::VctTracePush& pu
     dispatch(m_ctx, cmd, m_upsample, push,
              {storage(0, t.position->view), storage(1, t.normal->view), storage(2, lowIndirect.view),
               storage(3, lowGlossy.view), storage(4, t.indirect->view), storage(5, t.glossy->view),
-              bufferItem(6, t.refineList)},
+              bufferItem(6, t.refineList), storage(7, t.albedo->view)},
              glm::uvec3(blocks(push.cones.info.z), blocks(push.cones.info.w), 1u));
 }
 

@@ -535,6 +535,7 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, VctOutput
         [&](rg::PassBuilder& b, UpsampleData& d) {
             b.read(g.position, Access::ComputeStorageRead);
             b.read(g.normal, Access::ComputeStorageRead);
+            b.read(g.albedo, Access::ComputeStorageRead);
             b.read(data.indirect, Access::ComputeStorageRead);
             b.read(data.glossy, Access::ComputeStorageRead);
             ImageDesc desc = image(g.width, g.height);
@@ -543,7 +544,7 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, VctVolumes& volumes, VctOutput
             d.list = b.write(data.list, Access::ComputeStorageReadWrite);
         },
         [v, push, g, low = data](const UpsampleData& d, rg::PassContext& ctx) {
-            VctTraceTargets t{&ctx.image(g.position), &ctx.image(g.normal),   nullptr,
+            VctTraceTargets t{&ctx.image(g.position), &ctx.image(g.normal),   &ctx.image(g.albedo),
                               &ctx.image(d.indirect), &ctx.image(d.glossy), ctx.buffer(d.list).buffer};
             v->recordUpsample(ctx.cmd(), push, ctx.image(low.indirect), ctx.image(low.glossy), t);
         });

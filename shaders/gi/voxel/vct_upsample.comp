@@ -25,6 +25,7 @@ layout(set = 1, binding = 2, rgba32f) uniform readonly image2D lowIndirect;
 layout(set = 1, binding = 3, rgba32f) uniform readonly image2D lowGlossy;
 layout(set = 1, binding = 4, rgba32f) uniform writeonly image2D outIndirect;
 layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D outGlossy;
+layout(set = 1, binding = 7, rgba16f) uniform readonly image2D gAlbedo; // w = metallic
 layout(set = 1, binding = 6, std430) buffer RefineList {
     uint refineCount;
     uint refineGroups[3]; // VkDispatchIndirectCommand of vct_trace_refine.comp ({0, 1, 1} before: vct_trace.comp)
@@ -48,9 +49,9 @@ void listEntry(uint slot, uvec2 entry) {
         atomicAdd(refineGroups[0], 1u); // x = ceil(listed / group)
 }
 
-// The G-buffer samples (q, nq) and low-res indirect and glossy values (li, lg) of pixel px's taps.
-void loadTaps(ivec2 px, int f, ivec2 low, ivec2 full, bool glossyImage, out vec4 q[4], out vec3 nq[4], out vec4 li[4],
-              out vec4 lg[4]) {
+// The G-buffer samples (q, nq, qa) and low-res indirect and glossy values (li, lg) of pixel px's taps.
+void loadTaps(ivec2 px, int f, ivec2 low, ivec2 full, bool glossyImage, out vec4 q[4], out vec3 nq[4], out vec4 qa[4],
+              out vec4 li[4], out vec4 lg[4]) {
     ivec2 taps[4];
     vec4 unused;
     lowResTapCell(px, f, low, taps, unused);
@@ -58,6 +59,7 @@ void loadTaps(ivec2 px, int f, ivec2 low, ivec2 full, bool glossyImage, out vec4
         ivec2 src = lowResSource(taps[j], f, full);
         q[j] = imageLoad(gPosition, src);
         nq[j] = imageLoad(gNormal, src).xyz;
+        qa[j] = imageLoad(gAlbedo, src);
         li[j] = imageLoad(lowIndirect, taps[j]);
         lg[j] = glossyImage ? imageLoad(lowGlossy, taps[j]) : vec4(0.0);
     }
@@ -84,9 +86,10 @@ void main() {
     bool sharedCell = f == 4;
     vec4 q[4];
     vec3 nq[4];
+    vec4 qa[4];
     vec4 li[4], lg[4];
     if (sharedCell)
-        loadTaps(base + 2, f, low, full, glossyImage, q, nq, li, lg);
+        loadTaps(base + 2, f, low, full, glossyImage, q, nq, qa, li, lg);
     // The block's first kSlots traced pixels: position, normal, index in the block, pixels
     // served (indexed in loops of constant length, so they stay in registers; a traced pixel
     // beyond them, rare, serves only itself).
@@ -113,7 +116,7 @@ void main() {
         vec4 w;
         lowResTapCell(px, f, low, taps, w);
         if (!sharedCell)
-            loadTaps(px, f, low, full, glossyImage, q, nq, li, lg);
+            loadTaps(px, f, low, full, glossyImage, q, nq, qa, li, lg);
         float depth = distance(pos.xyz, pc.eye.xyz);
         bool refined = lowResFitTapsAt(pos.xyz, n, depth, pc.eye.w, pc.grid.originSize.w, kUpsampleReach, q, nq, w);
         // Refined pixels get these too, overwritten by the refine trace.
@@ -122,6 +125,25 @@ void main() {
             imageStore(outGlossy, px, w[0] * lg[0] + w[1] * lg[1] + w[2] * lg[2] + w[3] * lg[3]);
         if (!refined)
             continue;
+        // A tap whose source pixel (traced at full resolution by the low-res trace) lies on the
+        // same spot, with the same albedo and metallic, serves the pixel as a traced pixel of
+        // the block would: its value is that pixel's trace.
+        vec4 albedo = imageLoad(gAlbedo, px);
+        int tap = -1;
+        for (int j = 0; j < 4; ++j)
+            if (tap < 0 && q[j].w != 0.0 && qa[j] == albedo && vctSameSpot(pos, n, q[j], nq[j]))
+                tap = j;
+        if (tap >= 0) {
+            vec4 ti = li[0], tg = lg[0];
+            for (int j = 1; j < 4; ++j) {
+                ti = tap == j ? li[j] : ti;
+                tg = tap == j ? lg[j] : tg;
+            }
+            imageStore(outIndirect, px, ti);
+            if (glossyImage)
+                imageStore(outGlossy, px, tg);
+            continue;
+        }
         // In block order: the first traced pixel before this one on the same spot serves it,
         // else it is traced.
         bool served = false;
