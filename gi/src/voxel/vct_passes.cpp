@@ -390,8 +390,8 @@ void VctVolumes::recordSoftShadow(VkCommandBuffer cmd, const gpu::VctShadowPush&
 
 void VctVolumes::recordUpsample(VkCommandBuffer cmd, const gpu::VctTracePush& push, const Image& lowIndirect,
                                 const Image& lowGlossy, const VctTraceTargets& t) const {
-    // 4x4 pixel blocks from -((f / 2) & ~1) on (vctRefineBlockOrigin in vct_refine.glsl).
-    auto blocks = [shift = (push.lowRes.x / 2u) & ~1u](uint32_t size) { return (size + shift + 3u) / 4u; };
+    // 4x4 pixel blocks from -f / 2 on (vctRefineBlockOrigin in vct_refine.glsl).
+    auto blocks = [shift = push.lowRes.x / 2u](uint32_t size) { return (size + shift + 3u) / 4u; };
     dispatch(m_ctx, cmd, m_upsample, push,
              {storage(0, t.position->view), storage(1, t.normal->view), storage(2, lowIndirect.view),
               storage(3, lowGlossy.view), storage(4, t.indirect->view), storage(5, t.glossy->view),

@@ -21,10 +21,11 @@ bool vctSameSpot(vec4 pa, vec3 na, vec4 pb, vec3 nb) {
     return 1.0 - dot(na, nb) <= pc.eye.w && distance(pa.xyz, pb.xyz) <= kShareReach * pc.grid.originSize.w;
 }
 
-// Blocks: 4x4 pixels from vctRefineBlockOrigin, shifted by f / 2 rounded down to even so that at
-// f = 4 all pixels of a block interpolate the same 2x2 low-res texels (lowResTapCell: pixels
-// 4a + 2 .. 4a + 5 lie in cell a); the first block row and column lie partly outside the image.
-ivec2 vctRefineBlockOrigin(ivec2 block, int f) { return block * 4 - ((f / 2) & ~1); }
+// Blocks: 4x4 pixels from vctRefineBlockOrigin, shifted by f / 2 so that they hold whole cells
+// of pixels that interpolate the same 2x2 low-res texels (lowResTapCell: pixels fa + f/2 ..
+// fa + f/2 + f - 1 lie in cell a): one at f = 4, four at f = 2 (f is 2 or 4); the first block row
+// and column lie partly outside the image.
+ivec2 vctRefineBlockOrigin(ivec2 block, int f) { return block * 4 - f / 2; }
 // Order of the pixels k (x = k & 3, y = k >> 2) in which a block picks its traced pixels: the
 // four centre pixels first (each can serve the pixels around it), then the rim.
 uint vctRefineOrder(int s) { return (s < 8 ? 0x3210A965u >> (4 * s) : 0xFEDCB874u >> (4 * (s - 8))) & 15u; }

@@ -65,14 +65,24 @@ void loadTaps(ivec2 px, int f, ivec2 low, ivec2 full, bool glossyImage, out vec4
     }
 }
 
+// Index k (x = k & 3, y = k >> 2) in the block of pixel s of cell c: the block holds (4 / f)^2
+// cells of f x f pixels (f = 2 or 4), a single cell at f = 4, whose pixels go centre first
+// (vctRefineOrder); at f = 2 the cells go in raster order and their pixels too.
+uint blockPixel(int f, int c, int s) {
+    if (f == 4)
+        return vctRefineOrder(s);
+    int side = 4 / f;
+    ivec2 xy = ivec2(c % side, c / side) * f + ivec2(s % f, s / f);
+    return uint(xy.x + 4 * xy.y);
+}
+
 void main() {
     ivec2 full = ivec2(pc.cones.info.zw);
     int f = int(pc.lowRes.x);
     ivec2 low = ivec2(pc.lowRes.yz);
-    // llvmpipe runs 8 invocations of a group row as one SIMD batch, which runs the edge pixels'
-    // code (the tap fit's second half, the sharing) whenever one of its lanes needs it: each
-    // batch takes a 4x2 tile of the group's 8x8 blocks (16x8 pixels) instead of a row (32x4),
-    // which crosses fewer edges (upsample -20%).
+    // llvmpipe runs 8 invocations of a group row as one SIMD batch: each batch takes a 4x2 tile
+    // of the group's 8x8 blocks (16x8 pixels) instead of a row (32x4), which crosses fewer
+    // edges (upsample ~-20% when every pixel ran the edge code).
     uint lane = gl_LocalInvocationIndex;
     ivec2 block = ivec2(gl_WorkGroupID.xy) * 8 +
                   ivec2((lane & 3u) | ((lane >> 1u) & 4u), ((lane >> 2u) & 1u) | ((lane >> 3u) & 6u));
@@ -80,16 +90,6 @@ void main() {
     bool glossyImage = (pc.cones.info.y & GI_VCT_FLAG_GLOSSY_IMAGE) != 0u;
     if (any(greaterThanEqual(base, full)))
         return;
-    // The taps' G-buffer samples and low-res values: at f = 4 the block's pixels share their
-    // cell (vctRefineBlockOrigin), loaded once; else each pixel loads its own. (llvmpipe runs
-    // both sides of a branch that differs between SIMD lanes, masked; a branch on f is uniform.)
-    bool sharedCell = f == 4;
-    vec4 q[4];
-    vec3 nq[4];
-    vec4 qa[4];
-    vec4 li[4], lg[4];
-    if (sharedCell)
-        loadTaps(base + 2, f, low, full, glossyImage, q, nq, qa, li, lg);
     // The block's first kSlots traced pixels: position, normal, index in the block, pixels
     // served (indexed in loops of constant length, so they stay in registers; a traced pixel
     // beyond them, rare, serves only itself).
@@ -99,75 +99,108 @@ void main() {
     uint leadServes[kSlots];
     int leaders = 0;
     uint alone = 0u; // traced pixels beyond the slots
-    for (int s = 0; s < 16; ++s) {
-        uint k = vctRefineOrder(s);
-        ivec2 px = base + ivec2(k & 3u, k >> 2);
-        if (any(lessThan(px, ivec2(0))) || any(greaterThanEqual(px, full)))
-            continue; // outside the image (the first blocks and odd sizes)
-        vec4 pos = imageLoad(gPosition, px);
-        if (pos.w == 0.0) {
-            imageStore(outIndirect, px, vec4(0.0, 0.0, 0.0, 1.0));
+    // Per cell (its pixels share their taps: loaded once), two loops: the first gives the pixels
+    // off edges (most) their bilinear interpolation and marks the others, the second runs the
+    // edge code (the rest of the tap fit, the sharing) for the marked ones only. llvmpipe (Mesa
+    // 22) runs both sides of every branch, masked, but leaves a loop once no lane is in it: the
+    // edge code then runs as often as the batch's lane with the most edge pixels needs it, not
+    // at every pixel (upsample -30%).
+    int cells = (4 / f) * (4 / f);
+    for (int c = 0; c < cells; ++c) {
+        vec4 q[4];
+        vec3 nq[4];
+        vec4 qa[4];
+        vec4 li[4], lg[4];
+        loadTaps(base + ivec2(blockPixel(f, c, 0) & 3u, blockPixel(f, c, 0) >> 2), f, low, full, glossyImage, q, nq,
+                 qa, li, lg);
+        uint edges = 0u;
+        for (int s = 0; s < f * f; ++s) {
+            uint k = blockPixel(f, c, s);
+            ivec2 px = base + ivec2(k & 3u, k >> 2);
+            if (any(lessThan(px, ivec2(0))) || any(greaterThanEqual(px, full)))
+                continue; // outside the image (the first blocks and odd sizes)
+            vec4 pos = imageLoad(gPosition, px);
+            if (pos.w == 0.0) {
+                imageStore(outIndirect, px, vec4(0.0, 0.0, 0.0, 1.0));
+                if (glossyImage)
+                    imageStore(outGlossy, px, vec4(0.0));
+                continue;
+            }
+            vec3 n = normalize(imageLoad(gNormal, px).xyz);
+            ivec2 taps[4];
+            vec4 w;
+            lowResTapCell(px, f, low, taps, w);
+            vec4 off;
+            bvec4 fits;
+            if (lowResTapsEdge(pos.xyz, n, distance(pos.xyz, pc.eye.xyz), pc.eye.w, q, nq, w, off, fits)) {
+                edges |= 1u << uint(s);
+                continue;
+            }
+            imageStore(outIndirect, px, w[0] * li[0] + w[1] * li[1] + w[2] * li[2] + w[3] * li[3]);
             if (glossyImage)
-                imageStore(outGlossy, px, vec4(0.0));
-            continue;
+                imageStore(outGlossy, px, w[0] * lg[0] + w[1] * lg[1] + w[2] * lg[2] + w[3] * lg[3]);
         }
-        vec3 n = normalize(imageLoad(gNormal, px).xyz);
-        ivec2 taps[4];
-        vec4 w;
-        lowResTapCell(px, f, low, taps, w);
-        if (!sharedCell)
-            loadTaps(px, f, low, full, glossyImage, q, nq, qa, li, lg);
-        float depth = distance(pos.xyz, pc.eye.xyz);
-        bool refined = lowResFitTapsAt(pos.xyz, n, depth, pc.eye.w, pc.grid.originSize.w, kUpsampleReach, q, nq, w);
-        // Refined pixels get these too, overwritten by the refine trace.
-        imageStore(outIndirect, px, w[0] * li[0] + w[1] * li[1] + w[2] * li[2] + w[3] * li[3]);
-        if (glossyImage)
-            imageStore(outGlossy, px, w[0] * lg[0] + w[1] * lg[1] + w[2] * lg[2] + w[3] * lg[3]);
-        if (!refined)
-            continue;
-        // A tap whose source pixel (traced at full resolution by the low-res trace) lies on the
-        // same spot, with the same albedo and metallic, serves the pixel as a traced pixel of
-        // the block would: its value is that pixel's trace.
-        vec4 albedo = imageLoad(gAlbedo, px);
-        int tap = -1;
-        for (int j = 0; j < 4; ++j)
-            if (tap < 0 && q[j].w != 0.0 && qa[j] == albedo && vctSameSpot(pos, n, q[j], nq[j]))
-                tap = j;
-        if (tap >= 0) {
-            vec4 ti = li[0], tg = lg[0];
-            for (int j = 1; j < 4; ++j) {
-                ti = tap == j ? li[j] : ti;
-                tg = tap == j ? lg[j] : tg;
-            }
-            imageStore(outIndirect, px, ti);
+        for (; edges != 0u; edges &= edges - 1u) {
+            uint k = blockPixel(f, c, findLSB(edges));
+            ivec2 px = base + ivec2(k & 3u, k >> 2);
+            vec4 pos = imageLoad(gPosition, px);
+            vec3 n = normalize(imageLoad(gNormal, px).xyz);
+            ivec2 taps[4];
+            vec4 w;
+            lowResTapCell(px, f, low, taps, w);
+            float depth = distance(pos.xyz, pc.eye.xyz);
+            bool refined =
+                lowResFitTapsAt(pos.xyz, n, depth, pc.eye.w, pc.grid.originSize.w, kUpsampleReach, q, nq, w);
+            // Refined pixels get these too, overwritten by the refine trace.
+            imageStore(outIndirect, px, w[0] * li[0] + w[1] * li[1] + w[2] * li[2] + w[3] * li[3]);
             if (glossyImage)
-                imageStore(outGlossy, px, tg);
-            continue;
-        }
-        // In block order: the first traced pixel before this one on the same spot serves it,
-        // else it is traced.
-        bool served = false;
-        for (int j = 0; j < kSlots; ++j) {
-            if (!served && j < leaders && vctSameSpot(pos, n, leadPos[j], leadNrm[j])) {
-                leadServes[j] |= 1u << k;
-                served = true;
+                imageStore(outGlossy, px, w[0] * lg[0] + w[1] * lg[1] + w[2] * lg[2] + w[3] * lg[3]);
+            if (!refined)
+                continue;
+            // A tap whose source pixel (traced at full resolution by the low-res trace) lies on the
+            // same spot, with the same albedo and metallic, serves the pixel as a traced pixel of
+            // the block would: its value is that pixel's trace.
+            vec4 albedo = imageLoad(gAlbedo, px);
+            int tap = -1;
+            for (int j = 0; j < 4; ++j)
+                if (tap < 0 && q[j].w != 0.0 && qa[j] == albedo && vctSameSpot(pos, n, q[j], nq[j]))
+                    tap = j;
+            if (tap >= 0) {
+                vec4 ti = li[0], tg = lg[0];
+                for (int j = 1; j < 4; ++j) {
+                    ti = tap == j ? li[j] : ti;
+                    tg = tap == j ? lg[j] : tg;
+                }
+                imageStore(outIndirect, px, ti);
+                if (glossyImage)
+                    imageStore(outGlossy, px, tg);
+                continue;
             }
-        }
-        if (served)
-            continue;
-        if (leaders == kSlots) {
-            alone |= 1u << k;
-            continue;
-        }
-        for (int j = 0; j < kSlots; ++j) {
-            if (j == leaders) {
-                leadPos[j] = pos;
-                leadNrm[j] = n;
-                leadK[j] = k;
-                leadServes[j] = 1u << k;
+            // In block order: the first traced pixel before this one on the same spot serves it,
+            // else it is traced.
+            bool served = false;
+            for (int j = 0; j < kSlots; ++j) {
+                if (!served && j < leaders && vctSameSpot(pos, n, leadPos[j], leadNrm[j])) {
+                    leadServes[j] |= 1u << k;
+                    served = true;
+                }
             }
+            if (served)
+                continue;
+            if (leaders == kSlots) {
+                alone |= 1u << k;
+                continue;
+            }
+            for (int j = 0; j < kSlots; ++j) {
+                if (j == leaders) {
+                    leadPos[j] = pos;
+                    leadNrm[j] = n;
+                    leadK[j] = k;
+                    leadServes[j] = 1u << k;
+                }
+            }
+            ++leaders;
         }
-        ++leaders;
     }
     if (leaders == 0)
         return;

@@ -59,7 +59,8 @@ bool lowResTaps(ivec2 px, vec3 position, vec3 n, float depth, int f, ivec2 low, 
 //
 // lowResTapCell gives the taps (low-res texels i0 + (k & 1, k >> 1)) and the bilinear weights;
 // lowResFitTapsAt decides from the taps' G-buffer samples (q = position, nq = normal), which
-// the caller loads once for all pixels with the same taps (at f = 4 a 4x4 block of pixels).
+// the caller loads once for all pixels with the same taps (at f = 4 a 4x4 block of pixels);
+// lowResTapsEdge is its first half (whether the pixel is next to an edge).
 void lowResTapCell(ivec2 px, int f, ivec2 low, out ivec2 taps[4], out vec4 weights) {
     vec2 c = (vec2(px) - float(f / 2)) / float(f);
     ivec2 i0 = ivec2(floor(c));
@@ -71,16 +72,24 @@ void lowResTapCell(ivec2 px, int f, ivec2 low, out ivec2 taps[4], out vec4 weigh
     }
 }
 
-bool lowResFitTapsAt(vec3 position, vec3 n, float depth, float threshold, float voxel, float reach, vec4 q[4],
-                     vec3 nq[4], inout vec4 weights) {
-    vec4 off;
-    bvec4 fits;
+// Per tap: its distance off the pixel's tangent plane (off) and whether it passes lowResTaps'
+// test (fits); true when a tap with a non-zero weight fails it (the pixel is next to an edge).
+bool lowResTapsEdge(vec3 position, vec3 n, float depth, float threshold, vec4 q[4], vec3 nq[4], vec4 weights,
+                    out vec4 off, out bvec4 fits) {
     bool edge = false;
     for (int k = 0; k < 4; ++k) {
         off[k] = abs(dot(q[k].xyz - position.xyz, n));
         fits[k] = q[k].w != 0.0 && 1.0 - dot(n, nq[k]) <= threshold && off[k] <= threshold * depth;
         edge = edge || (!fits[k] && weights[k] > 0.0);
     }
+    return edge;
+}
+
+bool lowResFitTapsAt(vec3 position, vec3 n, float depth, float threshold, float voxel, float reach, vec4 q[4],
+                     vec3 nq[4], inout vec4 weights) {
+    vec4 off;
+    bvec4 fits;
+    bool edge = lowResTapsEdge(position, n, depth, threshold, q, nq, weights, off, fits);
     if (!edge) // most pixels: plain bilinear
         return false;
     vec4 keep = vec4(0.0);
