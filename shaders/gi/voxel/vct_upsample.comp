@@ -113,7 +113,7 @@ void main() {
         vec4 li[4], lg[4];
         loadTaps(base + ivec2(blockPixel(f, c, 0) & 3u, blockPixel(f, c, 0) >> 2), f, low, full, glossyImage, q, nq,
                  qa, li, lg);
-        uint edges = 0u;
+        uint edges = 0u, background = 0u;
         for (int s = 0; s < f * f; ++s) {
             uint k = blockPixel(f, c, s);
             ivec2 px = base + ivec2(k & 3u, k >> 2);
@@ -121,9 +121,7 @@ void main() {
                 continue; // outside the image (the first blocks and odd sizes)
             vec4 pos = imageLoad(gPosition, px);
             if (pos.w == 0.0) {
-                imageStore(outIndirect, px, vec4(0.0, 0.0, 0.0, 1.0));
-                if (glossyImage)
-                    imageStore(outGlossy, px, vec4(0.0));
+                background |= 1u << uint(s);
                 continue;
             }
             vec3 n = normalize(imageLoad(gNormal, px).xyz);
@@ -137,8 +135,23 @@ void main() {
                 continue;
             }
             imageStore(outIndirect, px, w[0] * li[0] + w[1] * li[1] + w[2] * li[2] + w[3] * li[3]);
-            if (glossyImage)
-                imageStore(outGlossy, px, w[0] * lg[0] + w[1] * lg[1] + w[2] * lg[2] + w[3] * lg[3]);
+        }
+        // The background, and the glossy image where requested, in loops of their own (a masked
+        // store in the loop above cost every pixel).
+        for (uint b = background; b != 0u; b &= b - 1u) {
+            uint k = blockPixel(f, c, findLSB(b));
+            imageStore(outIndirect, base + ivec2(k & 3u, k >> 2), vec4(0.0, 0.0, 0.0, 1.0));
+        }
+        for (int s = 0; s < (glossyImage ? f * f : 0); ++s) {
+            uint k = blockPixel(f, c, s);
+            ivec2 px = base + ivec2(k & 3u, k >> 2);
+            if ((edges & (1u << uint(s))) != 0u || any(lessThan(px, ivec2(0))) || any(greaterThanEqual(px, full)))
+                continue; // the edge pixels' glossy comes below
+            ivec2 taps[4];
+            vec4 w;
+            lowResTapCell(px, f, low, taps, w);
+            bool bg = (background & (1u << uint(s))) != 0u;
+            imageStore(outGlossy, px, bg ? vec4(0.0) : w[0] * lg[0] + w[1] * lg[1] + w[2] * lg[2] + w[3] * lg[3]);
         }
         for (; edges != 0u; edges &= edges - 1u) {
             uint k = blockPixel(f, c, findLSB(edges));
