@@ -78,11 +78,28 @@ float shadowVisibility(uint lightIndex, vec3 p, vec3 n, vec3 toLight) {
     }
     // Perspective: the direction w to texel-space point (x, y) satisfies (row0 - ndc.x row3) . w = 0
     // and (row1 - ndc.y row3) . w = 0 (the light position projects to clip (0, 0, *, 0)), so
-    // w = cross(row0 - x row3, row1 - y row3) = w0 + x wx + y wy (row3 x row3 = 0): affine in ndc.
+    // w = cross(row0 - x row3, row1 - y row3) = w0 + x wx + y wy (row3 x row3 = 0): affine in ndc,
+    // and ndc = x * 2 / resolution for centred texel coordinates x (texel coordinates - resolution / 2).
     mat4 vpT = transpose(view.viewProj);
     vec3 row0 = vpT[0].xyz, row1 = vpT[1].xyz, row3 = vpT[3].xyz;
-    vec3 w0 = cross(row0, row1), wx = cross(row1, row3), wy = cross(row3, row0);
-    float planeDist = dot(n, q - view.eye.xyz);
+    float toNdc = 2.0 / view.texel.z;
+    vec3 w0 = cross(row0, row1), wx = cross(row1, row3) * toNdc, wy = cross(row3, row0) * toNdc;
+    // Lavapipe runs both sides of every branch, so both projections share one branch-free compare
+    // of each gathered texel (centred coordinates x, y) with the plane dot(n, . - q) = 0:
+    //   (stored + bias - L) |stored + bias - L| nw^2 >= k |w|^2.
+    // Orthographic: L = c.z + grad . ((x, y) - c.xy), nw = 1, k = 0. Perspective (depth = distance /
+    // far): the texel's ray w meets the plane at distance |planeDist / nw| |w|, nw = dot(n, w) =
+    // nw0 + x nwx + y nwy; L = 0 and k = (planeDist / far)^2 square the compare (stored depths and
+    // biases are >= 0), so no square root or division per texel. A ray parallel to the plane
+    // (nw^2 <= 1e-24 |w|^2) never meets it: that texel is compared with the receiver's depth c.z.
+    float mid = 0.5 * view.texel.z;
+    float planeDist = dot(n, q - view.eye.xyz) / view.eye.w;
+    float k = ortho ? 0.0 : planeDist * planeDist;
+    vec3 nwCoef = ortho ? vec3(1.0, 0.0, 0.0) : vec3(dot(n, w0), dot(n, wx), dot(n, wy));
+    float l0 = ortho ? c.z - dot(grad, c.xy - mid) : 0.0;
+    // |w|^2 = q0 + x qx + y qy + x^2 qxx + x y qxy + y^2 qyy (zero when orthographic: k = 0).
+    vec3 qLin = ortho ? vec3(0.0) : vec3(dot(w0, w0), 2.0 * dot(w0, wx), 2.0 * dot(w0, wy));
+    vec3 qSq = ortho ? vec3(0.0) : vec3(dot(wx, wx), dot(wy, wy), 2.0 * dot(wx, wy));
     // The (2r+1)^2 bilinear taps read the (2r+2)^2 texels from c.xy - r - 0.5 on; a texel's
     // weight summed over the taps is separable: 1 - f on the first row/column, f on the last and
     // 1 between. So each texel is gathered and compared once, (r+1)^2 gathers of 2x2 texels
@@ -90,36 +107,34 @@ float shadowVisibility(uint lightIndex, vec3 p, vec3 n, vec3 toLight) {
     int r = int(pc.size.w);
     vec2 st = c.xy - float(r) - 0.5; // texel (i, j) has its centre at (i + 0.5, j + 0.5)
     vec2 origin = floor(st), f = st - origin;
-    float last = float(2 * r + 1);
+    int last = 2 * r + 1;
     float hi = view.texel.z - 0.5;
     float lit = 0.0;
-    for (int v = 0; v <= r; ++v)
+    for (int v = 0; v <= r; ++v) {
+        // This gather's two rows: texel centres (clamped to the layer as the sampler's
+        // clamp-to-edge does, then centred), weights, and the terms in y alone.
+        float by = origin.y + float(2 * v);
+        vec2 y = clamp(by + vec2(0.5, 1.5), 0.5, hi) - mid;
+        vec2 wgtY = vec2(v == 0 ? 1.0 - f.y : 1.0, 2 * v + 1 == last ? f.y : 1.0);
+        vec2 ly = grad.y * y, ny = nwCoef.z * y;
+        vec2 qy = y * (qLin.z + y * qSq.y) + qLin.x;
         for (int u = 0; u <= r; ++u) {
-            vec2 base = origin + vec2(2 * u, 2 * v);
-            vec4 stored = textureGather(shadowDepth, vec3((base + 1.0) / view.texel.z, float(layer)));
-            // Gather order: (0,1), (1,1), (1,0), (0,0) relative to base. Texel centres, clamped to
-            // the layer as the sampler's clamp-to-edge does, relative to c.xy.
-            vec4 du = clamp(base.x + vec4(0.5, 1.5, 1.5, 0.5), 0.5, hi) - c.x;
-            vec4 dv = clamp(base.y + vec4(1.5, 1.5, 0.5, 0.5), 0.5, hi) - c.y;
-            vec4 plane;
-            if (ortho) {
-                plane = c.z + grad.x * du + grad.y * dv;
-            } else {
-                vec4 nx = (c.x + du) / view.texel.z * 2.0 - 1.0, ny = (c.y + dv) / view.texel.z * 2.0 - 1.0;
-                vec4 wX = w0.x + nx * wx.x + ny * wy.x, wY = w0.y + nx * wx.y + ny * wy.y;
-                vec4 wZ = w0.z + nx * wx.z + ny * wy.z;
-                vec4 nw = n.x * wX + n.y * wY + n.z * wZ;
-                vec4 len = sqrt(wX * wX + wY * wY + wZ * wZ);
-                // A ray parallel to the plane never meets it: compare against the receiver's depth.
-                plane = mix(vec4(c.z), abs(planeDist / nw) * len / view.eye.w, greaterThan(abs(nw), 1e-12 * len));
-            }
-            vec4 seen = vec4(greaterThanEqual(stored, plane - bias));
-            // Column (row) index in the footprint of each gathered texel, and its summed weight.
-            vec4 col = vec4(2 * u) + vec4(0.0, 1.0, 1.0, 0.0), row = vec4(2 * v) + vec4(1.0, 1.0, 0.0, 0.0);
-            vec4 wcol = mix(mix(vec4(1.0), vec4(f.x), equal(col, vec4(last))), vec4(1.0 - f.x), equal(col, vec4(0.0)));
-            vec4 wrow = mix(mix(vec4(1.0), vec4(f.y), equal(row, vec4(last))), vec4(1.0 - f.y), equal(row, vec4(0.0)));
-            lit += dot(seen, wcol * wrow);
+            float bx = origin.x + float(2 * u);
+            vec4 stored = textureGather(shadowDepth, vec3((vec2(bx, by) + 1.0) / view.texel.z, float(layer)));
+            vec2 x = clamp(bx + vec2(0.5, 1.5), 0.5, hi) - mid;
+            vec2 wgtX = vec2(u == 0 ? 1.0 - f.x : 1.0, 2 * u + 1 == last ? f.x : 1.0);
+            vec2 lx = l0 + grad.x * x, nx = nwCoef.x + nwCoef.y * x;
+            vec2 qx = x * (qLin.y + x * qSq.x);
+            // Gather order: (0,1), (1,1), (1,0), (0,0) relative to (bx, by).
+            vec4 d = stored + bias - (lx.xyyx + ly.yyxx);
+            vec4 nw = nx.xyyx + ny.yyxx;
+            vec4 len2 = (qx.xyyx + qy.yyxx) + qSq.z * (x.xyyx * y.yyxx);
+            vec4 nw2 = nw * nw;
+            bvec4 seen = mix(greaterThanEqual(stored, vec4(c.z - bias)), greaterThanEqual(d * abs(d) * nw2, k * len2),
+                             greaterThan(nw2, 1e-24 * len2));
+            lit += dot(vec4(seen), vec4(wgtX.x * wgtY.y, wgtX.y * wgtY.y, wgtX.y * wgtY.x, wgtX.x * wgtY.x));
         }
+    }
     float taps = float((2 * r + 1) * (2 * r + 1));
     return lit / taps;
 }
