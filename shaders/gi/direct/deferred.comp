@@ -162,20 +162,21 @@ void main() {
     if (any(greaterThanEqual(uvec2(px), pc.size.xy)))
         return;
     vec4 position = imageLoad(gPosition, px);
-    if (position.w == 0.0) {
-        imageStore(outDirect, px, vec4(0.0, 0.0, 0.0, 1.0));
-        return;
-    }
-    vec3 p = position.xyz;
-    vec3 n = imageLoad(gNormal, px).xyz;
-    vec3 albedo = imageLoad(gAlbedo, px).rgb;
-    vec3 radiance = imageLoad(gEmission, px).rgb;
-    for (uint i = 0u; i < pc.size.z; ++i) {
-        vec3 toLight;
-        vec3 e = lightIrradiance(lights[i], p, n, toLight);
-        if (all(equal(e, vec3(0.0))))
-            continue;
-        radiance += albedo / kPi * e * shadowVisibility(i, p, n, toLight);
+    // One store for background and surface pixels alike: llvmpipe runs an image store as a masked
+    // loop over the lanes per channel even where no lane takes the branch it is in.
+    vec3 radiance = vec3(0.0);
+    if (position.w != 0.0) {
+        vec3 p = position.xyz;
+        vec3 n = imageLoad(gNormal, px).xyz;
+        vec3 albedo = imageLoad(gAlbedo, px).rgb;
+        radiance = imageLoad(gEmission, px).rgb;
+        for (uint i = 0u; i < pc.size.z; ++i) {
+            vec3 toLight;
+            vec3 e = lightIrradiance(lights[i], p, n, toLight);
+            if (all(equal(e, vec3(0.0))))
+                continue;
+            radiance += albedo / kPi * e * shadowVisibility(i, p, n, toLight);
+        }
     }
     imageStore(outDirect, px, vec4(radiance, 1.0));
 }
