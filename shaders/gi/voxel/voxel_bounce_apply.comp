@@ -7,9 +7,7 @@
 // level-0 views that see faces on the normal's side (faces looking towards d with
 // d . normal > 0), weighted as the voxel light weights its own radiance there (opacity * shown
 // share, voxel_light_body.glsl), so view texel rgb = a s (L + B): the per-pixel gather then sees
-// emission + one bounce + two bounces. Reads and writes only its own voxel's texels. B is
-// truncated to half precision first (subnormals included), as lavapipe's RGBA16F stores round
-// and as every B went through the bounce volume until 2026-11-24: the same images bit for bit.
+// emission + one bounce + two bounces. Reads and writes only its own voxel's texels.
 #extension GL_EXT_control_flow_attributes : require
 #include "gi/voxel_passes.h"
 
@@ -67,9 +65,7 @@ void main() {
             weights += weight;
         }
         e /= weights;
-        vec3 bounce = imageLoad(albedoVol, c).rgb * e;
-        b = mix(trunc(bounce * 16777216.0) / 16777216.0, uintBitsToFloat(floatBitsToUint(bounce) & 0xFFFFE000u),
-                greaterThanEqual(bounce, vec3(1.0 / 16384.0)));
+        b = imageLoad(albedoVol, c).rgb * e;
     }
     if (b == vec3(0.0))
         return;
