@@ -60,12 +60,13 @@ struct MemoryUse {
     uint64_t total() const { return persistent.total() + transientBytes; }
 };
 
-// The per-pass GPU time table (plus total, the passes left out with their reason, memory, and
-// the static frame's total) for stdout.
+// The per-pass GPU time table (plus total, the frame without pass timestamps when measured,
+// the passes left out with their reason, memory, and the static frame's total) for stdout.
 std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalMs, std::optional<double> unprofiledMs,
                         const std::vector<gi::LeftOutPass>& leftOut, const std::optional<MemoryUse>& memory,
                         const std::optional<StaticFrame>& staticFrame);
-// The --json report: scene, technique, size, passes, total_ms, left_out[{name, reason, detail}],
+// The --json report: scene, technique, size, passes, total_ms, unprofiled_ms (the same kind of
+// frame timed without pass timestamps; null for the path tracer), left_out[{name, reason, detail}],
 // static_frame {passes, total_ms, left_out} or null, memory {total_bytes, persistent{scene, shadows,
 // readback, technique}, transient_bytes, passes[{name, created_bytes, touched_bytes, accessed_bytes}]}
 // or null (path tracer), error (null without --compare).
