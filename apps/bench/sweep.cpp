@@ -68,7 +68,7 @@ Result<Timing> measureTiming(Context& ctx, const Scene& scene, const gi::GiSetti
     std::vector<double> totals, profiledTotals, readbacks, walls;
     Timing out;
     // Each measured frame is rendered twice: with a timestamp scope per pass (the per-pass split)
-    // and with the frame's scope only (the frame time: pass scopes cost ~0.1 ms each on lavapipe,
+    // and with the frame's scope only (the frame time: pass scopes cost ~0.06 ms each on lavapipe,
     // rg::TimestampScopes). The first frames warm up lavapipe's JIT.
     gi::FrameRequest profiled = request, unprofiled = request;
     profiled.passTimings = true;
