@@ -20,6 +20,11 @@
 //   triangle), combined with cosine-weighted hemisphere sampling by MIS (power heuristic).
 //   Shading normals from the mesh where present; the geometric normal decides which
 //   directions leave the surface (a sampled direction below it ends the path, no leaks).
+//   Rays leave a surface from the hit point moved off it along the geometric normal by a bound
+//   on the float error of that point (its coordinates along the normal and the triangle's
+//   size, rounded away from the surface), so at concave edges, acute ones and far from the
+//   origin included, no ray starts behind the adjacent face; MIS weights measure distances
+//   between the exact points, not from the moved origin.
 //   Russian roulette after 3 reflections with continuation probability min(1, max(beta) / 0.1)
 //   and beta divided by it (unbiased; beta = path throughput). Paths also stop after kMaxReflections reflections, a bias below
 //   albedo^kMaxReflections (4e-5 relative at albedo 0.99) that only matters as albedo -> 1.

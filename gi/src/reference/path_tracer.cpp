@@ -100,7 +100,8 @@ public:
         };
         glm::vec3 beta(1.0f);
         glm::vec3 rayOrg = origin, rayDir = dir;
-        float pdfBsdfPrev = 0.0f; // solid-angle pdf of the direction that reached this vertex
+        glm::vec3 prevPosition = origin; // the exact point the ray left (rayOrg is offset from it)
+        float pdfBsdfPrev = 0.0f;        // solid-angle pdf of the direction that reached this vertex
         for (int k = 0;; ++k) {   // k = reflections so far
             RTCRayHit rh = makeRay(rayOrg, rayDir, std::numeric_limits<float>::infinity());
             RTCIntersectContext ctx;
@@ -114,7 +115,8 @@ public:
             if ((cosOut > 0.0f || s.doubleSided) && glm::any(glm::greaterThan(s.emission, glm::vec3(0.0f)))) {
                 float w = 1.0f;
                 if (k > 0) { // a BSDF-sampled hit that NEE could also have produced
-                    float t = rh.ray.tfar;
+                    // The distance NEE's pdf uses: between the exact points, not from the offset origin.
+                    float t = glm::length(s.position - prevPosition);
                     float pdfLight = s.lightPdfPerArea * t * t / std::max(std::abs(cosOut), 1e-12f);
                     w = powerHeuristic(pdfBsdfPrev, pdfLight);
                 }
@@ -131,7 +133,7 @@ public:
             // Geometry terms use the exact hit point; only rays leave from the offset origin `o`,
             // so the offset can never bias the inverse-square falloff.
             const glm::vec3 p = s.position;
-            const glm::vec3 o = p + ng * offset(s);
+            const glm::vec3 o = cosOut >= 0.0f ? s.spawnAbove : s.spawnBelow;
             const glm::vec3 f = s.albedo * kInvPi; // Lambert
 
             for (const PunctualLight& l : m_lights) {
@@ -204,6 +206,7 @@ public:
                 beta /= q;
             }
             rayOrg = o;
+            prevPosition = p;
             rayDir = wi;
         }
         return rays;
@@ -242,10 +245,6 @@ private:
             return false;
         return occluded(from, d / len, len * (1.0f - shorten));
     }
-
-    // Origin offset along the normal: ~32 float ulps of the triangle's coordinates, above the
-    // error of a barycentric hit point, so rays cannot re-hit the surface they leave.
-    float offset(const SurfaceHit& s) const { return m_rt.offsetFloor() + 4e-6f * s.errorScale; }
 
     const RtScene& m_rt;
     ReferenceSettings m_settings;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <glm/gtc/matrix_inverse.hpp>
@@ -26,6 +27,38 @@ float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 
 
 std::string quoted(const std::string& name, size_t index) {
     return name.empty() ? "#" + std::to_string(index) : "'" + name + "'";
+}
+
+// Float epsilon (2^-23): the spacing of floats in [1, 2).
+constexpr double kFloatEps = 1.0 / 8388608.0;
+
+// How far along the unit normal n a ray origin must sit from the exact point pd of a triangle
+// with largest edge component `extent` so that (a) rounding the origin to float cannot move it
+// back through the plane (half an ulp per axis, projected on n: 2 ulp taken) and (b) Embree's
+// float plane test of a ray leaving the surface cannot place the origin on the wrong side: it
+// evaluates n . (v0 - origin), whose rounding error is a few eps of the vertex-origin distance
+// (<= the triangle's extent plus the move itself; 8 eps taken).
+double spawnDistance(const glm::dvec3& pd, const glm::vec3& n, float extent) {
+    const glm::dvec3 an = glm::abs(glm::dvec3(n));
+    const double rounding = 2.0 * kFloatEps * glm::dot(an, glm::abs(pd));
+    const double planeTest = 8.0 * kFloatEps * double(extent);
+    return std::max(rounding + planeTest, 1e-30);
+}
+
+// pd moved by `move` along n and rounded to float away from the surface (each component rounded
+// towards the side n points to, so rounding only adds to the move).
+glm::vec3 spawnPoint(const glm::dvec3& pd, const glm::vec3& n, double move) {
+    const glm::dvec3 q = pd + move * glm::dvec3(n);
+    glm::vec3 out;
+    for (int c = 0; c < 3; ++c) {
+        float f = float(q[c]);
+        if (n[c] > 0.0f && double(f) < q[c])
+            f = std::nextafter(f, std::numeric_limits<float>::infinity());
+        else if (n[c] < 0.0f && double(f) > q[c])
+            f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+        out[c] = f;
+    }
+    return out;
 }
 
 void embreeErrorCallback(void* user, RTCError, const char* message) {
@@ -96,7 +129,6 @@ Result<std::unique_ptr<RtScene>> RtScene::build(const Scene& scene) {
         rt->m_textures.push_back(std::move(rt2));
     }
 
-    Aabb bounds;
     for (size_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& inst = scene.instances[i];
         const std::string what = sceneName + ": instance #" + std::to_string(i);
@@ -131,7 +163,6 @@ Result<std::unique_ptr<RtScene>> RtScene::build(const Scene& scene) {
             if (!finite(w))
                 return makeError(meshWhat + " has a non-finite vertex position");
             g.positions.push_back(w);
-            bounds.extend(w);
         }
         if (!mesh.normals.empty()) {
             glm::mat3 nm = glm::inverseTranspose(glm::mat3(inst.transform));
@@ -143,7 +174,6 @@ Result<std::unique_ptr<RtScene>> RtScene::build(const Scene& scene) {
     }
     if (rt->m_geoms.empty())
         return makeError(sceneName + ": no geometry to trace (no instance with triangles)");
-    rt->m_offsetFloor = std::max(1e-9f * glm::length(bounds.extent()), 1e-30f);
 
     // Emissive triangles, chosen by power: area x luminance x sides that emit.
     double total = 0.0;
@@ -217,12 +247,21 @@ SurfaceHit RtScene::surface(uint32_t geomId, uint32_t primId, float u, float v) 
     const float w = 1.0f - u - v;
     SurfaceHit h;
     const glm::vec3 p0 = g.positions[i0], p1 = g.positions[i1], p2 = g.positions[i2];
-    h.position = w * p0 + u * p1 + v * p2;
+    // In double the interpolated point lies on the triangle's plane to ~1e-16 relative; only its
+    // rounding to float (half an ulp per axis) takes it off the plane.
+    const double du = u, dv = v, dw = 1.0 - du - dv;
+    const glm::dvec3 pd = dw * glm::dvec3(p0) + du * glm::dvec3(p1) + dv * glm::dvec3(p2);
+    h.position = glm::vec3(pd);
     glm::vec3 n = glm::cross(p1 - p0, p2 - p0);
     float len = glm::length(n);
     h.ng = len > 0.0f && std::isfinite(len) ? n / len : glm::vec3(0.0f, 1.0f, 0.0f);
     if (g.mirrored)
         h.ng = -h.ng;
+    const float extent = std::max({maxComponent(glm::abs(p1 - p0)), maxComponent(glm::abs(p2 - p0)),
+                                   maxComponent(glm::abs(p2 - p1))});
+    const double move = spawnDistance(pd, h.ng, extent);
+    h.spawnAbove = spawnPoint(pd, h.ng, move);
+    h.spawnBelow = spawnPoint(pd, -h.ng, move);
     h.ns = h.ng;
     if (!g.normals.empty()) {
         glm::vec3 s = w * g.normals[i0] + u * g.normals[i1] + v * g.normals[i2];
@@ -238,7 +277,6 @@ SurfaceHit RtScene::surface(uint32_t geomId, uint32_t primId, float u, float v) 
     h.emission = m.emission;
     h.doubleSided = m.doubleSided;
     h.lightPdfPerArea = g.lightPdfPerArea;
-    h.errorScale = std::max({maxComponent(glm::abs(p0)), maxComponent(glm::abs(p1)), maxComponent(glm::abs(p2))});
     return h;
 }
 

@@ -47,7 +47,14 @@ struct SurfaceHit {
     glm::vec3 emission;  // nits
     bool doubleSided;
     float lightPdfPerArea;
-    float errorScale; // largest |coordinate| of the triangle: bounds the hit point's float error
+    // Where rays leaving this hit start: the hit moved off the surface along ng (the front
+    // face; spawnBelow on the back) by a bound on the float error of the stored position and of
+    // Embree's plane test, rounded to float so that rounding cannot undo the move. The bound
+    // scales with the position's own coordinates along ng and with the triangle's size, not
+    // with the largest coordinate: a larger move starts rays behind the adjacent face of an
+    // acute concave edge (gi/reference.hpp).
+    glm::vec3 spawnAbove;
+    glm::vec3 spawnBelow;
 };
 
 struct LightSample {
@@ -70,8 +77,6 @@ public:
     bool hasAreaLights() const { return !m_lightCdf.empty(); }
     // Picks an emissive triangle by power and a uniform point on it.
     LightSample sampleAreaLight(float uPick, float u1, float u2) const;
-    // Smallest ray origin offset: 1e-9 of the scene's bounding diagonal (for triangles at the origin).
-    float offsetFloor() const { return m_offsetFloor; }
 
 private:
     RtScene() = default;
@@ -83,7 +88,6 @@ private:
     // Emissive triangles: (geometry, primitive) and the running sum of their power.
     std::vector<glm::uvec2> m_lightTris;
     std::vector<double> m_lightCdf;
-    float m_offsetFloor = 1e-9f;
 };
 
 } // namespace vkgi::gi::ref
