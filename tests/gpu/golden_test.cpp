@@ -1,5 +1,5 @@
-// Golden images: every built-in scene's direct image and the VPL composite of the spot-lit
-// Cornell box at 64x64, compared with EXRs in tests/golden/. The other tests pin the physics
+// Golden images: every built-in scene's direct image and the VPL, LPV and VCT composites of
+// two scenes each at 64x64, compared with EXRs in tests/golden/. The other tests pin the physics
 // (closed forms, the path tracer); these catch any unintended change of the pictures, in a pass
 // no closed-form test looks at (a flipped texel, a shifted shadow, a changed bias).
 //
@@ -39,6 +39,12 @@ std::vector<GoldenCase> cases() {
     // Halton VPLs are deterministic; a gather at full resolution and one at half with refine.
     c.push_back({"cornell", "vpl", "vpl.count=64 vpl.lowres=1"});
     c.push_back({"bunny_box", "vpl", "vpl.count=64 vpl.lowres=2"});
+    // LPV and VCT at their defaults on a spot-lit box and a sun-lit room (VCT's voxelization
+    // sums in fixed point and LPV's injection gathers, so both are deterministic).
+    c.push_back({"cornell", "lpv", ""});
+    c.push_back({"room", "lpv", ""});
+    c.push_back({"cornell", "vct", ""});
+    c.push_back({"room", "vct", ""});
     return c;
 }
 
