@@ -133,6 +133,11 @@ Result<void> buildLayout(Context& ctx, Pipeline& p, std::vector<Stage>& stages) 
                 if (prev->type != b.type)
                     return makeError(p.name + ": set " + std::to_string(b.set) + " binding " +
                                      std::to_string(b.binding) + " has different types in two stages");
+                for (ReflectedBinding& merged : p.bindings)
+                    if (merged.set == b.set && merged.binding == b.binding) {
+                        merged.readable = merged.readable || b.readable;
+                        merged.writable = merged.writable || b.writable;
+                    }
                 continue;
             }
             p.bindings.push_back(b);

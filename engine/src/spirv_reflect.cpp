@@ -1,4 +1,5 @@
-// Minimal SPIR-V reflection: descriptor bindings (set, binding, type, count), push-constant
+// Minimal SPIR-V reflection: descriptor bindings (set, binding, type, count, readonly /
+// writeonly), push-constant
 // block size and compute local size. Enough for vkgi's shaders; unknown constructs are errors.
 #include <algorithm>
 #include <map>
@@ -17,7 +18,10 @@ enum Op : uint32_t {
     OpTypeRuntimeArray = 29, OpTypeStruct = 30, OpTypePointer = 32, OpConstant = 43, OpVariable = 59,
     OpDecorate = 71, OpMemberDecorate = 72, OpExecutionModeId = 331, OpTypeAccelerationStructure = 5341
 };
-enum Decoration : uint32_t { DecBlock = 2, DecBufferBlock = 3, DecArrayStride = 6, DecMatrixStride = 7, DecBinding = 33, DecSet = 34, DecOffset = 35 };
+enum Decoration : uint32_t {
+    DecBlock = 2, DecBufferBlock = 3, DecArrayStride = 6, DecMatrixStride = 7, DecNonWritable = 24,
+    DecNonReadable = 25, DecBinding = 33, DecSet = 34, DecOffset = 35
+};
 enum StorageClass : uint32_t { ScUniformConstant = 0, ScUniform = 2, ScPushConstant = 9, ScStorageBuffer = 12 };
 
 struct TypeInfo {
@@ -32,6 +36,7 @@ struct Parser {
     std::unordered_map<uint32_t, std::map<uint32_t, uint32_t>> decorations;           // id -> dec -> value
     std::unordered_map<uint32_t, std::map<uint32_t, uint32_t>> memberOffsets;         // struct -> member -> offset
     std::unordered_map<uint32_t, std::map<uint32_t, uint32_t>> memberMatrixStrides;   // struct -> member -> stride
+    std::unordered_map<uint32_t, std::map<uint32_t, uint32_t>> memberAccess; // struct -> member -> NonWritable/NonReadable bits
     struct Var {
         uint32_t type, id, storage;
     };
@@ -130,6 +135,51 @@ Result<VkDescriptorType> descriptorType(const Parser& p, uint32_t typeId, uint32
     }
 }
 
+// The element type of a (possibly arrayed) descriptor.
+uint32_t elementType(const Parser& p, uint32_t typeId) {
+    auto t = p.types.find(typeId);
+    while (t != p.types.end() && (t->second.op == OpTypeArray || t->second.op == OpTypeRuntimeArray)) {
+        typeId = t->second.w[0];
+        t = p.types.find(typeId);
+    }
+    return typeId;
+}
+
+// GLSL's readonly / writeonly: NonWritable / NonReadable on the variable, or on every member
+// of a buffer block. Sampled images, samplers and uniform buffers are never written.
+void accessQualifiers(const Parser& p, uint32_t varId, uint32_t pointee, ReflectedBinding& b) {
+    switch (b.type) {
+    case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
+    case VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER:
+    case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER:
+        break;
+    default:
+        b.readable = true;
+        b.writable = false;
+        return;
+    }
+    bool nonWritable = p.hasDecoration(varId, DecNonWritable);
+    bool nonReadable = p.hasDecoration(varId, DecNonReadable);
+    const uint32_t block = elementType(p, pointee);
+    auto t = p.types.find(block);
+    if (t != p.types.end() && t->second.op == OpTypeStruct && !t->second.w.empty()) {
+        auto m = p.memberAccess.find(block);
+        bool allNonWritable = true, allNonReadable = true;
+        for (uint32_t i = 0; i < t->second.w.size(); ++i) {
+            uint32_t bits = 0;
+            if (m != p.memberAccess.end())
+                if (auto it = m->second.find(i); it != m->second.end())
+                    bits = it->second;
+            allNonWritable = allNonWritable && (bits & 1u);
+            allNonReadable = allNonReadable && (bits & 2u);
+        }
+        nonWritable = nonWritable || allNonWritable;
+        nonReadable = nonReadable || allNonReadable;
+    }
+    b.readable = !nonReadable;
+    b.writable = !nonWritable;
+}
+
 VkShaderStageFlagBits stageOf(uint32_t model) {
     switch (model) {
     case 0: return VK_SHADER_STAGE_VERTEX_BIT;
@@ -189,6 +239,10 @@ Result<ShaderReflection> reflectSpirv(std::span<const uint32_t> code) {
                 p.memberOffsets[w[0]][w[1]] = w[3];
             if (w[2] == DecMatrixStride && n >= 4)
                 p.memberMatrixStrides[w[0]][w[1]] = w[3];
+            if (w[2] == DecNonWritable)
+                p.memberAccess[w[0]][w[1]] |= 1u;
+            if (w[2] == DecNonReadable)
+                p.memberAccess[w[0]][w[1]] |= 2u;
             break;
         default:
             break;
@@ -220,6 +274,7 @@ Result<ShaderReflection> reflectSpirv(std::span<const uint32_t> code) {
         if (b.count == 0)
             return makeError("binding " + std::to_string(b.binding) + ": runtime descriptor arrays are not supported");
         b.type = *type;
+        accessQualifiers(p, v.id, pointee, b);
         auto nm = p.names.find(v.id);
         if (nm == p.names.end() || nm->second.empty())
             nm = p.names.find(pointee);

@@ -10,7 +10,7 @@
 #include "engine/rg/transient_pool.hpp"
 #include "engine/vk_check.hpp"
 #include "gi/gi.hpp"
-#include "pipeline.hpp"
+#include "pass_selection.hpp"
 #include "technique.hpp"
 
 namespace vkgi::gi {
@@ -76,7 +76,7 @@ struct GiSystem::Impl {
     VkCommandBuffer cmd = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
     uint32_t frameIndex = 0;
-    // Pass selection (pipeline.hpp): the scene's features and what changed since the shadow
+    // Pass selection (pass_selection.hpp): the scene's features and what changed since the shadow
     // passes and the technique last registered their passes.
     SceneFeatures features;
     SceneChanges shadowChanges;
@@ -197,15 +197,19 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
                                   !sameView(*lastTechniqueCamera, lastTechniqueWidth, lastTechniqueHeight, camera,
                                             width, height);
         selection.changes = techniqueChanges;
-        technique->addPasses(graph, bb);
+        const TechniqueInputs inputs{frame,         sceneHandles, gbuffer, bb.get<ShadowData>(), bb.tryGet<RsmData>(),
+                                     direct.direct, selection,    bb};
+        const IndirectOutputs produced = technique->addPasses(graph, inputs);
         techniqueChanges.reset();
         lastTechniqueCamera = camera;
         lastTechniqueWidth = width;
         lastTechniqueHeight = height;
-        const IndirectData& produced = bb.get<IndirectData>();
+        bb.add(IndirectData{produced.indirect, produced.ao, produced.glossy});
         out.indirect = produced.indirect;
         out.glossy = produced.glossy;
         out.ao = produced.ao;
+        if (produced.direct.valid())
+            bb.get<DirectData>().direct = produced.direct;
     }
     out.direct = direct.direct;
     out.composite = out.indirect.valid() && direct.direct.valid() ? addCompositePass(graph, pipelines, frame, direct.direct, out.indirect).final

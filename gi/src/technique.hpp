@@ -1,12 +1,14 @@
 #pragma once
 // How an indirect-light technique plugs into GiSystem. Adding one takes: a Technique value and
 // its name (gi.hpp, technique_registry.cpp), one TechniqueModule subclass in gi/src/<name>/, and
-// one case in createTechnique. The module reads the shared handles from the blackboard
-// (FrameData, SceneHandles, GBufferData, ShadowData, and RsmData when needsRsm()) and must add
-// IndirectData; the graph culls its passes when no requested output needs them.
+// one case in createTechnique. addPasses gets the shared handles of this frame (TechniqueInputs)
+// and returns what it produced (IndirectOutputs); GiSystem publishes those, composites them and
+// marks the requested ones as outputs, and the graph culls the passes no requested output needs.
+// A technique writes no other technique's or GiSystem's data: the one image it may replace, the
+// direct light, it returns (IndirectOutputs::direct).
 //
-// Pass selection (pipeline.hpp): the blackboard also holds PassSelection, with the scene's
-// features and the SceneChanges since the module's last addPasses. A module keeps results that
+// Pass selection (pass_selection.hpp): TechniqueInputs::selection holds the scene's features and
+// the SceneChanges since the module's last addPasses. A module keeps results that
 // only depend on the scene and lights (voxel grid, voxel light, propagated volumes) in
 // persistent graph resources (importImage of an rg::PersistentImage) and registers the passes
 // that produce them only when the changes dirty them; whatever it leaves out, or never needs for
@@ -19,9 +21,33 @@
 #include "engine/rg/render_graph.hpp"
 #include "gi/frame_data.hpp"
 #include "gi/gi.hpp"
-#include "pipeline.hpp"
+#include "pass_selection.hpp"
 
 namespace vkgi::gi {
+
+// This frame's shared handles, valid for the graph addPasses adds to.
+struct TechniqueInputs {
+    const FrameData& frame;
+    const SceneHandles& scene;
+    const GBufferData& gbuffer;
+    const ShadowData& shadow; // the shadow atlas (its layers may be empty)
+    const RsmData* rsm;       // present when the technique needsRsm() (or GiSettings::forceRsm)
+    rg::ImageHandle direct;   // the deferred direct light (emission + punctual lights), read-only
+    PassSelection& selection;
+    // For handles a technique publishes beyond IndirectOutputs (its own types: VoxelGridData,
+    // VctOutputs, VplOutputs) for tests and tools; never for the inputs above.
+    rg::Blackboard& blackboard;
+};
+
+// What a technique's passes produce, camera resolution, RGBA32F.
+struct IndirectOutputs {
+    rg::ImageHandle indirect; // indirect radiance (nits)
+    rg::ImageHandle ao;       // alpha = AO visibility in [0, 1]; invalid when not produced
+    rg::ImageHandle glossy;   // glossy cone radiance (nits); invalid when not produced
+    // A re-shaded direct light that replaces TechniqueInputs::direct in the composite and the
+    // direct output (VCT's cone-traced soft shadows); invalid when the technique keeps it.
+    rg::ImageHandle direct;
+};
 
 class TechniqueModule {
 public:
@@ -33,8 +59,8 @@ public:
         (void)ctx, (void)scene, (void)gpu, (void)uploaded;
         return {};
     }
-    // Adds this frame's passes; must add IndirectData to `blackboard`.
-    virtual void addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard) = 0;
+    // Adds this frame's passes.
+    virtual IndirectOutputs addPasses(rg::RenderGraph& graph, const TechniqueInputs& inputs) = 0;
     // Device memory the technique keeps across frames (volumes, histories), in bytes.
     virtual uint64_t persistentBytes() const { return 0; }
 };

@@ -1,4 +1,4 @@
-// Pass selection (gi/src/pipeline.hpp): the exact compiled pass list and the resources it uses
+// Pass selection (gi/src/pass_selection.hpp): the exact compiled pass list and the resources it uses
 // for every built-in scene and technique, the reasons of what is left out, and dirty tracking:
 // a static frame reuses the persistent volumes and gives the same image bit for bit, a moved
 // light or object re-runs exactly what depends on it.
@@ -11,7 +11,7 @@
 
 #include "engine/builtin_scenes.hpp"
 #include "gi/gi.hpp"
-#include "pipeline.hpp"
+#include "pass_selection.hpp"
 #include "support/gpu_fixture.hpp"
 
 using namespace vkgi;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "engine/context.hpp"
+#include "engine/rg/compute_pass.hpp"
 #include "engine/rg/render_graph.hpp"
 #include "engine/rg/transient_pool.hpp"
 #include "support/gpu_fixture.hpp"
@@ -84,38 +85,29 @@ protected:
         const Pipeline* reduce = &m_reduce;
         BufferHandle values = g.createBuffer("values", {kValues * 4});
         BufferHandle host = g.importBuffer("host", m_host, Access::None);
-        g.addPass(
-            "fill",
-            [&](PassBuilder& b) { pyramid = b.write(pyramid, Access::ComputeStorageWrite, SubresourceRange::mip(0)); },
-            [=](PassContext& ctx) {
-                ctx.dispatch(*fill, PassContext::groupsFor(*fill, {kSize, kSize, 1}), Push{{kSize, kSize, 0, 0}},
-                             {ctx.storage(0, pyramid, 0)});
-            });
+        // Compute passes through rg::ComputePass: every access below comes from the shaders'
+        // reflected bindings (fill: writeonly; mip_sum: readonly src, writeonly dst; reduce:
+        // readonly images, writeonly buffer).
+        ComputePass fillPass(g, "fill", *fill);
+        fillPass.push(Push{{kSize, kSize, 0, 0}}).write(0, pyramid, SubresourceRange::mip(0));
+        if (m_indirectFill.valid())
+            fillPass.dispatchIndirect(m_indirectFill, kIndirectOffset);
+        else
+            fillPass.dispatch({kSize, kSize, 1});
         for (uint32_t k = 1; k < kMips; ++k) {
             uint32_t size = kSize >> k;
-            g.addPass(
-                mipPassName(k),
-                [&](PassBuilder& b) {
-                    b.read(pyramid, Access::ComputeStorageRead, SubresourceRange::mip(k - 1));
-                    pyramid = b.write(pyramid, Access::ComputeStorageWrite, SubresourceRange::mip(k));
-                },
-                [=](PassContext& ctx) {
-                    ctx.dispatch(*mip, PassContext::groupsFor(*mip, {size, size, 1}), Push{{size, size, 0, 0}},
-                                 {ctx.storage(0, pyramid, k - 1), ctx.storage(1, pyramid, k)});
-                });
+            ComputePass(g, mipPassName(k), *mip)
+                .push(Push{{size, size, 0, 0}})
+                .read(0, pyramid, SubresourceRange::mip(k - 1))
+                .write(1, pyramid, SubresourceRange::mip(k))
+                .dispatch({size, size, 1});
         }
-        g.addPass(
-            "reduce",
-            [&](PassBuilder& b) {
-                b.read(pyramid, Access::ComputeStorageRead, SubresourceRange::mip(kLevel));
-                b.read(pyramid, Access::ComputeStorageRead, SubresourceRange::mip(kMips - 1));
-                values = b.write(values, Access::ComputeStorageWriteDiscard);
-            },
-            [=](PassContext& ctx) {
-                ctx.dispatch(
-                    *reduce, PassContext::groupsFor(*reduce, {kLevelSize, kLevelSize, 1}), Push{{kLevelSize, 0, 0, 0}},
-                    {ctx.storage(0, pyramid, kLevel), ctx.storage(1, pyramid, kMips - 1), ctx.buffer(2, values)});
-            });
+        ComputePass(g, "reduce", *reduce)
+            .push(Push{{kLevelSize, 0, 0, 0}})
+            .read(0, pyramid, SubresourceRange::mip(kLevel))
+            .read(1, pyramid, SubresourceRange::mip(kMips - 1))
+            .overwrite(2, values)
+            .dispatch({kLevelSize, kLevelSize, 1});
         g.addPass(
             "readback",
             [&](PassBuilder& b) {
@@ -146,6 +138,9 @@ protected:
 
     Pipeline m_fill, m_mip, m_reduce;
     Buffer m_host;
+    // When valid, the fill pass reads its work-group counts from this buffer at kIndirectOffset.
+    BufferHandle m_indirectFill;
+    static constexpr VkDeviceSize kIndirectOffset = 16;
 };
 
 TEST_F(RenderGraphGpu, SumPyramidIsExactWithoutValidationMessages) {
@@ -167,6 +162,39 @@ TEST_F(RenderGraphGpu, SumPyramidIsExactWithoutValidationMessages) {
             g.writeDot(dot);
         }
     }
+}
+
+// The fill pass dispatched indirectly: its work-group counts come from a buffer a transfer pass
+// writes in the same graph (at an offset), so the pyramid is only right if the indirect read
+// waits on that write and uses the offset.
+TEST_F(RenderGraphGpu, IndirectComputePassReadsItsCountsAfterTheirWrite) {
+    TransientPool pool(ctx());
+    RenderGraph g;
+    BufferDesc argsDesc;
+    argsDesc.size = 64;
+    BufferHandle args = g.createBuffer("fill.args", argsDesc);
+    const uint32_t groups[4] = {kSize / m_fill.localSize[0], kSize / m_fill.localSize[1], 1u, 0u};
+    g.addPass(
+        "fill.args",
+        [&](PassBuilder& b) { args = b.write(args, Access::TransferWrite); },
+        [=](PassContext& ctx) {
+            vkCmdFillBuffer(ctx.cmd(), ctx.buffer(args).buffer, 0, kIndirectOffset, 0);
+            vkCmdUpdateBuffer(ctx.cmd(), ctx.buffer(args).buffer, kIndirectOffset, sizeof(groups), groups);
+        });
+    m_indirectFill = args;
+    addSumChain(g, g.createImage("pyramid", pyramidDesc()));
+    Result<void> compiled = g.compile();
+    ASSERT_TRUE(compiled) << compiled.error().message;
+    const std::vector<BarrierInfo>* into = g.barriersBefore("fill");
+    ASSERT_NE(into, nullptr);
+    bool indirect = false;
+    for (const BarrierInfo& b : *into)
+        indirect = indirect || (b.resourceName == "fill.args" && (b.dstAccess & VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT));
+    EXPECT_TRUE(indirect) << "the fill pass waits on the argument write as an indirect read";
+    clearHost();
+    ctx().submitAndWait([&](VkCommandBuffer cmd) { g.execute(cmd, ctx(), pool); });
+    EXPECT_EQ(wrongValues(), 0u);
+    EXPECT_EQ(validation().count(), 0u);
 }
 
 TEST_F(RenderGraphGpu, CulledPassIsNeitherRecordedNorAllocated) {

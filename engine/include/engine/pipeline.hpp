@@ -32,6 +32,11 @@ struct ReflectedBinding {
     VkDescriptorType type = VK_DESCRIPTOR_TYPE_MAX_ENUM;
     uint32_t count = 1;
     std::string name;
+    // What the shader may do with it: GLSL readonly clears `writable`, writeonly clears
+    // `readable`; sampled images, samplers and uniform buffers are readable only. Render-graph
+    // compute passes derive each binding's rg::Access from these (engine/rg/compute_pass.hpp).
+    bool readable = true;
+    bool writable = true;
 };
 
 struct ShaderReflection {

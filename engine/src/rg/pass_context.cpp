@@ -66,16 +66,36 @@ DescriptorItem PassContext::buffer(uint32_t binding, BufferHandle h) const {
     return item;
 }
 
-void PassContext::dispatchRaw(const Pipeline& pipeline, glm::uvec3 groups, const void* push, uint32_t pushSize,
-                              std::initializer_list<DescriptorItem> items) const {
+void PassContext::bindForDispatch(const Pipeline& pipeline, const void* push, uint32_t pushSize,
+                                  std::span<const DescriptorItem> items) const {
     vkCmdBindPipeline(m_cmd, pipeline.bindPoint, pipeline.pipeline);
     if (pipeline.findBinding(GI_FRAME_SET, GI_FRAME_BINDING))
         bindFrameSet(pipeline);
-    if (items.size() > 0)
-        pushDescriptors(m_ctx, m_cmd, pipeline, std::span<const DescriptorItem>(items.begin(), items.size()));
+    if (!items.empty())
+        pushDescriptors(m_ctx, m_cmd, pipeline, items);
     if (pushSize > 0 || pipeline.pushConstantSize > 0)
         pushConstants(m_cmd, pipeline, push, pushSize);
+}
+
+void PassContext::dispatchRaw(const Pipeline& pipeline, glm::uvec3 groups, const void* push, uint32_t pushSize,
+                              std::initializer_list<DescriptorItem> items) const {
+    dispatch(pipeline, groups, push, pushSize, std::span<const DescriptorItem>(items.begin(), items.size()));
+}
+
+void PassContext::dispatch(const Pipeline& pipeline, glm::uvec3 groups, const void* push, uint32_t pushSize,
+                           std::span<const DescriptorItem> items) const {
+    bindForDispatch(pipeline, push, pushSize, items);
     vkCmdDispatch(m_cmd, groups.x, groups.y, groups.z);
+}
+
+void PassContext::dispatchIndirect(const Pipeline& pipeline, BufferHandle args, VkDeviceSize offset, const void* push,
+                                   uint32_t pushSize, std::span<const DescriptorItem> items) const {
+    bool declared = false;
+    for (const detail::Use& u : m_graph.m_passes[m_pass].uses)
+        declared = declared || (u.resource == args.index && u.access == Access::IndirectRead);
+    GI_ASSERT(declared, "PassContext::dispatchIndirect: the pass did not declare IndirectRead of its arguments");
+    bindForDispatch(pipeline, push, pushSize, items);
+    vkCmdDispatchIndirect(m_cmd, buffer(args).buffer, offset);
 }
 
 void PassContext::bindFrameSet(const Pipeline& pipeline) const {

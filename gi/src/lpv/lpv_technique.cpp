@@ -81,23 +81,22 @@ public:
         return {};
     }
 
-    void addPasses(rg::RenderGraph& graph, rg::Blackboard& bb) override {
-        const FrameData& frame = bb.get<FrameData>();
-        const GBufferData& gbuffer = bb.get<GBufferData>();
-        const RsmData* rsmData = bb.tryGet<RsmData>();
+    IndirectOutputs addPasses(rg::RenderGraph& graph, const TechniqueInputs& in) override {
+        const FrameData& frame = in.frame;
+        const GBufferData& gbuffer = in.gbuffer;
+        const RsmData* rsmData = in.rsm;
         lpv::GBufferInput gb{gbuffer.position, gbuffer.normal, gbuffer.albedo, frame.width, frame.height};
         if (!m_grid || !rsmData || rsmData->layers.empty()) {
             m_cache.valid = false; // the changes of this frame are not looked at
-            bb.get<PassSelection>().leaveOut("gi.lpv.*", LeftOutReason::NotNeeded,
-                                             !m_grid ? "no light reaches the scene (the LPV injects only the RSM)"
-                                                     : "no light has shadow-atlas layers");
-            bb.add(IndirectData{addBlack(graph, frame), {}});
-            return;
+            in.selection.leaveOut("gi.lpv.*", LeftOutReason::NotNeeded,
+                                  !m_grid ? "no light reaches the scene (the LPV injects only the RSM)"
+                                          : "no light has shadow-atlas layers");
+            return {addBlack(graph, frame), {}, {}, {}};
         }
         const VkFormat format = m_settings.halfFloat ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
         lpv::RsmInput rsmFull{rsmData->position, rsmData->normal, rsmData->flux, rsmData->resolution,
                               uint32_t(rsmData->layers.size())};
-        PassSelection& selection = bb.get<PassSelection>();
+        PassSelection& selection = in.selection;
         const SceneChanges& changes = selection.changes;
         // Pending re-voxelization: a moved static object invalidates the static bake.
         VoxelUpdate moved = changes.all || changes.staticGeometry ? VoxelUpdate::Full
@@ -132,7 +131,7 @@ public:
             if (m_cache.sum.image.image)
                 sum = graph.importImage("gi.lpv.accumulation.sum", m_cache.sum);
             if (rerun) {
-                addVolumePasses(graph, bb, grid, format, rsmFull, gb, accumulation, buffer);
+                addVolumePasses(graph, in, grid, format, rsmFull, gb, accumulation, buffer);
                 if (sum.valid())
                     sum = lpv::addAccumulationSumPass(graph, m_injector, grid, accumulation, sum);
                 m_cache.grid = grid;
@@ -151,10 +150,9 @@ public:
             }
             indirect = lpv::addLookupPass(graph, m_injector, grid, accumulation, buffer, gb, m_settings.damping, {}, {},
                                           "gi.lpv", sum);
-            bb.add(IndirectData{indirect, {}});
-            return;
+            return {indirect, {}, {}, {}};
         }
-        lpv::VoxelInput voxels = addVoxelPasses(graph, bb);
+        lpv::VoxelInput voxels = addVoxelPasses(graph, in);
         const lpv::RsmInput rsm = reducedRsm(graph, rsmFull);
         for (size_t k = 0; k < grids.size(); ++k) {
             const gpu::LpvGrid& grid = grids[k];
@@ -179,7 +177,7 @@ public:
             indirect = lpv::addLookupPass(graph, m_injector, grid, volumes.accumulation, injected.buffer, gb,
                                           m_settings.damping, indirect, blend, prefix);
         }
-        bb.add(IndirectData{indirect, {}});
+        return {indirect, {}, {}, {}};
     }
 
     uint64_t persistentBytes() const override {
@@ -193,10 +191,10 @@ public:
 
 private:
     // The voxel grid of the bounce (when on), re-voxelized for the pending m_voxelUpdate.
-    lpv::VoxelInput addVoxelPasses(rg::RenderGraph& graph, rg::Blackboard& bb) {
+    lpv::VoxelInput addVoxelPasses(rg::RenderGraph& graph, const TechniqueInputs& in) {
         if (!m_voxels)
             return {};
-        const SceneHandles& scene = bb.get<SceneHandles>();
+        const SceneHandles& scene = in.scene;
         VoxelGridData grid = addVoxelGridPasses(
             graph, *m_voxels, {scene.vertices, scene.indices, scene.instances, scene.materials, m_draws}, m_voxelUpdate);
         m_voxelUpdate = VoxelUpdate::None;
@@ -211,10 +209,10 @@ private:
     }
 
     // Injection, geometry volume and propagation of one grid into `accumulation` (+ `buffer`).
-    void addVolumePasses(rg::RenderGraph& graph, rg::Blackboard& bb, const gpu::LpvGrid& grid, VkFormat format,
+    void addVolumePasses(rg::RenderGraph& graph, const TechniqueInputs& in, const gpu::LpvGrid& grid, VkFormat format,
                          const lpv::RsmInput& rsmFull, const lpv::GBufferInput& gb, lpv::ShHandles& accumulation,
                          rg::BufferHandle& buffer) {
-        lpv::VoxelInput voxels = addVoxelPasses(graph, bb);
+        lpv::VoxelInput voxels = addVoxelPasses(graph, in);
         const lpv::RsmInput rsm = reducedRsm(graph, rsmFull);
         const glm::ivec3 cells(grid.size);
         lpv::InjectionResult injected = lpv::addInjectionPasses(

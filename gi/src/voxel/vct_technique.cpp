@@ -56,15 +56,13 @@ public:
         return {};
     }
 
-    void addPasses(rg::RenderGraph& graph, rg::Blackboard& bb) override {
-        const FrameData& frame = bb.get<FrameData>();
-        const SceneHandles& scene = bb.get<SceneHandles>();
-        const GBufferData& gbuffer = bb.get<GBufferData>();
-        if (!m_grid) {
-            bb.add(IndirectData{});
-            return;
-        }
-        PassSelection& selection = bb.get<PassSelection>();
+    IndirectOutputs addPasses(rg::RenderGraph& graph, const TechniqueInputs& in) override {
+        const FrameData& frame = in.frame;
+        const SceneHandles& scene = in.scene;
+        const GBufferData& gbuffer = in.gbuffer;
+        if (!m_grid)
+            return {};
+        PassSelection& selection = in.selection;
         const SceneChanges& changes = selection.changes;
         // A moved static object invalidates the static bake; a moved dynamic one only itself.
         VoxelUpdate update = std::max(m_update, changes.all || changes.staticGeometry ? VoxelUpdate::Full
@@ -98,27 +96,25 @@ public:
         VoxelGridData grid = addVoxelGridPasses(graph, *m_grid, handles, update);
         m_update = VoxelUpdate::None;
         m_lit = true;
-        bb.add(grid);
+        in.blackboard.add(grid);
         VctGBufferHandles g{gbuffer.position, gbuffer.normal, gbuffer.albedo, gbuffer.emission, frame.width,
                             frame.height, frame.camera.position};
         VctPassOptions options{relight, selection.features.emissive};
         options.glossyImage = selection.request.glossy;
         if (!options.glossyImage)
             selection.leaveOut("gi.vct.trace:glossy-image", LeftOutReason::NotNeeded, "the glossy image is not requested");
-        if (const ShadowData* sd = bb.tryGet<ShadowData>()) {
+        if (const ShadowData* sd = &in.shadow) {
             options.shadowAtlas = sd->atlas;
             options.shadowViews = sd->views;
             options.lightShadows = sd->lightShadows;
             options.shadowSampler = sd->compareSampler;
         }
         VctOutputs out = addVctPasses(graph, *m_volumes, grid, scene.lights, m_lightCount, settings, &g, options);
+        in.blackboard.add(out);
         // Soft shadows: the cone-traced direct image replaces the deferred pass's (whose shadow-map
         // visibility it replaces, vct_soft_shadow.comp); the composite and the direct output read it.
-        if (out.direct.valid())
-            bb.get<DirectData>().direct = out.direct;
-        bb.add(IndirectData{out.indirect, settings.ambientOcclusion ? out.indirect : rg::ImageHandle{},
-                            settings.glossy ? out.glossy : rg::ImageHandle{}});
-        bb.add(out);
+        return {out.indirect, settings.ambientOcclusion ? out.indirect : rg::ImageHandle{},
+                settings.glossy ? out.glossy : rg::ImageHandle{}, out.direct};
     }
 
     uint64_t persistentBytes() const override {

@@ -39,15 +39,14 @@ public:
         return {};
     }
 
-    void addPasses(rg::RenderGraph& graph, rg::Blackboard& bb) override {
-        const FrameData& frame = bb.get<FrameData>();
-        const GBufferData& gbuffer = bb.get<GBufferData>();
-        const ShadowData& shadow = bb.get<ShadowData>();
-        const RsmData* rsmData = bb.tryGet<RsmData>();
+    IndirectOutputs addPasses(rg::RenderGraph& graph, const TechniqueInputs& inputs) override {
+        const FrameData& frame = inputs.frame;
+        const GBufferData& gbuffer = inputs.gbuffer;
+        const ShadowData& shadow = inputs.shadow;
+        const RsmData* rsmData = inputs.rsm;
         if (!rsmData) {
-            bb.get<PassSelection>().leaveOut("vpl.*", LeftOutReason::NotNeeded, "no light in the scene");
-            bb.add(IndirectData{});
-            return;
+            inputs.selection.leaveOut("vpl.*", LeftOutReason::NotNeeded, "no light in the scene");
+            return {};
         }
         const RsmData& rsm = *rsmData;
         VplInputs in;
@@ -96,15 +95,14 @@ public:
         if (in.spots.empty()) {
             // No light with an RSM: nothing to bounce, so the technique adds no pass and no
             // indirect image; GiSystem then composites nothing (the frame is the direct image).
-            bb.get<PassSelection>().leaveOut("vpl.*", LeftOutReason::NotNeeded,
-                                             "no light has shadow-atlas layers (past maxShadowLayers)");
-            bb.add(IndirectData{});
-            return;
+            inputs.selection.leaveOut("vpl.*", LeftOutReason::NotNeeded,
+                                      "no light has shadow-atlas layers (past maxShadowLayers)");
+            return {};
         }
         auto out = m_renderer->addPasses(graph, in, m_settings);
         GI_ASSERT(out.ok(), "VplModule::addPasses: inputs were validated in sceneChanged");
-        bb.add(IndirectData{out->indirect, {}});
-        bb.add(*out);
+        inputs.blackboard.add(*out);
+        return {out->indirect, {}, {}, {}};
     }
 
 private:

@@ -9,6 +9,7 @@
 #include <initializer_list>
 #include <iosfwd>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -143,6 +144,7 @@ struct MemoryReport {
 class RenderGraph;
 class TransientPool;
 class PassContext;
+class ComputePass;
 
 namespace detail {
 struct Use {
@@ -200,6 +202,7 @@ public:
 
 private:
     friend class RenderGraph;
+    friend class ComputePass;
     PassBuilder(RenderGraph& graph, uint32_t pass) : m_graph(graph), m_pass(pass) {}
     RenderGraph& m_graph;
     uint32_t m_pass;
@@ -238,6 +241,13 @@ public:
     void dispatch(const Pipeline& pipeline, glm::uvec3 groups, std::initializer_list<DescriptorItem> items) const {
         dispatchRaw(pipeline, groups, nullptr, 0, items);
     }
+    // The same with push constants as bytes and any number of descriptors.
+    void dispatch(const Pipeline& pipeline, glm::uvec3 groups, const void* push, uint32_t pushSize,
+                  std::span<const DescriptorItem> items) const;
+    // As dispatch(), with the work-group counts read from `args` at `offset` (a
+    // VkDispatchIndirectCommand); the pass must have declared Access::IndirectRead of `args`.
+    void dispatchIndirect(const Pipeline& pipeline, BufferHandle args, VkDeviceSize offset, const void* push,
+                          uint32_t pushSize, std::span<const DescriptorItem> items) const;
     // Binds the graph's frame set (RenderGraph::setFrameSet) as set 0 of `pipeline`.
     void bindFrameSet(const Pipeline& pipeline) const;
     // Work groups covering `threads` invocations with the pipeline's local size.
@@ -249,6 +259,8 @@ private:
         : m_graph(graph), m_pass(pass), m_cmd(cmd), m_ctx(ctx) {}
     void dispatchRaw(const Pipeline& pipeline, glm::uvec3 groups, const void* push, uint32_t pushSize,
                      std::initializer_list<DescriptorItem> items) const;
+    void bindForDispatch(const Pipeline& pipeline, const void* push, uint32_t pushSize,
+                         std::span<const DescriptorItem> items) const;
     const detail::Use* findUse(uint32_t resource, uint32_t mip) const;
     const RenderGraph& m_graph;
     uint32_t m_pass;
@@ -357,6 +369,7 @@ public:
 private:
     friend class PassBuilder;
     friend class PassContext;
+    friend class ComputePass;
 
     uint32_t beginPass(std::string name);
     template <typename F> void setExecute(uint32_t pass, F&& fn) {

@@ -1,5 +1,5 @@
-// Scene analysis and change tracking for pass selection (pipeline.hpp).
-#include "pipeline.hpp"
+// Scene analysis and change tracking for pass selection (pass_selection.hpp).
+#include "pass_selection.hpp"
 
 #include "direct/direct_passes.hpp"
 
