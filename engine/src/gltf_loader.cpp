@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <fstream>
@@ -46,6 +47,12 @@ std::string oneLine(std::string s) {
     return out;
 }
 
+std::string formatNumber(double v) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%g", v);
+    return text;
+}
+
 bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // Wraps tinygltf's decoder so that a bad image costs only its texture, not the whole file.
@@ -60,6 +67,80 @@ bool tolerantImageLoader(tinygltf::Image* image, const int index, std::string* e
     image->image.clear();
     image->width = image->height = 0;
     return true;
+}
+
+// File access for tinygltf: every file it reads (the scene file, buffers, images) is looked up
+// here, so URIs stay inside the scene's folder and no file over the size limit is read.
+struct FileGuard {
+    std::filesystem::path root; // the scene file's folder, canonical
+    GltfLoadOptions options;
+    std::vector<std::string> refusals; // one line per refused path
+    std::set<std::string> refused;
+};
+
+bool insideFolder(const std::filesystem::path& p, const std::filesystem::path& root) {
+    auto r = root.begin(), q = p.begin();
+    for (; r != root.end(); ++r, ++q)
+        if (q == p.end() || *q != *r)
+            return false;
+    return true;
+}
+
+// The canonical path of `path` when the guard lets it be read; empty (with a refusal noted) if not.
+std::filesystem::path admit(FileGuard& g, const std::string& path) {
+    std::error_code ec;
+    std::filesystem::path resolved = std::filesystem::weakly_canonical(std::filesystem::path(path), ec);
+    if (ec)
+        return {};
+    if (!g.options.allowOutsideFolder && !insideFolder(resolved, g.root)) {
+        if (g.refused.insert(resolved.string()).second)
+            g.refusals.push_back("'" + path + "' resolves outside the scene's folder " + g.root.string() +
+                                 "; not read (allow it with allowOutsideFolder / --allow-outside-folder)");
+        return {};
+    }
+    return resolved;
+}
+
+bool guardedFileExists(const std::string& path, void* user) {
+    std::filesystem::path p = admit(*static_cast<FileGuard*>(user), path);
+    std::error_code ec;
+    return !p.empty() && std::filesystem::is_regular_file(p, ec);
+}
+
+std::string unexpandedPath(const std::string& path, void*) {
+    return path; // no ~ or $VARIABLE expansion: a URI names a file, not a shell word
+}
+
+bool guardedReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+    FileGuard& g = *static_cast<FileGuard*>(user);
+    std::filesystem::path p = admit(g, path);
+    if (p.empty()) {
+        *err += "outside the scene's folder";
+        return false;
+    }
+    std::error_code ec;
+    const uintmax_t size = std::filesystem::file_size(p, ec);
+    if (ec) {
+        *err += "cannot read (" + ec.message() + ")";
+        return false;
+    }
+    if (size > g.options.maxFileBytes) {
+        *err += p.filename().string() + " is " + std::to_string(size) + " bytes, over the loader's limit of " +
+                std::to_string(g.options.maxFileBytes) + " bytes (GltfLoadOptions::maxFileBytes)";
+        return false;
+    }
+    std::ifstream in(p, std::ios::binary);
+    out->resize(size_t(size));
+    if (!in.read(reinterpret_cast<char*>(out->data()), std::streamsize(size))) {
+        *err += "read failed";
+        return false;
+    }
+    return true;
+}
+
+bool refuseWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    *err += "the loader writes no files";
+    return false;
 }
 
 class Loader {
@@ -717,6 +798,16 @@ Result<void> Loader::visit(int node, const glm::mat4& parent, int depth) {
         Result<std::vector<uint32_t>> ids = meshPrimitives(n.mesh);
         if (!ids)
             return ids.error();
+        const glm::vec3 t(world[3]);
+        if (isSingularTransform(world)) {
+            warn("node " + std::to_string(node) + ": singular transform (a zero scale, or axes collapsed onto a "
+                 "plane or line); mesh " + std::to_string(n.mesh) + " is not drawn");
+            ids = std::vector<uint32_t>{};
+        } else if (glm::any(glm::greaterThan(glm::abs(t), glm::vec3(kMaxCoordinate)))) {
+            warn("node " + std::to_string(node) + ": placed beyond " + std::to_string(kMaxCoordinate) +
+                 " m from the origin; mesh " + std::to_string(n.mesh) + " is not drawn");
+            ids = std::vector<uint32_t>{};
+        }
         for (uint32_t id : ids.value()) {
             Instance inst;
             inst.mesh = id;
@@ -728,8 +819,13 @@ Result<void> Loader::visit(int node, const glm::mat4& parent, int depth) {
         addCamera(n.camera, world, node);
     if (auto it = n.extensions.find("KHR_lights_punctual"); it != n.extensions.end()) {
         const tinygltf::Value& v = it->second.Get("light");
-        if (v.IsNumber())
-            addLight(v.GetNumberAsInt(), world, node);
+        // Checked as a double first: converting an out-of-range number to int is undefined.
+        const double index = v.IsNumber() ? v.GetNumberAsDouble() : -1.0;
+        if (v.IsNumber() && index >= 0.0 && index < double(m_m.lights.size()) && index == std::floor(index))
+            addLight(int(index), world, node);
+        else if (v.IsNumber())
+            warn("node " + std::to_string(node) + " KHR_lights_punctual light index " + formatNumber(index) +
+                 " is not one of the " + std::to_string(m_m.lights.size()) + " lights; ignored");
         else
             warn("node " + std::to_string(node) + " KHR_lights_punctual has no light index; ignored");
     }
@@ -797,23 +893,60 @@ bool isBinaryGltf(const std::filesystem::path& file) {
 
 } // namespace
 
-Result<Scene> loadGltf(const std::filesystem::path& file, std::vector<std::string>* warnings) {
+// A GLB states its total length in its 12-byte header: checked against the file before reading.
+Result<void> checkGlbHeader(const std::filesystem::path& file, uint64_t fileSize) {
+    std::ifstream in(file, std::ios::binary);
+    uint32_t header[3] = {};
+    in.read(reinterpret_cast<char*>(header), sizeof(header));
+    if (in.gcount() != sizeof(header))
+        return makeError(file.string() + ": GLB header is truncated");
+    if (header[2] != fileSize)
+        return makeError(file.string() + ": GLB header gives a length of " + std::to_string(header[2]) +
+                         " bytes, the file has " + std::to_string(fileSize));
+    return {};
+}
+
+Result<Scene> loadGltf(const std::filesystem::path& file, std::vector<std::string>* warnings,
+                       const GltfLoadOptions& options) {
     const std::string name = file.string();
     try {
         std::error_code ec;
         if (!std::filesystem::is_regular_file(file, ec))
             return makeError(name + ": no such file");
-        if (std::filesystem::file_size(file, ec) == 0)
+        const uintmax_t size = std::filesystem::file_size(file, ec);
+        if (ec || size == 0)
             return makeError(name + ": file is empty");
+        if (size > options.maxFileBytes)
+            return makeError(name + ": file is " + std::to_string(size) + " bytes, over the loader's limit of " +
+                             std::to_string(options.maxFileBytes) + " bytes (GltfLoadOptions::maxFileBytes)");
+        const bool binary = isBinaryGltf(file);
+        if (binary)
+            if (Result<void> ok = checkGlbHeader(file, size); !ok)
+                return ok.error();
+        FileGuard guard;
+        guard.root = std::filesystem::weakly_canonical(std::filesystem::absolute(file, ec), ec).parent_path();
+        guard.options = options;
         tinygltf::TinyGLTF ctx;
         ctx.SetImageLoader(tolerantImageLoader, nullptr);
+        tinygltf::FsCallbacks callbacks;
+        callbacks.FileExists = guardedFileExists;
+        callbacks.ExpandFilePath = unexpandedPath;
+        callbacks.ReadWholeFile = guardedReadWholeFile;
+        callbacks.WriteWholeFile = refuseWrite;
+        callbacks.user_data = &guard;
+        ctx.SetFsCallbacks(callbacks);
         tinygltf::Model model;
         std::string err, warn;
-        bool ok = isBinaryGltf(file) ? ctx.LoadBinaryFromFile(&model, &err, &warn, name)
-                                     : ctx.LoadASCIIFromFile(&model, &err, &warn, name);
-        if (!ok)
-            return makeError(name + ": " + (err.empty() ? "not a valid glTF file" : oneLine(err)));
+        bool ok = binary ? ctx.LoadBinaryFromFile(&model, &err, &warn, name)
+                         : ctx.LoadASCIIFromFile(&model, &err, &warn, name);
         Loader loader(model, name, file.stem().string());
+        for (const std::string& refusal : guard.refusals)
+            loader.warnings().push_back(name + ": " + refusal);
+        if (!ok) {
+            if (warnings)
+                warnings->insert(warnings->end(), loader.warnings().begin(), loader.warnings().end());
+            return makeError(name + ": " + (err.empty() ? "not a valid glTF file" : oneLine(err)));
+        }
         if (!warn.empty())
             loader.warnings().push_back(name + ": " + oneLine(warn));
         Result<Scene> scene = loader.run();
@@ -827,7 +960,8 @@ Result<Scene> loadGltf(const std::filesystem::path& file, std::vector<std::strin
     }
 }
 
-Result<Scene> loadScene(std::string_view nameOrPath, const BuiltinSceneParams& p, std::vector<std::string>* warnings) {
+Result<Scene> loadScene(std::string_view nameOrPath, const BuiltinSceneParams& p, std::vector<std::string>* warnings,
+                        const GltfLoadOptions& options) {
     if (isBuiltinScene(nameOrPath))
         return makeBuiltinScene(nameOrPath, p);
     std::filesystem::path path{std::string(nameOrPath)};
@@ -835,7 +969,7 @@ Result<Scene> loadScene(std::string_view nameOrPath, const BuiltinSceneParams& p
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     if (std::filesystem::exists(path, ec) || ext == ".gltf" || ext == ".glb")
-        return loadGltf(path, warnings);
+        return loadGltf(path, warnings, options);
     std::string names;
     for (const std::string& n : builtinSceneNames())
         names += (names.empty() ? "" : ", ") + n;

@@ -1,7 +1,6 @@
 #include "engine/image_io.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -11,14 +10,14 @@
 #include <system_error>
 #include <vector>
 
-#include <unistd.h>
-
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <stb_image_write.h>
+
+#include "engine/file_util.hpp"
 
 namespace vkgi {
 
@@ -40,30 +39,6 @@ Error fileError(const fs::path& path, const std::string& what) {
     return makeError(path.string() + ": " + oneLine(what));
 }
 
-// A unique sibling of `path`: same folder (so rename() is atomic, never a cross-device copy).
-fs::path tempSibling(const fs::path& path) {
-    static std::atomic<uint64_t> counter{0};
-    fs::path tmp = path;
-    tmp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
-    return tmp;
-}
-
-void removeQuietly(const fs::path& p) {
-    std::error_code ec;
-    fs::remove(p, ec);
-}
-
-// Moves a complete temporary file over the target; removes the temporary on failure.
-Result<void> commitTemp(const fs::path& tmp, const fs::path& path) {
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        removeQuietly(tmp);
-        return fileError(path, "cannot rename temporary file into place: " + ec.message());
-    }
-    return {};
-}
-
 Result<void> checkWritable(const fs::path& path, const HdrImage& image) {
     if (image.empty() || image.width == 0 || image.height == 0)
         return fileError(path, "cannot write an empty image");
@@ -74,22 +49,6 @@ Result<void> checkWritable(const fs::path& path, const HdrImage& image) {
     if (path.filename().empty())
         return fileError(path, "not a file name");
     return {};
-}
-
-Result<void> writeBytesAtomic(const fs::path& path, const std::vector<uint8_t>& bytes) {
-    fs::path tmp = tempSibling(path);
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f)
-        return fileError(path, std::string("cannot create file: ") + std::strerror(errno));
-    bool good = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-    good = (std::fflush(f) == 0) && good;
-    int err = errno;
-    good = (std::fclose(f) == 0) && good;
-    if (!good) {
-        removeQuietly(tmp);
-        return fileError(path, std::string("write failed: ") + std::strerror(err));
-    }
-    return commitTemp(tmp, path);
 }
 
 float srgbOetf(float v) {
@@ -122,7 +81,9 @@ glm::u8vec3 toneMapPixel(const glm::vec3& linear, const ToneMap& toneMap) {
 Result<void> writeExr(const fs::path& path, const HdrImage& image) {
     if (auto ok = checkWritable(path, image); !ok)
         return ok;
-    fs::path tmp = tempSibling(path);
+    Result<AtomicFile> file = AtomicFile::begin(path);
+    if (!file)
+        return file.error();
     try {
         Imf::Header header(int(image.width), int(image.height));
         header.compression() = Imf::ZIP_COMPRESSION;
@@ -136,15 +97,14 @@ Result<void> writeExr(const fs::path& path, const HdrImage& image) {
         fb.insert("G", Imf::Slice(Imf::FLOAT, base + 1 * sizeof(float), xs, ys));
         fb.insert("B", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), xs, ys));
         {
-            Imf::OutputFile file(tmp.c_str(), header); // closed (and flushed) at scope end
-            file.setFrameBuffer(fb);
-            file.writePixels(int(image.height));
+            Imf::OutputFile out(file->temporary().c_str(), header); // closed (and flushed) at scope end
+            out.setFrameBuffer(fb);
+            out.writePixels(int(image.height));
         }
     } catch (const std::exception& e) {
-        removeQuietly(tmp);
         return fileError(path, std::string("cannot write EXR: ") + e.what());
     }
-    return commitTemp(tmp, path);
+    return file->commit();
 }
 
 Result<HdrImage> readExr(const fs::path& path) {
@@ -199,7 +159,7 @@ Result<void> writePng(const fs::path& path, const HdrImage& image, const ToneMap
     if (!stbi_write_png_to_func(append, &encoded, int(image.width), int(image.height), 3, rgb.data(),
                                 int(image.width) * 3))
         return fileError(path, "PNG encoding failed");
-    return writeBytesAtomic(path, encoded);
+    return writeFileAtomic(path, std::span<const uint8_t>(encoded));
 }
 
 } // namespace vkgi

@@ -60,6 +60,14 @@ std::string named(const char* kind, size_t i, const std::string& name) {
 
 } // namespace
 
+bool isSingularTransform(const glm::mat4& transform) {
+    const glm::mat3 m(transform);
+    const float l0 = glm::length(m[0]), l1 = glm::length(m[1]), l2 = glm::length(m[2]);
+    // |det| against the product of the axis lengths: 1 for orthogonal axes of any scale, 0 when
+    // an axis is zero or the axes are coplanar. NaN counts as singular.
+    return !(std::abs(glm::determinant(m)) > kSingularTransformRatio * l0 * l1 * l2);
+}
+
 Result<void> validateScene(const Scene& scene) {
     const std::string where = "scene '" + scene.name + "': ";
     auto fail = [&](const std::string& what) { return Result<void>(makeError(where + what)); };
@@ -119,6 +127,14 @@ Result<void> validateScene(const Scene& scene) {
         for (int c = 0; c < 4; ++c)
             if (!finite(inst.transform[c]))
                 return fail("instance " + std::to_string(ii) + " has a non-finite transform");
+        if (isSingularTransform(inst.transform))
+            return fail("instance " + std::to_string(ii) +
+                        " has a singular transform (a zero scale, or axes collapsed onto a plane or line): its "
+                        "triangles have no area and no normal; remove the instance");
+        const glm::vec3 t(inst.transform[3]);
+        if (glm::any(glm::greaterThan(glm::abs(t), glm::vec3(kMaxCoordinate))))
+            return fail("instance " + std::to_string(ii) + " is translated beyond " + std::to_string(kMaxCoordinate) +
+                        " m from the origin (float positions there are too coarse to render)");
     }
     for (size_t li = 0; li < scene.lights.size(); ++li) {
         const Light& l = scene.lights[li];

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <sstream>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
 #include "engine/gltf_loader.hpp"
@@ -450,4 +451,166 @@ TEST(GltfLoader, MutatedCorpusNeverCrashes) {
     }
     EXPECT_GT(failed, 0); // the mutations do reach the error paths
     std::cout << "    mutations: " << loaded << " loaded, " << failed << " rejected\n";
+}
+
+// ---- Hostile input (files outside the scene's folder, sizes, numbers, degenerate nodes) ----
+
+// An image URI that climbs out of the scene's folder is not read (texture dropped, warned);
+// allowOutsideFolder reads it. A buffer outside the folder is an error, not a silent read.
+TEST(GltfLoader, UrisOutsideTheScenesFolderAreNotRead) {
+    Blob blob;
+    json j = triangleDoc(blob);
+    j["meshes"][0]["primitives"][0]["material"] = 0;
+    j["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
+    j["textures"] = json::array({{{"source", 0}}});
+    j["images"] = json::array({{{"uri", "../outside.ppm"}}});
+    fs::path root = tempDir("outside");
+    fs::create_directories(root / "scene");
+    std::string ppm = "P6\n1 1\n255\n";
+    ppm += std::string("\x0a\x14\x1e", 3);
+    writeFile(root / "outside.ppm", ppm);
+    fs::path f = writeGltf(root / "scene", j, blob);
+
+    std::vector<std::string> warnings;
+    Result<Scene> r = loadGltf(f, &warnings);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_EQ(r->materials[r->meshes[0].material].baseColorTexture, -1);
+    EXPECT_TRUE(anyContains(warnings, "outside.ppm' resolves outside the scene's folder")) << joined(warnings);
+
+    GltfLoadOptions allow;
+    allow.allowOutsideFolder = true;
+    warnings.clear();
+    r = loadGltf(f, &warnings, allow);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_GE(r->materials[r->meshes[0].material].baseColorTexture, 0) << joined(warnings);
+
+    // The same through a symbolic link inside the folder that points out of it.
+    fs::create_symlink(root / "outside.ppm", root / "scene" / "link.ppm");
+    j["images"][0]["uri"] = "link.ppm";
+    f = writeGltf(root / "scene", j, blob);
+    warnings.clear();
+    r = loadGltf(f, &warnings);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_EQ(r->materials[r->meshes[0].material].baseColorTexture, -1);
+    EXPECT_TRUE(anyContains(warnings, "resolves outside the scene's folder")) << joined(warnings);
+
+    // A buffer outside the folder: an error naming the file.
+    json k = triangleDoc(blob);
+    writeBytes(root / "data_outside.bin", blob.bytes);
+    k["buffers"][0]["uri"] = "../data_outside.bin";
+    writeFile(root / "scene" / "buffer.gltf", k.dump());
+    warnings.clear();
+    r = loadGltf(root / "scene" / "buffer.gltf", &warnings);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("buffer.gltf"), std::string::npos) << r.error().message;
+    EXPECT_TRUE(anyContains(warnings, "data_outside.bin' resolves outside")) << joined(warnings);
+}
+
+// Sizes are checked before anything is read: the scene file and each buffer against the limit
+// (named in the error), and a GLB's stated length against its file size.
+TEST(GltfLoader, SizeLimitsAreCheckedBeforeReading) {
+    Blob blob;
+    json j = triangleDoc(blob);
+    fs::path dir = tempDir("limits");
+    fs::path f = writeGltf(dir, j, blob);
+    GltfLoadOptions small;
+    small.maxFileBytes = 100; // the JSON is larger
+    Result<Scene> r = loadGltf(f, nullptr, small);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("over the loader's limit of 100 bytes"), std::string::npos) << r.error().message;
+    small.maxFileBytes = fs::file_size(f); // the JSON and its 44-byte buffer fit
+    EXPECT_TRUE(loadGltf(f, nullptr, small).ok());
+    // A buffer over the limit: grown past the JSON's size, it is refused before it is read.
+    Blob big = blob;
+    big.bytes.resize(blob.bytes.size() + 20000, 0);
+    json k = j;
+    k["buffers"][0]["byteLength"] = big.bytes.size();
+    fs::path h = writeGltf(tempDir("limits_buffer"), k, big);
+    small.maxFileBytes = fs::file_size(h);
+    r = loadGltf(h, nullptr, small);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("data.bin is 20044 bytes, over the loader's limit"), std::string::npos)
+        << r.error().message;
+    fs::path g = writeGlb(dir, j, blob);
+    // GLB whose header claims more bytes than the file has.
+    std::vector<uint8_t> bytes;
+    {
+        std::ifstream in(g, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    bytes[8] = uint8_t(bytes[8] + 4);
+    writeBytes(dir / "lying.glb", bytes);
+    r = loadGltf(dir / "lying.glb");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("GLB header gives a length of"), std::string::npos) << r.error().message;
+}
+
+// Numbers that would overflow an int conversion (undefined behaviour) are checked as doubles.
+TEST(GltfLoader, HugeLightIndexIsAWarning) {
+    Blob blob;
+    json j = triangleDoc(blob);
+    j["nodes"][1]["extensions"]["KHR_lights_punctual"]["light"] = 5e68;
+    std::vector<std::string> warnings;
+    Result<Scene> r = loadGltf(writeGltf(tempDir("huge_light"), j, blob), &warnings);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_TRUE(r->lights.empty());
+    EXPECT_TRUE(anyContains(warnings, "node 1 KHR_lights_punctual light index 5e+68 is not one of the 1 lights"))
+        << joined(warnings);
+}
+
+// A node whose world transform is singular or astronomically far is not drawn, with a warning
+// naming it; the rest of the scene loads. Mirrored scales are fine.
+TEST(GltfLoader, DegenerateNodeTransformsAreDroppedWithAWarning) {
+    struct Case {
+        json node;
+        bool drawn;
+        const char* warning;
+    } cases[] = {
+        {{{"mesh", 0}, {"scale", {1, 0, 1}}}, false, "node 3: singular transform"},
+        {{{"mesh", 0}, {"scale", {0, 1, 1}}}, false, "node 3: singular transform"},
+        {{{"mesh", 0}, {"matrix", {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1}}}, false, "node 3: singular transform"},
+        {{{"mesh", 0}, {"matrix", {1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1}}}, false, "node 3: singular transform"},
+        {{{"mesh", 0}, {"translation", {1e30, 0, 0}}}, false, "node 3: placed beyond"},
+        {{{"mesh", 0}, {"scale", {-1, 1, 1}}}, true, nullptr},
+    };
+    for (const Case& c : cases) {
+        Blob blob;
+        json j = triangleDoc(blob);
+        j["nodes"].push_back(c.node);
+        j["scenes"][0]["nodes"].push_back(3);
+        std::vector<std::string> warnings;
+        Result<Scene> r = loadGltf(writeGltf(tempDir("degenerate"), j, blob), &warnings);
+        ASSERT_TRUE(r.ok()) << c.node.dump() << ": " << r.error().message;
+        EXPECT_EQ(r->instances.size(), c.drawn ? 2u : 1u) << c.node.dump();
+        if (c.warning) {
+            EXPECT_TRUE(anyContains(warnings, c.warning)) << c.node.dump() << ": " << joined(warnings);
+        }
+        EXPECT_TRUE(validateScene(*r).ok());
+    }
+}
+
+// The Scene API refuses what the loader drops: a clean error naming the instance.
+TEST(SceneValidation, SingularAndFarInstancesAreErrors) {
+    Result<Scene> s = loadScene("cornell");
+    ASSERT_TRUE(s.ok());
+    glm::mat4 coplanar(1.0f); // the third axis lies in the plane of the first two
+    coplanar[2] = glm::vec4(1.0f, 1.0f, 0.0f, 0.0f);
+    for (glm::mat4 m : {glm::scale(glm::mat4(1.0f), glm::vec3(1, 0, 1)), glm::mat4(0.0f), coplanar}) {
+        Scene bad = *s;
+        bad.instances[0].transform = m;
+        Result<void> v = validateScene(bad);
+        ASSERT_FALSE(v.ok());
+        EXPECT_NE(v.error().message.find("instance 0 has a singular transform"), std::string::npos) << v.error().message;
+    }
+    Scene far = *s;
+    far.instances[0].transform[3] = glm::vec4(1e30f, 0.0f, 0.0f, 1.0f);
+    Result<void> v = validateScene(far);
+    ASSERT_FALSE(v.ok());
+    EXPECT_NE(v.error().message.find("instance 0 is translated beyond"), std::string::npos) << v.error().message;
+    Scene mirrored = *s;
+    mirrored.instances[0].transform = glm::scale(glm::mat4(1.0f), glm::vec3(-1, 1, 1)) * mirrored.instances[0].transform;
+    EXPECT_TRUE(validateScene(mirrored).ok());
+    Scene tiny = *s; // uniformly small is not singular: a millimetre scene
+    tiny.instances[0].transform = glm::scale(glm::mat4(1.0f), glm::vec3(1e-6f)) * tiny.instances[0].transform;
+    EXPECT_TRUE(validateScene(tiny).ok());
 }

@@ -438,7 +438,7 @@ TEST(Reference, WedgeEdgeDirectLightEveryPixel) {
                     const glm::dvec3 c = glm::dvec3(cam.position) - glm::dvec3(o);
                     // Ray against each face's plane; both planes contain the origin (the edge).
                     double best = std::numeric_limits<double>::infinity();
-                    glm::dvec3 q, n;
+                    glm::dvec3 q(0.0), n(0.0);
                     for (int f = 0; f < 2; ++f) {
                         const glm::dvec3 nf = glm::dvec3(f == 0 ? nFloor : nWall);
                         const double t = -glm::dot(nf, c) / glm::dot(nf, dir);

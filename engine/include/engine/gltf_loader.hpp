@@ -22,6 +22,10 @@
 //   - an undecodable or missing image leaves the material untextured;
 //   - a light with a non-finite or negative intensity is skipped; spot cones are clamped to
 //     0 <= inner <= outer <= pi/2;
+//   - a node whose world transform is singular (a zero scale, an all-zero matrix, axes collapsed
+//     onto a plane or line) or places it beyond kMaxCoordinate: its mesh is not drawn (warning);
+//   - a KHR_lights_punctual light index that is not an index of the file's lights: ignored;
+//   - URIs outside the scene's folder and files over the size limit: see GltfLoadOptions;
 //   - no punctual lights is a warning (emission may still light the scene); no triangle at all
 //     after repairs is an error.
 #include <filesystem>
@@ -35,11 +39,22 @@
 
 namespace vkgi {
 
+struct GltfLoadOptions {
+    // Buffer and image URIs resolve inside the scene file's folder and its subfolders (after
+    // "..", symbolic links and absolute paths are resolved); a URI outside it is not read: an
+    // image is dropped with a warning, a buffer is an error. True lifts the restriction.
+    bool allowOutsideFolder = false;
+    // Largest file the loader reads (the scene file, each buffer and image), checked before
+    // reading; a GLB's stated length must also match its file size.
+    uint64_t maxFileBytes = uint64_t(1) << 30;
+};
+
 // Loads a .gltf or .glb file (format detected from the content). Appends warnings if given.
-Result<Scene> loadGltf(const std::filesystem::path& file, std::vector<std::string>* warnings = nullptr);
+Result<Scene> loadGltf(const std::filesystem::path& file, std::vector<std::string>* warnings = nullptr,
+                       const GltfLoadOptions& options = {});
 
 // A built-in scene name (see builtinSceneNames()) or a path to a glTF file.
 Result<Scene> loadScene(std::string_view nameOrPath, const BuiltinSceneParams& p = {},
-                        std::vector<std::string>* warnings = nullptr);
+                        std::vector<std::string>* warnings = nullptr, const GltfLoadOptions& options = {});
 
 } // namespace vkgi

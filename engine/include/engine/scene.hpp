@@ -96,8 +96,17 @@ struct Scene {
     Camera cameraOrDefault() const;
 };
 
+// Largest |translation| of an instance, in metres: beyond it float positions are coarser than
+// a millimetre and squared distances approach float overflow in the techniques.
+inline constexpr float kMaxCoordinate = 1e9f;
+// An instance transform whose |det| is below this fraction of the product of its axis lengths
+// collapses space onto a plane, line or point (e.g. a zero scale on one axis).
+inline constexpr float kSingularTransformRatio = 1e-6f;
+bool isSingularTransform(const glm::mat4& transform);
+
 // Checks the invariants every consumer relies on: indices and material/mesh/texture indices in
-// range, attribute arrays sized to match, finite positions/normals/transforms, non-zero normals,
+// range, attribute arrays sized to match, finite positions/normals/transforms, instance
+// transforms that are neither singular nor translated beyond kMaxCoordinate, non-zero normals,
 // finite non-negative colours/emission/intensities, sane spot cones (0 <= inner <= outer <= pi/2)
 // and a usable camera. The error names the scene and the offending object.
 Result<void> validateScene(const Scene& scene);
