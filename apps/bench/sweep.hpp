@@ -30,6 +30,7 @@ struct Options {
     bool jit = false;      // --jit: first-dispatch shader compilation per pass instead (jit.hpp)
     double budgetMs = 0.0; // > 0: report the best configuration within this GPU time
     std::string outDir = "out/bench";
+    bool help = false;     // --help: print the usage and exit
 };
 
 // Knob assignments ("lpv.grid=32 lpv.iterations=8") to measure for `technique`.

@@ -2,78 +2,113 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <sstream>
 
-#include "gi/gi.hpp"
 #include "gi/knobs.hpp"
 
 namespace vkgi::apps {
 
-Result<void> parseCommandLine(int argc, const char* const* argv, const CommandLine& grammar,
-                              std::vector<std::pair<std::string, std::string>>& knobs) {
-    for (int i = 1; i < argc; ++i) {
-        std::string arg = argv[i];
-        std::string value;
-        bool inlineValue = false;
-        if (size_t eq = arg.find('='); arg.rfind("--", 0) == 0 && eq != std::string::npos) {
-            value = arg.substr(eq + 1);
-            arg = arg.substr(0, eq);
-            inlineValue = true;
-        }
-        bool knob = arg.rfind("--", 0) == 0 && gi::findKnob(arg.substr(2));
-        if (!grammar.takesValue(arg) && !knob) {
-            if (inlineValue)
-                return makeError(arg + " takes no value (see --help)");
-            if (!grammar.applySwitch(arg))
-                return makeError("unknown option '" + arg + "' (see --help)");
-            continue;
-        }
-        if (!inlineValue) {
-            if (i + 1 >= argc)
-                return makeError(arg + " needs a value (see --help)");
-            value = argv[++i];
-        }
-        if (knob) {
-            gi::GiSettings probe;
-            if (auto ok = gi::setKnob(probe, arg.substr(2), value); !ok)
-                return makeError("--" + ok.error().message);
-            knobs.emplace_back(arg.substr(2), value);
-        } else if (auto ok = grammar.applyValue(arg, value); !ok) {
-            return ok.error();
-        }
-    }
-    return {};
+Error badValue(const std::string& flag, const std::string& what, const std::string& text) {
+    return makeError(flag + ": expected " + what + ", got '" + text + "'");
 }
 
-Result<uint64_t> parseWhole(const std::string& option, const std::string& text, uint64_t lo, uint64_t hi) {
-    uint64_t v = 0;
+std::string joinNames(const std::vector<std::string>& names) {
+    std::string joined;
+    for (const std::string& n : names)
+        joined += (joined.empty() ? "" : ", ") + n;
+    return joined;
+}
+
+namespace {
+
+bool wholeNumber(const std::string& text, uint64_t lo, uint64_t hi, uint64_t& v) {
     auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-    if (text.empty() || ec != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
-        return makeError(option + ": '" + text + "' is not a whole number in " + std::to_string(lo) + ".." +
-                         std::to_string(hi));
+    return !text.empty() && ec == std::errc() && end == text.data() + text.size() && v >= lo && v <= hi;
+}
+
+} // namespace
+
+Result<uint64_t> parseWhole(const std::string& flag, const std::string& text, uint64_t lo, uint64_t hi) {
+    uint64_t v = 0;
+    if (!wholeNumber(text, lo, hi, v))
+        return badValue(flag, "a whole number in " + std::to_string(lo) + ".." + std::to_string(hi), text);
     return v;
 }
 
-Result<std::pair<uint32_t, uint32_t>> parseSize(const std::string& option, const std::string& text,
-                                                uint32_t maxSide) {
+Result<Extent> parseSize(const std::string& flag, const std::string& text, uint32_t maxSide) {
     size_t x = text.find('x');
-    if (x == std::string::npos)
-        return makeError(option + ": '" + text + "' is not WIDTHxHEIGHT (e.g. 256x256)");
-    auto w = parseWhole(option + " width", text.substr(0, x), 1, maxSide);
-    if (!w)
-        return w.error();
-    auto h = parseWhole(option + " height", text.substr(x + 1), 1, maxSide);
-    if (!h)
-        return h.error();
-    return std::pair{uint32_t(*w), uint32_t(*h)};
+    uint64_t w = 0, h = 0;
+    if (x == std::string::npos || !wholeNumber(text.substr(0, x), 1, maxSide, w) ||
+        !wholeNumber(text.substr(x + 1), 1, maxSide, h))
+        return badValue(flag, "WxH with each side 1.." + std::to_string(maxSide), text);
+    return Extent{uint32_t(w), uint32_t(h)};
 }
 
-Result<float> parsePositive(const std::string& option, const std::string& text, double max) {
+Result<double> parsePositive(const std::string& flag, const std::string& text, double max) {
     char* end = nullptr;
     double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end || !std::isfinite(v) || !(v > 0.0) || v > max)
-        return makeError(option + ": '" + text + "' is not a positive finite number");
-    return float(v);
+    if (text.empty() || *end || !std::isfinite(v) || !(v > 0.0) || v > max) {
+        char range[48];
+        std::snprintf(range, sizeof(range), "a number in (0, %g]", max);
+        return badValue(flag, range, text);
+    }
+    return v;
+}
+
+Result<std::string> parseChoice(const std::string& flag, const std::string& text,
+                                const std::vector<std::string>& choices) {
+    for (const std::string& c : choices)
+        if (text == c)
+            return text;
+    return badValue(flag, "one of " + joinNames(choices), text);
+}
+
+Result<std::string> parseTechnique(const std::string& flag, const std::string& text,
+                                   const std::vector<std::string>& extra) {
+    std::vector<std::string> names = gi::techniqueNames();
+    names.insert(names.end(), extra.begin(), extra.end());
+    return parseChoice(flag, text, names);
+}
+
+std::vector<std::string> splitList(const std::string& text) {
+    std::vector<std::string> items;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');)
+        if (!item.empty())
+            items.push_back(item);
+    return items;
+}
+
+Result<std::filesystem::path> parseFileName(const std::string& flag, const std::string& text,
+                                            const std::vector<std::string>& extensions, const std::string& note) {
+    std::string what = "a file name";
+    std::string ext = std::filesystem::path(text).extension().string();
+    bool extOk = extensions.empty();
+    for (size_t i = 0; i < extensions.size(); ++i) {
+        what += (i == 0 ? " ending in " : i + 1 == extensions.size() ? " or " : ", ") + extensions[i];
+        extOk = extOk || ext == extensions[i];
+    }
+    if (text.empty() || !extOk)
+        return badValue(flag, what + (note.empty() ? "" : " " + note), text);
+    return std::filesystem::path(text);
+}
+
+Result<void> checkKnobAssignments(const std::string& flag, const std::string& text) {
+    gi::GiSettings probe;
+    std::stringstream in(text);
+    for (std::string assignment; in >> assignment;)
+        if (auto ok = gi::applyKnob(probe, assignment); !ok)
+            return makeError(flag + ": " + ok.error().message);
+    return {};
+}
+
+Result<void> applyKnobs(gi::GiSettings& settings, const KnobList& knobs) {
+    for (const auto& [name, value] : knobs)
+        if (auto ok = gi::setKnob(settings, name, value); !ok)
+            return makeError("--" + ok.error().message);
+    return {};
 }
 
 } // namespace vkgi::apps

@@ -1,41 +1,61 @@
 #pragma once
-// The command-line grammar every vkgi app shares (vkgi-render, vkgi-view): "--flag value" and
-// "--flag=value", valueless switches, and each technique knob of gi/knobs.hpp as
-// "--<knob> value"; plus the value parsers behind --size, counts and --exposure. Errors are one
-// line naming the option and the problem (the apps exit with code 2).
+// The value parsers every vkgi app shares (vkgi-render, vkgi-view, vkgi-bench, vkgi-graphbench):
+// one function per kind of option value. Every bad value fails with the same one-line shape,
+// "<flag>: expected <what>, got '<text>'", and the apps exit with code 2 (vkgi-graphbench: 1).
+// The option table and the argv walker that call them are in cli.hpp.
 #include <cstdint>
-#include <functional>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "engine/result.hpp"
+#include "gi/gi.hpp"
 
 namespace vkgi::apps {
 
-// Largest image side any app accepts: GiSystem's and the path tracer's limit.
+// Largest image side vkgi-render and vkgi-view accept: GiSystem's and the path tracer's limit.
 constexpr uint32_t kMaxImageSide = 16384;
 
-struct CommandLine {
-    // True for the flags that take a value ("--scene").
-    std::function<bool(const std::string& flag)> takesValue;
-    // Applies a value flag; the error names the flag.
-    std::function<Result<void>(const std::string& flag, const std::string& value)> applyValue;
-    // Applies a switch ("--compare"); false = not a switch of this app.
-    std::function<bool(const std::string& flag)> applySwitch;
+struct Extent {
+    uint32_t width = 0;
+    uint32_t height = 0;
 };
 
-// Walks argv[1..]. Knob flags are checked against the knob table now (a bad value fails before
-// any work starts) and appended to `knobs` as (name, value) in command-line order.
-Result<void> parseCommandLine(int argc, const char* const* argv, const CommandLine& grammar,
-                              std::vector<std::pair<std::string, std::string>>& knobs);
+// Technique knobs in command-line order ("lpv.grid", "64"); names and values from gi/knobs.hpp.
+using KnobList = std::vector<std::pair<std::string, std::string>>;
+
+// "<flag>: expected <what>, got '<text>'": the one shape of every bad-value error.
+Error badValue(const std::string& flag, const std::string& what, const std::string& text);
+// "a, b, c".
+std::string joinNames(const std::vector<std::string>& names);
 
 // A whole number in lo..hi, the entire text.
-Result<uint64_t> parseWhole(const std::string& option, const std::string& text, uint64_t lo, uint64_t hi);
+Result<uint64_t> parseWhole(const std::string& flag, const std::string& text, uint64_t lo, uint64_t hi);
 // "WIDTHxHEIGHT", each side 1..maxSide.
-Result<std::pair<uint32_t, uint32_t>> parseSize(const std::string& option, const std::string& text,
-                                                uint32_t maxSide = kMaxImageSide);
+Result<Extent> parseSize(const std::string& flag, const std::string& text, uint32_t maxSide = kMaxImageSide);
 // A finite number in (0, max].
-Result<float> parsePositive(const std::string& option, const std::string& text, double max);
+Result<double> parsePositive(const std::string& flag, const std::string& text, double max);
+// One of `choices`, spelled exactly.
+Result<std::string> parseChoice(const std::string& flag, const std::string& text,
+                                const std::vector<std::string>& choices);
+
+// A name of gi::techniqueNames() or of `extra` (vkgi-render's "reference").
+Result<std::string> parseTechnique(const std::string& flag, const std::string& text,
+                                   const std::vector<std::string>& extra = {});
+// Comma-separated items with the empty ones skipped (vkgi-bench --scenes).
+std::vector<std::string> splitList(const std::string& text);
+
+// A non-empty file name, ending in one of `extensions` when any are given; `note` follows the
+// expectation in the error ("(the .png is written beside it)").
+Result<std::filesystem::path> parseFileName(const std::string& flag, const std::string& text,
+                                            const std::vector<std::string>& extensions = {},
+                                            const std::string& note = "");
+
+// Space-separated "name=value" knob assignments (vkgi-bench --set), checked against the knob
+// table; the error names the flag and the knob.
+Result<void> checkKnobAssignments(const std::string& flag, const std::string& text);
+// Applies --<knob> values gathered by parseCommandLine; the error names the knob as its flag.
+Result<void> applyKnobs(gi::GiSettings& settings, const KnobList& knobs);
 
 } // namespace vkgi::apps

@@ -50,6 +50,8 @@ bool parseSide(std::string_view text, uint32_t& side) {
     return ec == std::errc() && end == text.data() + text.size() && side >= 1 && side <= 16384;
 }
 
+// The errors read as the other apps' (apps/common/args.hpp), which this file cannot use: it
+// includes only vkgi's installed headers.
 vkgi::Result<Options> parseArgs(int argc, char** argv) {
     Options o;
     for (int i = 1; i < argc; ++i) {
@@ -69,13 +71,13 @@ vkgi::Result<Options> parseArgs(int argc, char** argv) {
             o.technique = value;
         } else if (arg == "--out") {
             if (!value.ends_with(".exr") && !value.ends_with(".png"))
-                return vkgi::makeError("--out: '" + value + "' must end in .exr or .png");
+                return vkgi::makeError("--out: expected a file name ending in .exr or .png, got '" + value + "'");
             o.out = value;
         } else {
             size_t x = value.find('x');
             if (x == std::string::npos || !parseSide(std::string_view(value).substr(0, x), o.width) ||
                 !parseSide(std::string_view(value).substr(x + 1), o.height))
-                return vkgi::makeError("--size: '" + value + "' is not WIDTHxHEIGHT with sides 1..16384");
+                return vkgi::makeError("--size: expected WxH with each side 1..16384, got '" + value + "'");
         }
     }
     return o;
@@ -343,8 +345,12 @@ int finish() {
 
 int run(const Options& o) {
     auto technique = vkgi::gi::parseTechnique(o.technique);
-    if (!technique)
-        return fail("--technique: " + technique.error().message);
+    if (!technique) {
+        std::string names;
+        for (const std::string& n : vkgi::gi::techniqueNames())
+            names += (names.empty() ? "" : ", ") + n;
+        return fail("--technique: expected one of " + names + ", got '" + o.technique + "'");
+    }
     auto scene = vkgi::loadScene(o.scene);
     if (!scene)
         return fail(scene.error().message);

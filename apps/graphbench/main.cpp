@@ -12,6 +12,7 @@
 #include <functional>
 #include <vector>
 
+#include "../common/args.hpp"
 #include "engine/context.hpp"
 #include "engine/pipeline.hpp"
 #include "engine/rg/render_graph.hpp"
@@ -168,10 +169,14 @@ void benchDispatch(Context& ctx, uint32_t passes) {
 } // namespace
 
 int main(int argc, char** argv) {
-    uint32_t passes = argc > 1 ? uint32_t(std::strtoul(argv[1], nullptr, 10)) : 200;
-    if (passes < 2 || passes > 100000) {
-        std::fprintf(stderr, "vkgi-graphbench: dispatch passes must be in [2, 100000], got '%s'\n", argv[1]);
-        return 1;
+    uint32_t passes = 200;
+    if (argc > 1) {
+        auto n = apps::parseWhole("dispatch passes", argv[1], 2, 100000);
+        if (!n) {
+            std::fprintf(stderr, "vkgi-graphbench: %s\n", n.error().message.c_str());
+            return 1;
+        }
+        passes = uint32_t(*n);
     }
     benchCompile();
     auto ctx = defaultDeviceBuilder().build();

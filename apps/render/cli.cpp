@@ -1,16 +1,13 @@
 #include "cli.hpp"
 
-#include <tuple>
-
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "../common/cli.hpp"
 #include "gi/gi.hpp"
-#include "gi/knobs.hpp"
-#include "../common/args.hpp"
 
 namespace vkgi::render {
 
@@ -21,88 +18,90 @@ constexpr uint32_t kMaxSpp = 1u << 20;
 // Beyond this many reflections the path tracer's own cap (1024) applies anyway.
 constexpr int kMaxBounces = 1024;
 
-Result<void> parseOutput(const std::string& flag, const std::string& text, std::vector<std::filesystem::path>& to) {
-    std::string ext = std::filesystem::path(text).extension().string();
-    if (ext != ".exr" && ext != ".png")
-        return makeError(flag + ": '" + text + "' must end in .exr or .png");
-    to.emplace_back(text);
-    return {};
-}
-
-// Applies one option that takes a value.
-Result<void> applyValue(const std::string& flag, const std::string& value, Options& o) {
-    if (flag == "--scene") {
-        o.scene = value;
-    } else if (flag == "--technique") {
-        o.technique = value;
-    } else if (flag == "--size") {
-        auto size = apps::parseSize("--size", value);
-        if (!size)
-            return size.error();
-        std::tie(o.width, o.height) = *size;
-    } else if (flag == "--out") {
-        return parseOutput(flag, value, o.outputs);
-    } else if (flag == "--out-direct") {
-        return parseOutput(flag, value, o.directOutputs);
-    } else if (flag == "--out-indirect") {
-        return parseOutput(flag, value, o.indirectOutputs);
-    } else if (flag == "--out-glossy") {
-        return parseOutput(flag, value, o.glossyOutputs);
-    } else if (flag == "--out-ao") {
-        return parseOutput(flag, value, o.aoOutputs);
-    } else if (flag == "--spp") {
-        auto v = apps::parseWhole("--spp", value, 1, kMaxSpp);
-        if (!v)
-            return v.error();
-        o.spp = uint32_t(*v);
-    } else if (flag == "--bounces") {
-        if (value == "-1") {
-            o.bounces = -1;
-            return {};
-        }
-        auto v = apps::parseWhole("--bounces", value, 0, kMaxBounces);
-        if (!v)
-            return makeError(v.error().message + " (or -1 = unbounded)");
-        o.bounces = int(*v);
-    } else if (flag == "--exposure") {
-        auto e = apps::parsePositive("--exposure", value, 1e12);
-        if (!e)
-            return e.error();
-        o.exposure = *e;
-    } else if (flag == "--json") {
-        if (value.empty())
-            return makeError("--json: empty file name");
-        o.json = value;
+Result<void> parseBounces(const std::string& value, Options& o) {
+    if (value == "-1") {
+        o.bounces = -1;
+        return {};
     }
+    auto v = apps::parseWhole("--bounces", value, 0, kMaxBounces);
+    if (!v)
+        return apps::badValue("--bounces", "a whole number in 0.." + std::to_string(kMaxBounces) + " or -1 (unbounded)",
+                              value);
+    o.bounces = int(*v);
     return {};
 }
 
-bool takesValue(const std::string& flag) {
-    for (const char* f : {"--scene", "--technique", "--size", "--out", "--out-direct", "--out-indirect", "--out-glossy",
-                          "--out-ao", "--spp", "--bounces", "--exposure", "--json"})
-        if (flag == f)
-            return true;
-    return false;
+// Every option, in --help order; the actions write into `o`.
+apps::OptionTable optionTable(Options& o) {
+    using namespace apps;
+    return {
+        sceneOption(o.scene),
+        textOption("--technique", "T",
+                   techniqueNameList() + ", or reference (CPU path tracer); default none\n"
+                                         "(none = direct light + emission only)",
+                   o.technique),
+        sizeOption("image size, each side 1..16384 (default: 256x256)", o.width, o.height),
+        imageFileOption("--out",
+                        "output image, .exr (linear float) or .png (tone mapped); may be repeated;\n"
+                        "default out/<scene>.png (unless a part below is asked for). Files are\n"
+                        "written atomically.",
+                        o.outputs),
+        imageFileOption("--out-direct", "the direct part (direct light + emission) of the same frame; may be repeated",
+                        o.directOutputs),
+        imageFileOption("--out-indirect",
+                        "the indirect part: image - direct (the indirect light the technique adds), or\n"
+                        "the path tracer's own paths of 2+ reflections; may be repeated",
+                        o.indirectOutputs),
+        imageFileOption("--out-glossy",
+                        "vct: the glossy cone's radiance along the mirror direction (nits, before the\n"
+                        "albedo * metallic weight of the indirect part); may be repeated",
+                        o.glossyOutputs),
+        imageFileOption("--out-ao",
+                        "vct: cone-traced ambient occlusion, visibility 1 - occlusion in [0, 1] (grey;\n"
+                        "a PNG stores it without exposure or tone curve); may be repeated",
+                        o.aoOutputs),
+        wholeOption("--spp", "N", "path-tracer samples per pixel for --technique reference and --compare (default 64)",
+                    o.spp, 1, kMaxSpp),
+        {"--bounces", "K",
+         "reflections: 1 = direct only, -1 = unbounded. Default: the count the technique\n"
+         "models (none: 1, one indirect bounce: 2), or -1 for --technique reference.\n"
+         "--compare uses the same K.",
+         [&o](const std::string& v) { return parseBounces(v, o); }},
+        switchOption("--compare",
+                     "print relMSE and RMSE (full image and indirect only) against the path-traced\n"
+                     "reference (cached by scene hash in $VKGI_CACHE_DIR or ~/.cache/vkgi)",
+                     o.compare),
+        positiveOption("--exposure", "E",
+                       "PNG only: linear radiance is multiplied by E before the tone map (default 1;\n"
+                       "sun-lit scenes of ~1e3 nits want ~1e-3)",
+                       o.exposure, 1e12),
+        {"--json", "FILE",
+         "write {scene, technique, width, height, passes[{name, ms}], total_ms,\n"
+         "unprofiled_ms (GPU techniques: the frame without pass timestamps) or null,\n"
+         "left_out[{name, reason: culled|not-needed|not-dirty, detail}],\n"
+         "static_frame{passes, total_ms, left_out} or null,\n"
+         "error{relmse, rmse, relmse_indirect, rmse_indirect} or null}",
+         [&o](const std::string& v) -> Result<void> {
+             auto path = parseFileName("--json", v);
+             if (!path)
+                 return path.error();
+             o.json = *path;
+             return {};
+         }},
+        helpOption(o.help),
+    };
 }
 
 } // namespace
 
 Result<Options> parseArgs(int argc, const char* const* argv) {
     Options o;
-    apps::CommandLine grammar;
-    grammar.takesValue = takesValue;
-    grammar.applyValue = [&](const std::string& flag, const std::string& value) { return applyValue(flag, value, o); };
-    grammar.applySwitch = [&](const std::string& flag) {
-        if (flag == "--help" || flag == "-h")
-            o.help = true;
-        else if (flag == "--compare")
-            o.compare = true;
-        else
-            return false;
-        return true;
-    };
-    if (auto ok = apps::parseCommandLine(argc, argv, grammar, o.knobs); !ok)
+    if (auto ok = apps::parseCommandLine(argc, argv, optionTable(o), &o.knobs); !ok)
         return ok.error();
+    // Checked once the whole line is read, so --help still shows the help after a bad name.
+    if (!o.help)
+        if (auto t = apps::parseTechnique("--technique", o.technique, {"reference"}); !t)
+            return t.error();
     if (o.outputs.empty() && o.directOutputs.empty() && o.indirectOutputs.empty() && o.glossyOutputs.empty() &&
         o.aoOutputs.empty())
         o.outputs.push_back(std::filesystem::path("out") / (std::filesystem::path(o.scene).stem().string() + ".png"));
@@ -110,38 +109,12 @@ Result<Options> parseArgs(int argc, const char* const* argv) {
 }
 
 std::string helpText() {
-    std::string text = R"(vkgi-render: render a scene headless and report per-pass GPU times.
+    Options defaults;
+    return R"(vkgi-render: render a scene headless and report per-pass GPU times.
 
 Usage: vkgi-render [options]
-  --scene NAME|FILE   built-in scene name or a .gltf/.glb file (default: cornell)
-  --technique T       TECHNIQUES, or reference (CPU path tracer); default none
-                      (none = direct light + emission only)
-  --size WxH          image size, each side 1..16384 (default: 256x256)
-  --out FILE          output image, .exr (linear float) or .png (tone mapped); may be repeated;
-                      default out/<scene>.png (unless a part below is asked for). Files are
-                      written atomically.
-  --out-direct FILE   the direct part (direct light + emission) of the same frame; may be repeated
-  --out-indirect FILE the indirect part: image - direct (the indirect light the technique adds), or
-                      the path tracer's own paths of 2+ reflections; may be repeated
-  --out-glossy FILE   vct: the glossy cone's radiance along the mirror direction (nits, before the
-                      albedo * metallic weight of the indirect part); may be repeated
-  --out-ao FILE       vct: cone-traced ambient occlusion, visibility 1 - occlusion in [0, 1] (grey;
-                      a PNG stores it without exposure or tone curve); may be repeated
-  --spp N             path-tracer samples per pixel for --technique reference and --compare (default 64)
-  --bounces K         reflections: 1 = direct only, -1 = unbounded. Default: the count the technique
-                      models (none: 1, one indirect bounce: 2), or -1 for --technique reference.
-                      --compare uses the same K.
-  --compare           print relMSE and RMSE (full image and indirect only) against the path-traced
-                      reference (cached by scene hash in $VKGI_CACHE_DIR or ~/.cache/vkgi)
-  --exposure E        PNG only: linear radiance is multiplied by E before the tone map (default 1;
-                      sun-lit scenes of ~1e3 nits want ~1e-3)
-  --json FILE         write {scene, technique, width, height, passes[{name, ms}], total_ms,
-                      unprofiled_ms (GPU techniques: the frame without pass timestamps) or null,
-                      left_out[{name, reason: culled|not-needed|not-dirty, detail}],
-                      static_frame{passes, total_ms, left_out} or null,
-                      error{relmse, rmse, relmse_indirect, rmse_indirect} or null}
-  --help              this text
-
+)" + apps::formatOptions(optionTable(defaults), 22) +
+           R"(
 GPU times are of a second frame that recomputes everything (the first pays the driver's shader
 compilation); unprofiled_ms is a third such frame timed without a timestamp per pass (they cost
 ~0.1 ms each on lavapipe); static_frame is a fourth one with nothing changed, which reuses the
@@ -149,12 +122,7 @@ persistent volumes.
 Environment: VKGI_DEVICE=<substring> picks the Vulkan device by name; VKGI_VALIDATION=1 enables
 the validation layers.
 Exit codes: 0 success, 1 scene/render/output failure, 2 bad arguments.
-)";
-    std::string names;
-    for (const std::string& n : gi::techniqueNames())
-        names += (names.empty() ? "" : ", ") + n;
-    text.replace(text.find("TECHNIQUES"), 10, names);
-    return text + "\nTechnique settings (--name value or --name=value):\n" + gi::knobHelp();
+)" + apps::knobHelpSection();
 }
 
 std::string timingTable(const std::vector<rg::PassTiming>& passes, double totalMs, std::optional<double> unprofiledMs,

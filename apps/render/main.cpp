@@ -5,12 +5,12 @@
 #include <filesystem>
 #include <optional>
 
+#include "../common/args.hpp"
 #include "cli.hpp"
 #include "engine/file_util.hpp"
 #include "engine/gltf_loader.hpp"
 #include "engine/image_io.hpp"
 #include "gi/gi.hpp"
-#include "gi/knobs.hpp"
 #include "gi/reference.hpp"
 
 using namespace vkgi;
@@ -48,9 +48,8 @@ gi::ReferenceSettings referenceSettings(const render::Options& o, int bounces) {
 Result<gi::GiSettings> giSettings(const render::Options& o, gi::Technique t) {
     gi::GiSettings settings;
     settings.technique = t;
-    for (const auto& [name, value] : o.knobs)
-        if (auto ok = gi::setKnob(settings, name, value); !ok)
-            return ok.error();
+    if (auto ok = apps::applyKnobs(settings, o.knobs); !ok)
+        return ok.error();
     return settings;
 }
 
@@ -151,14 +150,8 @@ int main(int argc, char** argv) {
         std::fputs(render::helpText().c_str(), stdout);
         return 0;
     }
-    bool pathTraced = o.technique == "reference";
+    bool pathTraced = o.technique == "reference"; // parseArgs checked the name
     auto technique = gi::parseTechnique(pathTraced ? "none" : o.technique);
-    if (!technique) {
-        std::string valid;
-        for (const std::string& name : gi::techniqueNames())
-            valid += name + ", ";
-        return fail(2, "--technique: unknown technique '" + o.technique + "' (valid: " + valid + "reference)");
-    }
 
     auto scene = loadScene(o.scene);
     if (!scene)

@@ -4,10 +4,10 @@
 // what CI runs under xvfb-run. `vkgi-view --help` lists everything.
 #include <cstdio>
 
+#include "../common/args.hpp"
 #include "engine/context.hpp"
 #include "engine/gltf_loader.hpp"
 #include "gi/gi.hpp"
-#include "gi/knobs.hpp"
 #include "options.hpp"
 #include "viewer.hpp"
 #include "window.hpp"
@@ -34,9 +34,8 @@ int main(int argc, char** argv) {
     }
     gi::GiSettings settings;
     settings.technique = *gi::parseTechnique(o.technique);
-    for (const auto& [name, value] : o.knobs)
-        if (auto ok = gi::setKnob(settings, name, value); !ok)
-            return fail(2, "--" + ok.error().message);
+    if (auto ok = apps::applyKnobs(settings, o.knobs); !ok)
+        return fail(2, ok.error().message);
 
     std::vector<std::string> warnings;
     auto scene = loadScene(o.scene, {}, &warnings);

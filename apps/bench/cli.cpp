@@ -1,0 +1,130 @@
+#include "cli.hpp"
+
+#include "../common/cli.hpp"
+
+namespace vkgi::bench {
+
+namespace {
+
+// Every option, in --help order; the actions write into `o`.
+apps::OptionTable optionTable(Options& o) {
+    using namespace apps;
+    return {
+        {"--scenes", "a,b", "built-in names or glTF files (default cornell,room,atrium)",
+         [&o](const std::string& v) -> Result<void> {
+             o.scenes = splitList(v);
+             return {};
+         }},
+        {"--techniques", "a,b", "subset of the library's techniques (default: all)",
+         [&o](const std::string& v) -> Result<void> {
+             o.techniques = splitList(v);
+             return {};
+         }},
+        sizeOption("image size (default 128x128)", o.width, o.height, 4096),
+        wholeOption("--spp", "N", "reference paths/pixel (default 1024)", o.spp, 1, 1u << 20),
+        wholeOption("--repeat", "N",
+                    "measured frames per configuration (default 5, after one warm-up frame), each rendered\n"
+                    "with and without per-pass timestamps (total ms: without; the passes: with)",
+                    o.repeat, 1, 1000),
+        {"--budget-ms", "X", "also print the least-error configuration within this GPU time per scene",
+         [&o](const std::string& v) -> Result<void> {
+             auto ms = parsePositive("--budget-ms", v, 1e9);
+             if (!ms)
+                 return ms.error();
+             o.budgetMs = *ms;
+             return {};
+         }},
+        switchOption("--quick", "one configuration per technique (smoke run)", o.quick),
+        {"--set", "KNOBS",
+         "only this configuration of the one --techniques given: \"vct.grid=64 vct.cones=6\",\n"
+         "or \"\" for the library's defaults (e.g. per-pass times of the defaults with --passes)",
+         [&o](const std::string& v) -> Result<void> {
+             o.set = v;
+             return {};
+         }},
+        switchOption("--passes", "also print every configuration's passes: GPU ms, MiB moved, x streaming rate",
+                     o.passes),
+        {"--out", "DIR", "output folder (default out/bench): bench.csv, bench.json, bench.md, plot-<scene>.svg",
+         [&o](const std::string& v) -> Result<void> {
+             if (v.empty())
+                 return badValue("--out", "a folder name", v);
+             o.outDir = v;
+             return {};
+         }},
+        switchOption("--scaling",
+                     "GPU time against pixels (cornell 64^2..512^2), voxels (cornell 128^2, vct.grid 32..128,\n"
+                     "lpv.grid 16..64) and triangles (bunny_box 128^2, 1.3k..82k triangles; vct also\n"
+                     "re-voxelized every frame); every frame relights the scene. Writes scaling.csv,\n"
+                     "scaling.json, scaling-<axis>.svg; prints log-log slopes per technique and pass and\n"
+                     "the voxelization timing; --quick: tiny sizes, two points per axis",
+                     o.scaling),
+        switchOption("--jit",
+                     "lavapipe's first-dispatch shader compilation per pass (Mesa's disk cache off): the\n"
+                     "first frame of a fresh GiSystem minus warm frames, for configurations covering every\n"
+                     "pass at 128x128; writes jit.csv, prints passes by cost and those over 1 s",
+                     o.jit),
+        helpOption(o.help),
+    };
+}
+
+// The options of the error-vs-time sweep only (--scaling and --jit pick their own).
+bool sweepOnly(const std::string& flag) {
+    for (const char* f : {"--scenes", "--size", "--spp", "--budget-ms", "--passes", "--set"})
+        if (flag == f)
+            return true;
+    return false;
+}
+
+// The checks between options, once the whole line is read; `given` = the sweep-only options
+// on the command line, in order.
+Result<void> checkCombination(Options& o, const std::vector<std::string>& given) {
+    if (o.scaling && o.jit)
+        return makeError("--scaling and --jit are separate runs: give one");
+    if ((o.scaling || o.jit) && !given.empty())
+        return makeError(given.front() + " does not apply to " + (o.scaling ? "--scaling" : "--jit") +
+                         " (it uses its own scenes and sizes)");
+    if (o.set && o.quick)
+        return makeError("--set and --quick both pick the configurations: give one");
+    if (o.set && o.techniques.size() != 1)
+        return makeError("--set: name exactly one technique with --techniques (the knobs are that technique's)");
+    if (o.techniques.empty())
+        o.techniques = gi::techniqueNames();
+    for (const auto& t : o.techniques)
+        if (auto p = apps::parseTechnique("--techniques", t); !p)
+            return p.error();
+    if (o.set) // bad knobs fail here, before any long work
+        return apps::checkKnobAssignments("--set", *o.set);
+    return {};
+}
+
+} // namespace
+
+Result<Options> parseArgs(int argc, const char* const* argv) {
+    Options o;
+    std::vector<std::string> given;
+    apps::OptionTable table = optionTable(o);
+    for (apps::Option& option : table)
+        if (sweepOnly(option.flag))
+            option.apply = [flag = option.flag, apply = option.apply, &given](const std::string& v) {
+                given.push_back(flag);
+                return apply(v);
+            };
+    if (auto ok = apps::parseCommandLine(argc, argv, table, nullptr); !ok)
+        return ok.error();
+    if (o.help)
+        return o;
+    if (auto ok = checkCombination(o, given); !ok)
+        return ok.error();
+    return o;
+}
+
+std::string helpText() {
+    Options defaults;
+    return "usage: vkgi-bench [--scenes a,b] [--techniques a,b] [--size WxH] [--spp N] [--repeat N]\n"
+           "                  [--budget-ms X] [--quick | --set KNOBS] [--passes] [--out DIR]\n"
+           "       vkgi-bench --scaling [--techniques a,b] [--repeat N] [--quick] [--out DIR]\n"
+           "       vkgi-bench --jit [--techniques a,b] [--repeat N] [--out DIR]\n" +
+           apps::formatOptions(optionTable(defaults), 19);
+}
+
+} // namespace vkgi::bench
