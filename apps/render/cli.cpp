@@ -67,6 +67,10 @@ apps::OptionTable optionTable(Options& o) {
          "models (none: 1, one indirect bounce: 2), or -1 for --technique reference.\n"
          "--compare uses the same K.",
          [&o](const std::string& v) { return parseBounces(v, o); }},
+        switchOption("--allow-outside-folder",
+                     "glTF buffer and image URIs may name files outside the scene file's folder\n"
+                     "(by default such an image is dropped with a warning, such a buffer is an error)",
+                     o.allowOutsideFolder),
         switchOption("--compare",
                      "print relMSE and RMSE (full image and indirect only) against the path-traced\n"
                      "reference (cached by scene hash in $VKGI_CACHE_DIR or ~/.cache/vkgi)",
@@ -106,6 +110,19 @@ Result<Options> parseArgs(int argc, const char* const* argv) {
         o.aoOutputs.empty())
         o.outputs.push_back(std::filesystem::path("out") / (std::filesystem::path(o.scene).stem().string() + ".png"));
     return o;
+}
+
+std::vector<std::pair<std::string, std::filesystem::path>> outputFiles(const Options& o) {
+    std::vector<std::pair<std::string, std::filesystem::path>> files;
+    const std::pair<const char*, const std::vector<std::filesystem::path>*> lists[] = {
+        {"--out", &o.outputs},           {"--out-direct", &o.directOutputs}, {"--out-indirect", &o.indirectOutputs},
+        {"--out-glossy", &o.glossyOutputs}, {"--out-ao", &o.aoOutputs}};
+    for (const auto& [flag, paths] : lists)
+        for (const std::filesystem::path& p : *paths)
+            files.emplace_back(flag, p);
+    if (o.json)
+        files.emplace_back("--json", *o.json);
+    return files;
 }
 
 std::string helpText() {

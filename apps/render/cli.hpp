@@ -31,12 +31,16 @@ struct Options {
     float exposure = 1.0f; // PNG tone-map exposure (ToneMap::exposure)
     std::optional<std::filesystem::path> json;
     bool help = false;
+    // glTF buffer and image URIs may resolve outside the scene file's folder (GltfLoadOptions).
+    bool allowOutsideFolder = false;
     // Technique knobs in command-line order ("lpv.grid", "64"); names and values from gi/knobs.hpp.
     std::vector<std::pair<std::string, std::string>> knobs;
 };
 
 // Parses argv. Errors are one line naming the option and the problem (exit code 2).
 Result<Options> parseArgs(int argc, const char* const* argv);
+// Every output file of `o` (images and --json) with the option that names it.
+std::vector<std::pair<std::string, std::filesystem::path>> outputFiles(const Options& o);
 std::string helpText();
 
 struct Errors {

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <optional>
 
+#include <unistd.h>
+
 #include "../common/args.hpp"
 #include "cli.hpp"
 #include "engine/file_util.hpp"
@@ -132,11 +134,65 @@ Result<render::Errors> compare(const Scene& scene, const Camera& camera, const r
     return render::Errors{*full, *ind};
 }
 
-Result<void> writeImage(const std::filesystem::path& path, const HdrImage& image, const ToneMap& toneMap) {
-    std::error_code ec;
-    if (path.has_parent_path())
-        std::filesystem::create_directories(path.parent_path(), ec);
-    return path.extension() == ".exr" ? writeExr(path, image) : writePng(path, image, toneMap);
+// Image format from the target's name (the temporary it is first written to has another).
+Result<void> writeImage(const std::filesystem::path& target, const std::filesystem::path& file, const HdrImage& image,
+                        const ToneMap& toneMap) {
+    return target.extension() == ".exr" ? writeExr(file, image) : writePng(file, image, toneMap);
+}
+
+// Output folders made before rendering, so a bad --out fails before the device is created;
+// they are removed again unless every output is written.
+Result<std::vector<OutputFolders>> prepareOutputs(const render::Options& o) {
+    std::vector<OutputFolders> folders;
+    for (const auto& [flag, path] : render::outputFiles(o)) {
+        auto made = OutputFolders::create(path);
+        if (!made)
+            return makeError(flag + ": " + made.error().message);
+        folders.push_back(std::move(*made));
+        const std::filesystem::path parent = path.has_parent_path() ? path.parent_path() : ".";
+        if (::access(parent.c_str(), W_OK) != 0)
+            return makeError(flag + ": " + path.string() + ": cannot write into folder " + parent.string());
+    }
+    return folders;
+}
+
+// Writes every output to a temporary beside it, then moves them all into place: a failure
+// leaves none of them half-written and none of them new.
+Result<void> writeOutputs(const render::Options& o, const Rendered& r, const std::optional<render::Errors>& errors) {
+    std::vector<AtomicFile> staged;
+    std::vector<std::string> names;
+    const std::pair<const std::vector<std::filesystem::path>*, const HdrImage*> parts[] = {
+        {&o.outputs, &r.image},         {&o.directOutputs, &r.direct}, {&o.indirectOutputs, &r.indirect},
+        {&o.glossyOutputs, &r.glossy}, {&o.aoOutputs, &r.ao}};
+    for (const auto& [paths, image] : parts)
+        for (const std::filesystem::path& out : *paths) {
+            auto file = AtomicFile::begin(out);
+            if (!file)
+                return file.error();
+            // AO is a visibility in [0, 1], not radiance: PNG stores it as is (no exposure, no curve).
+            ToneMap toneMap = image == &r.ao ? ToneMap{1.0f, ToneMap::Curve::Clamp} : ToneMap{o.exposure, ToneMap::Curve::Aces};
+            if (auto ok = writeImage(out, file->temporary(), *image, toneMap); !ok)
+                return makeError(out.string() + ": " + ok.error().message);
+            staged.push_back(std::move(*file));
+            names.push_back(out.string());
+        }
+    if (o.json) {
+        auto file = AtomicFile::begin(*o.json);
+        if (!file)
+            return file.error();
+        if (auto ok = writeFileAtomic(file->temporary(), render::jsonReport(o, r.passes, r.totalMs, r.unprofiledMs,
+                                                                           r.leftOut, r.staticFrame, r.memory, errors));
+            !ok)
+            return makeError(o.json->string() + ": " + ok.error().message);
+        staged.push_back(std::move(*file));
+        names.push_back(o.json->string());
+    }
+    for (size_t i = 0; i < staged.size(); ++i) {
+        if (auto ok = staged[i].commit(); !ok)
+            return ok;
+        std::printf("wrote %s\n", names[i].c_str());
+    }
+    return {};
 }
 
 } // namespace
@@ -152,8 +208,16 @@ int main(int argc, char** argv) {
     }
     bool pathTraced = o.technique == "reference"; // parseArgs checked the name
     auto technique = gi::parseTechnique(pathTraced ? "none" : o.technique);
+    auto folders = prepareOutputs(o);
+    if (!folders)
+        return fail(2, folders.error().message);
 
-    auto scene = loadScene(o.scene);
+    std::vector<std::string> warnings;
+    GltfLoadOptions loadOptions;
+    loadOptions.allowOutsideFolder = o.allowOutsideFolder;
+    auto scene = loadScene(o.scene, {}, &warnings, loadOptions);
+    for (const std::string& w : warnings)
+        std::fprintf(stderr, "vkgi-render: warning: %s\n", w.c_str());
     if (!scene)
         return fail(1, scene.error().message);
     Camera camera = scene->cameraOrDefault();
@@ -191,26 +255,9 @@ int main(int argc, char** argv) {
                     "%.6g  RMSE %.6g nits\n",
                     bounces, o.spp, e->full.relMse, e->full.rmse, e->indirect.relMse, e->indirect.rmse);
     }
-    const std::pair<const std::vector<std::filesystem::path>*, const HdrImage*> parts[] = {
-        {&o.outputs, &rendered->image},          {&o.directOutputs, &rendered->direct},
-        {&o.indirectOutputs, &rendered->indirect}, {&o.glossyOutputs, &rendered->glossy},
-        {&o.aoOutputs, &rendered->ao}};
-    for (const auto& [paths, image] : parts)
-        for (const std::filesystem::path& out : *paths) {
-            // AO is a visibility in [0, 1], not radiance: PNG stores it as is (no exposure, no curve).
-            ToneMap toneMap = image == &rendered->ao ? ToneMap{1.0f, ToneMap::Curve::Clamp}
-                                                     : ToneMap{o.exposure, ToneMap::Curve::Aces};
-            if (auto ok = writeImage(out, *image, toneMap); !ok)
-                return fail(1, ok.error().message);
-            std::printf("wrote %s\n", out.string().c_str());
-        }
-    if (o.json) {
-        if (auto ok = writeFileAtomic(*o.json, render::jsonReport(o, rendered->passes, rendered->totalMs,
-                                                                  rendered->unprofiledMs, rendered->leftOut,
-                                                                  rendered->staticFrame, rendered->memory, errors));
-            !ok)
-            return fail(1, ok.error().message);
-        std::printf("wrote %s\n", o.json->string().c_str());
-    }
+    if (auto ok = writeOutputs(o, *rendered, errors); !ok)
+        return fail(1, ok.error().message);
+    for (OutputFolders& f : *folders)
+        f.release();
     return 0;
 }
