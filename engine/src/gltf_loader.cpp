@@ -183,6 +183,7 @@ private:
     std::map<int, std::vector<uint32_t>> m_meshMap;  // glTF mesh -> Scene meshes (one per primitive)
     std::map<int, int> m_textureMap;                 // glTF image -> Scene texture (-1 = failed)
     std::set<int> m_onStack;                         // nodes on the current path (cycle check)
+    std::set<int> m_visited;                         // nodes placed so far (each is placed once)
     int m_defaultMaterial = -1;
     int m_skippedPrimitives = 0;
     bool m_zfarInfinite = false;
@@ -786,6 +787,13 @@ Result<void> Loader::visit(int node, const glm::mat4& parent, int depth) {
                      std::to_string(node));
     if (!m_onStack.insert(node).second)
         return error("node hierarchy has a cycle through node " + std::to_string(node));
+    if (!m_visited.insert(node).second) {
+        // glTF nodes form a forest: a node listed under two parents (or twice) is malformed.
+        warn("node " + std::to_string(node) + " is listed more than once in the hierarchy (a glTF node has one "
+             "parent); drawn at its first place only");
+        m_onStack.erase(node);
+        return {};
+    }
     const tinygltf::Node& n = m_m.nodes[size_t(node)];
     Result<glm::mat4> local = localTransform(n, node);
     if (!local)

@@ -1,6 +1,8 @@
 // libFuzzer target for the glTF loader: any byte string, as .gltf or .glb, must give a scene
 // that passes validateScene or a one-line error naming the file — never a crash, a hang, an
-// exception or a sanitizer report. Seed corpus: tests/assets/gltf/.
+// exception or a sanitizer report. Seed corpus: tests/assets/gltf/ (bad/ for the hand-made
+// hostile files, fuzz/ for what earlier fuzz runs found, merged with -merge=1). The input is
+// written to a file in a folder of this process's own, which is removed at exit.
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -13,15 +15,36 @@
 #include "engine/gltf_loader.hpp"
 
 namespace {
-std::filesystem::path scratch(const char* ext) {
-    return std::filesystem::temp_directory_path() / ("vkgi-fuzz-" + std::to_string(::getpid()) + ext);
+
+// One folder per process for the scratch file, removed when the process exits (libFuzzer
+// returns from main or calls exit on every normal stop).
+class ScratchFolder {
+public:
+    ScratchFolder()
+        : m_path(std::filesystem::temp_directory_path() / ("vkgi-fuzz-" + std::to_string(::getpid()))) {
+        std::filesystem::create_directories(m_path);
+    }
+    ~ScratchFolder() {
+        std::error_code ec;
+        std::filesystem::remove_all(m_path, ec);
+    }
+    std::filesystem::path file(const char* ext) const { return m_path / (std::string("input") + ext); }
+
+private:
+    std::filesystem::path m_path;
+};
+
+const ScratchFolder& scratch() {
+    static const ScratchFolder folder;
+    return folder;
 }
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // The first byte picks the container, so the fuzzer explores both parsers.
     const char* ext = (size > 0 && (data[0] & 1)) ? ".glb" : ".gltf";
-    std::filesystem::path file = scratch(ext);
+    std::filesystem::path file = scratch().file(ext);
     {
         std::ofstream out(file, std::ios::binary | std::ios::trunc);
         out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
@@ -40,5 +63,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             std::abort();
         }
     }
+    std::error_code ec;
+    std::filesystem::remove(file, ec);
     return 0;
 }

@@ -614,3 +614,77 @@ TEST(SceneValidation, SingularAndFarInstancesAreErrors) {
     tiny.instances[0].transform = glm::scale(glm::mat4(1.0f), glm::vec3(1e-6f)) * tiny.instances[0].transform;
     EXPECT_TRUE(validateScene(tiny).ok());
 }
+
+// Every repair the loader makes silently elsewhere is a warning naming the element: each edit of
+// the triangle document below must load and produce the quoted warning.
+TEST(GltfLoader, EveryRepairIsAWarningNamingTheElement) {
+    struct Case {
+        const char* what;
+        void (*edit)(json&);
+        const char* warning;
+    } cases[] = {
+        {"camera yfov 0", [](json& j) { j["cameras"][0]["perspective"]["yfov"] = 0.0; },
+         "camera 0 (node 2) has invalid yfov/znear; ignored"},
+        {"camera yfov 3.2", [](json& j) { j["cameras"][0]["perspective"]["yfov"] = 3.2; },
+         "camera 0 (node 2) has invalid yfov/znear; ignored"},
+        {"camera yfov -1", [](json& j) { j["cameras"][0]["perspective"]["yfov"] = -1.0; },
+         "camera 0 (node 2) has invalid yfov/znear; ignored"},
+        {"orthographic camera",
+         [](json& j) {
+             j["cameras"][0] = {{"type", "orthographic"},
+                                {"orthographic", {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", 0.1}, {"zfar", 10.0}}}};
+         },
+         "camera 0 (node 2) is orthographic; only perspective cameras are used"},
+        {"spot inner > outer",
+         [](json& j) { j["extensions"]["KHR_lights_punctual"]["lights"][0]["spot"]["innerConeAngle"] = 0.9; },
+         "light 0 (node 1) cone angles clamped"},
+        {"negative colour",
+         [](json& j) { j["extensions"]["KHR_lights_punctual"]["lights"][0]["color"] = {1.0, -1.0, 0.0}; },
+         "light 0 (node 1) has a non-finite or negative colour/intensity; skipped"},
+        {"unknown light type", [](json& j) { j["extensions"]["KHR_lights_punctual"]["lights"][0]["type"] = "area"; },
+         "light 0 (node 1) has unknown type 'area'; skipped"},
+        {"no lights", [](json& j) { j["nodes"][1].erase("extensions"); }, "no punctual lights and no emissive"},
+        {"node listed twice", [](json& j) { j["scenes"][0]["nodes"].push_back(0); },
+         "node 0 is listed more than once in the hierarchy"},
+        {"all-zero matrix (a second instance)",
+         [](json& j) {
+             j["nodes"].push_back({{"mesh", 0}, {"matrix", {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1}}});
+             j["scenes"][0]["nodes"].push_back(3);
+         },
+         "node 3: singular transform"},
+        {"animation",
+         [](json& j) {
+             j["animations"] = json::array({{{"channels", json::array()}, {"samplers", json::array()}}});
+         },
+         "1 animation(s) ignored"},
+        {"alpha mode", [](json& j) {
+             j["meshes"][0]["primitives"][0]["material"] = 0;
+             j["materials"] = json::array({{{"alphaMode", "BLEND"}}});
+         },
+         "alphaMode BLEND ignored"},
+        {"undecodable image (a PNG header claiming 60000 x 60000)",
+         [](json& j) {
+             j["meshes"][0]["primitives"][0]["material"] = 0;
+             j["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
+             j["textures"] = json::array({{{"source", 0}}});
+             j["images"] = json::array({{{"uri", "huge.png"}}});
+         },
+         "untextured"},
+    };
+    for (const Case& c : cases) {
+        Blob blob;
+        json j = triangleDoc(blob);
+        c.edit(j);
+        fs::path dir = tempDir("repairs");
+        // 8-byte PNG signature and an IHDR chunk for 60000 x 60000 RGB, then nothing.
+        const uint8_t png[] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a, 0, 0, 0, 13, 'I', 'H', 'D', 'R',
+                               0, 0, 0xea, 0x60, 0, 0, 0xea, 0x60, 8, 2, 0, 0, 0, 0, 0, 0, 0};
+        writeBytes(dir / "huge.png", std::vector<uint8_t>(std::begin(png), std::end(png)));
+        std::vector<std::string> warnings;
+        Result<Scene> r = loadGltf(writeGltf(dir, j, blob), &warnings);
+        ASSERT_TRUE(r.ok()) << c.what << ": " << r.error().message;
+        EXPECT_TRUE(anyContains(warnings, c.warning)) << c.what << ": " << joined(warnings);
+        for (const std::string& w : warnings)
+            EXPECT_EQ(w.find('\n'), std::string::npos) << w;
+    }
+}
