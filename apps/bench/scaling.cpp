@@ -67,135 +67,156 @@ std::string slopeText(double k) {
     return buf;
 }
 
-} // namespace
+// The sweep's values per axis (smaller with --quick).
+struct Axes {
+    std::vector<uint32_t> sizes;
+    uint32_t fixedSize = 0;
+    std::map<std::string, std::vector<uint32_t>> grids;
+    std::vector<uint32_t> levels; // bunny icosphere subdivisions
+};
 
-int runScaling(Context& ctx, const Options& opt) {
-    const bool q = opt.quick;
-    const std::vector<uint32_t> sizes = q ? std::vector<uint32_t>{16, 32} : std::vector<uint32_t>{64, 128, 256, 512};
-    const uint32_t fixedSize = q ? 32 : 128;
-    const std::map<std::string, std::vector<uint32_t>> grids = {
-        {"vct", q ? std::vector<uint32_t>{16, 32} : std::vector<uint32_t>{32, 64, 128}},
-        {"lpv", q ? std::vector<uint32_t>{8, 16} : std::vector<uint32_t>{16, 32, 64}}};
-    const std::vector<uint32_t> levels = q ? std::vector<uint32_t>{2, 3} : std::vector<uint32_t>{3, 4, 5, 6};
+Axes axesFor(bool quick) {
+    Axes a;
+    a.sizes = quick ? std::vector<uint32_t>{16, 32} : std::vector<uint32_t>{64, 128, 256, 512};
+    a.fixedSize = quick ? 32 : 128;
+    a.grids = {{"vct", quick ? std::vector<uint32_t>{16, 32} : std::vector<uint32_t>{32, 64, 128}},
+               {"lpv", quick ? std::vector<uint32_t>{8, 16} : std::vector<uint32_t>{16, 32, 64}}};
+    a.levels = quick ? std::vector<uint32_t>{2, 3} : std::vector<uint32_t>{3, 4, 5, 6};
+    return a;
+}
 
-    // Scenes: cornell, then bunny_box at each level.
+// cornell, then bunny_box at each level.
+Result<std::vector<Scene>> scalingScenes(const std::vector<uint32_t>& levels) {
     std::vector<Scene> scenes;
     auto cornell = makeBuiltinScene("cornell");
-    if (!cornell) {
-        std::fprintf(stderr, "vkgi-bench: %s\n", cornell.error().message.c_str());
-        return 1;
-    }
+    if (!cornell)
+        return cornell.error();
     scenes.push_back(std::move(*cornell));
     for (uint32_t level : levels) {
         BuiltinSceneParams p;
         p.bunnySubdivisions = level;
         auto s = makeBuiltinScene("bunny_box", p);
-        if (!s) {
-            std::fprintf(stderr, "vkgi-bench: %s\n", s.error().message.c_str());
-            return 1;
-        }
+        if (!s)
+            return s.error();
         scenes.push_back(std::move(*s));
     }
+    return scenes;
+}
 
+std::vector<Job> scalingJobs(const Options& opt, const Axes& a) {
     std::vector<Job> jobs;
     for (const auto& t : opt.techniques) {
-        for (uint32_t n : sizes)
+        for (uint32_t n : a.sizes)
             jobs.push_back({"pixels", t, t, "", 0, n, false});
-        if (auto g = grids.find(t); g != grids.end())
+        if (auto g = a.grids.find(t); g != a.grids.end())
             for (uint32_t n : g->second)
-                jobs.push_back({"voxels", t, t, t + ".grid=" + std::to_string(n), 0, fixedSize, false});
-        for (size_t l = 0; l < levels.size(); ++l)
-            jobs.push_back({"triangles", t, t, "", 1 + l, fixedSize, false});
+                jobs.push_back({"voxels", t, t, t + ".grid=" + std::to_string(n), 0, a.fixedSize, false});
+        for (size_t l = 0; l < a.levels.size(); ++l)
+            jobs.push_back({"triangles", t, t, "", 1 + l, a.fixedSize, false});
         if (t == "vct")
-            for (size_t l = 0; l < levels.size(); ++l)
-                jobs.push_back({"triangles", kRevoxelized, t, "", 1 + l, fixedSize, true});
+            for (size_t l = 0; l < a.levels.size(); ++l)
+                jobs.push_back({"triangles", kRevoxelized, t, "", 1 + l, a.fixedSize, true});
     }
+    return jobs;
+}
 
-    std::vector<gi::ScalingRecord> records;
-    Progress progress("vkgi-bench --scaling", jobs.size());
-    for (const Job& job : jobs) {
-        gi::GiSettings s;
-        s.technique = *gi::parseTechnique(job.technique);
-        if (!job.knobs.empty())
-            if (auto ok = gi::applyKnob(s, job.knobs); !ok) {
-                std::fprintf(stderr, "vkgi-bench: %s\n", ok.error().message.c_str());
-                return 1;
-            }
-        const Scene& scene = scenes[job.scene];
-        std::function<Result<void>(gi::GiSystem&)> before;
-        Scene relit = scene; // the light steps between two adjacent floats: a changed light, same image
-        if (job.revoxelize || relit.lights.empty())
-            before = [](gi::GiSystem& sys) -> Result<void> {
-                sys.invalidate();
-                return {};
-            };
-        else
-            before = [&relit, base = relit.lights[0].intensity](gi::GiSystem& sys) {
-                float& i = relit.lights[0].intensity;
-                i = i == base ? std::nextafter(base, INFINITY) : base;
-                return sys.updateScene(relit);
-            };
-        gi::FrameRequest request; // the composite only: readbacks are excluded from the times anyway
-        auto t = measureTiming(ctx, scene, s, job.size, job.size, opt.repeat, request, before, kWarmup);
-        if (!t) {
-            std::fprintf(stderr, "vkgi-bench: --scaling %s %s [%s] %ux%u: %s\n", job.axis.c_str(), job.series.c_str(),
-                         job.knobs.c_str(), job.size, job.size, t.error().message.c_str());
-            return 1;
-        }
-        gi::ScalingRecord r;
-        r.axis = job.axis;
-        r.series = job.series;
-        r.technique = job.technique;
-        r.knobs = job.knobs;
-        r.scene = scene.name;
-        r.width = r.height = job.size;
-        r.triangles = triangleCount(scene);
-        if (job.axis == "pixels")
-            r.value = double(job.size) * job.size;
-        else if (job.axis == "voxels")
-            r.value = std::pow(double(s.technique == gi::Technique::Vct ? s.vct.gridResolution : s.lpv.gridSize), 3.0);
-        else
-            r.value = double(r.triangles);
-        r.totalMs = t->totalMs;
-        r.wallMs = t->wallMs;
-        r.passMs = t->passMs;
-        for (const auto& [name, ms] : r.passMs)
-            if (gi::isTechniquePass(name, job.technique))
-                r.techniqueMs += ms;
-        records.push_back(std::move(r));
-        progress.add(1);
-    }
-    progress.finish();
+// Times one job; the record's value is the job's axis value.
+Result<gi::ScalingRecord> measureJob(Context& ctx, const Options& opt, const Job& job, const Scene& scene) {
+    gi::GiSettings s;
+    s.technique = *gi::parseTechnique(job.technique);
+    if (!job.knobs.empty())
+        if (auto ok = gi::applyKnob(s, job.knobs); !ok)
+            return ok.error();
+    std::function<Result<void>(gi::GiSystem&)> before;
+    Scene relit = scene; // the light steps between two adjacent floats: a changed light, same image
+    if (job.revoxelize || relit.lights.empty())
+        before = [](gi::GiSystem& sys) -> Result<void> {
+            sys.invalidate();
+            return {};
+        };
+    else
+        before = [&relit, base = relit.lights[0].intensity](gi::GiSystem& sys) {
+            float& i = relit.lights[0].intensity;
+            i = i == base ? std::nextafter(base, INFINITY) : base;
+            return sys.updateScene(relit);
+        };
+    gi::FrameRequest request; // the composite only: readbacks are excluded from the times anyway
+    auto t = measureTiming(ctx, scene, s, job.size, job.size, opt.repeat, request, before, kWarmup);
+    if (!t)
+        return makeError("--scaling " + job.axis + " " + job.series + " [" + job.knobs + "] " +
+                         std::to_string(job.size) + "x" + std::to_string(job.size) + ": " + t.error().message);
+    gi::ScalingRecord r;
+    r.axis = job.axis;
+    r.series = job.series;
+    r.technique = job.technique;
+    r.knobs = job.knobs;
+    r.scene = scene.name;
+    r.width = r.height = job.size;
+    r.triangles = triangleCount(scene);
+    if (job.axis == "pixels")
+        r.value = double(job.size) * job.size;
+    else if (job.axis == "voxels")
+        r.value = std::pow(double(s.technique == gi::Technique::Vct ? s.vct.gridResolution : s.lpv.gridSize), 3.0);
+    else
+        r.value = double(r.triangles);
+    r.totalMs = t->totalMs;
+    r.wallMs = t->wallMs;
+    r.passMs = t->passMs;
+    for (const auto& [name, ms] : r.passMs)
+        if (gi::isTechniquePass(name, job.technique))
+            r.techniqueMs += ms;
+    return r;
+}
 
+const std::vector<std::string> kAxes = {"pixels", "voxels", "triangles"};
+
+Result<void> writeScalingFiles(const Options& opt, const std::vector<gi::ScalingRecord>& records) {
     namespace fs = std::filesystem;
-    const std::vector<std::string> axes = {"pixels", "voxels", "triangles"};
     std::error_code ec;
     fs::create_directories(opt.outDir, ec);
-    if (ec) {
-        std::fprintf(stderr, "vkgi-bench: --out %s: %s\n", opt.outDir.c_str(), ec.message().c_str());
-        return 1;
-    }
+    if (ec)
+        return makeError("--out " + opt.outDir + ": " + ec.message());
     Result<void> ok = writeFileAtomic(fs::path(opt.outDir) / "scaling.csv", gi::toScalingCsv(records));
     if (ok)
         ok = writeFileAtomic(fs::path(opt.outDir) / "scaling.json", gi::toScalingJson(records));
-    for (const auto& axis : axes)
+    for (const auto& axis : kAxes)
         if (ok)
-            ok = writeFileAtomic(fs::path(opt.outDir) / ("scaling-" + axis + ".svg"),
-                                 gi::toScalingSvgPlot(records, axis));
-    if (!ok) {
-        std::fprintf(stderr, "vkgi-bench: %s\n", ok.error().message.c_str());
-        return 1;
-    }
+            ok = writeFileAtomic(fs::path(opt.outDir) / ("scaling-" + axis + ".svg"), gi::toScalingSvgPlot(records, axis));
+    return ok;
+}
 
-    std::printf("%-10s %10s %-20s %-14s %9s %9s %9s %9s\n", "axis", "value", "series", "knobs", "size", "total ms",
-                "tech. ms", "wall ms");
-    for (const auto& r : records)
-        std::printf("%-10s %10.0f %-20s %-14s %4ux%-4u %9.2f %9.2f %9.2f\n", r.axis.c_str(), r.value, r.series.c_str(),
-                    r.knobs.c_str(), r.width, r.height, r.totalMs, r.techniqueMs, r.wallMs);
-    // Slopes of log(ms) against log(axis value): 1 = linear, 0 = flat. "tech." counts only the
-    // technique's own passes (the G-buffer, shadow maps and direct light are the same for all).
+// The passes that make up >= 10% of the frame at the axis's largest value, indexed passes
+// summed (gi.lpv.propagate[*]): which part is linear and which is fixed.
+void printLargePassSlopes(const std::vector<gi::ScalingRecord>& records, const std::string& axis,
+                          const std::string& name, const std::vector<double>& x, const std::vector<double>& total) {
+    std::vector<std::string> groups;
+    std::map<std::string, std::vector<double>> groupMs; // per point, same order as x
+    size_t k = 0;
+    for (const auto& r : records) {
+        if (r.axis != axis || r.series != name)
+            continue;
+        for (const auto& [pass, ms] : r.passMs) {
+            std::string g = pass.substr(0, pass.find('[')) + (pass.find('[') != std::string::npos ? "[*]" : "");
+            auto& v = groupMs[g];
+            if (v.empty())
+                groups.push_back(g);
+            v.resize(x.size(), 0.0);
+            v[k] += ms;
+        }
+        ++k;
+    }
+    size_t largest = size_t(std::max_element(x.begin(), x.end()) - x.begin());
+    for (const auto& g : groups)
+        if (groupMs[g][largest] >= 0.1 * total[largest])
+            std::printf("      %-24s slope %s (%.1f ms at %.0f)\n", g.c_str(),
+                        slopeText(gi::fitLogLogSlope(x, groupMs[g])).c_str(), groupMs[g][largest], x[largest]);
+}
+
+// Slopes of log(ms) against log(axis value): 1 = linear, 0 = flat. "tech." counts only the
+// technique's own passes (the G-buffer, shadow maps and direct light are the same for all).
+void printSlopes(const std::vector<gi::ScalingRecord>& records) {
     std::printf("log-log slopes (1 = linear, 0 = flat): GPU total, technique passes, host wall time\n");
-    for (const auto& axis : axes) {
+    for (const auto& axis : kAxes) {
         std::vector<std::string> series;
         for (const auto& r : records)
             if (r.axis == axis && std::find(series.begin(), series.end(), r.series) == series.end())
@@ -209,37 +230,18 @@ int runScaling(Context& ctx, const Options& opt) {
             std::printf("  %s %s: slope %s (technique passes %s, frame wall time %s)\n", name.c_str(), axis.c_str(),
                         slopeText(gi::fitLogLogSlope(x, total)).c_str(), slopeText(gi::fitLogLogSlope(x, tech)).c_str(),
                         slopeText(gi::fitLogLogSlope(x, wall)).c_str());
-            // The passes that make up >= 10% of the frame at the axis's largest value, indexed
-            // passes summed (gi.lpv.propagate[*]): which part is linear and which is fixed.
-            std::vector<std::string> groups;
-            std::map<std::string, std::vector<double>> groupMs; // per point, same order as x
-            size_t k = 0;
-            for (const auto& r : records) {
-                if (r.axis != axis || r.series != name)
-                    continue;
-                for (const auto& [pass, ms] : r.passMs) {
-                    std::string g = pass.substr(0, pass.find('[')) + (pass.find('[') != std::string::npos ? "[*]" : "");
-                    auto& v = groupMs[g];
-                    if (v.empty())
-                        groups.push_back(g);
-                    v.resize(x.size(), 0.0);
-                    v[k] += ms;
-                }
-                ++k;
-            }
-            size_t largest = size_t(std::max_element(x.begin(), x.end()) - x.begin());
-            for (const auto& g : groups)
-                if (groupMs[g][largest] >= 0.1 * total[largest])
-                    std::printf("      %-24s slope %s (%.1f ms at %.0f)\n", g.c_str(),
-                                slopeText(gi::fitLogLogSlope(x, groupMs[g])).c_str(), groupMs[g][largest], x[largest]);
+            printLargePassSlopes(records, axis, name, x, total);
         }
     }
-    // Voxelization per frame: the gi.voxel.voxelize pass of the invalidated runs against the
-    // scene's triangles, and the same runs' extra host time over the relit runs of the same scene
-    // (on lavapipe the timestamps of short compute passes can miss work, the wall time cannot):
-    // the marginal cost per triangle is the least-squares slope of that extra time.
+}
+
+// Voxelization per frame: the gi.voxel.voxelize pass of the invalidated runs against the
+// scene's triangles, and the same runs' extra host time over the relit runs of the same scene
+// (on lavapipe the timestamps of short compute passes can miss work, the wall time cannot):
+// the marginal cost per triangle is the least-squares slope of that extra time.
+void printVoxelizeRate(const std::vector<gi::ScalingRecord>& records, const std::vector<Scene>& scenes, size_t levels) {
     std::vector<double> tris, voxMs, extraMs;
-    for (size_t l = 0; l < levels.size(); ++l) {
+    for (size_t l = 0; l < levels; ++l) {
         const gi::ScalingRecord *revox = nullptr, *relit = nullptr;
         for (const auto& r : records)
             if (r.axis == "triangles" && r.triangles == triangleCount(scenes[1 + l])) {
@@ -258,19 +260,53 @@ int runScaling(Context& ctx, const Options& opt) {
             "wall time %+8.2f ms over the relit frame\n",
             n, ms, ms > 0 ? n / (ms * 1e3) : 0.0, extra);
     }
-    if (tris.size() >= 2) {
-        double mt = 0, me = 0;
-        for (size_t i = 0; i < tris.size(); ++i)
-            mt += tris[i] / double(tris.size()), me += extraMs[i] / double(tris.size());
-        double sxx = 0, sxy = 0;
-        for (size_t i = 0; i < tris.size(); ++i)
-            sxx += (tris[i] - mt) * (tris[i] - mt), sxy += (tris[i] - mt) * (extraMs[i] - me);
-        double msPerTri = sxx > 0 ? sxy / sxx : NAN;
-        std::printf("  voxelize/frame: pass ms against triangles slope %s; extra wall time %.3g ms per 1k triangles "
-                    "(%.3g M triangles/s marginal)\n",
-                    slopeText(gi::fitLogLogSlope(tris, voxMs)).c_str(), msPerTri * 1e3,
-                    msPerTri > 0 ? 1e-3 / msPerTri : NAN);
+    if (tris.size() < 2)
+        return;
+    double mt = 0, me = 0;
+    for (size_t i = 0; i < tris.size(); ++i)
+        mt += tris[i] / double(tris.size()), me += extraMs[i] / double(tris.size());
+    double sxx = 0, sxy = 0;
+    for (size_t i = 0; i < tris.size(); ++i)
+        sxx += (tris[i] - mt) * (tris[i] - mt), sxy += (tris[i] - mt) * (extraMs[i] - me);
+    double msPerTri = sxx > 0 ? sxy / sxx : NAN;
+    std::printf("  voxelize/frame: pass ms against triangles slope %s; extra wall time %.3g ms per 1k triangles "
+                "(%.3g M triangles/s marginal)\n",
+                slopeText(gi::fitLogLogSlope(tris, voxMs)).c_str(), msPerTri * 1e3, msPerTri > 0 ? 1e-3 / msPerTri : NAN);
+}
+
+int failWith(const std::string& message) {
+    std::fprintf(stderr, "vkgi-bench: %s\n", message.c_str());
+    return 1;
+}
+
+} // namespace
+
+int runScaling(Context& ctx, const Options& opt) {
+    const Axes axes = axesFor(opt.quick);
+    auto scenes = scalingScenes(axes.levels);
+    if (!scenes)
+        return failWith(scenes.error().message);
+    const std::vector<Job> jobs = scalingJobs(opt, axes);
+    std::vector<gi::ScalingRecord> records;
+    Progress progress("vkgi-bench --scaling", jobs.size());
+    for (const Job& job : jobs) {
+        auto r = measureJob(ctx, opt, job, (*scenes)[job.scene]);
+        if (!r)
+            return failWith(r.error().message);
+        records.push_back(std::move(*r));
+        progress.add(1);
     }
+    progress.finish();
+    if (auto ok = writeScalingFiles(opt, records); !ok)
+        return failWith(ok.error().message);
+
+    std::printf("%-10s %10s %-20s %-14s %9s %9s %9s %9s\n", "axis", "value", "series", "knobs", "size", "total ms",
+                "tech. ms", "wall ms");
+    for (const auto& r : records)
+        std::printf("%-10s %10.0f %-20s %-14s %4ux%-4u %9.2f %9.2f %9.2f\n", r.axis.c_str(), r.value, r.series.c_str(),
+                    r.knobs.c_str(), r.width, r.height, r.totalMs, r.techniqueMs, r.wallMs);
+    printSlopes(records);
+    printVoxelizeRate(records, *scenes, axes.levels.size());
     std::printf("wrote %s/scaling.csv, scaling.json, scaling-{pixels,voxels,triangles}.svg\n", opt.outDir.c_str());
     return 0;
 }
