@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # ASan + UBSan build (clang) of the whole project: runs the unit, GPU and stability suites under the
-# sanitizers, then fuzzes the glTF loader for FUZZ_SECONDS (default 60) from the committed corpus.
+# sanitizers, then fuzzes the glTF loader for FUZZ_SECONDS (default 60) from the committed corpus
+# (tests/assets/gltf/bad and the fuzzer-grown tests/assets/gltf/fuzz); the last lines give its coverage.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/install-deps.sh"

@@ -688,3 +688,30 @@ TEST(GltfLoader, EveryRepairIsAWarningNamingTheElement) {
             EXPECT_EQ(w.find('\n'), std::string::npos) << w;
     }
 }
+
+// The fuzzer-grown corpus (tests/assets/gltf/fuzz) replayed: each file loads into a scene that
+// passes validateScene, or fails with one line naming the file, as the fuzz harness demands.
+TEST(GltfLoader, FuzzCorpusLoadsOrFailsInOneLine) {
+    const fs::path dir = badDir().parent_path() / "fuzz";
+    ASSERT_TRUE(fs::is_directory(dir)) << dir;
+    int files = 0, loaded = 0;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        if (entry.path().extension() != ".gltf" && entry.path().extension() != ".glb")
+            continue;
+        ++files;
+        std::vector<std::string> warnings;
+        Result<Scene> r = loadGltf(entry.path(), &warnings);
+        if (r) {
+            ++loaded;
+            EXPECT_TRUE(validateScene(*r).ok()) << entry.path();
+        } else {
+            const std::string& m = r.error().message;
+            EXPECT_EQ(m.find('\n'), std::string::npos) << entry.path() << ": " << m;
+            EXPECT_NE(m.find(entry.path().filename().string()), std::string::npos) << m;
+        }
+        for (const std::string& w : warnings)
+            EXPECT_EQ(w.find('\n'), std::string::npos) << w;
+    }
+    EXPECT_GE(files, 100);
+    std::printf("fuzz corpus: %d files, %d load\n", files, loaded);
+}
