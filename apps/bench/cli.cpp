@@ -10,7 +10,7 @@ namespace {
 apps::OptionTable optionTable(Options& o) {
     using namespace apps;
     return {
-        {"--scenes", "a,b", "built-in names or glTF files (default cornell,room,atrium)",
+        {"--scenes", "a,b", "built-in names or glTF files (default cornell,room,atrium,hall)",
          [&o](const std::string& v) -> Result<void> {
              o.scenes = splitList(v);
              return {};

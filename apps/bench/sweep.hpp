@@ -16,7 +16,7 @@
 namespace vkgi::bench {
 
 struct Options {
-    std::vector<std::string> scenes{"cornell", "room", "atrium"};
+    std::vector<std::string> scenes{"cornell", "room", "atrium", "hall"};
     std::vector<std::string> techniques; // empty = every technique the library has
     uint32_t width = 128, height = 128;
     uint32_t spp = 1024;   // reference paths per pixel (its own relMSE ~ 1.5/spp on cornell)

@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <vector>
 
 #include "mesh_builder.hpp"
 
@@ -368,6 +369,86 @@ Scene makeAtrium() {
     return s;
 }
 
+// ---- hall: a large interior with what game assets have ----------------------------------
+// A 16 x 6 x 10 m hall lit by one point lamp: a checkered floor of 1 m tiles (albedo 0.8 / 0.04,
+// the high contrast that shows blotches and light bleeding), ten thin pillars (r = 0.18 m) and a
+// sphere, a vase and a torus-like ring with smooth normals (curved surfaces, where coarse-grid
+// cone sampling shows), on the floor between them.
+constexpr float kHallX = 8.0f, kHallY = 6.0f, kHallZ = 5.0f;
+
+void addHallFloor(Scene& s) {
+    uint32_t light = addMaterial(s, "hall_tile_light", {0.80f, 0.78f, 0.74f});
+    uint32_t dark = addMaterial(s, "hall_tile_dark", {0.04f, 0.04f, 0.045f});
+    MeshBuilder tiles[2];
+    for (int x = int(-kHallX); x < int(kHallX); ++x)
+        for (int z = int(-kHallZ); z < int(kHallZ); ++z) {
+            const float x0 = float(x), z0 = float(z);
+            tiles[(x + z) & 1].addQuad({x0, 0, z0 + 1}, {x0 + 1, 0, z0 + 1}, {x0 + 1, 0, z0}, {x0, 0, z0});
+        }
+    addMeshInstance(s, tiles[0], "hall_floor_light", light);
+    addMeshInstance(s, tiles[1], "hall_floor_dark", dark);
+}
+
+void addHallObjects(Scene& s) {
+    uint32_t stone = addMaterial(s, "hall_pillars", {0.70f, 0.68f, 0.62f});
+    uint32_t red = addMaterial(s, "hall_sphere", {0.70f, 0.16f, 0.10f});
+    uint32_t blue = addMaterial(s, "hall_vase", {0.15f, 0.25f, 0.65f});
+    uint32_t gold = addMaterial(s, "hall_ring", {0.75f, 0.60f, 0.25f});
+    MeshBuilder pillars;
+    // Base flare, shaft, capital: smooth along the shaft, split at the flat ends.
+    const std::vector<glm::vec2> pillar = {{0.0f, 0.0f},   {0.30f, 0.0f}, {0.30f, 0.12f}, {0.18f, 0.35f},
+                                           {0.18f, 5.50f}, {0.28f, 5.80f}, {0.28f, kHallY}, {0.0f, kHallY}};
+    for (float z : {-2.5f, 2.5f})
+        for (float x : {-6.0f, -3.0f, 0.0f, 3.0f, 6.0f})
+            pillars.addLathe({x, 0.0f, z}, pillar, 24);
+    addMeshInstance(s, pillars, "hall_pillars", stone);
+    MeshBuilder sphere;
+    sphere.addIcosphere({-3.0f, 0.7f, 0.2f}, 3, [](const glm::vec3&) { return 0.7f; });
+    addMeshInstance(s, sphere, "hall_sphere", red);
+    // A vase: a bulging body, a narrow neck and a lip (a stand-in for a teapot-like curved body).
+    std::vector<glm::vec2> vase = {{0.0f, 0.0f}};
+    for (int i = 0; i <= 16; ++i) {
+        float t = float(i) / 16.0f;
+        float r = 0.22f + 0.38f * std::sin(kPi * std::min(1.0f, t * 1.15f)) * (1.0f - 0.55f * t);
+        vase.emplace_back(r, 1.4f * t);
+    }
+    vase.emplace_back(0.0f, 1.4f);
+    MeshBuilder vaseMesh;
+    vaseMesh.addLathe({2.4f, 0.0f, 0.6f}, vase, 32);
+    addMeshInstance(s, vaseMesh, "hall_vase", blue);
+    // A thick ring lying on the floor (a torus as a lathe of a circle, closed in itself).
+    std::vector<glm::vec2> ring;
+    for (int i = 0; i <= 20; ++i) {
+        float a = 2.0f * kPi * float(i) / 20.0f;
+        ring.emplace_back(0.55f + 0.2f * std::cos(a), 0.2f + 0.2f * std::sin(a));
+    }
+    MeshBuilder ringMesh;
+    ringMesh.addLathe({0.0f, 0.0f, -0.6f}, ring, 32);
+    addMeshInstance(s, ringMesh, "hall_ring", gold);
+}
+
+Scene makeHall() {
+    Scene s;
+    s.name = "hall";
+    uint32_t walls = addMaterial(s, "hall_walls", {0.62f, 0.58f, 0.52f});
+    uint32_t ceiling = addMaterial(s, "hall_ceiling", {0.70f, 0.70f, 0.70f});
+    MeshBuilder w, c;
+    // Walls face into the hall; the floor is the tiles, the ceiling its own material.
+    w.addGridQuad({-kHallX, 0, -kHallZ}, {kHallX, 0, -kHallZ}, {kHallX, kHallY, -kHallZ}, {-kHallX, kHallY, -kHallZ}, 4);
+    w.addGridQuad({kHallX, 0, kHallZ}, {-kHallX, 0, kHallZ}, {-kHallX, kHallY, kHallZ}, {kHallX, kHallY, kHallZ}, 4);
+    w.addGridQuad({-kHallX, 0, kHallZ}, {-kHallX, 0, -kHallZ}, {-kHallX, kHallY, -kHallZ}, {-kHallX, kHallY, kHallZ}, 4);
+    w.addGridQuad({kHallX, 0, -kHallZ}, {kHallX, 0, kHallZ}, {kHallX, kHallY, kHallZ}, {kHallX, kHallY, -kHallZ}, 4);
+    c.addGridQuad({-kHallX, kHallY, -kHallZ}, {kHallX, kHallY, -kHallZ}, {kHallX, kHallY, kHallZ}, {-kHallX, kHallY, kHallZ}, 4);
+    addMeshInstance(s, w, "hall_walls", walls);
+    addMeshInstance(s, c, "hall_ceiling", ceiling);
+    addHallFloor(s);
+    addHallObjects(s);
+    // 1000 cd at 4.5 m: 0.8 x 1000 / (pi 4.5^2) = 12.6 nits on the light tiles below it.
+    s.lights.push_back(pointLight("hall_lamp", {0.0f, 4.5f, 0.0f}, 1000.0f));
+    s.camera = lookAt({-7.4f, 1.9f, 1.2f}, {1.0f, 0.6f, -0.4f}, 55.0f, 0.05f, 60.0f);
+    return s;
+}
+
 struct Entry {
     const char* name;
     std::function<Scene(const BuiltinSceneParams&)> make;
@@ -384,6 +465,7 @@ const std::vector<Entry>& registry() {
         {"room", [](const BuiltinSceneParams&) { return makeRoom(); }},
         {"bunny_box", makeBunnyBox},
         {"atrium", [](const BuiltinSceneParams&) { return makeAtrium(); }},
+        {"hall", [](const BuiltinSceneParams&) { return makeHall(); }},
     };
     return entries;
 }

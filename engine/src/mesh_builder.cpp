@@ -157,6 +157,44 @@ void MeshBuilder::addCylinder(const glm::vec3& base, float radius, float height,
     addPrism(fp, base.y, base.y + height, caps, caps);
 }
 
+void MeshBuilder::addLathe(const glm::vec3& base, std::span<const glm::vec2> profile, uint32_t segments) {
+    segments = std::max(segments, 3u);
+    const size_t n = profile.size();
+    if (n < 2)
+        return;
+    // Outward normal of profile segment k in the (radius, height) plane: (dy, -dr) normalised.
+    auto segmentNormal = [&](size_t k) {
+        glm::vec2 d = profile[k + 1] - profile[k];
+        glm::vec2 nrm(d.y, -d.x);
+        float len = glm::length(nrm);
+        return len > 0.0f ? nrm / len : glm::vec2(1.0f, 0.0f);
+    };
+    const float cosCorner = 0.5f; // a turn of more than 60 degrees keeps the segments' own normals
+    for (size_t k = 0; k + 1 < n; ++k) {
+        glm::vec2 nk = segmentNormal(k);
+        glm::vec2 n0 = nk, n1 = nk; // normals at the segment's bottom and top
+        if (k > 0 && glm::dot(segmentNormal(k - 1), nk) > cosCorner)
+            n0 = glm::normalize(segmentNormal(k - 1) + nk);
+        if (k + 2 < n && glm::dot(segmentNormal(k + 1), nk) > cosCorner)
+            n1 = glm::normalize(segmentNormal(k + 1) + nk);
+        const glm::vec2 p0 = profile[k], p1 = profile[k + 1];
+        for (uint32_t i = 0; i < segments; ++i) {
+            float a0 = 2.0f * 3.14159265f * float(i) / float(segments);
+            float a1 = 2.0f * 3.14159265f * float(i + 1) / float(segments);
+            glm::vec3 d0(std::cos(a0), 0.0f, -std::sin(a0)), d1(std::cos(a1), 0.0f, -std::sin(a1));
+            auto pos = [&](const glm::vec2& p, const glm::vec3& d) { return base + d * p.x + glm::vec3(0, p.y, 0); };
+            auto nrm = [&](const glm::vec2& q, const glm::vec3& d) { return glm::normalize(d * q.x + glm::vec3(0, q.y, 0)); };
+            // Counter-clockwise seen from outside: bottom a0, bottom a1, top a1, top a0.
+            uint32_t v00 = addVertex(pos(p0, d0), nrm(n0, d0)), v01 = addVertex(pos(p0, d1), nrm(n0, d1));
+            uint32_t v11 = addVertex(pos(p1, d1), nrm(n1, d1)), v10 = addVertex(pos(p1, d0), nrm(n1, d0));
+            if (p0.x > 0.0f)
+                m_mesh.indices.insert(m_mesh.indices.end(), {v00, v01, v11});
+            if (p1.x > 0.0f)
+                m_mesh.indices.insert(m_mesh.indices.end(), {v00, v11, v10});
+        }
+    }
+}
+
 void MeshBuilder::translate(const glm::vec3& offset) {
     for (glm::vec3& p : m_mesh.positions)
         p += offset;

@@ -47,6 +47,12 @@ public:
     void addIcosphere(const glm::vec3& centre, uint32_t subdivisions, const std::function<float(const glm::vec3&)>& radiusOf,
                       Facing facing = Facing::Outward);
 
+    // A surface of revolution about the vertical axis through `base`: `profile` holds (radius,
+    // height) points from bottom to top; `segments` around; smooth normals from the profile's
+    // tangents (a corner of the profile, where the tangent turns by more than 60 degrees, gets
+    // split normals). A radius of 0 at the ends closes the surface.
+    void addLathe(const glm::vec3& base, std::span<const glm::vec2> profile, uint32_t segments);
+
     // Moves everything built so far.
     void translate(const glm::vec3& offset);
     Aabb bounds() const;

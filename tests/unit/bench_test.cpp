@@ -65,7 +65,8 @@ TEST(Bench, CsvHasOneRowPerRecordAndOneColumnPerPass) {
     std::getline(in, row2);
     EXPECT_EQ(header,
               "scene,technique,knobs,total_ms,profiled_ms,relmse,rmse,relmse_indirect,rmse_indirect,reference_bounces,"
-              "relmse_all,rmse_all,relmse_indirect_all,rmse_indirect_all,device_mib,gi.a ms,gi.b ms,gi.c ms");
+              "relmse_all,rmse_all,relmse_indirect_all,rmse_indirect_all,relmse_dark,relmse_all_dark,device_mib,gi.a ms,"
+              "gi.b ms,gi.c ms");
     EXPECT_EQ(row1.substr(0, 22), "cornell,vct,k=10.00000");
     EXPECT_NE(row2.find("\"grid=32,steps=8\""), std::string::npos);
     EXPECT_EQ(row1.back(), ','); // record 0 has no gi.c pass: empty last field
@@ -76,6 +77,8 @@ TEST(Bench, JsonRoundTripsTheNumbers) {
     r[0].rmseIndirect = 0.0625;
     r[0].referenceBounces = 3;
     r[0].rmseIndirectAll = 0.25;
+    r[0].relMseDark = 0.5;
+    r[0].relMseAllDark = 0.75;
     auto j = nlohmann::json::parse(toJson(r));
     ASSERT_EQ(j.size(), 1u);
     EXPECT_EQ(j[0]["total_ms"].get<double>(), 12.5);
@@ -83,6 +86,8 @@ TEST(Bench, JsonRoundTripsTheNumbers) {
     EXPECT_EQ(j[0]["error"]["rmse_indirect"].get<double>(), 0.0625);
     EXPECT_EQ(j[0]["error"]["reference_bounces"].get<int>(), 3);
     EXPECT_EQ(j[0]["error_all_bounces"]["rmse_indirect"].get<double>(), 0.25);
+    EXPECT_EQ(j[0]["error"]["relmse_dark"].get<double>(), 0.5);
+    EXPECT_EQ(j[0]["error_all_bounces"]["relmse_dark"].get<double>(), 0.75);
     EXPECT_EQ(j[0]["passes"][1]["name"].get<std::string>(), "gi.b");
 }
 
@@ -98,7 +103,7 @@ TEST(Bench, MarkdownHasOneTablePerSceneAndMarksTheFront) {
     EXPECT_LT(cornell, room);
     EXPECT_NE(md.find("| vct * | k=10.000000 | 10 |"), std::string::npos) << md; // on cornell's front
     EXPECT_NE(md.find("| lpv | k=15.000000 | 15 |"), std::string::npos) << md;    // dominated by vct
-    EXPECT_NE(md.find("| lpv * | a/b | 8 | 0 | all | 0.25 |"), std::string::npos) << md; // '|' kept out of cells
+    EXPECT_NE(md.find("| lpv * | a/b | 8 | 0 | all | 0.25 | 0 |"), std::string::npos) << md; // '|' kept out of cells
     size_t rows = 0;
     for (size_t p = md.find("\n| "); p != std::string::npos; p = md.find("\n| ", p + 1))
         ++rows;

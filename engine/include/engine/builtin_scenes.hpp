@@ -16,6 +16,9 @@
 //                     under a 1.5 cd spot
 //   atrium            procedural Sponza-like atrium (~8.6k triangles): two storeys of arcades,
 //                     red/green/blue banners, roofed galleries, open courtyard under a 10^4 lux sun
+//   hall              16 x 6 x 10 m interior under a 1000 cd point lamp: checkered floor of 1 m tiles
+//                     (albedo 0.8 / 0.04), ten thin pillars, a sphere, a vase and a ring with smooth
+//                     normals (curved surfaces, thin geometry, high contrast: real-content stand-in)
 // Reflectances of the Cornell scenes (linear sRGB): white (0.725, 0.71, 0.68), red
 // (0.63, 0.065, 0.05), green (0.14, 0.45, 0.091).
 #include <string>

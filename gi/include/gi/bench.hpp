@@ -26,6 +26,9 @@ struct BenchRecord {
     int referenceBounces = 0;
     double relMseAll = 0.0, rmseAll = 0.0;
     double relMseIndirectAll = 0.0, rmseIndirectAll = 0.0;
+    // Full-image relMSE with epsilon 0.001 instead of 0.01 (against the matched and the
+    // all-bounce reference): it weighs dark regions, where blotches and upsampling losses show.
+    double relMseDark = 0.0, relMseAllDark = 0.0;
     double deviceMiB = 0.0;                             // device memory of the module
     uint64_t triangles = 0;                             // the scene's triangle count
     // Bytes each pass's declared accesses move (rg::PassMemory::accessedBytes), same order as

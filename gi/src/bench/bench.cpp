@@ -78,7 +78,7 @@ std::string toCsv(const std::vector<BenchRecord>& records) {
     std::ostringstream out;
     out << "scene,technique,knobs,total_ms,profiled_ms,relmse,rmse,relmse_indirect,rmse_indirect,reference_bounces,"
            "relmse_all,"
-           "rmse_all,relmse_indirect_all,rmse_indirect_all,device_mib";
+           "rmse_all,relmse_indirect_all,rmse_indirect_all,relmse_dark,relmse_all_dark,device_mib";
     for (const auto& p : passes)
         out << "," << csvField(p + " ms");
     out << "\n";
@@ -87,7 +87,7 @@ std::string toCsv(const std::vector<BenchRecord>& records) {
             << "," << num(r.profiledMs) << "," << num(r.relMse) << "," << num(r.rmse) << "," << num(r.relMseIndirect)
             << "," << num(r.rmseIndirect) << "," << r.referenceBounces << "," << num(r.relMseAll) << ","
             << num(r.rmseAll) << "," << num(r.relMseIndirectAll) << "," << num(r.rmseIndirectAll) << ","
-            << num(r.deviceMiB);
+            << num(r.relMseDark) << "," << num(r.relMseAllDark) << "," << num(r.deviceMiB);
         for (const auto& p : passes) {
             auto it = std::find_if(r.passMs.begin(), r.passMs.end(), [&](const auto& e) { return e.first == p; });
             out << "," << (it == r.passMs.end() ? std::string() : num(it->second));
@@ -125,12 +125,14 @@ std::string toJson(const std::vector<BenchRecord>& records) {
                          {"rmse", r.rmse},
                          {"relmse_indirect", r.relMseIndirect},
                          {"rmse_indirect", r.rmseIndirect},
+                         {"relmse_dark", r.relMseDark},
                          {"reference_bounces", r.referenceBounces}}},
                        {"error_all_bounces",
                         {{"relmse", r.relMseAll},
                          {"rmse", r.rmseAll},
                          {"relmse_indirect", r.relMseIndirectAll},
-                         {"rmse_indirect", r.rmseIndirectAll}}}});
+                         {"rmse_indirect", r.rmseIndirectAll},
+                         {"relmse_dark", r.relMseAllDark}}}});
     }
     return arr.dump(2) + "\n";
 }
@@ -198,9 +200,9 @@ std::string toMarkdown(const std::vector<BenchRecord>& records) {
     for (const auto& scene : scenes) {
         std::vector<size_t> front = paretoFront(records, scene);
         out << "### " << scene << "\n\n"
-            << "| technique | knobs | GPU ms | MiB | ref. bounces | relMSE | relMSE ind. | RMSE ind. | "
-               "all bounces: relMSE ind. | RMSE ind. |\n"
-            << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+            << "| technique | knobs | GPU ms | MiB | ref. bounces | relMSE | relMSE (ε 1e-3) | relMSE ind. | RMSE ind. | "
+               "all bounces: relMSE (ε 1e-3) | relMSE ind. | RMSE ind. |\n"
+            << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
         for (size_t i = 0; i < records.size(); ++i) {
             const BenchRecord& r = records[i];
             if (r.scene != scene)
@@ -211,8 +213,9 @@ std::string toMarkdown(const std::vector<BenchRecord>& records) {
                 c = c == '|' ? '/' : c;
             out << "| " << r.technique << (onFront ? " *" : "") << " | " << knobs << " | " << g(r.totalMs) << " | "
                 << g(r.deviceMiB) << " | " << (r.referenceBounces < 0 ? std::string("all") : std::to_string(r.referenceBounces))
-                << " | " << g(r.relMse) << " | " << g(r.relMseIndirect) << " | " << g(r.rmseIndirect) << " | "
-                << g(r.relMseIndirectAll) << " | " << g(r.rmseIndirectAll) << " |\n";
+                << " | " << g(r.relMse) << " | " << g(r.relMseDark) << " | " << g(r.relMseIndirect) << " | "
+                << g(r.rmseIndirect) << " | " << g(r.relMseAllDark) << " | " << g(r.relMseIndirectAll) << " | "
+                << g(r.rmseIndirectAll) << " |\n";
         }
         out << "\n";
         out << voxelizationLine(records, scene);
