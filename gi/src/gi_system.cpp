@@ -89,6 +89,12 @@ struct GiSystem::Impl {
     // `host`: the host's G-buffer replaces the G-buffer pass, and no direct light is computed.
     Result<GiOutputs> addPasses(rg::RenderGraph& graph, rg::Blackboard& bb, const Camera& camera, uint32_t width,
                                 uint32_t height, const FrameRequest& request, const HostGBuffer* host = nullptr);
+    // The steps of addPasses, in the order it adds them.
+    void addShadowPasses(rg::RenderGraph& graph, rg::Blackboard& bb, PassSelection& selection);
+    void addTechniquePasses(rg::RenderGraph& graph, rg::Blackboard& bb, const FrameRequest& request, bool host,
+                            GiOutputs& out);
+    void addCompositeAndOutputs(rg::RenderGraph& graph, rg::Blackboard& bb, const FrameRequest& request,
+                                GiOutputs& out);
     FrameData frameData(const Camera& camera, uint32_t width, uint32_t height);
     const Buffer& readbackBuffer(uint32_t slot, uint32_t width, uint32_t height);
     void submitAndWait(rg::RenderGraph& graph, rg::TimestampScopes scopes = rg::TimestampScopes::PerPass);
@@ -160,7 +166,20 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
 
     PassSelection& selection = bb.add(PassSelection{features, {}, {}, request});
     leaveOutMissingLightKinds(features, selection);
+    addShadowPasses(graph, bb, selection);
+    if (host)
+        selection.leaveOut("gi.direct", LeftOutReason::NotNeeded, "host G-buffer: the host shades direct light");
+    bb.add(host ? DirectData{} : addDeferredPass(graph, pipelines, frame, sceneHandles, gbuffer, bb.get<ShadowData>()));
 
+    GiOutputs out;
+    addTechniquePasses(graph, bb, request, host != nullptr, out);
+    addCompositeAndOutputs(graph, bb, request, out);
+    return out;
+}
+
+// Shadow atlas (and RSM when the technique or the settings want it): one pass per light whose
+// layers do not already hold this frame's content.
+void GiSystem::Impl::addShadowPasses(rg::RenderGraph& graph, rg::Blackboard& bb, PassSelection& selection) {
     bool rsm = settings.forceRsm || (technique && technique->needsRsm());
     ShadowLayout layout = planShadows(scene, gpu->bounds, settings.shadowMapSize, settings.maxShadowLayers);
     // New atlas or RSM arrays have no contents yet: every light renders.
@@ -172,48 +191,64 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
     std::vector<bool> keep = cleanShadowLights(layout, lastShadowLayout, shadowChanges);
     for (uint32_t i = 0; i < keep.size(); ++i)
         if (keep[i])
-            selection.leaveOut(lightPassName(i, scene.lights[i].type),
-                               LeftOutReason::NotDirty, "light " + std::to_string(i) + " and every object unchanged");
-    addLightPasses(graph, bb, pipelines, frame, sceneHandles, layout, shadows, rsm, keep);
+            selection.leaveOut(lightPassName(i, scene.lights[i].type), LeftOutReason::NotDirty,
+                               "light " + std::to_string(i) + " and every object unchanged");
+    addLightPasses(graph, bb, pipelines, bb.get<FrameData>(), bb.get<SceneHandles>(), layout, shadows, rsm, keep);
     lastShadowLayout = std::move(layout);
     shadowChanges.reset();
-    if (host)
-        selection.leaveOut("gi.direct", LeftOutReason::NotNeeded, "host G-buffer: the host shades direct light");
-    const DirectData& direct = bb.add(host ? DirectData{}
-                                           : addDeferredPass(graph, pipelines, frame, sceneHandles, gbuffer,
-                                                             bb.get<ShadowData>()));
+}
 
-    GiOutputs out;
+// The technique's indirect light (IndirectData), or the reason no technique pass runs.
+void GiSystem::Impl::addTechniquePasses(rg::RenderGraph& graph, rg::Blackboard& bb, const FrameRequest& request,
+                                        bool host, GiOutputs& out) {
+    PassSelection& selection = bb.get<PassSelection>();
     if (!technique) {
         selection.leaveOut("gi.indirect.*", LeftOutReason::NotNeeded,
                            "technique none: no voxel grid, LPV or VPL is allocated or run");
-    } else if (!request.composite && !request.indirect && !request.glossy && !request.ao) {
-        // Persistent technique volumes would keep their passes alive in the graph: do not add them.
-        selection.leaveOut(std::string("gi.") + toString(settings.technique) + ".*", LeftOutReason::NotNeeded,
-                           "no requested output reads indirect light (composite, indirect, glossy and ao not requested)");
-    } else {
-        // A host's G-buffer may change without a camera move: view-dependent work re-runs each frame.
-        techniqueChanges.camera = host || !lastTechniqueCamera ||
-                                  !sameView(*lastTechniqueCamera, lastTechniqueWidth, lastTechniqueHeight, camera,
-                                            width, height);
-        selection.changes = techniqueChanges;
-        const TechniqueInputs inputs{frame,         sceneHandles, gbuffer, bb.get<ShadowData>(), bb.tryGet<RsmData>(),
-                                     direct.direct, selection,    bb};
-        const IndirectOutputs produced = technique->addPasses(graph, inputs);
-        techniqueChanges.reset();
-        lastTechniqueCamera = camera;
-        lastTechniqueWidth = width;
-        lastTechniqueHeight = height;
-        bb.add(IndirectData{produced.indirect, produced.ao, produced.glossy});
-        out.indirect = produced.indirect;
-        out.glossy = produced.glossy;
-        out.ao = produced.ao;
-        if (produced.direct.valid())
-            bb.get<DirectData>().direct = produced.direct;
+        return;
     }
-    out.direct = direct.direct;
-    out.composite = out.indirect.valid() && direct.direct.valid() ? addCompositePass(graph, pipelines, frame, direct.direct, out.indirect).final
-                                         : direct.direct;
+    if (!request.composite && !request.indirect && !request.glossy && !request.ao) {
+        // Persistent technique volumes would keep their passes alive in the graph: do not add them.
+        selection.leaveOut(
+            std::string("gi.") + toString(settings.technique) + ".*", LeftOutReason::NotNeeded,
+            "no requested output reads indirect light (composite, indirect, glossy and ao not requested)");
+        return;
+    }
+    const FrameData& frame = bb.get<FrameData>();
+    // A host's G-buffer may change without a camera move: view-dependent work re-runs each frame.
+    techniqueChanges.camera = host || !lastTechniqueCamera ||
+                              !sameView(*lastTechniqueCamera, lastTechniqueWidth, lastTechniqueHeight, frame.camera,
+                                        frame.width, frame.height);
+    selection.changes = techniqueChanges;
+    const TechniqueInputs inputs{frame,
+                                 bb.get<SceneHandles>(),
+                                 bb.get<GBufferData>(),
+                                 bb.get<ShadowData>(),
+                                 bb.tryGet<RsmData>(),
+                                 bb.get<DirectData>().direct,
+                                 selection,
+                                 bb};
+    const IndirectOutputs produced = technique->addPasses(graph, inputs);
+    techniqueChanges.reset();
+    lastTechniqueCamera = frame.camera;
+    lastTechniqueWidth = frame.width;
+    lastTechniqueHeight = frame.height;
+    bb.add(IndirectData{produced.indirect, produced.ao, produced.glossy});
+    out.indirect = produced.indirect;
+    out.glossy = produced.glossy;
+    out.ao = produced.ao;
+    if (produced.direct.valid())
+        bb.get<DirectData>().direct = produced.direct;
+}
+
+// Composite = direct + indirect (the direct image alone without indirect light); then only the
+// requested images stay in `out` and become graph outputs.
+void GiSystem::Impl::addCompositeAndOutputs(rg::RenderGraph& graph, rg::Blackboard& bb, const FrameRequest& request,
+                                            GiOutputs& out) {
+    out.direct = bb.get<DirectData>().direct;
+    out.composite = out.indirect.valid() && out.direct.valid()
+                        ? addCompositePass(graph, pipelines, bb.get<FrameData>(), out.direct, out.indirect).final
+                        : out.direct;
     bb.add(CompositeData{out.composite});
     if (!request.composite)
         out.composite = {};
@@ -228,7 +263,6 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
     for (rg::ImageHandle h : {out.composite, out.direct, out.indirect, out.glossy, out.ao})
         if (h.valid())
             graph.markOutput(h);
-    return out;
 }
 
 const Buffer& GiSystem::Impl::readbackBuffer(uint32_t slot, uint32_t width, uint32_t height) {

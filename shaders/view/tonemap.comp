@@ -1,15 +1,17 @@
 #version 460
+#extension GL_GOOGLE_include_directive : require
 // vkgi-view: linear radiance (RGBA32F composite) to the 8-bit UNORM swapchain image, with the
 // tone map of engine/image_io.hpp (exposure, Narkowicz's ACES fit, sRGB OETF; NaN/Inf ->
 // magenta), so the window shows what the screenshot PNG stores. The composite may be smaller
 // than the window while a resize is pending: pixels outside it are black.
+#include "view/tonemap_bindings.h"
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform Push {
     uvec4 size;   // x, y = swapchain size; z, w = composite size
     vec4 params;  // x = exposure, y = 1 for ACES, 0 for clamp
 } pc;
-layout(set = 1, binding = 0, rgba32f) uniform readonly image2D composite;
-layout(set = 1, binding = 1, rgba8) uniform writeonly image2D target;
+layout(set = 1, binding = VIEW_TONEMAP_BINDING_COMPOSITE, rgba32f) uniform readonly image2D composite;
+layout(set = 1, binding = VIEW_TONEMAP_BINDING_TARGET, rgba8) uniform writeonly image2D target;
 
 float aces(float v) {
     return clamp(v * (2.51 * v + 0.03) / (v * (2.43 * v + 0.59) + 0.14), 0.0, 1.0);

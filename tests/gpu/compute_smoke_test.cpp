@@ -9,6 +9,7 @@
 #include "engine/rg/render_graph.hpp"
 #include "engine/rg/transient_pool.hpp"
 #include "engine/resources.hpp"
+#include "engine/test_bindings.h"
 #include "engine/vk_check.hpp"
 #include "support/gpu_fixture.hpp"
 
@@ -59,9 +60,9 @@ void runSmoke(Context& ctx, double* gpuMs = nullptr) {
         SmokePush push{{kW, kH, 0, 0}, {kOffset, 0, 0, 0}};
         pushConstants(cmd, *pipeline, &push, sizeof(push));
         DescriptorItem items[2];
-        items[0].binding = 0;
+        items[0].binding = ENGINE_SMOKE_BINDING_VALUES;
         items[0].buffer = {buf.buffer, 0, VK_WHOLE_SIZE};
-        items[1].binding = 1;
+        items[1].binding = ENGINE_SMOKE_BINDING_IMAGE;
         items[1].image = {VK_NULL_HANDLE, img.view, VK_IMAGE_LAYOUT_GENERAL};
         pushDescriptors(ctx, cmd, *pipeline, items);
         vkCmdDispatch(cmd, groupCount(kW, 8), groupCount(kH, 8), 1);
@@ -106,9 +107,9 @@ TEST_F(ComputeSmoke, ReflectionMatchesTheShader) {
     ASSERT_TRUE(p) << p.error().message;
     ASSERT_EQ(p->bindings.size(), 2u);
     EXPECT_EQ(p->bindings[0].set, 1u);
-    EXPECT_EQ(p->bindings[0].binding, 0u);
+    EXPECT_EQ(p->bindings[0].binding, uint32_t(ENGINE_SMOKE_BINDING_VALUES));
     EXPECT_EQ(p->bindings[0].type, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    EXPECT_EQ(p->bindings[1].binding, 1u);
+    EXPECT_EQ(p->bindings[1].binding, uint32_t(ENGINE_SMOKE_BINDING_IMAGE));
     EXPECT_EQ(p->bindings[1].type, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
     EXPECT_EQ(p->bindings[1].name, "img");
     EXPECT_EQ(p->pushConstantSize, sizeof(SmokePush));
@@ -248,7 +249,7 @@ TEST_F(ComputeSmoke, FrameConstantsReachTheShader) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline->pipeline);
         bindFrameSet(cmd, *pipeline, set);
         DescriptorItem item;
-        item.binding = 0;
+        item.binding = ENGINE_FRAME_SMOKE_BINDING_VALUES;
         item.buffer = {out.buffer, 0, VK_WHOLE_SIZE};
         pushDescriptors(ctx(), cmd, *pipeline, {&item, 1});
         vkCmdDispatch(cmd, 1, 1, 1);
@@ -278,7 +279,7 @@ TEST_F(ComputeSmoke, GraphDispatchBindsTheFrameSet) {
     rg::BufferHandle h = graph.importBuffer("out", out, rg::Access::None);
     graph.addPass(
         "frame.copy", [&](rg::PassBuilder& b) { h = b.write(h, rg::Access::ComputeStorageWrite); },
-        [h, p = &*pipeline](rg::PassContext& pc) { pc.dispatch(*p, {1, 1, 1}, {pc.buffer(0, h)}); });
+        [h, p = &*pipeline](rg::PassContext& pc) { pc.dispatch(*p, {1, 1, 1}, {pc.buffer(ENGINE_FRAME_SMOKE_BINDING_VALUES, h)}); });
     graph.exportBuffer(h, rg::Access::HostRead);
     ASSERT_TRUE(graph.compile());
     ctx().submitAndWait([&](VkCommandBuffer cmd) { graph.execute(cmd, ctx(), pool); });

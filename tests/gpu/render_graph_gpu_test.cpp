@@ -11,6 +11,7 @@
 #include "engine/rg/compute_pass.hpp"
 #include "engine/rg/render_graph.hpp"
 #include "engine/rg/transient_pool.hpp"
+#include "engine/test_bindings.h"
 #include "support/gpu_fixture.hpp"
 #include "support/test_env.hpp"
 
@@ -89,7 +90,7 @@ protected:
         // reflected bindings (fill: writeonly; mip_sum: readonly src, writeonly dst; reduce:
         // readonly images, writeonly buffer).
         ComputePass fillPass(g, "fill", *fill);
-        fillPass.push(Push{{kSize, kSize, 0, 0}}).write(0, pyramid, SubresourceRange::mip(0));
+        fillPass.push(Push{{kSize, kSize, 0, 0}}).write(ENGINE_FILL_BINDING_TARGET, pyramid, SubresourceRange::mip(0));
         if (m_indirectFill.valid())
             fillPass.dispatchIndirect(m_indirectFill, kIndirectOffset);
         else
@@ -98,15 +99,15 @@ protected:
             uint32_t size = kSize >> k;
             ComputePass(g, mipPassName(k), *mip)
                 .push(Push{{size, size, 0, 0}})
-                .read(0, pyramid, SubresourceRange::mip(k - 1))
-                .write(1, pyramid, SubresourceRange::mip(k))
+                .read(ENGINE_MIP_SUM_BINDING_SOURCE, pyramid, SubresourceRange::mip(k - 1))
+                .write(ENGINE_MIP_SUM_BINDING_TARGET, pyramid, SubresourceRange::mip(k))
                 .dispatch({size, size, 1});
         }
         ComputePass(g, "reduce", *reduce)
             .push(Push{{kLevelSize, 0, 0, 0}})
-            .read(0, pyramid, SubresourceRange::mip(kLevel))
-            .read(1, pyramid, SubresourceRange::mip(kMips - 1))
-            .overwrite(2, values)
+            .read(ENGINE_REDUCE_BINDING_LEVEL, pyramid, SubresourceRange::mip(kLevel))
+            .read(ENGINE_REDUCE_BINDING_TOP, pyramid, SubresourceRange::mip(kMips - 1))
+            .overwrite(ENGINE_REDUCE_BINDING_VALUES, values)
             .dispatch({kLevelSize, kLevelSize, 1});
         g.addPass(
             "readback",
@@ -297,7 +298,7 @@ TEST_F(RenderGraphGpu, APassScopeHoldsItsOwnWork) {
     for (int i = 0; i < 3; ++i)
         g.addPass(
             names[i], [&](PassBuilder& b) { counter = b.write(counter, Access::ComputeStorageReadWrite); },
-            [=, n = groups[i]](PassContext& c) { c.dispatch(*p, {n, n, 1}, {c.buffer(0, counter)}); });
+            [=, n = groups[i]](PassContext& c) { c.dispatch(*p, {n, n, 1}, {c.buffer(ENGINE_TINY_BINDING_COUNTER, counter)}); });
     g.exportBuffer(counter, Access::ComputeStorageRead);
     ASSERT_TRUE(g.compile());
     // The first submit pays the shader's JIT compilation at its first dispatch. The machine is
@@ -340,7 +341,7 @@ TEST_F(RenderGraphGpu, WriteAfterReadAcrossStagesIsSynchronised) {
             "add[" + std::to_string(i) + "]",
             [&](PassBuilder& b) { counter = b.write(counter, Access::ComputeStorageReadWrite); },
             [=](PassContext& c) {
-                c.dispatch(*p, {1, 1, 1}, {c.buffer(0, counter)});
+                c.dispatch(*p, {1, 1, 1}, {c.buffer(ENGINE_TINY_BINDING_COUNTER, counter)});
             });
         g.addPass(
             "copy[" + std::to_string(i) + "]",
@@ -389,7 +390,7 @@ TEST_F(RenderGraphGpu, TransientsWithDisjointLifetimesShareAPoolEntry) {
             g.addPass(
                 "add[" + std::to_string(i) + "]",
                 [&](PassBuilder& b) { counter[i] = b.write(counter[i], Access::ComputeStorageReadWrite); },
-                [=, h = counter[i]](PassContext& c) { c.dispatch(*p, {1, 1, 1}, {c.buffer(0, h)}); });
+                [=, h = counter[i]](PassContext& c) { c.dispatch(*p, {1, 1, 1}, {c.buffer(ENGINE_TINY_BINDING_COUNTER, h)}); });
             bool last = i == 2;
             g.addPass(
                 "copy[" + std::to_string(i) + "]",

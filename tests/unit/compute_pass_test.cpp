@@ -7,6 +7,7 @@
 #include <string>
 
 #include "engine/rg/compute_pass.hpp"
+#include "engine/test_bindings.h"
 
 namespace vkgi::rg {
 namespace {
@@ -279,9 +280,11 @@ TEST(SpirvReflection, ReadonlyAndWriteonlyQualifiers) {
         const char* shader;
         uint32_t binding;
         bool readable, writable;
-    } cases[] = {{"engine/test/mip_sum.comp", 0, true, false}, {"engine/test/mip_sum.comp", 1, false, true},
-                 {"engine/test/reduce.comp", 0, true, false},  {"engine/test/reduce.comp", 2, false, true},
-                 {"engine/test/tiny.comp", 0, true, true}};
+    } cases[] = {{"engine/test/mip_sum.comp", ENGINE_MIP_SUM_BINDING_SOURCE, true, false},
+                 {"engine/test/mip_sum.comp", ENGINE_MIP_SUM_BINDING_TARGET, false, true},
+                 {"engine/test/reduce.comp", ENGINE_REDUCE_BINDING_LEVEL, true, false},
+                 {"engine/test/reduce.comp", ENGINE_REDUCE_BINDING_VALUES, false, true},
+                 {"engine/test/tiny.comp", ENGINE_TINY_BINDING_COUNTER, true, true}};
     for (const Expect& e : cases) {
         Result<std::vector<uint32_t>> code = loadSpirv(e.shader);
         ASSERT_TRUE(code) << code.error().message;

@@ -46,9 +46,8 @@ void RenderGraph::execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool
     // when llvmpipe next flushes its command stream (a pipeline barrier or a bottom-of-pipe
     // timestamp does; a dispatch, which runs synchronously, does not), so a scope must be
     // followed by a barrier before the pass's own work: otherwise its begin was stamped after
-    // that work and the work was billed to the previous pass's scope (seen: a 500 ms busy loop
-    // in gi.vct.bounce.add read as gi.vct.bounce's time). The pass's own barriers serve; a pass
-    // without any gets an empty one (pass-timed frames only).
+    // that work and the work was billed to the previous pass's scope. The pass's own barriers
+    // serve; a pass without any gets an empty one (pass-timed frames only).
     uint32_t frameScope = 0;
     if (timestamps) {
         timestamps->reset(cmd);

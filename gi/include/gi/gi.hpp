@@ -39,11 +39,11 @@ Result<Technique> parseTechnique(std::string_view name);
 
 struct GiSettings {
     Technique technique = Technique::None;
-    // Texels per side of each shadow-map (and RSM) layer: 256 keeps a cube light's RSM at
-    // 15.7 MiB (40 B/texel x 6 x 256^2), inside the 64 MiB module budget.
+    // Texels per side of each shadow-map (and RSM) layer: 256 keeps a cube light's RSM (40 bytes
+    // per texel over 6 layers) well inside the module's memory budget.
     uint32_t shadowMapSize = 256;
     // Atlas layers (a spot/directional light takes 1, a point light or wide spot 6); lights past
-    // the limit are unshadowed. 64 layers of 256^2 D32 = 16 MiB.
+    // the limit are unshadowed. The default bounds the atlas's memory at the default layer size.
     uint32_t maxShadowLayers = 64;
     // PCF kernel (2r+1)^2 of bilinear compares; 1 = 3x3 softens the 1-texel stair steps.
     uint32_t pcfRadius = 1;
@@ -72,7 +72,7 @@ struct FrameRequest {
     // VctSettings::ambientOcclusion off).
     bool glossy = false;
     bool ao = false;
-    // GPU timestamps around every pass (FrameResult::passes). Each costs ~0.06 ms of frame time on
+    // GPU timestamps around every pass (FrameResult::passes). Each adds to the frame time on
     // lavapipe (rg::TimestampScopes); off, `passes` is empty and `totalMs` is the frame without
     // the profile's cost.
     bool passTimings = true;

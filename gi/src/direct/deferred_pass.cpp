@@ -2,6 +2,8 @@
 // and the readback of requested images.
 #include "direct/direct_passes.hpp"
 
+#include "engine/rg/compute_pass.hpp"
+
 namespace vkgi::gi {
 
 namespace {
@@ -16,21 +18,6 @@ ImageDesc radianceDesc(const FrameData& frame) {
     return d;
 }
 
-struct DeferredPass {
-    GBufferData g;
-    ShadowData shadow;
-    rg::BufferHandle lights;
-    rg::ImageHandle out;
-    const DirectPipelines* p = nullptr;
-    gpu::DeferredPush push{};
-};
-
-struct CompositePass {
-    rg::ImageHandle direct, indirect, out;
-    const DirectPipelines* p = nullptr;
-    gpu::CompositePush push{};
-};
-
 struct ReadbackPass {
     rg::ImageHandle image;
     rg::BufferHandle buffer;
@@ -41,56 +28,37 @@ struct ReadbackPass {
 DirectData addDeferredPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame,
                            const SceneHandles& scene, const GBufferData& g, const ShadowData& shadow) {
     const GiSettings& s = *frame.settings;
-    const DeferredPass& pass = graph.addPass<DeferredPass>(
-        "gi.direct",
-        [&](rg::PassBuilder& b, DeferredPass& d) {
-            for (rg::ImageHandle h : {g.position, g.normal, g.albedo, g.emission})
-                b.read(h, Access::ComputeStorageRead);
-            b.read(shadow.atlas, Access::ComputeSampledRead);
-            b.read(scene.lights, Access::ComputeStorageRead);
-            b.read(shadow.views, Access::ComputeStorageRead);
-            b.read(shadow.lightShadows, Access::ComputeStorageRead);
-            d.out = b.write(b.create("gi.direct", radianceDesc(frame)), Access::ComputeStorageWriteDiscard);
-            d.g = g;
-            d.shadow.atlas = shadow.atlas;
-            d.shadow.views = shadow.views;
-            d.shadow.lightShadows = shadow.lightShadows;
-            d.lights = scene.lights;
-            d.p = &p;
-            d.push.size = glm::uvec4(frame.width, frame.height, uint32_t(frame.scene->lights.size()), s.pcfRadius);
-            d.push.bias = glm::vec4(s.shadowNormalOffset, s.shadowConstantBias, 0.0f, 0.0f);
-        },
-        [](const DeferredPass& d, rg::PassContext& pc) {
-            const Pipeline& pl = d.p->deferred;
-            VkSampler pt = d.p->pointSampler;
-            pc.dispatch(pl, rg::PassContext::groupsFor(pl, {d.push.size.x, d.push.size.y, 1}), d.push,
-                        {pc.storage(0, d.g.position), pc.storage(1, d.g.normal), pc.storage(2, d.g.albedo),
-                         pc.storage(3, d.g.emission), pc.buffer(4, d.lights), pc.buffer(5, d.shadow.lightShadows),
-                         pc.buffer(6, d.shadow.views), pc.sampled(7, d.shadow.atlas, pt),
-                         pc.storage(8, d.out)});
-        });
-    return DirectData{pass.out};
+    gpu::DeferredPush push{};
+    push.size = glm::uvec4(frame.width, frame.height, uint32_t(frame.scene->lights.size()), s.pcfRadius);
+    push.bias = glm::vec4(s.shadowNormalOffset, s.shadowConstantBias, 0.0f, 0.0f);
+    rg::ImageHandle out = graph.createImage("gi.direct", radianceDesc(frame));
+    rg::ComputePass(graph, "gi.direct", p.deferred)
+        .push(push)
+        .read(DIRECT_DEFERRED_BINDING_POSITION, g.position)
+        .read(DIRECT_DEFERRED_BINDING_NORMAL, g.normal)
+        .read(DIRECT_DEFERRED_BINDING_ALBEDO, g.albedo)
+        .read(DIRECT_DEFERRED_BINDING_EMISSION, g.emission)
+        .read(DIRECT_DEFERRED_BINDING_LIGHTS, scene.lights)
+        .read(DIRECT_DEFERRED_BINDING_LIGHT_SHADOWS, shadow.lightShadows)
+        .read(DIRECT_DEFERRED_BINDING_SHADOW_VIEWS, shadow.views)
+        .sample(DIRECT_DEFERRED_BINDING_SHADOW_ATLAS, shadow.atlas, p.pointSampler)
+        .overwrite(DIRECT_DEFERRED_BINDING_OUTPUT, out)
+        .dispatch({frame.width, frame.height, 1});
+    return DirectData{out};
 }
 
 CompositeData addCompositePass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame,
                                rg::ImageHandle direct, rg::ImageHandle indirect) {
-    const CompositePass& pass = graph.addPass<CompositePass>(
-        "gi.composite",
-        [&](rg::PassBuilder& b, CompositePass& d) {
-            b.read(direct, Access::ComputeStorageRead);
-            b.read(indirect, Access::ComputeStorageRead);
-            d.out = b.write(b.create("gi.composite", radianceDesc(frame)), Access::ComputeStorageWriteDiscard);
-            d.direct = direct;
-            d.indirect = indirect;
-            d.p = &p;
-            d.push.size = glm::uvec4(frame.width, frame.height, 0u, 0u);
-        },
-        [](const CompositePass& d, rg::PassContext& pc) {
-            const Pipeline& pl = d.p->composite;
-            pc.dispatch(pl, rg::PassContext::groupsFor(pl, {d.push.size.x, d.push.size.y, 1}), d.push,
-                        {pc.storage(0, d.direct), pc.storage(1, d.indirect), pc.storage(2, d.out)});
-        });
-    return CompositeData{pass.out};
+    gpu::CompositePush push{};
+    push.size = glm::uvec4(frame.width, frame.height, 0u, 0u);
+    rg::ImageHandle out = graph.createImage("gi.composite", radianceDesc(frame));
+    rg::ComputePass(graph, "gi.composite", p.composite)
+        .push(push)
+        .read(DIRECT_COMPOSITE_BINDING_DIRECT, direct)
+        .read(DIRECT_COMPOSITE_BINDING_INDIRECT, indirect)
+        .overwrite(DIRECT_COMPOSITE_BINDING_OUTPUT, out)
+        .dispatch({frame.width, frame.height, 1});
+    return CompositeData{out};
 }
 
 void addReadbackPass(rg::RenderGraph& graph, const std::string& name, rg::ImageHandle image, const Buffer& dst) {

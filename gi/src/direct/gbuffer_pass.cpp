@@ -63,8 +63,11 @@ GBufferData addGBufferPass(rg::RenderGraph& graph, const DirectPipelines& p, con
                            {pc.view(g.position), pc.view(g.normal), pc.view(g.albedo), pc.view(g.emission)},
                            pc.view(g.depth));
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, d.pipeline->pipeline);
-            DescriptorItem items[4] = {pc.buffer(0, d.s.vertices), pc.buffer(1, d.s.instances),
-                                       pc.buffer(2, d.s.materials), pc.sampled(3, d.s.textures, d.scene->textureSampler)};
+            DescriptorItem items[4] = {
+                pc.buffer(DIRECT_RASTER_BINDING_VERTICES, d.s.vertices),
+                pc.buffer(DIRECT_RASTER_BINDING_INSTANCES, d.s.instances),
+                pc.buffer(DIRECT_RASTER_BINDING_MATERIALS, d.s.materials),
+                pc.sampled(DIRECT_RASTER_BINDING_TEXTURES, d.s.textures, d.scene->textureSampler)};
             pushDescriptors(pc.context(), cmd, *d.pipeline, items);
             drawScene(cmd, *d.pipeline, *d.scene, pc.buffer(d.s.indices).buffer, d.push);
             vkCmdEndRendering(cmd);

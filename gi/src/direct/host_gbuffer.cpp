@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "engine/rg/compute_pass.hpp"
+
 namespace vkgi::gi {
 
 namespace {
@@ -54,12 +56,6 @@ Image asImage(const HostImage& h) {
     img.desc.usage = h.usage;
     return img;
 }
-
-struct HostPositionPass {
-    rg::ImageHandle depth, out;
-    const DirectPipelines* p = nullptr;
-    gpu::HostPositionPush push{};
-};
 
 struct HostCopyPass {
     rg::ImageHandle src, dst;
@@ -114,26 +110,19 @@ GBufferData importHostGBuffer(rg::RenderGraph& graph, const DirectPipelines& p, 
         return out;
     }
     out.depth = graph.importImage("host.depth", asImage(g.depth), g.depth.access);
-    const HostPositionPass& pass = graph.addPass<HostPositionPass>(
-        "gi.host.position",
-        [&](rg::PassBuilder& b, HostPositionPass& d) {
-            b.read(out.depth, Access::ComputeSampledRead);
-            d.depth = out.depth;
-            ImageDesc desc;
-            desc.format = kPositionFormat;
-            desc.width = frame.width;
-            desc.height = frame.height;
-            d.out = b.write(b.create("gbuffer.position", desc), Access::ComputeStorageWriteDiscard);
-            d.p = &p;
-            d.push.invViewProj = frame.invViewProj;
-            d.push.size = glm::uvec4(frame.width, frame.height, 0u, 0u);
-        },
-        [](const HostPositionPass& d, rg::PassContext& pc) {
-            const Pipeline& pl = d.p->hostPosition;
-            pc.dispatch(pl, rg::PassContext::groupsFor(pl, {d.push.size.x, d.push.size.y, 1}), d.push,
-                        {pc.sampled(0, d.depth, d.p->pointSampler), pc.storage(1, d.out)});
-        });
-    out.position = pass.out;
+    gpu::HostPositionPush push{};
+    push.invViewProj = frame.invViewProj;
+    push.size = glm::uvec4(frame.width, frame.height, 0u, 0u);
+    ImageDesc desc;
+    desc.format = kPositionFormat;
+    desc.width = frame.width;
+    desc.height = frame.height;
+    out.position = graph.createImage("gbuffer.position", desc);
+    rg::ComputePass(graph, "gi.host.position", p.hostPosition)
+        .push(push)
+        .sample(DIRECT_HOST_POSITION_BINDING_DEPTH, out.depth, p.pointSampler)
+        .overwrite(DIRECT_HOST_POSITION_BINDING_OUTPUT, out.position)
+        .dispatch({frame.width, frame.height, 1});
     return out;
 }
 

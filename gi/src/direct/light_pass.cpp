@@ -119,13 +119,16 @@ void recordLightPass(const LightPassInfo& info, rg::PassContext& pc) {
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, info.pipeline->pipeline);
             const SceneHandles& s = info.sceneHandles;
             if (info.rsm) {
-                DescriptorItem items[5] = {pc.buffer(0, s.vertices), pc.buffer(1, s.instances),
-                                           pc.buffer(2, s.materials), pc.sampled(3, s.textures, info.textureSampler),
-                                           pc.buffer(4, s.lights)};
+                DescriptorItem items[5] = {pc.buffer(DIRECT_RASTER_BINDING_VERTICES, s.vertices),
+                                           pc.buffer(DIRECT_RASTER_BINDING_INSTANCES, s.instances),
+                                           pc.buffer(DIRECT_RASTER_BINDING_MATERIALS, s.materials),
+                                           pc.sampled(DIRECT_RASTER_BINDING_TEXTURES, s.textures, info.textureSampler),
+                                           pc.buffer(DIRECT_RASTER_BINDING_LIGHTS, s.lights)};
                 pushDescriptors(pc.context(), cmd, *info.pipeline, items);
             } else {
-                DescriptorItem items[3] = {pc.buffer(0, s.vertices), pc.buffer(1, s.instances),
-                                           pc.buffer(2, s.materials)};
+                DescriptorItem items[3] = {pc.buffer(DIRECT_RASTER_BINDING_VERTICES, s.vertices),
+                                           pc.buffer(DIRECT_RASTER_BINDING_INSTANCES, s.instances),
+                                           pc.buffer(DIRECT_RASTER_BINDING_MATERIALS, s.materials)};
                 pushDescriptors(pc.context(), cmd, *info.pipeline, items);
             }
             drawScene(cmd, *info.pipeline, *info.scene, pc.buffer(s.indices).buffer, info.faces[f]);

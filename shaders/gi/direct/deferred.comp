@@ -13,15 +13,15 @@ layout(push_constant) uniform PushBlock { DeferredPush pc; };
 
 // The G-buffer as storage images: point reads, which lavapipe serves faster by image load than
 // by texelFetch through a sampler.
-layout(set = 1, binding = 0, rgba32f) uniform readonly image2D gPosition;
-layout(set = 1, binding = 1, rgba16f) uniform readonly image2D gNormal;
-layout(set = 1, binding = 2, rgba16f) uniform readonly image2D gAlbedo;
-layout(set = 1, binding = 3, rgba32f) uniform readonly image2D gEmission;
-layout(set = 1, binding = 4, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(set = 1, binding = 5, std430) readonly buffer LightShadows { GpuLightShadow lightShadows[]; };
-layout(set = 1, binding = 6, std430) readonly buffer ShadowViews { GpuShadowView shadowViews[]; };
-layout(set = 1, binding = 7) uniform sampler2DArray shadowDepth; // point sampler: textureGather of raw depths
-layout(set = 1, binding = 8, rgba32f) uniform writeonly image2D outDirect;
+layout(set = 1, binding = DIRECT_DEFERRED_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
+layout(set = 1, binding = DIRECT_DEFERRED_BINDING_NORMAL, rgba16f) uniform readonly image2D gNormal;
+layout(set = 1, binding = DIRECT_DEFERRED_BINDING_ALBEDO, rgba16f) uniform readonly image2D gAlbedo;
+layout(set = 1, binding = DIRECT_DEFERRED_BINDING_EMISSION, rgba32f) uniform readonly image2D gEmission;
+layout(set = 1, binding = DIRECT_DEFERRED_BINDING_LIGHTS, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(set = 1, binding = DIRECT_DEFERRED_BINDING_LIGHT_SHADOWS, std430) readonly buffer LightShadows { GpuLightShadow lightShadows[]; };
+layout(set = 1, binding = DIRECT_DEFERRED_BINDING_SHADOW_VIEWS, std430) readonly buffer ShadowViews { GpuShadowView shadowViews[]; };
+layout(set = 1, binding = DIRECT_DEFERRED_BINDING_SHADOW_ATLAS) uniform sampler2DArray shadowDepth; // point sampler: textureGather of raw depths
+layout(set = 1, binding = DIRECT_DEFERRED_BINDING_OUTPUT, rgba32f) uniform writeonly image2D outDirect;
 
 const float kPi = 3.14159265358979;
 

@@ -6,8 +6,8 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform PushBlock { HostPositionPush pc; };
-layout(set = 1, binding = 0) uniform sampler2D depth;
-layout(set = 1, binding = 1, rgba32f) uniform writeonly image2D outPosition;
+layout(set = 1, binding = DIRECT_HOST_POSITION_BINDING_DEPTH) uniform sampler2D depth;
+layout(set = 1, binding = DIRECT_HOST_POSITION_BINDING_OUTPUT, rgba32f) uniform writeonly image2D outPosition;
 
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);

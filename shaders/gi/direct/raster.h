@@ -6,9 +6,9 @@
 #include "gi/direct_types.h"
 
 layout(push_constant) uniform PushBlock { RasterPush pc; };
-layout(set = 1, binding = 0, std430) readonly buffer Vertices { GpuVertex vertices[]; };
-layout(set = 1, binding = 1, std430) readonly buffer Instances { GpuInstance instances[]; };
-layout(set = 1, binding = 2, std430) readonly buffer Materials { GpuMaterial materials[]; };
+layout(set = 1, binding = DIRECT_RASTER_BINDING_VERTICES, std430) readonly buffer Vertices { GpuVertex vertices[]; };
+layout(set = 1, binding = DIRECT_RASTER_BINDING_INSTANCES, std430) readonly buffer Instances { GpuInstance instances[]; };
+layout(set = 1, binding = DIRECT_RASTER_BINDING_MATERIALS, std430) readonly buffer Materials { GpuMaterial materials[]; };
 
 layout(location = 0) out vec3 outPosition;
 layout(location = 1) out vec3 outNormal;

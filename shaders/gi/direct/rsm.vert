@@ -4,7 +4,7 @@
 // buffer separately for every lane, so the light is read once per vertex, not per fragment.
 #include "raster.h"
 
-layout(set = 1, binding = 4, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(set = 1, binding = DIRECT_RASTER_BINDING_LIGHTS, std430) readonly buffer Lights { GpuLight lights[]; };
 
 layout(location = 7) flat out vec4 outLightPositionType;
 layout(location = 8) flat out vec4 outLightDirectionRange;

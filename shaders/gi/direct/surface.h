@@ -2,8 +2,9 @@
 #ifndef VKGI_GI_DIRECT_SURFACE_H
 #define VKGI_GI_DIRECT_SURFACE_H
 #include "engine/scene_types.h"
+#include "gi/direct_types.h"
 
-layout(set = 1, binding = 3) uniform sampler2DArray baseColorTextures;
+layout(set = 1, binding = DIRECT_RASTER_BINDING_TEXTURES) uniform sampler2DArray baseColorTextures;
 
 layout(location = 0) in vec3 inPosition;
 layout(location = 1) in vec3 inNormal;

@@ -4,6 +4,32 @@
 #define VKGI_GI_DIRECT_TYPES_H
 #include "../shared/bridge.h"
 
+// Bindings (set 1).
+// Rasterising passes (raster.vert and rsm.vert through raster.h; gbuffer.frag and rsm.frag
+// through surface.h). The shadow-only pipeline declares the first three.
+#define DIRECT_RASTER_BINDING_VERTICES 0  // scene vertices (GpuVertex), pulled by gl_VertexIndex
+#define DIRECT_RASTER_BINDING_INSTANCES 1 // scene instances (GpuInstance), indexed by RasterPush info.x
+#define DIRECT_RASTER_BINDING_MATERIALS 2 // scene materials (GpuMaterial), read per vertex
+#define DIRECT_RASTER_BINDING_TEXTURES 3  // base-colour textures (2D array, sampled by the fragment shaders)
+#define DIRECT_RASTER_BINDING_LIGHTS 4    // scene lights (GpuLight), read by rsm.vert only
+// Deferred direct lighting (deferred.comp).
+#define DIRECT_DEFERRED_BINDING_POSITION 0      // G-buffer world position (RGBA32F, w = 1 where geometry)
+#define DIRECT_DEFERRED_BINDING_NORMAL 1        // G-buffer normal + roughness (RGBA16F)
+#define DIRECT_DEFERRED_BINDING_ALBEDO 2        // G-buffer albedo + metallic (RGBA16F)
+#define DIRECT_DEFERRED_BINDING_EMISSION 3      // G-buffer emission (RGBA32F)
+#define DIRECT_DEFERRED_BINDING_LIGHTS 4        // scene lights (GpuLight)
+#define DIRECT_DEFERRED_BINDING_LIGHT_SHADOWS 5 // atlas layers of each light (GpuLightShadow)
+#define DIRECT_DEFERRED_BINDING_SHADOW_VIEWS 6  // one GpuShadowView per atlas layer
+#define DIRECT_DEFERRED_BINDING_SHADOW_ATLAS 7  // shadow atlas (2D-array depth) with a point sampler
+#define DIRECT_DEFERRED_BINDING_OUTPUT 8        // direct radiance (RGBA32F)
+// Composite (composite.comp).
+#define DIRECT_COMPOSITE_BINDING_DIRECT 0   // direct radiance (RGBA32F)
+#define DIRECT_COMPOSITE_BINDING_INDIRECT 1 // the technique's indirect radiance (RGBA32F)
+#define DIRECT_COMPOSITE_BINDING_OUTPUT 2   // their sum (RGBA32F)
+// Host G-buffer path (host_position.comp).
+#define DIRECT_HOST_POSITION_BINDING_DEPTH 0  // the host's depth (D32) with a point sampler
+#define DIRECT_HOST_POSITION_BINDING_OUTPUT 1 // reconstructed world position (RGBA32F)
+
 GI_NAMESPACE_BEGIN
 
 // Push constants of every rasterising pass (G-buffer, shadow map, RSM): one vertex shader.

@@ -268,10 +268,9 @@ private:
     Context& m_ctx;
 };
 
-// What execute() times. A pass scope is not free: on lavapipe each costs ~0.06 ms of the frame
-// (writing a timestamp makes llvmpipe synchronise its threads; the fully dynamic VCT Cornell
-// 256^2 frame, 35 passes, vkgi-bench medians: 37.9 ms with pass scopes, 35.4 with the frame's
-// scope only), so a frame time without the profile's cost needs FrameOnly.
+// What execute() times. A pass scope is not free: on lavapipe writing a timestamp makes llvmpipe
+// synchronise its threads, so every pass scope adds to the frame it measures, and a frame time
+// without the profile's cost needs FrameOnly.
 enum class TimestampScopes {
     PerPass,   // the frame and every executed pass (timings() lists them)
     FrameOnly, // the frame only (frameMs(); timings() is empty)
