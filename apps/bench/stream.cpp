@@ -4,8 +4,10 @@
 #include <vector>
 
 #include "engine/pipeline.hpp"
+#include "engine/rg/compute_pass.hpp"
 #include "engine/rg/render_graph.hpp"
 #include "engine/rg/transient_pool.hpp"
+#include "engine/test_bindings.h"
 
 namespace vkgi::bench {
 
@@ -35,16 +37,12 @@ Result<double> measureStreamGBs(Context& ctx, uint32_t mib, uint32_t repeats) {
         g.addPass(
             "stream.fill", [&](rg::PassBuilder& b) { src = b.write(src, rg::Access::TransferWrite); },
             [=](rg::PassContext& c) { vkCmdFillBuffer(c.cmd(), c.buffer(src).buffer, 0, VK_WHOLE_SIZE, 0x3f800000u); });
-        g.addPass(
-            "stream.copy",
-            [&](rg::PassBuilder& b) {
-                b.read(src, rg::Access::ComputeStorageRead);
-                dst = b.write(dst, rg::Access::ComputeStorageWriteDiscard);
-                b.sideEffect();
-            },
-            [=](rg::PassContext& c) {
-                c.dispatch(*p, {gx, gy, 1}, StreamPush{{elements, 0, 0, 0}}, {c.buffer(0, src), c.buffer(1, dst)});
-            });
+        rg::ComputePass(g, "stream.copy", *p)
+            .push(StreamPush{{elements, 0, 0, 0}})
+            .read(ENGINE_STREAM_COPY_BINDING_SOURCE, src)
+            .overwrite(ENGINE_STREAM_COPY_BINDING_TARGET, dst)
+            .sideEffect()
+            .dispatchGroups({gx, gy, 1});
         if (auto ok = g.compile(); !ok)
             return ok.error();
         ctx.submitAndWait([&](VkCommandBuffer cmd) { g.execute(cmd, ctx, pool, &timestamps); });

@@ -15,8 +15,10 @@
 #include "../common/args.hpp"
 #include "engine/context.hpp"
 #include "engine/pipeline.hpp"
+#include "engine/rg/compute_pass.hpp"
 #include "engine/rg/render_graph.hpp"
 #include "engine/rg/transient_pool.hpp"
+#include "engine/test_bindings.h"
 
 using namespace vkgi;
 using namespace vkgi::rg;
@@ -98,16 +100,12 @@ GpuRun runDispatches(Context& ctx, const Pipeline& tiny, TransientPool& pool, Ti
     const Pipeline* p = &tiny;
     for (uint32_t i = 0; i < passes; ++i) {
         BufferHandle buf = chained ? shared : g.createBuffer("counter", {64});
-        g.addPass(
-            "tiny",
-            [&](PassBuilder& b) {
-                buf = b.write(buf, i == 0 || !chained ? Access::ComputeStorageWriteDiscard
-                                                      : Access::ComputeStorageReadWrite);
-                b.sideEffect();
-            },
-            [=](PassContext& c) {
-                c.dispatch(*p, {1, 1, 1}, {c.buffer(0, buf)});
-            });
+        ComputePass pass(g, "tiny", *p);
+        if (i == 0 || !chained)
+            pass.overwrite(ENGINE_TINY_BINDING_COUNTER, buf);
+        else
+            pass.write(ENGINE_TINY_BINDING_COUNTER, buf);
+        pass.sideEffect().dispatchGroups({1, 1, 1});
         if (chained)
             shared = buf;
     }

@@ -6,8 +6,10 @@
 #include <GLFW/glfw3.h>
 
 #include "engine/image_io.hpp"
+#include "engine/rg/compute_pass.hpp"
 #include "engine/vk_check.hpp"
 #include "gi/knobs.hpp"
+#include "view/tonemap_bindings.h"
 
 namespace vkgi::view {
 
@@ -266,17 +268,11 @@ Result<void> Viewer::record(FrameSlot& slot, uint32_t imageIndex, const Camera& 
     rg::ImageHandle target = graph.importImage("view.swapchain", m_swapchain->image(imageIndex), rg::Access::Present);
 
     TonemapPush push{{size.width, size.height, size.width, size.height}, {m_exposure, 1.0f, 0.0f, 0.0f}};
-    const Pipeline* tonemap = &m_tonemap;
-    graph.addPass(
-        "view.tonemap",
-        [&](rg::PassBuilder& b) {
-            b.read(composite, rg::Access::ComputeStorageRead);
-            target = b.write(target, rg::Access::ComputeStorageWriteDiscard);
-        },
-        [=](rg::PassContext& pc) {
-            pc.dispatch(*tonemap, rg::PassContext::groupsFor(*tonemap, {size.width, size.height, 1}), push,
-                        {pc.storage(0, composite), pc.storage(1, target)});
-        });
+    rg::ComputePass(graph, "view.tonemap", m_tonemap)
+        .push(push)
+        .read(VIEW_TONEMAP_BINDING_COMPOSITE, composite)
+        .overwrite(VIEW_TONEMAP_BINDING_TARGET, target)
+        .dispatch({size.width, size.height, 1});
     if (m_ui)
         target = m_ui->addPass(graph, target, imageIndex);
     graph.exportImage(target, rg::Access::Present);
