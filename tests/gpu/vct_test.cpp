@@ -71,7 +71,7 @@ std::vector<glm::vec4> readFloat4(Context& ctx, const Image& img) {
 }
 
 // Texel of view `dir` of voxel or block c in a readback of one level of the directional volume
-// (voxel_passes.h: a 2D array, level k (N >> k)^2 texels per layer, N layers per view).
+// (vct_passes.h: a 2D array, level k (N >> k)^2 texels per layer, N layers per view).
 glm::vec4 anisoTexel(const std::vector<glm::vec4>& level, uint32_t n, uint32_t mip, glm::ivec3 c, uint32_t dir) {
     glm::ivec3 t = gpu::voxelAnisoTexel(c, dir, n);
     size_t size = n >> mip;
@@ -559,7 +559,7 @@ struct FurnaceResult {
 };
 } // namespace
 
-// The occupied list the light and bounce passes run over (gi/voxel_passes.h): each occupied
+// The occupied list the light and bounce passes run over (gi/vct_passes.h): each occupied
 // voxel and 2^3 block exactly once, headers = their indirect dispatches, and the voxels in grid
 // order within each 32-voxel word (voxel_list_append.comp lists the occupancy bits).
 TEST_F(Vct, OccupiedListHoldsEachVoxelAndBlockOnceInGridOrder) {
@@ -613,7 +613,7 @@ TEST_F(Vct, OccupiedListHoldsEachVoxelAndBlockOnceInGridOrder) {
     }
 }
 
-// The second bounce's jobs (gi/voxel_passes.h, voxel_block.glsl): one per (occupied 4^3 block,
+// The second bounce's jobs (gi/vct_passes.h, voxel_block.glsl): one per (occupied 4^3 block,
 // normal class present in it), each listed once in its class's list; the blocks' class masks;
 // headers = the indirect dispatches; misfits = the voxels more than 25 degrees from their
 // class's mean normal. The images do not depend on the (scheduling) order of the jobs: two runs

@@ -12,7 +12,7 @@ namespace vkgi::gi {
 
 namespace {
 
-// The directional volume (voxel_passes.h): N x N, GI_VOXEL_ANISO_DIRECTIONS * N layers.
+// The directional volume (vct_passes.h): N x N, GI_VOXEL_ANISO_DIRECTIONS * N layers.
 Image createDirectionalVolume(Context& ctx, uint32_t n, uint32_t mips, const char* name) {
     ImageDesc d;
     d.type = VK_IMAGE_TYPE_2D;
@@ -184,7 +184,7 @@ void VctVolumes::recordClearList(VkCommandBuffer cmd, VkBuffer list) const {
 
 void VctVolumes::recordCompact(VkCommandBuffer cmd, VkBuffer touched) const {
     gpu::VoxelGridPush push{m_grid.params()};
-    dispatchIndirect(m_ctx, cmd, m_compact, push, {bufferItem(0, touched), bufferItem(1, m_list.buffer.buffer)},
+    dispatchIndirect(m_ctx, cmd, m_compact, push, {bufferItem(VCT_COMPACT_BINDING_TOUCHED, touched), bufferItem(VCT_COMPACT_BINDING_LIST, m_list.buffer.buffer)},
                      touched);
 }
 
@@ -192,15 +192,17 @@ void VctVolumes::recordListAppend(VkCommandBuffer cmd) const {
     uint32_t n = m_grid.resolution();
     uint32_t words = (n * n * n + (n / 2) * (n / 2) * (n / 2)) / 32; // voxel and block bit words
     gpu::VoxelGridPush push{m_grid.params()};
-    dispatch(m_ctx, cmd, m_listAppend, push, {bufferItem(1, m_list.buffer.buffer)}, glm::uvec3(words, 1u, 1u));
+    dispatch(m_ctx, cmd, m_listAppend, push, {bufferItem(VCT_APPEND_BINDING_LIST, m_list.buffer.buffer)}, glm::uvec3(words, 1u, 1u));
 }
 
 void VctVolumes::recordListStale(VkCommandBuffer cmd) const {
     gpu::VoxelGridPush push{m_grid.params()};
     dispatch(m_ctx, cmd, m_listStale, push,
-             {bufferItem(0, m_list.buffer.buffer), bufferItem(1, m_writtenBits.buffer.buffer),
-              storage(2, m_written.image.view), storage(3, m_aniso.image.mipViews[0]),
-              storage(4, m_aniso.image.mipViews[1])},
+             {bufferItem(VCT_STALE_BINDING_LIST, m_list.buffer.buffer),
+              bufferItem(VCT_STALE_BINDING_WRITTEN_BITS, m_writtenBits.buffer.buffer),
+              storage(VCT_STALE_BINDING_WRITTEN, m_written.image.view),
+              storage(VCT_STALE_BINDING_LEVEL0, m_aniso.image.mipViews[0]),
+              storage(VCT_STALE_BINDING_LEVEL1, m_aniso.image.mipViews[1])},
              glm::uvec3(gpu::voxelWrittenBitsWords(m_grid.resolution()), 1u, 1u));
 }
 
@@ -225,36 +227,45 @@ void VctVolumes::recordLight(VkCommandBuffer cmd, VkBuffer lights, uint32_t ligh
     uint32_t mode = occlusion == VctOcclusion::RayMarchSoft ? GI_VCT_OCCLUSION_SOFT : GI_VCT_OCCLUSION_HARD;
     gpu::VoxelLightPush push{m_grid.params(), glm::uvec4(lightCount, mode, emission ? GI_VOXEL_LIGHT_EMISSION : 0u, 0u)};
     DescriptorItem lightItem;
-    lightItem.binding = 0;
+    lightItem.binding = VCT_LIGHT_BINDING_LIGHTS;
     lightItem.buffer = {lights, 0, VK_WHOLE_SIZE};
     if (shadow) {
         dispatchIndirect(m_ctx, cmd, m_lightShadowMap, push,
-                         {lightItem, storage(3, g.emission.image.view),
-                          storage(4, g.albedo.image.view), storage(5, m_aniso.image.mipViews[0]),
-                          bufferItem(6, m_list.buffer.buffer), bufferItem(7, shadow->lightShadows),
-                          bufferItem(8, shadow->views),
-                          sampled(9, *shadow->atlas, shadow->compareSampler, shadow->atlasLayout),
-                          storage(10, g.faces.image.view), storage(11, m_written.image.view)},
+                         {lightItem, storage(VCT_LIGHT_BINDING_EMISSION, g.emission.image.view),
+                          storage(VCT_LIGHT_BINDING_OCCUPANCY, g.albedo.image.view),
+                          storage(VCT_LIGHT_BINDING_DIRECTIONAL, m_aniso.image.mipViews[0]),
+                          bufferItem(VCT_LIGHT_BINDING_LIST, m_list.buffer.buffer),
+                          bufferItem(VCT_LIGHT_BINDING_LIGHT_SHADOWS, shadow->lightShadows),
+                          bufferItem(VCT_LIGHT_BINDING_SHADOW_VIEWS, shadow->views),
+                          sampled(VCT_LIGHT_BINDING_SHADOW_ATLAS, *shadow->atlas, shadow->compareSampler,
+                                  shadow->atlasLayout),
+                          storage(VCT_LIGHT_BINDING_FACES, g.faces.image.view),
+                          storage(VCT_LIGHT_BINDING_WRITTEN, m_written.image.view)},
                          m_list.buffer.buffer);
         return;
     }
     // The soft march filters the occupancy (sampler); the hard one loads texels (storage image).
     if (mode == GI_VCT_OCCLUSION_SOFT) {
         dispatchIndirect(m_ctx, cmd, m_lightSoft, push,
-                         {lightItem, storage(3, g.emission.image.view),
-                          sampled(4, g.albedo.image, m_occupancySampler, sampledLayout),
-                          storage(5, m_aniso.image.mipViews[0]), bufferItem(6, m_list.buffer.buffer),
-                          storage(10, g.faces.image.view), storage(11, m_written.image.view)},
+                         {lightItem, storage(VCT_LIGHT_BINDING_EMISSION, g.emission.image.view),
+                          sampled(VCT_LIGHT_BINDING_OCCUPANCY, g.albedo.image, m_occupancySampler, sampledLayout),
+                          storage(VCT_LIGHT_BINDING_DIRECTIONAL, m_aniso.image.mipViews[0]),
+                          bufferItem(VCT_LIGHT_BINDING_LIST, m_list.buffer.buffer),
+                          storage(VCT_LIGHT_BINDING_FACES, g.faces.image.view),
+                          storage(VCT_LIGHT_BINDING_WRITTEN, m_written.image.view)},
                          m_list.buffer.buffer);
         return;
     }
     DescriptorItem listWords;
-    listWords.binding = 12;
+    listWords.binding = VCT_LIGHT_BINDING_LIST_WORDS;
     listWords.texelBuffer = m_listWords;
     dispatchIndirect(m_ctx, cmd, m_light, push,
-                     {lightItem, storage(3, g.emission.image.view), storage(4, g.albedo.image.view),
-                      storage(5, m_aniso.image.mipViews[0]), bufferItem(6, m_list.buffer.buffer),
-                      storage(10, g.faces.image.view), storage(11, m_written.image.view), listWords},
+                     {lightItem, storage(VCT_LIGHT_BINDING_EMISSION, g.emission.image.view),
+                      storage(VCT_LIGHT_BINDING_OCCUPANCY, g.albedo.image.view),
+                      storage(VCT_LIGHT_BINDING_DIRECTIONAL, m_aniso.image.mipViews[0]),
+                      bufferItem(VCT_LIGHT_BINDING_LIST, m_list.buffer.buffer),
+                      storage(VCT_LIGHT_BINDING_FACES, g.faces.image.view),
+                      storage(VCT_LIGHT_BINDING_WRITTEN, m_written.image.view), listWords},
                      m_list.buffer.buffer);
 }
 
@@ -263,32 +274,37 @@ void VctVolumes::recordMip(VkCommandBuffer cmd, uint32_t level, VkBuffer jobs) c
     gpu::VoxelMipPush push{m_grid.params(), glm::uvec4(level, size, 0u, 0u)};
     if (level == 1 && jobs) { // and the bounce jobs (voxel_mip_body.glsl)
         dispatchIndirect(m_ctx, cmd, m_mipListJobs, push,
-                         {storage(0, m_aniso.image.mipViews[0]), storage(1, m_aniso.image.mipViews[1]),
-                          bufferItem(2, m_list.buffer.buffer), storage(3, m_grid.volumes().normal.image.view),
-                          bufferItem(4, jobs)},
+                         {storage(VCT_MIP_BINDING_SOURCE, m_aniso.image.mipViews[0]),
+                          storage(VCT_MIP_BINDING_TARGET, m_aniso.image.mipViews[1]),
+                          bufferItem(VCT_MIP_BINDING_LIST, m_list.buffer.buffer),
+                          storage(VCT_MIP_BINDING_NORMAL, m_grid.volumes().normal.image.view),
+                          bufferItem(VCT_MIP_BINDING_JOBS, jobs)},
                          m_list.buffer.buffer, GI_VOXEL_LIST_BLOCKS * sizeof(uint32_t));
         return;
     }
     if (level == 1) { // the listed occupied blocks only (voxel_mip_body.glsl)
         dispatchIndirect(m_ctx, cmd, m_mipList, push,
-                         {storage(0, m_aniso.image.mipViews[0]), storage(1, m_aniso.image.mipViews[1]),
-                          bufferItem(2, m_list.buffer.buffer)},
+                         {storage(VCT_MIP_BINDING_SOURCE, m_aniso.image.mipViews[0]),
+                          storage(VCT_MIP_BINDING_TARGET, m_aniso.image.mipViews[1]),
+                          bufferItem(VCT_MIP_BINDING_LIST, m_list.buffer.buffer)},
                          m_list.buffer.buffer, GI_VOXEL_LIST_BLOCKS * sizeof(uint32_t));
         return;
     }
-    if (level >= mipTailLevel()) { // this level and all coarser ones, four at most (bindings 1..4)
+    if (level >= mipTailLevel()) { // this level and all coarser ones, four at most (VCT_MIP_BINDING_TAIL + 0..3)
         uint32_t count = m_levels - level;
         GI_ASSERT(level == mipTailLevel() && count <= 4, "the mip tail starts at mipTailLevel()");
         push.info.z = count;
         auto view = [&](uint32_t i) { return m_aniso.image.mipViews[std::min(level + i, m_levels - 1)]; };
         dispatch(m_ctx, cmd, m_mipTail, push,
-                 {storage(0, m_aniso.image.mipViews[level - 1]), storage(1, view(0)), storage(2, view(1)),
-                  storage(3, view(2)), storage(4, view(3))},
+                 {storage(VCT_MIP_BINDING_SOURCE, m_aniso.image.mipViews[level - 1]),
+                  storage(VCT_MIP_BINDING_TAIL + 0, view(0)), storage(VCT_MIP_BINDING_TAIL + 1, view(1)),
+                  storage(VCT_MIP_BINDING_TAIL + 2, view(2)), storage(VCT_MIP_BINDING_TAIL + 3, view(3))},
                  glm::uvec3(m_mipTail.localSize[0], m_mipTail.localSize[1], m_mipTail.localSize[2]));
         return;
     }
     dispatch(m_ctx, cmd, m_mip, push,
-             {storage(0, m_aniso.image.mipViews[level - 1]), storage(1, m_aniso.image.mipViews[level])},
+             {storage(VCT_MIP_BINDING_SOURCE, m_aniso.image.mipViews[level - 1]),
+              storage(VCT_MIP_BINDING_TARGET, m_aniso.image.mipViews[level])},
              glm::uvec3(size));
 }
 
@@ -318,7 +334,7 @@ rg::PersistentBuffer& VctVolumes::bounceResultsState() {
 
 void VctVolumes::recordClearBounceJobs(VkCommandBuffer cmd, VkBuffer jobs) const {
     // Header: the gathers' dispatch (x = 0, one work-group row per class), the misfits' (x = 0),
-    // zero counts; then every block's class mask, the misfit bits and the sums 0 (gi/voxel_passes.h).
+    // zero counts; then every block's class mask, the misfit bits and the sums 0 (gi/vct_passes.h).
     uint32_t header[GI_BOUNCE_HEADER] = {0u, GI_BOUNCE_CLASSES, 1u, 0u, 0u, 1u, 1u, 0u};
     vkCmdUpdateBuffer(cmd, jobs, 0, sizeof(header), header);
     uint32_t n = m_grid.resolution();
@@ -331,8 +347,10 @@ void VctVolumes::recordBounceBlocks(VkCommandBuffer cmd, const gpu::ConeParams& 
                                     VkBuffer results, VkImageLayout sampledLayout) const {
     gpu::VoxelBouncePush push{m_grid.params(), cones};
     dispatchIndirect(m_ctx, cmd, m_bounce, push,
-                     {sampled(1, m_aniso.image, m_sampler, sampledLayout), storage(2, m_grid.volumes().normal.image.view),
-                      bufferItem(3, jobs), bufferItem(4, results), bufferItem(5, m_list.buffer.buffer)},
+                     {sampled(VCT_CONE_BINDING_DIRECTIONAL, m_aniso.image, m_sampler, sampledLayout),
+                      storage(VCT_BOUNCE_BINDING_NORMAL, m_grid.volumes().normal.image.view),
+                      bufferItem(VCT_BOUNCE_BINDING_JOBS, jobs), bufferItem(VCT_BOUNCE_BINDING_RESULTS, results),
+                      bufferItem(VCT_BOUNCE_BINDING_LIST, m_list.buffer.buffer)},
                      jobs);
 }
 
@@ -340,9 +358,12 @@ void VctVolumes::recordBounceApply(VkCommandBuffer cmd, VkBuffer jobs, VkBuffer 
     const VoxelVolumes& g = m_grid.volumes();
     gpu::VoxelGridPush push{m_grid.params()};
     dispatchIndirect(m_ctx, cmd, m_bounceApply, push,
-                     {storage(0, g.albedo.image.view), storage(1, g.normal.image.view), bufferItem(2, jobs),
-                      storage(3, misfits.view), bufferItem(4, m_list.buffer.buffer), bufferItem(5, results),
-                      storage(6, g.faces.image.view), storage(7, m_aniso.image.mipViews[0])},
+                     {storage(VCT_APPLY_BINDING_ALBEDO, g.albedo.image.view),
+                      storage(VCT_APPLY_BINDING_NORMAL, g.normal.image.view), bufferItem(VCT_APPLY_BINDING_JOBS, jobs),
+                      storage(VCT_APPLY_BINDING_MISFITS, misfits.view),
+                      bufferItem(VCT_APPLY_BINDING_LIST, m_list.buffer.buffer),
+                      bufferItem(VCT_APPLY_BINDING_RESULTS, results), storage(VCT_APPLY_BINDING_FACES, g.faces.image.view),
+                      storage(VCT_APPLY_BINDING_DIRECTIONAL, m_aniso.image.mipViews[0])},
                      m_list.buffer.buffer);
 }
 
@@ -351,30 +372,32 @@ void VctVolumes::recordBounceMisfits(VkCommandBuffer cmd, const gpu::ConeParams&
     const VoxelVolumes& g = m_grid.volumes();
     gpu::VoxelBouncePush push{m_grid.params(), cones};
     dispatchIndirect(m_ctx, cmd, m_bounceMisfits, push,
-                     {sampled(1, m_aniso.image, m_sampler, sampledLayout), storage(2, g.albedo.image.view),
-                      storage(3, g.normal.image.view), storage(4, bounce.view), bufferItem(5, jobs)},
+                     {sampled(VCT_CONE_BINDING_DIRECTIONAL, m_aniso.image, m_sampler, sampledLayout),
+                      storage(VCT_MISFITS_BINDING_ALBEDO, g.albedo.image.view),
+                      storage(VCT_MISFITS_BINDING_NORMAL, g.normal.image.view),
+                      storage(VCT_MISFITS_BINDING_OUTPUT, bounce.view), bufferItem(VCT_MISFITS_BINDING_JOBS, jobs)},
                      jobs, GI_BOUNCE_MISFITS * sizeof(uint32_t));
 }
 
 void VctVolumes::recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const gpu::VctTracePush& push,
                              const VctTraceTargets& t, VkImageLayout sampledLayout) const {
-    DescriptorItem common[] = {sampled(1, m_aniso.image, m_sampler, sampledLayout),
-                               storage(2, t.position->view),
-                               storage(3, t.normal->view),
-                               storage(4, t.albedo->view),
-                               storage(5, t.indirect->view),
-                               storage(6, t.glossy->view)};
+    DescriptorItem common[] = {sampled(VCT_CONE_BINDING_DIRECTIONAL, m_aniso.image, m_sampler, sampledLayout),
+                               storage(VCT_TRACE_BINDING_POSITION, t.position->view),
+                               storage(VCT_TRACE_BINDING_NORMAL, t.normal->view),
+                               storage(VCT_TRACE_BINDING_ALBEDO, t.albedo->view),
+                               storage(VCT_TRACE_BINDING_INDIRECT, t.indirect->view),
+                               storage(VCT_TRACE_BINDING_GLOSSY, t.glossy->view)};
     if (mode == VctTraceMode::Grid) {
         dispatch(m_ctx, cmd, m_trace, push,
-                 {common[0], common[1], common[2], common[3], common[4], common[5], bufferItem(7, t.refineList)},
+                 {common[0], common[1], common[2], common[3], common[4], common[5], bufferItem(VCT_TRACE_BINDING_REFINE_LIST, t.refineList)},
                  glm::uvec3(push.lowRes.y, push.lowRes.z, 1u));
         return;
     }
-    // Work groups counted by the upsample (header words 1..3, voxel_passes.h).
+    // Work groups counted by the upsample (header words 1..3, vct_passes.h).
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_traceRefine.pipeline);
     pushConstants(cmd, m_traceRefine, &push, sizeof(push));
     DescriptorItem items[] = {common[0], common[1], common[2], common[3], common[4], common[5],
-                              bufferItem(7, t.refineList)};
+                              bufferItem(VCT_TRACE_BINDING_REFINE_LIST, t.refineList)};
     pushDescriptors(m_ctx, cmd, m_traceRefine, std::span<const DescriptorItem>(items));
     vkCmdDispatchIndirect(cmd, t.refineList, sizeof(uint32_t));
 }
@@ -382,9 +405,10 @@ void VctVolumes::recordTrace(VkCommandBuffer cmd, VctTraceMode mode, const gpu::
 void VctVolumes::recordSoftShadow(VkCommandBuffer cmd, const gpu::VctShadowPush& push, VkBuffer lights,
                                   const VctTraceTargets& t, VkImageLayout sampledLayout) const {
     dispatch(m_ctx, cmd, m_softShadow, push,
-             {sampled(1, m_aniso.image, m_sampler, sampledLayout),
-              storage(2, t.position->view), storage(3, t.normal->view), storage(4, t.albedo->view),
-              storage(5, t.emission->view), bufferItem(6, lights), storage(7, t.direct->view)},
+             {sampled(VCT_CONE_BINDING_DIRECTIONAL, m_aniso.image, m_sampler, sampledLayout),
+              storage(VCT_SHADOW_BINDING_POSITION, t.position->view), storage(VCT_SHADOW_BINDING_NORMAL, t.normal->view),
+              storage(VCT_SHADOW_BINDING_ALBEDO, t.albedo->view), storage(VCT_SHADOW_BINDING_EMISSION, t.emission->view),
+              bufferItem(VCT_SHADOW_BINDING_LIGHTS, lights), storage(VCT_SHADOW_BINDING_DIRECT, t.direct->view)},
              glm::uvec3(push.info.y, push.info.z, 1u));
 }
 
@@ -393,9 +417,13 @@ void VctVolumes::recordUpsample(VkCommandBuffer cmd, const gpu::VctTracePush& pu
     // 4x4 pixel blocks from -f / 2 on (vctRefineBlockOrigin in vct_refine.glsl).
     auto blocks = [shift = push.lowRes.x / 2u](uint32_t size) { return (size + shift + 3u) / 4u; };
     dispatch(m_ctx, cmd, m_upsample, push,
-             {storage(0, t.position->view), storage(1, t.normal->view), storage(2, lowIndirect.view),
-              storage(3, lowGlossy.view), storage(4, t.indirect->view), storage(5, t.glossy->view),
-              bufferItem(6, t.refineList), storage(7, t.albedo->view)},
+             {storage(VCT_UPSAMPLE_BINDING_POSITION, t.position->view), storage(VCT_UPSAMPLE_BINDING_NORMAL, t.normal->view),
+              storage(VCT_UPSAMPLE_BINDING_LOW_INDIRECT, lowIndirect.view),
+              storage(VCT_UPSAMPLE_BINDING_LOW_GLOSSY, lowGlossy.view),
+              storage(VCT_UPSAMPLE_BINDING_INDIRECT, t.indirect->view),
+              storage(VCT_UPSAMPLE_BINDING_GLOSSY, t.glossy->view),
+              bufferItem(VCT_UPSAMPLE_BINDING_REFINE_LIST, t.refineList),
+              storage(VCT_UPSAMPLE_BINDING_ALBEDO, t.albedo->view)},
              glm::uvec3(blocks(push.cones.info.z), blocks(push.cones.info.w), 1u));
 }
 

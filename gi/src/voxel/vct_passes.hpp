@@ -3,7 +3,7 @@
 // level-0 views, anisotropic radiance mips (one pass per level), the per-voxel second bounce
 // and the per-pixel trace.
 // Pass bodies only record dispatches; the render graph orders them and places the barriers.
-// Volume layouts: shaders/include/gi/voxel_passes.h.
+// Volume layouts: shaders/include/gi/vct_passes.h.
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -13,6 +13,7 @@
 #include "engine/resources.hpp"
 #include "engine/result.hpp"
 #include "gi/vct.hpp"
+#include "gi/vct_passes.h"
 #include "voxel/voxel_grid.hpp"
 
 namespace vkgi::gi {
@@ -51,19 +52,19 @@ public:
     VctVolumes(const VctVolumes&) = delete;
     VctVolumes& operator=(const VctVolumes&) = delete;
 
-    // The +X, -X, +Y, -Y, +Z, -Z views as one 2D array (voxel_passes.h), levels N^3 (the voxels) .. 1^3.
+    // The +X, -X, +Y, -Y, +Z, -Z views as one 2D array (vct_passes.h), levels N^3 (the voxels) .. 1^3.
     const Image& aniso() const { return m_aniso.image; }
     // Persistent state for the graph import.
     rg::PersistentImage& anisoState() { return m_aniso; }
-    // Occupied-voxel list + its indirect dispatch header (voxel_passes.h); `listBuilt` says
+    // Occupied-voxel list + its indirect dispatch header (vct_passes.h); `listBuilt` says
     // whether it holds the current grid's voxels (cleared when the grid is re-voxelized).
     rg::PersistentBuffer& listState() { return m_list; }
-    // The second bounce's job and result buffers (gi/voxel_passes.h), created at the first call.
+    // The second bounce's job and result buffers (gi/vct_passes.h), created at the first call.
     rg::PersistentBuffer& bounceJobsState();
     rg::PersistentBuffer& bounceResultsState();
     bool listBuilt() const { return m_listBuilt; }
     void setListBuilt(bool built) { m_listBuilt = built; }
-    // What levels 0 and 1 of aniso() hold from the last voxelizations (gi/voxel_passes.h,
+    // What levels 0 and 1 of aniso() hold from the last voxelizations (gi/vct_passes.h,
     // "written", "written bits"); `writtenKnown` says whether they describe them (false until the
     // first voxelization cleared both levels and these).
     rg::PersistentImage& writtenState() { return m_written; }
@@ -112,7 +113,7 @@ public:
     // only, cleared by recordClearBounceJobs) it also lists the second bounce's jobs: the normal
     // classes of the listed blocks' voxels (storage read-write).
     void recordMip(VkCommandBuffer cmd, uint32_t level, VkBuffer jobs = VK_NULL_HANDLE) const;
-    // Second bounce (gi/voxel_passes.h, docs/vct.md); the gathers read aniso() (direct light
+    // Second bounce (gi/vct_passes.h, docs/vct.md); the gathers read aniso() (direct light
     // and its mips). `jobs` is the buffer of bounceJobsState(), its job list built by recordMip.
     // Clear: the job header, class masks and misfit bits before the level-1 mip (transfer writes).
     void recordClearBounceJobs(VkCommandBuffer cmd, VkBuffer jobs) const;

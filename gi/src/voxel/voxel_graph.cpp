@@ -310,7 +310,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
         return gbuffer ? addTracePasses(graph, volumes, out, settings, gbuffer, options.glossyImage) : out;
     }
     const rg::SubresourceRange level0 = rg::SubresourceRange::mip(0);
-    // The axes whose level-0 views each voxel last stored (gi/voxel_passes.h): the voxel light
+    // The axes whose level-0 views each voxel last stored (gi/vct_passes.h): the voxel light
     // zeroes those its faces no longer cover, gi.vct.list.stale those of emptied voxels.
     rg::ImageHandle written = graph.importImage("gi.vct.written", volumes.writtenState());
     if (grid.changed || !volumes.listBuilt()) {
@@ -398,7 +398,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                            useShadowMap ? &in : nullptr);
         });
     // Second bounce: one gather per (block, normal class), its misfit voxels one each
-    // (gi/voxel_passes.h); the level-1 mip lists the jobs after the clear.
+    // (gi/vct_passes.h); the level-1 mip lists the jobs after the clear.
     rg::BufferHandle jobs;
     if (settings.bounces >= 2) {
         jobs = graph.importBuffer("gi.vct.bounce.jobs", volumes.bounceJobsState());

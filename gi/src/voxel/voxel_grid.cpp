@@ -231,9 +231,12 @@ void VoxelGrid::recordClearStale(VkCommandBuffer cmd, const VoxelVolumes& target
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_stale.pipeline);
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_stale, &push, sizeof(push));
-    DescriptorItem items[] = {storageBuffer(0, m_bits.buffer.buffer),   storageImage(1, target.albedo.image),
-                              storageImage(2, target.normal.image),     storageImage(3, target.emission.image),
-                              storageImage(4, target.faces.image),      storageBuffer(9, previous)};
+    DescriptorItem items[] = {storageBuffer(VOXEL_STALE_BINDING_TOUCHED_BITS, m_bits.buffer.buffer),
+                              storageImage(VOXEL_STALE_BINDING_ALBEDO, target.albedo.image),
+                              storageImage(VOXEL_STALE_BINDING_NORMAL, target.normal.image),
+                              storageImage(VOXEL_STALE_BINDING_EMISSION, target.emission.image),
+                              storageImage(VOXEL_STALE_BINDING_FACES, target.faces.image),
+                              storageBuffer(VOXEL_STALE_BINDING_PREVIOUS, previous)};
     pushDescriptors(m_ctx, cmd, m_stale, items);
     vkCmdDispatchIndirect(cmd, previous, 0);
 }
@@ -242,16 +245,18 @@ std::vector<DescriptorItem> VoxelGrid::withRecords(std::span<const DescriptorIte
     std::vector<DescriptorItem> all(items.begin(), items.end());
     const uint32_t n = resolution(), layers = gpu::voxelAccSlabLayers(n);
     const VkDeviceSize slab = accumBytes(n, layers);
-    for (uint32_t k = 0; k < GI_VOXEL_ACC_SLABS; ++k) // bindings 10..17 (voxel_acc.glsl)
-        all.push_back(storageBuffer(10 + k, m_accum.buffer.buffer, layers == n ? 0 : k * slab, slab));
+    for (uint32_t k = 0; k < GI_VOXEL_ACC_SLABS; ++k) // voxel_acc.glsl
+        all.push_back(storageBuffer(VOXEL_ACC_BINDING_RECORDS + k, m_accum.buffer.buffer, layers == n ? 0 : k * slab, slab));
     return all;
 }
 
 void VoxelGrid::recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set) const {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_voxelize.pipeline);
-    DescriptorItem items[] = {storageBuffer(0, scene.vertices), storageBuffer(1, scene.indices),
-                              storageBuffer(2, scene.instances), storageBuffer(3, scene.materials),
-                              storageBuffer(5, m_bits.buffer.buffer)};
+    DescriptorItem items[] = {storageBuffer(VOXELIZE_BINDING_VERTICES, scene.vertices),
+                              storageBuffer(VOXELIZE_BINDING_INDICES, scene.indices),
+                              storageBuffer(VOXELIZE_BINDING_INSTANCES, scene.instances),
+                              storageBuffer(VOXELIZE_BINDING_MATERIALS, scene.materials),
+                              storageBuffer(VOXELIZE_BINDING_TOUCHED_BITS, m_bits.buffer.buffer)};
     pushDescriptors(m_ctx, cmd, m_voxelize, withRecords(items));
     // Row slices per triangle (voxelize.comp), for draws that fit in one work group (one CPU
     // thread otherwise; the Cornell walls): about 8 rows each for a grid-wide triangle. Draws
@@ -279,7 +284,8 @@ void VoxelGrid::recordTouchedList(VkCommandBuffer cmd, VkBuffer list) const {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_touchedList.pipeline);
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_touchedList, &push, sizeof(push));
-    DescriptorItem items[] = {storageBuffer(0, m_bits.buffer.buffer), storageBuffer(1, list)};
+    DescriptorItem items[] = {storageBuffer(VOXEL_TOUCHED_BINDING_BITS, m_bits.buffer.buffer),
+                              storageBuffer(VOXEL_TOUCHED_BINDING_LIST, list)};
     pushDescriptors(m_ctx, cmd, m_touchedList, items);
     uint32_t n = resolution();
     vkCmdDispatch(cmd, groupCount(n * n * n / 32, m_touchedList.localSize[0]), 1, 1);
@@ -289,9 +295,11 @@ void VoxelGrid::recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target, V
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_resolve.pipeline);
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_resolve, &push, sizeof(push));
-    DescriptorItem items[] = {storageImage(1, target.albedo.image), storageImage(2, target.normal.image),
-                              storageImage(3, target.emission.image), storageImage(4, target.faces.image),
-                              storageBuffer(9, list)};
+    DescriptorItem items[] = {storageImage(VOXEL_RESOLVE_BINDING_ALBEDO, target.albedo.image),
+                              storageImage(VOXEL_RESOLVE_BINDING_NORMAL, target.normal.image),
+                              storageImage(VOXEL_RESOLVE_BINDING_EMISSION, target.emission.image),
+                              storageImage(VOXEL_RESOLVE_BINDING_FACES, target.faces.image),
+                              storageBuffer(VOXEL_RESOLVE_BINDING_TOUCHED, list)};
     pushDescriptors(m_ctx, cmd, m_resolve, withRecords(items));
     vkCmdDispatchIndirect(cmd, list, 0);
 }
@@ -301,9 +309,12 @@ void VoxelGrid::recordResolveMerge(VkCommandBuffer cmd) const {
     gpu::VoxelGridPush push{m_params};
     pushConstants(cmd, m_resolveMerge, &push, sizeof(push));
     VkBuffer list = touched(VoxelDrawSet::Dynamic).buffer;
-    DescriptorItem items[] = {storageImage(1, m_volumes.albedo.image), storageImage(2, m_volumes.normal.image),
-                              storageImage(3, m_volumes.emission.image), storageImage(4, m_volumes.faces.image),
-                              storageImage(5, m_static.albedo.image), storageBuffer(9, list)};
+    DescriptorItem items[] = {storageImage(VOXEL_RESOLVE_BINDING_ALBEDO, m_volumes.albedo.image),
+                              storageImage(VOXEL_RESOLVE_BINDING_NORMAL, m_volumes.normal.image),
+                              storageImage(VOXEL_RESOLVE_BINDING_EMISSION, m_volumes.emission.image),
+                              storageImage(VOXEL_RESOLVE_BINDING_FACES, m_volumes.faces.image),
+                              storageImage(VOXEL_RESOLVE_BINDING_STATIC_ALBEDO, m_static.albedo.image),
+                              storageBuffer(VOXEL_RESOLVE_BINDING_TOUCHED, list)};
     pushDescriptors(m_ctx, cmd, m_resolveMerge, withRecords(items));
     vkCmdDispatchIndirect(cmd, list, 0);
 }

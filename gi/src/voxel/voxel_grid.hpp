@@ -149,7 +149,7 @@ private:
     gpu::VoxelGridParams m_params{};
     VoxelVolumes m_volumes, m_static;
     rg::PersistentBuffer m_accum, m_bits;
-    // `items` plus the record ranges (bindings 10..17, shaders/gi/voxel/voxel_acc.glsl).
+    // `items` plus the record ranges (VOXEL_ACC_BINDING_RECORDS on, shaders/gi/voxel/voxel_acc.glsl).
     std::vector<DescriptorItem> withRecords(std::span<const DescriptorItem> items) const;
     // 0, 1: the All / Static lists, used in turn; 2: the Dynamic list.
     rg::PersistentBuffer m_lists[3];

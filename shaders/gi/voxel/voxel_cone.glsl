@@ -1,8 +1,8 @@
-// Cone tracing through the voxel radiance (Crassin et al. 2011). The includer declares nothing
-// at bindings 0..1; binding 1 is the directional volume (a 2D array: per viewing direction a
-// stack of slices across its axis, level 0 the voxels themselves, level k the 2^k-voxel blocks;
-// voxel_passes.h). Everything is in grid units (voxels); radiance stays scaled by radianceScale.
-layout(set = 1, binding = 1) uniform sampler2DArray aniso;
+// Cone tracing through the voxel radiance (Crassin et al. 2011). It samples the directional
+// volume at VCT_CONE_BINDING_DIRECTIONAL, which the includer leaves to it (a 2D array: per
+// viewing direction a stack of slices across its axis, level 0 the voxels themselves, level k
+// the 2^k-voxel blocks; vct_passes.h). Everything is in grid units (voxels); radiance stays scaled by radianceScale.
+layout(set = 1, binding = VCT_CONE_BINDING_DIRECTIONAL) uniform sampler2DArray aniso;
 
 // Cones start this far (voxels) from their origin, which callers already offset by one voxel
 // along the normal: together they clear the surface's own (conservatively thick) voxel.
