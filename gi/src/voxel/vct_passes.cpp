@@ -11,13 +11,13 @@ namespace vkgi::gi {
 
 namespace {
 
-// The directional volume (vct_passes.h): N x N, GI_VOXEL_ANISO_DIRECTIONS * N layers.
+// The directional volume (vct_passes.h): N x N, GI_VCT_DIRECTIONS * N layers.
 Image createDirectionalVolume(Context& ctx, uint32_t n, uint32_t mips, const char* name) {
     ImageDesc d;
     d.type = VK_IMAGE_TYPE_2D;
     d.format = VK_FORMAT_R16G16B16A16_SFLOAT;
     d.width = d.height = n;
-    d.arrayLayers = GI_VOXEL_ANISO_DIRECTIONS * n;
+    d.arrayLayers = GI_VCT_DIRECTIONS * n;
     d.mipLevels = mips;
     d.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
               VK_IMAGE_USAGE_TRANSFER_DST_BIT;
@@ -56,7 +56,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     }
     uint32_t n = grid.resolution();
     v->m_levels = uint32_t(std::countr_zero(n)) + 1; // N^3 down to 1^3
-    v->m_aniso.image = createDirectionalVolume(ctx, n, v->m_levels, "vct.aniso");
+    v->m_directional.image = createDirectionalVolume(ctx, n, v->m_levels, "vct.directional");
     BufferDesc list;
     // Header, voxel and block slots, the voxels' and blocks' "listed" bits, the 4^3 blocks' bits.
     list.size = VkDeviceSize(GI_VOXEL_LIST_HEADER + gpu::voxelListWords(n)) * sizeof(uint32_t);
@@ -83,7 +83,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     bits.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     v->m_writtenBits.buffer = createBuffer(ctx, bits, "vct.written_bits");
     SamplerDesc s;
-    // Outside the grid is empty space: sampleAniso (voxel_cone.glsl) turns the clamped edge
+    // Outside the grid is empty space: sampleDirectional (voxel_cone.glsl) turns the clamped edge
     // into the transparent border (exactly, and faster on lavapipe than a border colour).
     s.address = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
     s.mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST; // one level per cone sample (voxel_cone.glsl)
@@ -110,14 +110,14 @@ VctVolumes::~VctVolumes() {
                                &p.mip, &p.mipList, &p.mipListJobs, &p.mipTail, &p.bounce, &p.bounceMisfits,
                                &p.bounceApply, &p.trace, &p.traceRefine, &p.upsample, &p.softShadow})
         destroyPipeline(m_ctx, *pipeline);
-    destroyImage(m_ctx, m_aniso.image);
+    destroyImage(m_ctx, m_directional.image);
     for (VkSampler sampler : {m_sampler, m_occupancySampler})
         if (sampler)
             vkDestroySampler(m_ctx.device(), sampler, nullptr);
 }
 
 VkDeviceSize VctVolumes::bytes() const {
-    return imageBytes(m_aniso.image.desc) + imageBytes(m_written.image.desc) + m_list.buffer.desc.size +
+    return imageBytes(m_directional.image.desc) + imageBytes(m_written.image.desc) + m_list.buffer.desc.size +
            m_writtenBits.buffer.desc.size + m_jobBuffer.buffer.desc.size + m_resultBuffer.buffer.desc.size;
 }
 

@@ -2,7 +2,7 @@
 // The persistent state of voxel cone tracing on top of the shared VoxelGrid: the directional
 // volume, the occupied-voxel list, the second bounce's buffers, and the pipelines and samplers
 // of the passes that voxel_graph.hpp adds to a render graph (voxel direct light into the six
-// level-0 views, anisotropic radiance mips, the per-voxel second bounce, the per-pixel trace).
+// level-0 views, its mips, the per-voxel second bounce, the per-pixel trace).
 // Volume layouts: shaders/include/gi/vct_passes.h.
 #include <algorithm>
 #include <array>
@@ -26,9 +26,9 @@ public:
     VctVolumes& operator=(const VctVolumes&) = delete;
 
     // The +X, -X, +Y, -Y, +Z, -Z views as one 2D array (vct_passes.h), levels N^3 (the voxels) .. 1^3.
-    const Image& aniso() const { return m_aniso.image; }
+    const Image& directional() const { return m_directional.image; }
     // Persistent state for the graph import.
-    rg::PersistentImage& anisoState() { return m_aniso; }
+    rg::PersistentImage& directionalState() { return m_directional; }
     // Occupied-voxel list + its indirect dispatch header (vct_passes.h); `listBuilt` says
     // whether it holds the current grid's voxels (cleared when the grid is re-voxelized).
     rg::PersistentBuffer& listState() { return m_list; }
@@ -37,7 +37,7 @@ public:
     rg::PersistentBuffer& bounceResultsState();
     bool listBuilt() const { return m_listBuilt; }
     void setListBuilt(bool built) { m_listBuilt = built; }
-    // What levels 0 and 1 of aniso() hold from the last voxelizations (gi/vct_passes.h,
+    // What levels 0 and 1 of the directional volume hold from the last voxelizations (gi/vct_passes.h,
     // "written", "written bits"); `writtenKnown` says whether they describe them (false until the
     // first voxelization cleared both levels and these).
     rg::PersistentImage& writtenState() { return m_written; }
@@ -45,7 +45,7 @@ public:
     bool writtenKnown() const { return m_writtenKnown; }
     void setWrittenKnown(bool known) { m_writtenKnown = known; }
     const VoxelGrid& grid() const { return m_grid; }
-    uint32_t anisoLevels() const { return m_levels; }
+    uint32_t directionalLevels() const { return m_levels; }
     // First level of the mip tail (mipTail builds it and all coarser ones in one dispatch):
     // the first with at most 8 texels a side, at least 2 (level 1 runs over the occupied blocks).
     uint32_t mipTailLevel() const { return std::max(2u, m_levels - 1 > 2 ? m_levels - 3 : 0u); }
@@ -77,7 +77,7 @@ public:
     const Pipelines& pipelines() const { return m_pipelines; }
     // The occupied-voxel list as R32_UINT texels (the hard voxel-light march reads its bits).
     VkBufferView listWords() const { return m_listWords; }
-    // Samplers of the directional volume (clamp to edge: sampleAniso, voxel_cone.glsl) and of
+    // Samplers of the directional volume (clamp to edge: sampleDirectional, voxel_cone.glsl) and of
     // the grid's occupancy in the soft voxel-light march (transparent border).
     VkSampler sampler() const { return m_sampler; }
     VkSampler occupancySampler() const { return m_occupancySampler; }
@@ -86,7 +86,7 @@ private:
     VctVolumes(Context& ctx, const VoxelGrid& grid) : m_ctx(ctx), m_grid(grid) {}
     Context& m_ctx;
     const VoxelGrid& m_grid;
-    rg::PersistentImage m_aniso;
+    rg::PersistentImage m_directional;
     rg::PersistentBuffer m_list;
     VkBufferView m_listWords = VK_NULL_HANDLE; // m_list as R32_UINT texels (the hard voxel-light march)
     rg::PersistentBuffer m_jobBuffer, m_resultBuffer;
@@ -95,7 +95,7 @@ private:
     bool m_listBuilt = false;
     bool m_writtenKnown = false;
     uint32_t m_levels = 0;
-    VkSampler m_sampler = VK_NULL_HANDLE;          // directional volume: clamp to edge (sampleAniso)
+    VkSampler m_sampler = VK_NULL_HANDLE;          // directional volume: clamp to edge (sampleDirectional)
     VkSampler m_occupancySampler = VK_NULL_HANDLE; // soft voxel-light march: transparent border
     Pipelines m_pipelines;
 };

@@ -298,16 +298,17 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
 
 namespace {
 
-// Adds one pass per level k >= 1 of aniso, built from level k - 1, up to the tail, and one for
-// the tail's levels ("prefix[t-L]"); returns the newest version. Level 1 is written at the listed
+// Adds one pass per level k >= 1 of the directional volume, built from level k - 1, up to the
+// tail, and one for the tail's levels ("prefix[t-L]"); returns the newest version. Level 1 is written at the listed
 // occupied blocks only and keeps the zeros elsewhere (gi.vct.list.clear / .stale; no discard).
 // With `jobs` (and the grid's normal volume) the level-1 pass also lists the second bounce's
 // jobs into it.
-rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::ImageHandle aniso, rg::BufferHandle list,
-                             const char* prefix, rg::BufferHandle* jobs = nullptr, rg::ImageHandle normal = {}) {
+rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::ImageHandle directional,
+                             rg::BufferHandle list, const char* prefix, rg::BufferHandle* jobs = nullptr,
+                             rg::ImageHandle normal = {}) {
     const VctVolumes::Pipelines& p = v.pipelines();
     const gpu::VoxelGridParams& params = v.grid().params();
-    uint32_t tail = v.mipTailLevel(), last = v.anisoLevels() - 1;
+    uint32_t tail = v.mipTailLevel(), last = v.directionalLevels() - 1;
     for (uint32_t level = 1; level <= std::min(tail, last); ++level) {
         uint32_t count = level == tail ? last - tail + 1 : 1;
         std::string name = std::string(prefix) + "[" + std::to_string(level) +
@@ -318,8 +319,8 @@ rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::Im
         if (level == 1 && jobs) { // the listed occupied blocks, and the bounce jobs (voxel_mip_body.glsl)
             rg::ComputePass(graph, name, p.mipListJobs)
                 .push(push)
-                .read(VCT_MIP_BINDING_SOURCE, aniso, source)
-                .write(VCT_MIP_BINDING_TARGET, aniso, rg::SubresourceRange::mip(1))
+                .read(VCT_MIP_BINDING_SOURCE, directional, source)
+                .write(VCT_MIP_BINDING_TARGET, directional, rg::SubresourceRange::mip(1))
                 .read(VCT_MIP_BINDING_LIST, list)
                 .read(VCT_MIP_BINDING_NORMAL, normal)
                 .write(VCT_MIP_BINDING_JOBS, *jobs)
@@ -327,31 +328,31 @@ rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::Im
         } else if (level == 1) { // the listed occupied blocks only (voxel_mip_body.glsl)
             rg::ComputePass(graph, name, p.mipList)
                 .push(push)
-                .read(VCT_MIP_BINDING_SOURCE, aniso, source)
-                .write(VCT_MIP_BINDING_TARGET, aniso, rg::SubresourceRange::mip(1))
+                .read(VCT_MIP_BINDING_SOURCE, directional, source)
+                .write(VCT_MIP_BINDING_TARGET, directional, rg::SubresourceRange::mip(1))
                 .read(VCT_MIP_BINDING_LIST, list)
                 .dispatchIndirect(list, GI_VOXEL_LIST_BLOCKS * sizeof(uint32_t));
         } else if (level == tail) { // this level and all coarser ones, four at most
             GI_ASSERT(count <= 4, "the mip tail has at most four levels");
             push.info.z = count;
             // Tail bindings past the last level are bound to the last level and not touched.
-            rg::ImageHandle levels[4] = {aniso, aniso, aniso, aniso};
+            rg::ImageHandle levels[4] = {directional, directional, directional, directional};
             rg::ComputePass pass(graph, name, p.mipTail);
-            pass.push(push).read(VCT_MIP_BINDING_SOURCE, aniso, source);
+            pass.push(push).read(VCT_MIP_BINDING_SOURCE, directional, source);
             for (uint32_t i = 0; i < 4; ++i)
                 pass.overwrite(VCT_MIP_BINDING_TAIL + i, levels[i],
                                rg::SubresourceRange::mip(std::min(level + i, last)));
             pass.dispatchGroups({1u, 1u, 1u});
-            aniso = levels[0];
+            directional = levels[0];
         } else {
             rg::ComputePass(graph, name, p.mip)
                 .push(push)
-                .read(VCT_MIP_BINDING_SOURCE, aniso, source)
-                .overwrite(VCT_MIP_BINDING_TARGET, aniso, rg::SubresourceRange::mip(level))
+                .read(VCT_MIP_BINDING_SOURCE, directional, source)
+                .overwrite(VCT_MIP_BINDING_TARGET, directional, rg::SubresourceRange::mip(level))
                 .dispatch(glm::uvec3(size));
         }
     }
-    return aniso;
+    return directional;
 }
 
 // Once per voxelization: the occupied-voxel list the light and bounce passes run over. The
@@ -360,7 +361,7 @@ rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::Im
 // what they hold) by transfer clears, later ones only what went stale (gi.vct.list.stale, after
 // the list is built). The list header and bits are zeroed here.
 void addListPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid, rg::BufferHandle& list,
-                   rg::ImageHandle& aniso, rg::ImageHandle& written) {
+                   rg::ImageHandle& directional, rg::ImageHandle& written) {
     const VctVolumes::Pipelines& p = volumes.pipelines();
     const uint32_t n = volumes.grid().resolution();
     const gpu::VoxelGridPush push{volumes.grid().params()};
@@ -372,12 +373,12 @@ void addListPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridD
         [&](rg::PassBuilder& b) {
             list = b.write(list, Access::TransferWrite);
             if (first) {
-                aniso = b.write(aniso, Access::TransferWrite, levels01);
+                directional = b.write(directional, Access::TransferWrite, levels01);
                 written = b.write(written, Access::TransferWrite);
                 writtenBits = b.write(writtenBits, Access::TransferWrite);
             }
         },
-        [n, list, aniso, written, writtenBits, first](rg::PassContext& ctx) {
+        [n, list, directional, written, writtenBits, first](rg::PassContext& ctx) {
             VkCommandBuffer cmd = ctx.cmd();
             VkBuffer l = ctx.buffer(list).buffer;
             VkDeviceSize slots = VkDeviceSize(n) * n * n + (n / 2) * (n / 2) * (n / 2);
@@ -390,12 +391,12 @@ void addListPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridD
             VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
             vkCmdClearColorImage(cmd, ctx.image(written).image, ctx.layout(written), &zero, 1, &all);
             // Level 0 whole; level 1 only the first N/2 layers of each direction, the ones it uses.
-            VkImageSubresourceRange ranges[1 + GI_VOXEL_ANISO_DIRECTIONS];
+            VkImageSubresourceRange ranges[1 + GI_VCT_DIRECTIONS];
             ranges[0] = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, VK_REMAINING_ARRAY_LAYERS};
-            for (uint32_t d = 0; d < GI_VOXEL_ANISO_DIRECTIONS; ++d)
+            for (uint32_t d = 0; d < GI_VCT_DIRECTIONS; ++d)
                 ranges[1 + d] = {VK_IMAGE_ASPECT_COLOR_BIT, 1, 1, d * n, n / 2};
-            vkCmdClearColorImage(cmd, ctx.image(aniso).image, ctx.layout(aniso), &zero, 1 + GI_VOXEL_ANISO_DIRECTIONS,
-                                 ranges);
+            vkCmdClearColorImage(cmd, ctx.image(directional).image, ctx.layout(directional), &zero,
+                                 1 + GI_VCT_DIRECTIONS, ranges);
         });
     // One pass per touched list of the grid (the whole scene's or the static draws', then the
     // dynamic draws'), each an indirect dispatch over its list setting the list's occupancy
@@ -414,13 +415,13 @@ void addListPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridD
         .push(push)
         .write(VCT_APPEND_BINDING_LIST, list)
         .dispatch({words, 1u, 1u});
-    rg::ImageHandle level1 = aniso; // both levels become this pass's version
+    rg::ImageHandle level1 = directional; // both levels become this pass's version
     rg::ComputePass(graph, "gi.vct.list.stale", p.listStale)
         .push(push)
         .read(VCT_STALE_BINDING_LIST, list)
         .write(VCT_STALE_BINDING_WRITTEN_BITS, writtenBits)
         .write(VCT_STALE_BINDING_WRITTEN, written)
-        .write(VCT_STALE_BINDING_LEVEL0, aniso, rg::SubresourceRange::mip(0))
+        .write(VCT_STALE_BINDING_LEVEL0, directional, rg::SubresourceRange::mip(0))
         .write(VCT_STALE_BINDING_LEVEL1, level1, rg::SubresourceRange::mip(1))
         .dispatch({gpu::voxelWrittenBitsWords(n), 1u, 1u});
     volumes.setListBuilt(true);
@@ -428,12 +429,12 @@ void addListPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridD
 }
 
 // "gi.vct.light": grid volumes + lights (+ the emission volume unless `options.emission` is
-// false) -> the six level-0 views of aniso at the listed voxels (indirect over the list); reads
+// false) -> the six level-0 views of the directional volume at the listed voxels (indirect over the list); reads
 // and updates the written volume. The shadow-atlas variant with VctOcclusion::ShadowMap and an
 // atlas, else the ray march of `settings.occlusion`.
 void addLightPass(rg::RenderGraph& graph, const VctVolumes& volumes, const VoxelGridData& grid, rg::BufferHandle lights,
                   uint32_t lightCount, const VctSettings& settings, const VctPassOptions& options,
-                  rg::BufferHandle list, rg::ImageHandle& aniso, rg::ImageHandle& written) {
+                  rg::BufferHandle list, rg::ImageHandle& directional, rg::ImageHandle& written) {
     const VctVolumes::Pipelines& p = volumes.pipelines();
     bool useShadowMap = settings.occlusion == VctOcclusion::ShadowMap && options.shadowAtlas.valid();
     bool soft = !useShadowMap && settings.occlusion == VctOcclusion::RayMarchSoft;
@@ -455,25 +456,25 @@ void addLightPass(rg::RenderGraph& graph, const VctVolumes& volumes, const Voxel
     pass.read(VCT_LIGHT_BINDING_FACES, grid.faces)
         .read(VCT_LIGHT_BINDING_EMISSION, grid.emission)
         .write(VCT_LIGHT_BINDING_WRITTEN, written)
-        .write(VCT_LIGHT_BINDING_DIRECTIONAL, aniso, rg::SubresourceRange::mip(0)); // the listed voxels
+        .write(VCT_LIGHT_BINDING_DIRECTIONAL, directional, rg::SubresourceRange::mip(0)); // the listed voxels
     if (!useShadowMap && !soft)
         pass.readTexels(VCT_LIGHT_BINDING_LIST_WORDS, list, volumes.listWords());
     pass.dispatchIndirect(list);
 }
 
 // Second bounce: one gather per (block, normal class), its misfit voxels one each
-// (gi/vct_passes.h) into level 0 of aniso at the listed voxels; `jobs` is the job list the
+// (gi/vct_passes.h) into level 0 of the directional volume at the listed voxels; `jobs` is the job list the
 // level-1 mip built.
 rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
                                 const gpu::ConeParams& cones, rg::BufferHandle list, rg::BufferHandle jobs,
-                                rg::ImageHandle aniso) {
+                                rg::ImageHandle directional) {
     const VctVolumes::Pipelines& p = volumes.pipelines();
     const gpu::VoxelBouncePush push{volumes.grid().params(), cones};
     rg::BufferHandle results = graph.importBuffer("gi.vct.bounce.results", volumes.bounceResultsState());
     rg::BufferHandle gatherArgs = jobs; // the gathers' dispatch, before they append the misfits
     rg::ComputePass(graph, "gi.vct.bounce.blocks", p.bounce)
         .push(push)
-        .sample(VCT_CONE_BINDING_DIRECTIONAL, aniso, volumes.sampler())
+        .sample(VCT_CONE_BINDING_DIRECTIONAL, directional, volumes.sampler())
         .read(VCT_BOUNCE_BINDING_NORMAL, grid.normal)
         .write(VCT_BOUNCE_BINDING_JOBS, jobs) // the misfit list
         .write(VCT_BOUNCE_BINDING_RESULTS, results)
@@ -488,7 +489,7 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
     rg::ImageHandle light = graph.createImage("gi.vct.bounce.light", bounceDesc);
     rg::ComputePass(graph, "gi.vct.bounce.misfits", p.bounceMisfits)
         .push(push)
-        .sample(VCT_CONE_BINDING_DIRECTIONAL, aniso, volumes.sampler())
+        .sample(VCT_CONE_BINDING_DIRECTIONAL, directional, volumes.sampler())
         .read(VCT_MISFITS_BINDING_ALBEDO, grid.albedo)
         .read(VCT_MISFITS_BINDING_NORMAL, grid.normal)
         .overwrite(VCT_MISFITS_BINDING_OUTPUT, light)
@@ -503,17 +504,17 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
         .read(VCT_APPLY_BINDING_LIST, list)
         .read(VCT_APPLY_BINDING_RESULTS, results)
         .read(VCT_APPLY_BINDING_FACES, grid.faces)
-        .write(VCT_APPLY_BINDING_DIRECTIONAL, aniso, rg::SubresourceRange::mip(0)) // the listed voxels
+        .write(VCT_APPLY_BINDING_DIRECTIONAL, directional, rg::SubresourceRange::mip(0)) // the listed voxels
         .dispatchIndirect(list);
-    return addMipPasses(graph, volumes, aniso, list, "gi.vct.bounce.mip");
+    return addMipPasses(graph, volumes, directional, list, "gi.vct.bounce.mip");
 }
 
 // The per-pixel passes ("gi.vct.trace" and, at low resolution, the upsample and refine) through
-// out.aniso.
+// out.directional.
 VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, VctOutputs out,
                           const VctSettings& settings, const VctGBufferHandles& g, bool glossyImage);
 
-// "gi.vct.shadow": direct light with cone-traced visibility through out.aniso into out.direct.
+// "gi.vct.shadow": direct light with cone-traced visibility through out.directional into out.direct.
 // Only with VctSettings::softShadows and a G-buffer with emission.
 VctOutputs addSoftShadowPass(rg::RenderGraph& graph, const VctVolumes& volumes, VctOutputs out,
                              const VctSettings& settings, const VctGBufferHandles* gbuffer, rg::BufferHandle lights,
@@ -530,7 +531,7 @@ VctOutputs addSoftShadowPass(rg::RenderGraph& graph, const VctVolumes& volumes, 
     out.direct = graph.createImage("gi.vct.direct_soft", desc);
     rg::ComputePass(graph, "gi.vct.shadow", volumes.pipelines().softShadow)
         .push(push)
-        .sample(VCT_CONE_BINDING_DIRECTIONAL, out.aniso, volumes.sampler())
+        .sample(VCT_CONE_BINDING_DIRECTIONAL, out.directional, volumes.sampler())
         .read(VCT_SHADOW_BINDING_POSITION, g.position)
         .read(VCT_SHADOW_BINDING_NORMAL, g.normal)
         .read(VCT_SHADOW_BINDING_ALBEDO, g.albedo)
@@ -556,15 +557,15 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                         VctPassOptions options) {
     VctOutputs out;
     rg::BufferHandle list = graph.importBuffer("gi.vct.voxel_list", volumes.listState());
-    out.aniso = graph.importImage("gi.vct.aniso", volumes.anisoState());
+    out.directional = graph.importImage("gi.vct.directional", volumes.directionalState());
     if (!options.relight) // nothing the voxel light depends on changed: the kept volume and mips
         return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage);
     // The axes whose level-0 views each voxel last stored (gi/vct_passes.h): the voxel light
     // zeroes those its faces no longer cover, gi.vct.list.stale those of emptied voxels.
     rg::ImageHandle written = graph.importImage("gi.vct.written", volumes.writtenState());
     if (grid.changed || !volumes.listBuilt())
-        addListPasses(graph, volumes, grid, list, out.aniso, written);
-    addLightPass(graph, volumes, grid, lights, lightCount, settings, options, list, out.aniso, written);
+        addListPasses(graph, volumes, grid, list, out.directional, written);
+    addLightPass(graph, volumes, grid, lights, lightCount, settings, options, list, out.directional, written);
     // The second bounce's jobs: the level-1 mip lists them after this clear of the header, class
     // masks and misfit bits (gi/vct_passes.h).
     rg::BufferHandle jobs;
@@ -586,12 +587,12 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                                 VkDeviceSize(n * n * n / 32 + gpu::bounceGeometryWords(n)) * sizeof(uint32_t), 0);
             });
     }
-    out.aniso =
-        addMipPasses(graph, volumes, out.aniso, list, "gi.vct.mip", jobs.valid() ? &jobs : nullptr, grid.normal);
+    out.directional =
+        addMipPasses(graph, volumes, out.directional, list, "gi.vct.mip", jobs.valid() ? &jobs : nullptr, grid.normal);
     if (settings.bounces >= 2) {
         gpu::ConeParams cones =
             volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
-        out.aniso = addBouncePasses(graph, volumes, grid, cones, list, jobs, out.aniso);
+        out.directional = addBouncePasses(graph, volumes, grid, cones, list, jobs, out.directional);
     }
     return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage);
 }
@@ -627,7 +628,7 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, Vct
     rg::BufferHandle refineList = graph.createBuffer("gi.vct.refine_list", listDesc);
     rg::ComputePass(graph, "gi.vct.trace", p.trace)
         .push(push)
-        .sample(VCT_CONE_BINDING_DIRECTIONAL, out.aniso, volumes.sampler())
+        .sample(VCT_CONE_BINDING_DIRECTIONAL, out.directional, volumes.sampler())
         .read(VCT_TRACE_BINDING_POSITION, g.position)
         .read(VCT_TRACE_BINDING_NORMAL, g.normal)
         .read(VCT_TRACE_BINDING_ALBEDO, g.albedo)
@@ -660,7 +661,7 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, Vct
     // Work groups counted by the upsample (header words 1..3, gi/vct_passes.h).
     rg::ComputePass(graph, "gi.vct.refine", p.traceRefine)
         .push(push)
-        .sample(VCT_CONE_BINDING_DIRECTIONAL, out.aniso, volumes.sampler())
+        .sample(VCT_CONE_BINDING_DIRECTIONAL, out.directional, volumes.sampler())
         .read(VCT_TRACE_BINDING_POSITION, g.position)
         .read(VCT_TRACE_BINDING_NORMAL, g.normal)
         .read(VCT_TRACE_BINDING_ALBEDO, g.albedo)

@@ -63,7 +63,7 @@ struct VctGBufferHandles {
 struct VctOutputs {
     // The packed directional volume the trace read (vct_passes.h): level 0 the voxels' own
     // six views, levels 1.. the mips (after the bounce when bounces = 2).
-    rg::ImageHandle aniso;
+    rg::ImageHandle directional;
     rg::ImageHandle indirect; // RGBA32F: rgb indirect radiance (nits), a = AO (invalid without a G-buffer)
     rg::ImageHandle glossy;   // RGBA32F: glossy cone radiance (nits)
     // RGBA32F direct light with cone-traced shadows ("gi.vct.shadow"; VctSettings::softShadows

@@ -31,7 +31,7 @@ vec4 albedoAt(ivec3 c) { return texelFetch(albedoVol, c, 0); }
 layout(set = 1, binding = VCT_LIGHT_BINDING_OCCUPANCY, rgba8) uniform readonly image3D albedoVol; // a = occupancy
 vec4 albedoAt(ivec3 c) { return imageLoad(albedoVol, c); }
 #endif
-layout(set = 1, binding = VCT_LIGHT_BINDING_DIRECTIONAL, rgba16f) uniform writeonly image2DArray anisoOut; // level 0 of the directional volume
+layout(set = 1, binding = VCT_LIGHT_BINDING_DIRECTIONAL, rgba16f) uniform writeonly image2DArray directionalOut; // level 0 of the directional volume
 layout(set = 1, binding = VCT_LIGHT_BINDING_LIST, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint voxels[]; };
 layout(set = 1, binding = VCT_LIGHT_BINDING_FACES, r32ui) uniform readonly uimage3D facesVol;
 layout(set = 1, binding = VCT_LIGHT_BINDING_WRITTEN, r8ui) uniform uimage3D writtenVol; // the axes stored last time (vct_passes.h)
@@ -223,7 +223,7 @@ void storeView(ivec3 c, uint v, vec3 faceRadiance, float front, float axisCover,
     // Half-float ceiling: radianceScale maps the brightest light to GI_VOXEL_RADIANCE_TARGET,
     // 16x below it; clamping keeps the volume finite whatever happens.
     vec3 rgb = min(faceRadiance, vec3(65000.0)) * (alpha * shown);
-    imageStore(anisoOut, voxelAnisoTexel(c, v, pc.grid.dims.x), (axes & (1u << k)) != 0u ? vec4(rgb, alpha) : vec4(0.0));
+    imageStore(directionalOut, vctDirectionalTexel(c, v, pc.grid.dims.x), (axes & (1u << k)) != 0u ? vec4(rgb, alpha) : vec4(0.0));
 }
 
 void main() {

@@ -36,16 +36,16 @@ void main() {
         stale &= stale - 1u;
         ivec3 c = ivec3(i & mask, (i >> shift) & mask, i >> (2u * shift));
         if (!isVoxel) { // a block: its six level-1 views
-            for (uint d = 0u; d < GI_VOXEL_ANISO_DIRECTIONS; ++d)
-                imageStore(level1, voxelAnisoTexel(c, d, n), vec4(0.0));
+            for (uint d = 0u; d < GI_VCT_DIRECTIONS; ++d)
+                imageStore(level1, vctDirectionalTexel(c, d, n), vec4(0.0));
             continue;
         }
         uint axes = imageLoad(written, c).x;
         imageStore(written, c, uvec4(0u));
         for (uint a = 0u; a < 3u; ++a)
             if ((axes & (1u << a)) != 0u) {
-                imageStore(level0, voxelAnisoTexel(c, 2u * a, n), vec4(0.0));
-                imageStore(level0, voxelAnisoTexel(c, 2u * a + 1u, n), vec4(0.0));
+                imageStore(level0, vctDirectionalTexel(c, 2u * a, n), vec4(0.0));
+                imageStore(level0, vctDirectionalTexel(c, 2u * a + 1u, n), vec4(0.0));
             }
     }
 }

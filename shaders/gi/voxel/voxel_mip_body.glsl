@@ -1,9 +1,9 @@
-// One level of the anisotropic radiance mips (Crassin's pre-integration): each output voxel
+// One level of the directional volume's mips (Crassin's pre-integration): each output voxel
 // covers 2x2x2 source voxels; for each of the six viewing directions the two source voxels
 // along that direction are composited front to back (premultiplied, c = c_f + (1 - a_f) c_b),
 // then the four resulting columns are averaged, each from the same direction's tile one level
 // finer (level 0: the voxels' own views). The six directions are stacks of layers of one 2D
-// array image, addressed by voxelAnisoTexel (vct_passes.h). With GI_VOXEL_MIP_LIST (level 1 only, voxel_mip_list.comp) one
+// array image, addressed by vctDirectionalTexel (vct_passes.h). With GI_VOXEL_MIP_LIST (level 1 only, voxel_mip_list.comp) one
 // invocation per listed occupied 2^3 block: a block without occupied voxels has only empty
 // level-0 texels (the list pass's clear zeroes level 0 and every writer of level 0 writes listed
 // voxels only), so its level-1 texels are 0, which the same clear wrote; ~10% of the blocks are
@@ -24,7 +24,7 @@ layout(set = 1, binding = VCT_MIP_BINDING_LIST, std430) readonly buffer List { u
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #endif
 layout(push_constant) uniform Push { VoxelMipPush pc; };
-layout(set = 1, binding = VCT_MIP_BINDING_SOURCE, rgba16f) uniform readonly image2DArray src; // aniso level - 1
+layout(set = 1, binding = VCT_MIP_BINDING_SOURCE, rgba16f) uniform readonly image2DArray src; // level - 1
 #ifdef GI_VOXEL_MIP_JOBS
 layout(set = 1, binding = VCT_MIP_BINDING_NORMAL, rgba8) uniform readonly image3D normalVol;
 layout(set = 1, binding = VCT_MIP_BINDING_JOBS, std430) buffer Jobs { uint jobHeader[GI_BOUNCE_HEADER]; uint words[]; };
@@ -135,7 +135,7 @@ layout(set = 1, binding = VCT_MIP_BINDING_TAIL + 1, rgba16f) uniform coherent im
 layout(set = 1, binding = VCT_MIP_BINDING_TAIL + 2, rgba16f) uniform coherent image2DArray tail2;
 layout(set = 1, binding = VCT_MIP_BINDING_TAIL + 3, rgba16f) uniform coherent image2DArray tail3;
 #else
-layout(set = 1, binding = VCT_MIP_BINDING_TARGET, rgba16f) uniform writeonly image2DArray dst; // aniso level
+layout(set = 1, binding = VCT_MIP_BINDING_TARGET, rgba16f) uniform writeonly image2DArray dst; // level
 #endif
 
 vec4 over(vec4 front, vec4 back) { return front + (1.0 - front.a) * back; }
@@ -155,7 +155,7 @@ vec4 integrate(vec4 t[8], int axis, bool positive) {
 // t := the 2x2x2 block at `base` of view d of image IMG (the level below).
 #define GI_MIP_GATHER(IMG, base, d, n, t)                                                              \
     [[unroll]] for (int i = 0; i < 8; ++i)                                                            \
-        t[i] = imageLoad(IMG, voxelAnisoTexel((base) + ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1), d, n));
+        t[i] = imageLoad(IMG, vctDirectionalTexel((base) + ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1), d, n));
 
 // Texel c of every view of image DST from image SRC one level finer. Unrolled (with integrate):
 // every array index is a constant, so llvmpipe keeps the eight texels in registers instead of a
@@ -164,7 +164,7 @@ vec4 integrate(vec4 t[8], int axis, bool positive) {
     [[unroll]] for (int d = 0; d < 6; ++d) {                                                          \
         vec4 t[8];                                                                                     \
         GI_MIP_GATHER(SRC, 2 * (c), uint(d), n, t)                                                     \
-        imageStore(DST, voxelAnisoTexel(c, uint(d), n), integrate(t, d >> 1, (d & 1) == 0));          \
+        imageStore(DST, vctDirectionalTexel(c, uint(d), n), integrate(t, d >> 1, (d & 1) == 0));          \
     }
 
 #ifdef GI_VOXEL_MIP_TAIL

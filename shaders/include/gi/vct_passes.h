@@ -7,30 +7,32 @@
 
 GI_NAMESPACE_BEGIN
 
-// The directional radiance volume written by the VCT passes:
-//   aniso     RGBA16F 2D array, N x N texels, 6N layers, log2(N) + 1 mips: one stack of N layers
+// The volumes of the VCT passes:
+//   directional volume
+//             RGBA16F 2D array, N x N texels, 6N layers, log2(N) + 1 mips: one stack of N layers
 //             per viewing direction d in the order +X, -X, +Y, -Y, +Z, -Z, each layer a slice
-//             across d's own axis (voxelAnisoTexel: layer d N + s for slice s along the axis,
-//             2D coordinates the other two axes in order: X views (y, z), Y views (x, z), Z views
-//             (x, y)). Level k is (N >> k)^2 and uses the first N >> k layers of each stack (the
-//             array keeps 6N layers at every level; the rest are never written or read). Texel =
-//             what a ray travelling along that direction sees of the 2^k-voxel block: rgb =
-//             outgoing radiance * radianceScale, premultiplied by a = opacity. Level 0 holds the
-//             voxels themselves (the voxel light writes it per facing direction,
-//             voxel_light_body.glsl), level k >= 1 the blocks, front-to-back composited from level
-//             k - 1 (Crassin's pre-integration). A cone reads each view at its texel's centre
-//             along the view's axis, so a view's sample is one layer filtered bilinearly (4
-//             texels, voxel_cone.glsl) where a 3D volume's trilinear fetch read 8, 4 of them with
-//             weight 0; lavapipe's cost grows with the texels a fetch reads. One image instead of
-//             six lets a cone pick its three stacks by arithmetic, without divergent branches.
-//             Empty voxels are 0. ~17% more memory than six 3D chains (8 N^3 texels, not 48/7 N^3).
+//             across d's own axis (vctDirectionalTexel: layer d N + s for slice s along the
+//             axis, 2D coordinates the other two axes in order: X views (y, z), Y views (x, z),
+//             Z views (x, y)). Level k is (N >> k)^2 and uses the first N >> k layers of each
+//             stack (the array keeps 6N layers at every level; the rest are never written or
+//             read). Texel = what a ray travelling along that direction sees of the 2^k-voxel
+//             block: rgb = outgoing radiance * radianceScale, premultiplied by a = opacity.
+//             Level 0 holds the voxels themselves (the voxel light writes it per facing
+//             direction, voxel_light_body.glsl), level k >= 1 the blocks, front-to-back
+//             composited from level k - 1 (Crassin's pre-integration). A cone reads each view at
+//             its texel's centre along the view's axis, so a view's sample is one layer filtered
+//             bilinearly (4 texels, voxel_cone.glsl) where a 3D volume's trilinear fetch read 8,
+//             4 of them with weight 0; lavapipe's cost grows with the texels a fetch reads. One
+//             image instead of six lets a cone pick its three stacks by arithmetic, without
+//             divergent branches. Empty voxels are 0. ~17% more memory than six 3D chains (8 N^3
+//             texels, not 48/7 N^3).
 //   bounce    RGBA16F N^3 (transient): the misfit voxels' second bounce, albedo * E / pi from
 //             their own gathers (voxel_bounce_misfits.comp), read by the apply
 //             (voxel_bounce_apply.comp), which adds every voxel's to its level-0 views.
-#define GI_VOXEL_ANISO_DIRECTIONS 6
-// Texel (x, y, layer) of aniso holding view d (0..5) of voxel or block c at any level; n = N
-// (the level-0 resolution: every level keeps N layers per view).
-GI_INLINE ivec3 voxelAnisoTexel(ivec3 c, uint d, uint n) {
+#define GI_VCT_DIRECTIONS 6
+// Texel (x, y, layer) of the directional volume holding view d (0..5) of voxel or block c at
+// any level; n = N (the level-0 resolution: every level keeps N layers per view).
+GI_INLINE ivec3 vctDirectionalTexel(ivec3 c, uint d, uint n) {
     uint axis = d >> 1u;
     ivec3 t = axis == 0u ? ivec3(c.y, c.z, c.x) : (axis == 1u ? ivec3(c.x, c.z, c.y) : c);
     return t + ivec3(0, 0, int(d * n));
@@ -67,8 +69,8 @@ GI_INLINE uint voxelViewAxes(uint faces) {
         axes |= ((faces >> (10u * k)) & 1023u) != 0u ? 1u << k : 0u;
     return axes != 0u ? axes : 7u;
 }
-// What levels 0 and 1 of aniso hold from the last voxelizations, so that a voxelization zeroes
-// only what went stale instead of clearing both levels (both zeroed with these at the first):
+// What levels 0 and 1 of the directional volume hold from the last voxelizations, so that a
+// voxelization zeroes only what went stale instead of clearing both levels (both zeroed with these at the first):
 //   written       R8UI N^3: the voxelViewAxes each voxel's level-0 views were last stored with (0:
 //                 none stored). The voxel light compares it with the voxel's faces and zeroes the
 //                 views along the axes it no longer stores (voxel_light_body.glsl);
@@ -90,11 +92,12 @@ GI_GPU_STRUCT(VoxelLightPush) {
 GI_CHECK_SIZE(VoxelLightPush, 64);
 #define GI_VOXEL_LIGHT_EMISSION 1u // add the emission volume (the voxels' emission injection)
 
-// voxel_mip.comp: builds level `info.x` >= 1 of aniso from level info.x - 1; voxel_mip_tail.comp
-// levels info.x .. info.x + info.z - 1 (the last ones, info.y <= 8) in one work group.
+// voxel_mip.comp: builds level `info.x` >= 1 of the directional volume from level info.x - 1;
+// voxel_mip_tail.comp levels info.x .. info.x + info.z - 1 (the last ones, info.y <= 8) in one
+// work group.
 GI_GPU_STRUCT(VoxelMipPush) {
     VoxelGridParams grid;
-    uvec4 info; // x (first) destination level of the aniso chain, y its resolution, z level count (tail), w 0
+    uvec4 info; // x (first) destination level, y its resolution, z level count (tail), w 0
 };
 GI_CHECK_SIZE(VoxelMipPush, 64);
 
