@@ -10,8 +10,8 @@
 
 #include "engine/context.hpp"
 #include "support/gpu_fixture.hpp"
+#include "vct/vct_passes.hpp"
 #include "vct_test_scene.hpp"
-#include "voxel/vct_passes.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi;

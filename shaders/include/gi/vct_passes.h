@@ -189,7 +189,7 @@ GI_GPU_STRUCT(VctShadowPush) {
 GI_CHECK_SIZE(VctShadowPush, 96);
 // Refine list (vct_upsample.comp -> vct_trace_refine.comp): uint count, then the refine
 // trace's VkDispatchIndirectCommand (groups of GI_VCT_REFINE_GROUP), then the traced pixels
-// (vctRefineEntry in shaders/gi/voxel/vct_refine.glsl: quad, pixel in it, pixels it serves).
+// (vctRefineEntry in shaders/gi/vct/vct_refine.glsl: quad, pixel in it, pixels it serves).
 #define GI_VCT_REFINE_GROUP 64u
 #define GI_VCT_REFINE_HEADER 4u
 

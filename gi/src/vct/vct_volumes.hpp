@@ -1,7 +1,7 @@
 #pragma once
 // The persistent state of voxel cone tracing on top of the shared VoxelGrid: the directional
 // volume, the occupied-voxel list, the second bounce's buffers, and the pipelines and samplers
-// of the passes that voxel_graph.hpp adds to a render graph (voxel direct light into the six
+// of the passes that vct_passes.hpp adds to a render graph (voxel direct light into the six
 // level-0 views, its mips, the per-voxel second bounce, the per-pixel trace).
 // Volume layouts: shaders/include/gi/vct_passes.h.
 #include <algorithm>
@@ -54,7 +54,7 @@ public:
     // The cone parameters of `settings` for this grid (AO decay in 1/voxels).
     gpu::ConeParams coneParams(const VctSettings& settings, uint32_t width, uint32_t height) const;
 
-    // The passes' pipelines (voxel_graph.cpp declares and dispatches them).
+    // The passes' pipelines (vct_passes.cpp declares and dispatches them).
     struct Pipelines {
         Pipeline compact;        // voxel_compact.comp: a touched list -> the occupied list's bits and entries
         Pipeline listAppend;     // voxel_list_append.comp: the occupied list's bits -> its entries, grid order

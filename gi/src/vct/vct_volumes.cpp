@@ -1,4 +1,4 @@
-#include "voxel/vct_passes.hpp"
+#include "vct/vct_volumes.hpp"
 
 #include <bit>
 #include <cmath>
@@ -31,23 +31,23 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     struct Named {
         Pipeline* pipeline;
         const char* shader;
-    } shaders[] = {{&v->m_pipelines.compact, "gi/voxel/voxel_compact.comp"},
-                   {&v->m_pipelines.listAppend, "gi/voxel/voxel_list_append.comp"},
-                   {&v->m_pipelines.listStale, "gi/voxel/voxel_list_stale.comp"},
-                   {&v->m_pipelines.light, "gi/voxel/voxel_light.comp"},
-                   {&v->m_pipelines.lightSoft, "gi/voxel/voxel_light_soft.comp"},
-                   {&v->m_pipelines.lightShadowMap, "gi/voxel/voxel_light_shadow_map.comp"},
-                   {&v->m_pipelines.mip, "gi/voxel/voxel_mip.comp"},
-                   {&v->m_pipelines.mipList, "gi/voxel/voxel_mip_list.comp"},
-                   {&v->m_pipelines.mipListJobs, "gi/voxel/voxel_mip_list_jobs.comp"},
-                   {&v->m_pipelines.mipTail, "gi/voxel/voxel_mip_tail.comp"},
-                   {&v->m_pipelines.bounce, "gi/voxel/voxel_bounce.comp"},
-                   {&v->m_pipelines.bounceApply, "gi/voxel/voxel_bounce_apply.comp"},
-                   {&v->m_pipelines.bounceMisfits, "gi/voxel/voxel_bounce_misfits.comp"},
-                   {&v->m_pipelines.trace, "gi/voxel/vct_trace.comp"},
-                   {&v->m_pipelines.traceRefine, "gi/voxel/vct_trace_refine.comp"},
-                   {&v->m_pipelines.upsample, "gi/voxel/vct_upsample.comp"},
-                   {&v->m_pipelines.softShadow, "gi/voxel/vct_soft_shadow.comp"}};
+    } shaders[] = {{&v->m_pipelines.compact, "gi/vct/voxel_compact.comp"},
+                   {&v->m_pipelines.listAppend, "gi/vct/voxel_list_append.comp"},
+                   {&v->m_pipelines.listStale, "gi/vct/voxel_list_stale.comp"},
+                   {&v->m_pipelines.light, "gi/vct/voxel_light.comp"},
+                   {&v->m_pipelines.lightSoft, "gi/vct/voxel_light_soft.comp"},
+                   {&v->m_pipelines.lightShadowMap, "gi/vct/voxel_light_shadow_map.comp"},
+                   {&v->m_pipelines.mip, "gi/vct/voxel_mip.comp"},
+                   {&v->m_pipelines.mipList, "gi/vct/voxel_mip_list.comp"},
+                   {&v->m_pipelines.mipListJobs, "gi/vct/voxel_mip_list_jobs.comp"},
+                   {&v->m_pipelines.mipTail, "gi/vct/voxel_mip_tail.comp"},
+                   {&v->m_pipelines.bounce, "gi/vct/voxel_bounce.comp"},
+                   {&v->m_pipelines.bounceApply, "gi/vct/voxel_bounce_apply.comp"},
+                   {&v->m_pipelines.bounceMisfits, "gi/vct/voxel_bounce_misfits.comp"},
+                   {&v->m_pipelines.trace, "gi/vct/vct_trace.comp"},
+                   {&v->m_pipelines.traceRefine, "gi/vct/vct_trace_refine.comp"},
+                   {&v->m_pipelines.upsample, "gi/vct/vct_upsample.comp"},
+                   {&v->m_pipelines.softShadow, "gi/vct/vct_soft_shadow.comp"}};
     for (const Named& s : shaders) {
         auto p = createComputePipeline(ctx, {s.shader, {}});
         if (!p)
