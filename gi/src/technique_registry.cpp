@@ -4,7 +4,7 @@
 #include "lpv/lpv_technique.hpp"
 #include "technique.hpp"
 #include "vpl/vpl_module.hpp"
-#include "voxel/vct_technique.hpp"
+#include "vct/vct_technique.hpp"
 
 namespace vkgi::gi {
 

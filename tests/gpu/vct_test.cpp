@@ -1,4 +1,4 @@
-// Voxel cone tracing on small grids: voxel direct light against closed forms, the anisotropic
+// Voxel cone tracing on small grids: voxel direct light against closed forms, the mips'
 // pre-integration on hand-checkable blocks, the furnace (closed box, uniform emission) against
 // Le (1 + rho + rho^2), scale invariance from 1e-6 to 1e9 nits, and emissive-only lighting.
 #include <cmath>
@@ -10,8 +10,8 @@
 
 #include "engine/context.hpp"
 #include "support/gpu_fixture.hpp"
+#include "vct/vct_passes.hpp"
 #include "vct_test_scene.hpp"
-#include "voxel/vct_passes.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi;
@@ -71,9 +71,9 @@ std::vector<glm::vec4> readFloat4(Context& ctx, const Image& img) {
 }
 
 // Texel of view `dir` of voxel or block c in a readback of one level of the directional volume
-// (voxel_passes.h: a 2D array, level k (N >> k)^2 texels per layer, N layers per view).
-glm::vec4 anisoTexel(const std::vector<glm::vec4>& level, uint32_t n, uint32_t mip, glm::ivec3 c, uint32_t dir) {
-    glm::ivec3 t = gpu::voxelAnisoTexel(c, dir, n);
+// (vct_passes.h: a 2D array, level k (N >> k)^2 texels per layer, N layers per view).
+glm::vec4 directionalTexel(const std::vector<glm::vec4>& level, uint32_t n, uint32_t mip, glm::ivec3 c, uint32_t dir) {
+    glm::ivec3 t = gpu::vctDirectionalTexel(c, dir, n);
     size_t size = n >> mip;
     return level[(size_t(t.z) * size + size_t(t.y)) * size + size_t(t.x)];
 }
@@ -130,13 +130,13 @@ protected:
     std::vector<glm::vec4> levels01Views() {
         std::vector<glm::vec4> views;
         for (uint32_t mip : {0u, 1u}) {
-            auto level = readHalf4(ctx(), m_volumes->aniso(), mip);
+            auto level = readHalf4(ctx(), m_volumes->directional(), mip);
             int side = 16 >> mip;
             for (uint32_t d = 0; d < 6; ++d)
                 for (int z = 0; z < side; ++z)
                     for (int y = 0; y < side; ++y)
                         for (int x = 0; x < side; ++x)
-                            views.push_back(anisoTexel(level, 16, mip, {x, y, z}, d));
+                            views.push_back(directionalTexel(level, 16, mip, {x, y, z}, d));
         }
         return views;
     }
@@ -148,7 +148,7 @@ protected:
                 addVoxelGridPasses(graph, *m_grid, importScene(graph, m_buf, m_scene.draws), VoxelUpdate::Full);
             rg::BufferHandle lights = graph.importBuffer("t.lights", m_lights, rg::Access::TransferWrite);
             VctOutputs out = addVctPasses(graph, *m_volumes, grid, lights, m_lightCount, s, nullptr);
-            graph.exportImage(out.aniso, rg::Access::ComputeStorageRead);
+            graph.exportImage(out.directional, rg::Access::ComputeStorageRead);
         });
     }
 
@@ -287,11 +287,11 @@ TEST_F(Vct, VoxelDirectLightMatchesTheClosedForm) {
     VctSettings s;
     s.bounces = 1;
     runVoxels(s);
-    auto rad = readHalf4(ctx(), m_volumes->aniso(), 0);
+    auto rad = readHalf4(ctx(), m_volumes->directional(), 0);
     const auto& p = m_grid->params();
     auto view = [&](glm::vec3 w, uint32_t tile) { // level-0 view: tile 3 = travelling -Y, 2 = +Y
         glm::ivec3 c = glm::ivec3(glm::floor((w - glm::vec3(p.originSize)) / p.originSize.w));
-        return anisoTexel(rad, 32, 0, c, tile);
+        return directionalTexel(rad, 32, 0, c, tile);
     };
     auto at = [&](glm::vec3 w) { return view(w, 3); };
     // Voxel containing (0.5, 0, 0.5): its centre is the floor point under the light (the grid
@@ -324,7 +324,7 @@ TEST_F(Vct, VoxelDirectLightMatchesTheClosedForm) {
     // storage image): same light where nothing is in the way, shadow under the blocker.
     s.occlusion = VctOcclusion::RayMarchSoft;
     runVoxels(s);
-    rad = readHalf4(ctx(), m_volumes->aniso(), 0);
+    rad = readHalf4(ctx(), m_volumes->directional(), 0);
     std::printf("soft march: lit %.4f (hard %.4f), under the blocker %.4f, beside %.4f\n", at(floorPoint).r, lit.r,
                 at({0.25f, 0.0f, 0.25f}).r, at({0.25f, 0.0f, 0.8f}).r);
     EXPECT_NEAR(at(floorPoint).r, expected, expected * 2e-3f);
@@ -354,7 +354,7 @@ TEST_F(Vct, AnisotropicMipsPreIntegrateFrontToBack) {
     s.bounces = 1;
     runVoxels(s);
     auto level1 = [&](uint32_t dir, glm::uvec3 c) {
-        return anisoTexel(readHalf4(ctx(), m_volumes->aniso(), 1), 16, 1, glm::ivec3(c), dir);
+        return directionalTexel(readHalf4(ctx(), m_volumes->directional(), 1), 16, 1, glm::ivec3(c), dir);
     };
     // Single voxel in a 2x2x2 block: along any axis one of four columns holds it, so direction
     // v sees (shown * L * a_k, a_k) / 4, a_k = |n_k| / max_j |n_j| with the coverages quantised
@@ -384,8 +384,8 @@ TEST_F(Vct, AnisotropicMipsPreIntegrateFrontToBack) {
     EXPECT_FLOAT_EQ(py.r, 0.0f);
     // Coarsest level (1^3) stays within [0, 1] opacity and finite.
     for (uint32_t dir = 0; dir < 6; ++dir) {
-        uint32_t coarsest = m_volumes->anisoLevels() - 1;
-        glm::vec4 top = anisoTexel(readHalf4(ctx(), m_volumes->aniso(), coarsest), 16, coarsest, glm::ivec3(0), dir);
+        uint32_t coarsest = m_volumes->directionalLevels() - 1;
+        glm::vec4 top = directionalTexel(readHalf4(ctx(), m_volumes->directional(), coarsest), 16, coarsest, glm::ivec3(0), dir);
         EXPECT_TRUE(std::isfinite(top.r) && top.a >= 0.0f && top.a <= 1.0f);
     }
 }
@@ -409,7 +409,7 @@ TEST_F(Vct, MipTailPreIntegratesEachLevelFromTheStoredOneBelow) {
     VctSettings s;
     s.bounces = 1;
     runVoxels(s);
-    uint32_t tail = m_volumes->mipTailLevel(), levels = m_volumes->anisoLevels();
+    uint32_t tail = m_volumes->mipTailLevel(), levels = m_volumes->directionalLevels();
     ASSERT_EQ(tail, 3u);
     ASSERT_EQ(levels, 6u);
     auto over = [](glm::vec4 front, glm::vec4 back) { return front + (1.0f - front.a) * back; };
@@ -418,10 +418,10 @@ TEST_F(Vct, MipTailPreIntegratesEachLevelFromTheStoredOneBelow) {
             v[k] = halfToFloat(floatToHalf(v[k]));
         return v;
     };
-    std::vector<glm::vec4> below = readHalf4(ctx(), m_volumes->aniso(), 1);
+    std::vector<glm::vec4> below = readHalf4(ctx(), m_volumes->directional(), 1);
     float opaque = 0.0f;
     for (uint32_t level = 2; level < levels; ++level) {
-        std::vector<glm::vec4> gpuLevel = readHalf4(ctx(), m_volumes->aniso(), level);
+        std::vector<glm::vec4> gpuLevel = readHalf4(ctx(), m_volumes->directional(), level);
         std::vector<glm::vec4> cpuLevel(gpuLevel.size(), glm::vec4(0.0f));
         int side = int(n >> level);
         for (uint32_t d = 0; d < 6; ++d)
@@ -436,15 +436,15 @@ TEST_F(Vct, MipTailPreIntegratesEachLevelFromTheStoredOneBelow) {
                                 continue;
                             glm::ivec3 lo = 2 * c + glm::ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1), hi = lo;
                             hi[axis] += 1;
-                            glm::vec4 a = anisoTexel(below, n, level - 1, lo, d), b = anisoTexel(below, n, level - 1, hi, d);
+                            glm::vec4 a = directionalTexel(below, n, level - 1, lo, d), b = directionalTexel(below, n, level - 1, hi, d);
                             sum += d % 2 == 0 ? over(a, b) : over(b, a);
                         }
                         glm::vec4 expected = toHalf(0.25f * sum);
-                        glm::vec4 got = anisoTexel(gpuLevel, n, level, c, d);
+                        glm::vec4 got = directionalTexel(gpuLevel, n, level, c, d);
                         for (int k = 0; k < 4; ++k) // one half-float ulp (2^-11 relative) for rounding ties
                             ASSERT_NEAR(got[k], expected[k], 1e-3f * std::max(1.0f, std::abs(expected[k])))
                                 << "level " << level << " view " << d << " texel " << x << "," << y << "," << z;
-                        glm::ivec3 t = gpu::voxelAnisoTexel(c, d, n);
+                        glm::ivec3 t = gpu::vctDirectionalTexel(c, d, n);
                         cpuLevel[(size_t(t.z) * side + size_t(t.y)) * side + size_t(t.x)] = got;
                         opaque = std::max(opaque, got.a);
                     }
@@ -559,7 +559,7 @@ struct FurnaceResult {
 };
 } // namespace
 
-// The occupied list the light and bounce passes run over (gi/voxel_passes.h): each occupied
+// The occupied list the light and bounce passes run over (gi/vct_passes.h): each occupied
 // voxel and 2^3 block exactly once, headers = their indirect dispatches, and the voxels in grid
 // order within each 32-voxel word (voxel_list_append.comp lists the occupancy bits).
 TEST_F(Vct, OccupiedListHoldsEachVoxelAndBlockOnceInGridOrder) {
@@ -613,7 +613,7 @@ TEST_F(Vct, OccupiedListHoldsEachVoxelAndBlockOnceInGridOrder) {
     }
 }
 
-// The second bounce's jobs (gi/voxel_passes.h, voxel_block.glsl): one per (occupied 4^3 block,
+// The second bounce's jobs (gi/vct_passes.h, voxel_block.glsl): one per (occupied 4^3 block,
 // normal class present in it), each listed once in its class's list; the blocks' class masks;
 // headers = the indirect dispatches; misfits = the voxels more than 25 degrees from their
 // class's mean normal. The images do not depend on the (scheduling) order of the jobs: two runs
@@ -732,11 +732,11 @@ TEST_F(Vct, BounceJobsListEachBlockClassOnceAndRunsRepeatExactly) {
                     uint32_t(misfits.size()));
         EXPECT_GT(misfits.size(), 0u); // the random triangles' corners
         // Run again: identical level-0 views (the bounce added to them) and mips.
-        std::vector<uint8_t> first = readbackImage(ctx(), m_volumes->aniso(), VK_IMAGE_LAYOUT_GENERAL);
-        std::vector<uint8_t> firstMip = readbackImage(ctx(), m_volumes->aniso(), VK_IMAGE_LAYOUT_GENERAL, 2);
+        std::vector<uint8_t> first = readbackImage(ctx(), m_volumes->directional(), VK_IMAGE_LAYOUT_GENERAL);
+        std::vector<uint8_t> firstMip = readbackImage(ctx(), m_volumes->directional(), VK_IMAGE_LAYOUT_GENERAL, 2);
         runVoxels(s);
-        EXPECT_TRUE(first == readbackImage(ctx(), m_volumes->aniso(), VK_IMAGE_LAYOUT_GENERAL));
-        EXPECT_TRUE(firstMip == readbackImage(ctx(), m_volumes->aniso(), VK_IMAGE_LAYOUT_GENERAL, 2));
+        EXPECT_TRUE(first == readbackImage(ctx(), m_volumes->directional(), VK_IMAGE_LAYOUT_GENERAL));
+        EXPECT_TRUE(firstMip == readbackImage(ctx(), m_volumes->directional(), VK_IMAGE_LAYOUT_GENERAL, 2));
     }
 }
 

@@ -1,13 +1,11 @@
 #pragma once
-// The voxel grid and VCT passes as render-graph passes. The grid's volumes are persistent
-// resources imported into every frame's graph; passes only run when their content changes.
-// Other techniques (LPV multi-bounce) get the grid from the blackboard as VoxelGridData.
+// The voxel grid's passes in a render graph. The grid's volumes are persistent resources
+// imported into every frame's graph; passes only run when their content changes. Techniques
+// get the grid from the blackboard as VoxelGridData (VCT, LPV multi-bounce).
 #include <cstdint>
 #include <vector>
 
 #include "engine/rg/render_graph.hpp"
-#include "gi/vct.hpp"
-#include "voxel/vct_passes.hpp"
 #include "voxel/voxel_grid.hpp"
 
 namespace vkgi::gi {
@@ -48,48 +46,5 @@ enum class VoxelUpdate {
 // Imports the grid and adds "gi.voxel.*" passes for `update`.
 VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHandles& scene,
                                  VoxelUpdate update);
-
-// Per-pixel inputs of the trace (frame_data.hpp G-buffer layouts).
-struct VctGBufferHandles {
-    rg::ImageHandle position; // RGBA32F
-    rg::ImageHandle normal;   // RGBA16F, w = roughness
-    rg::ImageHandle albedo;   // RGBA16F, w = metallic
-    rg::ImageHandle emission; // RGBA32F (read by the soft-shadow pass only)
-    uint32_t width = 0;
-    uint32_t height = 0;
-    glm::vec3 eye{0.0f};
-};
-
-struct VctOutputs {
-    // The packed directional volume the trace read (voxel_passes.h): level 0 the voxels' own
-    // six views, levels 1.. the mips (after the bounce when bounces = 2).
-    rg::ImageHandle aniso;
-    rg::ImageHandle indirect; // RGBA32F: rgb indirect radiance (nits), a = AO (invalid without a G-buffer)
-    rg::ImageHandle glossy;   // RGBA32F: glossy cone radiance (nits)
-    // RGBA32F direct light with cone-traced shadows ("gi.vct.shadow"; VctSettings::softShadows
-    // with a G-buffer that has emission, else invalid): replaces the deferred pass's image.
-    rg::ImageHandle direct;
-};
-
-// "gi.vct.light", "gi.vct.mip[k]", optionally "gi.vct.bounce" + "gi.vct.bounce.mip[k]", and
-// "gi.vct.trace" when `gbuffer` is given. `lights` holds `lightCount` GpuLight records.
-struct VctPassOptions {
-    // false: only the trace is added; it reads the radiance and mips the volumes kept from the
-    // last relit frame (valid while neither the grid nor the lights changed).
-    bool relight = true;
-    // false: the voxel light leaves out the emission volume (the scene has no emissive material).
-    bool emission = true;
-    // VctOcclusion::ShadowMap reads this shadow atlas (ShadowData of gi/frame_data.hpp); without
-    // one (graphs built by hand, no direct-light passes) the voxel light ray-marches hard shadows.
-    rg::ImageHandle shadowAtlas;
-    rg::BufferHandle shadowViews, lightShadows;
-    VkSampler shadowSampler = VK_NULL_HANDLE;
-    // false: the glossy image is not asked for; the trace passes leave it unwritten (the
-    // indirect image holds the glossy cone's share either way).
-    bool glossyImage = true;
-};
-VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
-                        rg::BufferHandle lights, uint32_t lightCount, const VctSettings& settings,
-                        const VctGBufferHandles* gbuffer, VctPassOptions options = {});
 
 } // namespace vkgi::gi

@@ -42,21 +42,6 @@ void destroyVolumes(Context& ctx, VoxelVolumes& v) {
     destroyImage(ctx, v.faces.image);
 }
 
-DescriptorItem storageImage(uint32_t binding, const Image& image) {
-    DescriptorItem item;
-    item.binding = binding;
-    item.image = {VK_NULL_HANDLE, image.view, VK_IMAGE_LAYOUT_GENERAL};
-    return item;
-}
-
-DescriptorItem storageBuffer(uint32_t binding, VkBuffer buffer, VkDeviceSize offset = 0,
-                             VkDeviceSize range = VK_WHOLE_SIZE) {
-    DescriptorItem item;
-    item.binding = binding;
-    item.buffer = {buffer, offset, range};
-    return item;
-}
-
 // Bytes of the records of `layers` z-layers of an N^3 grid.
 VkDeviceSize accumBytes(uint32_t n, uint32_t layers) {
     return VkDeviceSize(n) * n * layers * GI_VOXEL_ACC_STRIDE * sizeof(uint32_t);
@@ -119,11 +104,11 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
     struct Named {
         Pipeline* pipeline;
         const char* shader;
-    } shaders[] = {{&g->m_voxelize, "gi/voxel/voxelize.comp"},
-                   {&g->m_resolve, "gi/voxel/voxel_resolve.comp"},
-                   {&g->m_resolveMerge, "gi/voxel/voxel_resolve_merge.comp"},
-                   {&g->m_stale, "gi/voxel/voxel_resolve_stale.comp"},
-                   {&g->m_touchedList, "gi/voxel/voxel_touched_list.comp"}};
+    } shaders[] = {{&g->m_pipelines.voxelize, "gi/voxel/voxelize.comp"},
+                   {&g->m_pipelines.resolve, "gi/voxel/voxel_resolve.comp"},
+                   {&g->m_pipelines.resolveMerge, "gi/voxel/voxel_resolve_merge.comp"},
+                   {&g->m_pipelines.clearStale, "gi/voxel/voxel_resolve_stale.comp"},
+                   {&g->m_pipelines.touchedList, "gi/voxel/voxel_touched_list.comp"}};
     // Records in slabs (voxel_acc.glsl's kVoxelAccSlabs) only where one range cannot hold them.
     const std::vector<SpecConstant> slabs{{0, gpu::voxelAccSlabLayers(n) < n ? 1u : 0u}};
     for (const Named& s : shaders) {
@@ -142,8 +127,8 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
     g->m_bits.buffer = createBuffer(ctx, accum, "voxel.touched_bits");
     BufferDesc list;
     list.size = VkDeviceSize(GI_VOXEL_TOUCHED_HEADER + n * n * n) * sizeof(uint32_t);
-    list.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                 VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    list.usage =
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     g->m_lists[0].buffer = createBuffer(ctx, list, "voxel.touched.a");
     g->m_lists[1].buffer = createBuffer(ctx, list, "voxel.touched.b");
     g->m_lists[2].buffer = createBuffer(ctx, list, "voxel.touched.dynamic");
@@ -151,7 +136,8 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
 }
 
 VoxelGrid::~VoxelGrid() {
-    for (Pipeline* p : {&m_voxelize, &m_resolve, &m_resolveMerge, &m_stale, &m_touchedList})
+    for (Pipeline* p : {&m_pipelines.voxelize, &m_pipelines.resolve, &m_pipelines.resolveMerge, &m_pipelines.clearStale,
+                        &m_pipelines.touchedList})
         destroyPipeline(m_ctx, *p);
     destroyVolumes(m_ctx, m_volumes);
     destroyVolumes(m_ctx, m_static);
@@ -193,119 +179,12 @@ VoxelizationPlan VoxelGrid::beginVoxelization(VoxelDrawSet set) {
     return plan;
 }
 
-void VoxelGrid::recordClear(VkCommandBuffer cmd, VkBuffer list, bool accum) const {
-    // Transfer fills stream at memset speed (the first voxelization's N^3 records).
-    if (accum) {
-        vkCmdFillBuffer(cmd, m_accum.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
-        vkCmdFillBuffer(cmd, m_bits.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
-    }
-    // Header (0, 1, 1, 0): no groups and no voxels yet; dispatch y = z = 1. Disjoint fills.
-    vkCmdFillBuffer(cmd, list, 0, sizeof(uint32_t), 0);
-    vkCmdFillBuffer(cmd, list, sizeof(uint32_t), 2 * sizeof(uint32_t), 1);
-    vkCmdFillBuffer(cmd, list, 3 * sizeof(uint32_t), sizeof(uint32_t), 0);
+VkDeviceSize VoxelGrid::accumulationRangeBytes() const {
+    return accumBytes(resolution(), gpu::voxelAccSlabLayers(resolution()));
 }
 
-void VoxelGrid::recordClearVolumes(VkCommandBuffer cmd, const VoxelVolumes& target,
-                                   const VkImageLayout layouts[4]) const {
-    VkClearColorValue zero{};
-    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    const Image* images[] = {&target.albedo.image, &target.normal.image, &target.emission.image, &target.faces.image};
-    for (int i = 0; i < 4; ++i)
-        vkCmdClearColorImage(cmd, images[i]->image, layouts[i], &zero, 1, &range);
-}
-
-void VoxelGrid::recordCopyStatic(VkCommandBuffer cmd, const VkImageLayout src[4], const VkImageLayout dst[4]) const {
-    const Image* from[] = {&m_static.albedo.image, &m_static.normal.image, &m_static.emission.image,
-                           &m_static.faces.image};
-    const Image* to[] = {&m_volumes.albedo.image, &m_volumes.normal.image, &m_volumes.emission.image,
-                         &m_volumes.faces.image};
-    uint32_t n = resolution();
-    VkImageCopy region{};
-    region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.extent = {n, n, n};
-    for (int i = 0; i < 4; ++i)
-        vkCmdCopyImage(cmd, from[i]->image, src[i], to[i]->image, dst[i], 1, &region);
-}
-
-void VoxelGrid::recordClearStale(VkCommandBuffer cmd, const VoxelVolumes& target, VkBuffer previous) const {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_stale.pipeline);
-    gpu::VoxelGridPush push{m_params};
-    pushConstants(cmd, m_stale, &push, sizeof(push));
-    DescriptorItem items[] = {storageBuffer(0, m_bits.buffer.buffer),   storageImage(1, target.albedo.image),
-                              storageImage(2, target.normal.image),     storageImage(3, target.emission.image),
-                              storageImage(4, target.faces.image),      storageBuffer(9, previous)};
-    pushDescriptors(m_ctx, cmd, m_stale, items);
-    vkCmdDispatchIndirect(cmd, previous, 0);
-}
-
-std::vector<DescriptorItem> VoxelGrid::withRecords(std::span<const DescriptorItem> items) const {
-    std::vector<DescriptorItem> all(items.begin(), items.end());
-    const uint32_t n = resolution(), layers = gpu::voxelAccSlabLayers(n);
-    const VkDeviceSize slab = accumBytes(n, layers);
-    for (uint32_t k = 0; k < GI_VOXEL_ACC_SLABS; ++k) // bindings 10..17 (voxel_acc.glsl)
-        all.push_back(storageBuffer(10 + k, m_accum.buffer.buffer, layers == n ? 0 : k * slab, slab));
-    return all;
-}
-
-void VoxelGrid::recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set) const {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_voxelize.pipeline);
-    DescriptorItem items[] = {storageBuffer(0, scene.vertices), storageBuffer(1, scene.indices),
-                              storageBuffer(2, scene.instances), storageBuffer(3, scene.materials),
-                              storageBuffer(5, m_bits.buffer.buffer)};
-    pushDescriptors(m_ctx, cmd, m_voxelize, withRecords(items));
-    // Row slices per triangle (voxelize.comp), for draws that fit in one work group (one CPU
-    // thread otherwise; the Cornell walls): about 8 rows each for a grid-wide triangle. Draws
-    // of more triangles already spread over work groups, and their triangles are mostly small:
-    // slicing them only repeats each triangle's setup (atrium voxelize 16 -> 24 ms).
-    const uint32_t slices = std::max(1u, resolution() / 8u);
-    for (const VoxelDraw& d : scene.draws) {
-        if (d.triangleCount == 0 || (set == VoxelDrawSet::Static && d.dynamic) ||
-            (set == VoxelDrawSet::Dynamic && !d.dynamic))
-            continue;
-        bool shared = d.triangleCount <= m_voxelize.localSize[0];
-        gpu::VoxelizePush push{m_params,
-                               glm::uvec4(d.instance, d.firstIndex, d.triangleCount,
-                                          std::bit_cast<uint32_t>(d.vertexOffset)),
-                               glm::uvec4(shared ? 1u : 0u, 0u, 0u, 0u)};
-        pushConstants(cmd, m_voxelize, &push, sizeof(push));
-        if (shared)
-            vkCmdDispatch(cmd, d.triangleCount, slices, 1);
-        else
-            vkCmdDispatch(cmd, groupCount(d.triangleCount, m_voxelize.localSize[0]), 1, 1);
-    }
-}
-
-void VoxelGrid::recordTouchedList(VkCommandBuffer cmd, VkBuffer list) const {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_touchedList.pipeline);
-    gpu::VoxelGridPush push{m_params};
-    pushConstants(cmd, m_touchedList, &push, sizeof(push));
-    DescriptorItem items[] = {storageBuffer(0, m_bits.buffer.buffer), storageBuffer(1, list)};
-    pushDescriptors(m_ctx, cmd, m_touchedList, items);
-    uint32_t n = resolution();
-    vkCmdDispatch(cmd, groupCount(n * n * n / 32, m_touchedList.localSize[0]), 1, 1);
-}
-
-void VoxelGrid::recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target, VkBuffer list) const {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_resolve.pipeline);
-    gpu::VoxelGridPush push{m_params};
-    pushConstants(cmd, m_resolve, &push, sizeof(push));
-    DescriptorItem items[] = {storageImage(1, target.albedo.image), storageImage(2, target.normal.image),
-                              storageImage(3, target.emission.image), storageImage(4, target.faces.image),
-                              storageBuffer(9, list)};
-    pushDescriptors(m_ctx, cmd, m_resolve, withRecords(items));
-    vkCmdDispatchIndirect(cmd, list, 0);
-}
-
-void VoxelGrid::recordResolveMerge(VkCommandBuffer cmd) const {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_resolveMerge.pipeline);
-    gpu::VoxelGridPush push{m_params};
-    pushConstants(cmd, m_resolveMerge, &push, sizeof(push));
-    VkBuffer list = touched(VoxelDrawSet::Dynamic).buffer;
-    DescriptorItem items[] = {storageImage(1, m_volumes.albedo.image), storageImage(2, m_volumes.normal.image),
-                              storageImage(3, m_volumes.emission.image), storageImage(4, m_volumes.faces.image),
-                              storageImage(5, m_static.albedo.image), storageBuffer(9, list)};
-    pushDescriptors(m_ctx, cmd, m_resolveMerge, withRecords(items));
-    vkCmdDispatchIndirect(cmd, list, 0);
+VkDeviceSize VoxelGrid::accumulationRangeOffset(uint32_t k) const {
+    return gpu::voxelAccSlabLayers(resolution()) == resolution() ? 0 : k * accumulationRangeBytes();
 }
 
 } // namespace vkgi::gi

@@ -1,10 +1,9 @@
 #pragma once
-// The shared voxel grid: fitting, persistent volumes and the voxelization passes (clear,
-// voxelize, resolve). Pass bodies only record dispatches; ordering and barriers come from the
-// caller (the render graph). Layouts and encodings: shaders/include/gi/voxel_grid.h.
+// The shared voxel grid: fitting, and the persistent volumes, buffers and pipelines of the
+// voxelization passes (clear, voxelize, resolve), which voxel_graph.hpp adds to a render graph.
+// Layouts and encodings: shaders/include/gi/voxel_grid.h.
 #include <cstdint>
 #include <memory>
-#include <span>
 #include <vector>
 
 #include "engine/pipeline.hpp"
@@ -62,8 +61,8 @@ enum class VoxelDrawSet { All, Static, Dynamic };
 
 // One voxelization's choice of buffers (VoxelGrid::beginVoxelization).
 struct VoxelizationPlan {
-    int next = 0;          // touched list the voxelization appends to (index for listState)
-    int previous = -1;     // list holding every nonzero voxel of the target volumes, or -1: clear them whole
+    int next = 0;            // touched list the voxelization appends to (index for listState)
+    int previous = -1;       // list holding every nonzero voxel of the target volumes, or -1: clear them whole
     bool clearAccum = false; // the accumulation is not known to be zero (first voxelization): clear it
 };
 
@@ -107,40 +106,28 @@ public:
     void startPlanning() { m_planned = m_state; }
     VoxelizationPlan beginVoxelization(VoxelDrawSet set);
     struct State {
-        int current = 0;          // the All / Static list of the last such voxelization
-        int cover[2] = {-1, -1};  // per target (volumes(), staticVolumes()): the list (0 or 1)
-                                  // holding all its nonzero voxels, or -1 (unknown)
-        bool accumZero = false;   // the accumulation and the touched bits are zero
+        int current = 0;         // the All / Static list of the last such voxelization
+        int cover[2] = {-1, -1}; // per target (volumes(), staticVolumes()): the list (0 or 1)
+                                 // holding all its nonzero voxels, or -1 (unknown)
+        bool accumZero = false;  // the accumulation and the touched bits are zero
     };
     const State& planned() const { return m_planned; }
     void commitPlanned(const State& s) { m_state = s; }
 
-    // Pass bodies (all images in GENERAL layout unless a layout is passed; the graph passes in
-    // voxel_graph.cpp declare the accesses). clear: the touched list `list` emptied, and with
-    // `accum` the accumulation and the touched bits zeroed (transfer writes).
-    void recordClear(VkCommandBuffer cmd, VkBuffer list, bool accum) const;
-    // The four volumes of `target` := 0 (transfer write, images in `layouts`: albedo, normal,
-    // emission, faces).
-    void recordClearVolumes(VkCommandBuffer cmd, const VoxelVolumes& target, const VkImageLayout layouts[4]) const;
-    // After a voxelization into `target`, before its touched bits are listed: the voxels of
-    // touched list `previous` whose touched bit is not set := 0 (indirect over it; bits read,
-    // storage write).
-    void recordClearStale(VkCommandBuffer cmd, const VoxelVolumes& target, VkBuffer previous) const;
-    // volumes() := staticVolumes() (transfer read / write, layouts in the same order).
-    void recordCopyStatic(VkCommandBuffer cmd, const VkImageLayout src[4], const VkImageLayout dst[4]) const;
-    // Adds the chosen draws to the accumulation and sets the touched bits of their voxels
-    // (storage read-write, scene buffers read).
-    void recordVoxelize(VkCommandBuffer cmd, const VoxelSceneBuffers& scene, VoxelDrawSet set) const;
-    // Appends the voxels of the set touched bits to `list` in grid order and zeroes the bits
-    // (storage read-write).
-    void recordTouchedList(VkCommandBuffer cmd, VkBuffer list) const;
-    // accumulation -> `target` at the voxels of touched list `list` (indirect over it; storage
-    // write; the other voxels keep their zeros), zeroing the records it reads (storage read-write).
-    void recordResolve(VkCommandBuffer cmd, const VoxelVolumes& target, VkBuffer list) const;
-    // Dynamic accumulation merged under the static volumes -> volumes() at the voxels of the
-    // dynamic touched list that no static voxel occupies (volumes() holds the static copy);
-    // zeroes the records of every listed voxel.
-    void recordResolveMerge(VkCommandBuffer cmd) const;
+    // The passes' pipelines (voxel_graph.cpp declares and dispatches them).
+    struct Pipelines {
+        Pipeline voxelize;     // voxelize.comp: draws -> accumulation + touched bits
+        Pipeline touchedList;  // voxel_touched_list.comp: touched bits -> touched list
+        Pipeline clearStale;   // voxel_resolve_stale.comp: zeroes voxels the new voxelization left out
+        Pipeline resolve;      // voxel_resolve.comp: accumulation -> volumes at a touched list
+        Pipeline resolveMerge; // voxel_resolve_merge.comp: dynamic accumulation merged under the static volumes
+    };
+    const Pipelines& pipelines() const { return m_pipelines; }
+    // The accumulation's binding ranges (VOXEL_ACC_BINDING_RECORDS + k, voxel_acc.glsl): range k
+    // of the GI_VOXEL_ACC_SLABS, each a whole number of z-layers (all at offset 0 when the records
+    // fit in one range).
+    VkDeviceSize accumulationRangeOffset(uint32_t k) const;
+    VkDeviceSize accumulationRangeBytes() const;
 
 private:
     VoxelGrid(Context& ctx) : m_ctx(ctx) {}
@@ -149,12 +136,10 @@ private:
     gpu::VoxelGridParams m_params{};
     VoxelVolumes m_volumes, m_static;
     rg::PersistentBuffer m_accum, m_bits;
-    // `items` plus the record ranges (bindings 10..17, shaders/gi/voxel/voxel_acc.glsl).
-    std::vector<DescriptorItem> withRecords(std::span<const DescriptorItem> items) const;
     // 0, 1: the All / Static lists, used in turn; 2: the Dynamic list.
     rg::PersistentBuffer m_lists[3];
     State m_state, m_planned;
-    Pipeline m_voxelize, m_resolve, m_resolveMerge, m_stale, m_touchedList;
+    Pipelines m_pipelines;
 };
 
 } // namespace vkgi::gi

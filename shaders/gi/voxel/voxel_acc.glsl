@@ -1,24 +1,24 @@
 // The accumulation records (gi/voxel_grid.h) as GI_VOXEL_ACC_SLABS storage-buffer ranges of
-// whole z-layers at bindings 10..17. The includer defines GI_VOXEL_ACC_WORDS (uint words,
-// atomics: voxelize.comp) or neither (uvec4 loads and stores: the resolves). Below 256^3 the
-// records fit in the first range: the specialization constant kVoxelAccSlabs is false
-// (VoxelGrid::create), the compiler drops the switch, and only binding 10 is read (the other
-// bindings alias it). With slabs a switch picks the binding; llvmpipe runs every case of a
-// switch masked, so the single-range variant keeps the 64^3 voxelization at its speed
-// (voxelize 2.65 ms; with the switch at every size 6.1 ms).
+// whole z-layers at consecutive bindings from VOXEL_ACC_BINDING_RECORDS. The includer defines
+// GI_VOXEL_ACC_WORDS (uint words, atomics: voxelize.comp) or neither (uvec4 loads and stores:
+// the resolves). Below 256^3 the records fit in the first range: the specialization constant
+// kVoxelAccSlabs is false (VoxelGrid::create), the compiler drops the switch, and only the
+// first binding is read (the others alias it). With slabs a switch picks the binding; llvmpipe
+// runs every case of a switch masked, so the single-range variant keeps the 64^3 voxelization
+// at its speed (voxelize 2.65 ms; with the switch at every size 6.1 ms).
 #ifdef GI_VOXEL_ACC_WORDS
 #define GI_VOXEL_ACC_TYPE uint
 #else
 #define GI_VOXEL_ACC_TYPE uvec4
 #endif
-layout(set = 1, binding = 10, std430) buffer Accum0 { GI_VOXEL_ACC_TYPE acc0[]; };
-layout(set = 1, binding = 11, std430) buffer Accum1 { GI_VOXEL_ACC_TYPE acc1[]; };
-layout(set = 1, binding = 12, std430) buffer Accum2 { GI_VOXEL_ACC_TYPE acc2[]; };
-layout(set = 1, binding = 13, std430) buffer Accum3 { GI_VOXEL_ACC_TYPE acc3[]; };
-layout(set = 1, binding = 14, std430) buffer Accum4 { GI_VOXEL_ACC_TYPE acc4[]; };
-layout(set = 1, binding = 15, std430) buffer Accum5 { GI_VOXEL_ACC_TYPE acc5[]; };
-layout(set = 1, binding = 16, std430) buffer Accum6 { GI_VOXEL_ACC_TYPE acc6[]; };
-layout(set = 1, binding = 17, std430) buffer Accum7 { GI_VOXEL_ACC_TYPE acc7[]; };
+layout(set = 1, binding = VOXEL_ACC_BINDING_RECORDS + 0, std430) buffer Accum0 { GI_VOXEL_ACC_TYPE acc0[]; };
+layout(set = 1, binding = VOXEL_ACC_BINDING_RECORDS + 1, std430) buffer Accum1 { GI_VOXEL_ACC_TYPE acc1[]; };
+layout(set = 1, binding = VOXEL_ACC_BINDING_RECORDS + 2, std430) buffer Accum2 { GI_VOXEL_ACC_TYPE acc2[]; };
+layout(set = 1, binding = VOXEL_ACC_BINDING_RECORDS + 3, std430) buffer Accum3 { GI_VOXEL_ACC_TYPE acc3[]; };
+layout(set = 1, binding = VOXEL_ACC_BINDING_RECORDS + 4, std430) buffer Accum4 { GI_VOXEL_ACC_TYPE acc4[]; };
+layout(set = 1, binding = VOXEL_ACC_BINDING_RECORDS + 5, std430) buffer Accum5 { GI_VOXEL_ACC_TYPE acc5[]; };
+layout(set = 1, binding = VOXEL_ACC_BINDING_RECORDS + 6, std430) buffer Accum6 { GI_VOXEL_ACC_TYPE acc6[]; };
+layout(set = 1, binding = VOXEL_ACC_BINDING_RECORDS + 7, std430) buffer Accum7 { GI_VOXEL_ACC_TYPE acc7[]; };
 
 layout(constant_id = 0) const bool kVoxelAccSlabs = false; // voxelAccSlabLayers(N) < N
 

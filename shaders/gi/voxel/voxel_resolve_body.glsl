@@ -10,14 +10,14 @@
 
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in;
 layout(push_constant) uniform Push { VoxelGridPush pc; };
-#include "voxel_acc.glsl" // the records (gi/voxel_grid.h), 4 uvec4 each, bindings 10..17
-layout(set = 1, binding = 1, rgba8) uniform writeonly image3D outAlbedo;
-layout(set = 1, binding = 2, rgba8) uniform writeonly image3D outNormal;
-layout(set = 1, binding = 3, rgba16f) uniform writeonly image3D outEmission;
-layout(set = 1, binding = 4, r32ui) uniform writeonly uimage3D outFaces;
-layout(set = 1, binding = 9, std430) readonly buffer Touched { uint touchedHeader[GI_VOXEL_TOUCHED_HEADER]; uint touched[]; };
+#include "voxel_acc.glsl" // the records (gi/voxel_grid.h), 4 uvec4 each
+layout(set = 1, binding = VOXEL_RESOLVE_BINDING_ALBEDO, rgba8) uniform writeonly image3D outAlbedo;
+layout(set = 1, binding = VOXEL_RESOLVE_BINDING_NORMAL, rgba8) uniform writeonly image3D outNormal;
+layout(set = 1, binding = VOXEL_RESOLVE_BINDING_EMISSION, rgba16f) uniform writeonly image3D outEmission;
+layout(set = 1, binding = VOXEL_RESOLVE_BINDING_FACES, r32ui) uniform writeonly uimage3D outFaces;
+layout(set = 1, binding = VOXEL_RESOLVE_BINDING_TOUCHED, std430) readonly buffer Touched { uint touchedHeader[GI_VOXEL_TOUCHED_HEADER]; uint touched[]; };
 #ifdef GI_VOXEL_MERGE
-layout(set = 1, binding = 5, rgba8) uniform readonly image3D staticAlbedo;
+layout(set = 1, binding = VOXEL_RESOLVE_BINDING_STATIC_ALBEDO, rgba8) uniform readonly image3D staticAlbedo;
 #endif
 
 void main() {

@@ -12,12 +12,12 @@
 
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in;
 layout(push_constant) uniform Push { VoxelGridPush pc; };
-layout(set = 1, binding = 0, std430) readonly buffer TouchedBits { uint touchedBits[]; }; // bit x + N (y + N z)
-layout(set = 1, binding = 1, rgba8) uniform writeonly image3D outAlbedo;
-layout(set = 1, binding = 2, rgba8) uniform writeonly image3D outNormal;
-layout(set = 1, binding = 3, rgba16f) uniform writeonly image3D outEmission;
-layout(set = 1, binding = 4, r32ui) uniform writeonly uimage3D outFaces;
-layout(set = 1, binding = 9, std430) readonly buffer Touched { uint touchedHeader[GI_VOXEL_TOUCHED_HEADER]; uint touched[]; };
+layout(set = 1, binding = VOXEL_STALE_BINDING_TOUCHED_BITS, std430) readonly buffer TouchedBits { uint touchedBits[]; }; // bit x + N (y + N z)
+layout(set = 1, binding = VOXEL_STALE_BINDING_ALBEDO, rgba8) uniform writeonly image3D outAlbedo;
+layout(set = 1, binding = VOXEL_STALE_BINDING_NORMAL, rgba8) uniform writeonly image3D outNormal;
+layout(set = 1, binding = VOXEL_STALE_BINDING_EMISSION, rgba16f) uniform writeonly image3D outEmission;
+layout(set = 1, binding = VOXEL_STALE_BINDING_FACES, r32ui) uniform writeonly uimage3D outFaces;
+layout(set = 1, binding = VOXEL_STALE_BINDING_PREVIOUS, std430) readonly buffer Touched { uint touchedHeader[GI_VOXEL_TOUCHED_HEADER]; uint touched[]; };
 
 void main() {
     if (gl_GlobalInvocationID.x >= touchedHeader[3])

@@ -12,8 +12,8 @@
 
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in;
 layout(push_constant) uniform Push { VoxelGridPush pc; };
-layout(set = 1, binding = 0, std430) buffer Bits { uint bits[]; };
-layout(set = 1, binding = 1, std430) buffer Touched { uint touchedHeader[GI_VOXEL_TOUCHED_HEADER]; uint touched[]; };
+layout(set = 1, binding = VOXEL_TOUCHED_BINDING_BITS, std430) buffer Bits { uint bits[]; };
+layout(set = 1, binding = VOXEL_TOUCHED_BINDING_LIST, std430) buffer Touched { uint touchedHeader[GI_VOXEL_TOUCHED_HEADER]; uint touched[]; };
 
 void main() {
     uint n = pc.grid.dims.x, shift = pc.grid.dims.y;

@@ -19,13 +19,13 @@
 layout(local_size_x = 32) in;
 layout(push_constant) uniform Push { VoxelizePush pc; };
 
-layout(set = 1, binding = 0, std430) readonly buffer Vertices { GpuVertex vertices[]; };
-layout(set = 1, binding = 1, std430) readonly buffer Indices { uint indices[]; };
-layout(set = 1, binding = 2, std430) readonly buffer Instances { GpuInstance instances[]; };
-layout(set = 1, binding = 3, std430) readonly buffer Materials { GpuMaterial materials[]; };
+layout(set = 1, binding = VOXELIZE_BINDING_VERTICES, std430) readonly buffer Vertices { GpuVertex vertices[]; };
+layout(set = 1, binding = VOXELIZE_BINDING_INDICES, std430) readonly buffer Indices { uint indices[]; };
+layout(set = 1, binding = VOXELIZE_BINDING_INSTANCES, std430) readonly buffer Instances { GpuInstance instances[]; };
+layout(set = 1, binding = VOXELIZE_BINDING_MATERIALS, std430) readonly buffer Materials { GpuMaterial materials[]; };
 #define GI_VOXEL_ACC_WORDS
-#include "voxel_acc.glsl" // the records (gi/voxel_grid.h), bindings 10..17
-layout(set = 1, binding = 5, std430) buffer TouchedBits { uint touchedBits[]; }; // bit x + N (y + N z)
+#include "voxel_acc.glsl" // the records (gi/voxel_grid.h)
+layout(set = 1, binding = VOXELIZE_BINDING_TOUCHED_BITS, std430) buffer TouchedBits { uint touchedBits[]; }; // bit x + N (y + N z)
 
 // Slack added to every separating-axis radius, in voxel units: rounding may then only add a
 // voxel that the triangle grazes within 1e-5 voxels, never drop one it touches.

@@ -1,12 +1,13 @@
-// Push-constant blocks of the voxel passes (C++ and GLSL). Each stays within lavapipe's
-// 128-byte push-constant limit; sizes are pinned on both sides.
+// Shader interface of the voxel-grid passes (C++ and GLSL; the VCT passes: gi/vct_passes.h):
+// push constants, the touched-voxel lists and bindings. Each push block stays within
+// lavapipe's 128-byte push-constant limit; sizes are pinned on both sides.
 #ifndef VKGI_GI_VOXEL_PASSES_H
 #define VKGI_GI_VOXEL_PASSES_H
 #include "voxel_grid.h"
 
 GI_NAMESPACE_BEGIN
 
-// voxel_clear.comp, voxel_resolve*.comp: the grid only.
+// voxel_resolve*.comp, voxel_touched_list.comp (and VCT passes): the grid only.
 GI_GPU_STRUCT(VoxelGridPush) {
     VoxelGridParams grid;
 };
@@ -21,35 +22,6 @@ GI_GPU_STRUCT(VoxelizePush) {
 };
 GI_CHECK_SIZE(VoxelizePush, 80);
 
-// The directional radiance volume written by the VCT passes:
-//   aniso     RGBA16F 2D array, N x N texels, 6N layers, log2(N) + 1 mips: one stack of N layers
-//             per viewing direction d in the order +X, -X, +Y, -Y, +Z, -Z, each layer a slice
-//             across d's own axis (voxelAnisoTexel: layer d N + s for slice s along the axis,
-//             2D coordinates the other two axes in order: X views (y, z), Y views (x, z), Z views
-//             (x, y)). Level k is (N >> k)^2 and uses the first N >> k layers of each stack (the
-//             array keeps 6N layers at every level; the rest are never written or read). Texel =
-//             what a ray travelling along that direction sees of the 2^k-voxel block: rgb =
-//             outgoing radiance * radianceScale, premultiplied by a = opacity. Level 0 holds the
-//             voxels themselves (the voxel light writes it per facing direction,
-//             voxel_light_body.glsl), level k >= 1 the blocks, front-to-back composited from level
-//             k - 1 (Crassin's pre-integration). A cone reads each view at its texel's centre
-//             along the view's axis, so a view's sample is one layer filtered bilinearly (4
-//             texels, voxel_cone.glsl) where a 3D volume's trilinear fetch read 8, 4 of them with
-//             weight 0; lavapipe's cost grows with the texels a fetch reads. One image instead of
-//             six lets a cone pick its three stacks by arithmetic, without divergent branches.
-//             Empty voxels are 0. ~17% more memory than six 3D chains (8 N^3 texels, not 48/7 N^3).
-//   bounce    RGBA16F N^3 (transient): the misfit voxels' second bounce, albedo * E / pi from
-//             their own gathers (voxel_bounce_misfits.comp), read by the apply
-//             (voxel_bounce_apply.comp), which adds every voxel's to its level-0 views.
-#define GI_VOXEL_ANISO_DIRECTIONS 6
-// Texel (x, y, layer) of aniso holding view d (0..5) of voxel or block c at any level; n = N
-// (the level-0 resolution: every level keeps N layers per view).
-GI_INLINE ivec3 voxelAnisoTexel(ivec3 c, uint d, uint n) {
-    uint axis = d >> 1u;
-    ivec3 t = axis == 0u ? ivec3(c.y, c.z, c.x) : (axis == 1u ? ivec3(c.x, c.z, c.y) : c);
-    return t + ivec3(0, 0, int(d * n));
-}
-
 // Touched-voxel lists of the grid (VoxelGrid; a pair used in turn for the static or whole-scene
 // voxelization, one for the dynamic draws): voxelize.comp sets a voxel's touched bit when it
 // makes the voxel's first contribution of a voxelization (its count atomic returned 0), and
@@ -59,162 +31,34 @@ GI_INLINE ivec3 voxelAnisoTexel(ivec3 c, uint d, uint n) {
 // (x = ceil(count / GI_VOXEL_LIST_GROUP), y = z = 1; the clear before a voxelization writes
 // (0, 1, 1, 0)) then the count, followed by N^3 voxelListPack slots.
 #define GI_VOXEL_TOUCHED_HEADER 4u
-
-// Occupied-voxel list (voxel_compact.comp, rebuilt once per voxelization from the touched
-// lists): a storage buffer of GI_VOXEL_LIST_HEADER uints, then N^3 slots for occupied voxels,
-// then (N/2)^3 slots for occupied 2^3 blocks, each a packed coordinate, then N^3 / 32 + (N/2)^3 / 32
-// words of "already listed" bits (voxels, then blocks: a dynamic voxel inside a static one and
-// the 2^3 blocks are listed once), then ceil((N/4)^3 / 32) words of 4^3-block occupancy bits
-// (the voxel light's march skips empty 4^3 blocks), all zeroed with the header. Header words 0..3 belong to the
-// voxels, 4..7 to the blocks; each quad is also the VkDispatchIndirectCommand (at byte 0 and
-// 16) of the passes that run over that list: x = ceil(count / GI_VOXEL_LIST_GROUP) work
-// groups, y = z = 1, w = count. Surface voxels are ~10% of a grid, so those passes skip the
-// empty 90% without divergent lanes.
-#define GI_VOXEL_LIST_HEADER 8u
-#define GI_VOXEL_LIST_BLOCKS 4u // header offset (words) of the block quad
+// Work-group size of the passes that run over a voxel list (one invocation per listed voxel).
 #define GI_VOXEL_LIST_GROUP 64u
 GI_INLINE uint voxelListPack(uvec3 c) { return c.x | (c.y << 10u) | (c.z << 20u); }
-// Word offset (after the header) of the voxels' "listed" bits, bit x + N (y + N z): once the
-// list is built, the grid's occupancy, 32 voxels per word (the voxel light's march reads it).
-GI_INLINE uint voxelListBitsOffset(uint n) { return n * n * n + (n / 2u) * (n / 2u) * (n / 2u); }
-// Word offset (after the header) of the 4^3-block occupancy bits, bit x + N/4 (y + N/4 z).
-GI_INLINE uint voxelListCoarseBitsOffset(uint n) { return voxelListBitsOffset(n) + voxelListBitsOffset(n) / 32u; }
-// Words after the header.
-GI_INLINE uint voxelListWords(uint n) { return voxelListCoarseBitsOffset(n) + ((n / 4u) * (n / 4u) * (n / 4u) + 31u) / 32u; }
 GI_INLINE uvec3 voxelListUnpack(uint v) { return uvec3(v & 1023u, (v >> 10u) & 1023u, v >> 20u); }
 
-// The axes k whose two level-0 views (2k, 2k + 1) the voxel light stores for a voxel with packed
-// faces `faces` (voxel_grid.h), bit k each: those with coverage along k (opacity > 0; the views
-// along an axis the voxel's sheets are edge-on to stay 0), all three for an occupied voxel
-// without coverage (opacity 1). Never 0 for an occupied voxel.
-GI_INLINE uint voxelViewAxes(uint faces) {
-    uint axes = 0u;
-    for (uint k = 0u; k < 3u; ++k)
-        axes |= ((faces >> (10u * k)) & 1023u) != 0u ? 1u << k : 0u;
-    return axes != 0u ? axes : 7u;
-}
-// What levels 0 and 1 of aniso hold from the last voxelizations, so that a voxelization zeroes
-// only what went stale instead of clearing both levels (both zeroed with these at the first):
-//   written       R8UI N^3: the voxelViewAxes each voxel's level-0 views were last stored with (0:
-//                 none stored). The voxel light compares it with the voxel's faces and zeroes the
-//                 views along the axes it no longer stores (voxel_light_body.glsl);
-//   written bits  a storage buffer of the last list's voxel and block bits ((N^3 + (N/2)^3) / 32
-//                 words, the list's layout): voxel_list_stale.comp zeroes the views of the voxels
-//                 listed then and not now (and their `written`) and the level-1 views of such blocks.
-GI_INLINE uint voxelWrittenBitsWords(uint n) { return voxelListBitsOffset(n) / 32u; }
-
-// Occlusion of voxel direct light (VctOcclusion).
-#define GI_VCT_OCCLUSION_HARD 0u
-#define GI_VCT_OCCLUSION_SOFT 1u
-#define GI_VCT_OCCLUSION_SHADOW_MAP 2u
-
-// voxel_light.comp: direct light + emission per occupied voxel.
-GI_GPU_STRUCT(VoxelLightPush) {
-    VoxelGridParams grid;
-    uvec4 info; // x light count, y occlusion mode (GI_VCT_OCCLUSION_*), z flags (GI_VOXEL_LIGHT_*), w 0
-};
-GI_CHECK_SIZE(VoxelLightPush, 64);
-#define GI_VOXEL_LIGHT_EMISSION 1u // add the emission volume (the voxels' emission injection)
-
-// voxel_mip.comp: builds level `info.x` >= 1 of aniso from level info.x - 1; voxel_mip_tail.comp
-// levels info.x .. info.x + info.z - 1 (the last ones, info.y <= 8) in one work group.
-GI_GPU_STRUCT(VoxelMipPush) {
-    VoxelGridParams grid;
-    uvec4 info; // x (first) destination level of the aniso chain, y its resolution, z level count (tail), w 0
-};
-GI_CHECK_SIZE(VoxelMipPush, 64);
-
-// Cone parameters shared by the per-voxel bounce and the per-pixel trace.
-GI_GPU_STRUCT(ConeParams) {
-    vec4 cone;  // x tan(diffuse half-angle), y step factor, z AO decay (1/voxels), w tan(shadow half-angle)
-    uvec4 info; // x diffuse cone count, y flags (GI_VCT_FLAG_*), z width, w height
-};
-#define GI_VCT_FLAG_GLOSSY 1u
-#define GI_VCT_FLAG_AO 2u
-#define GI_VCT_FLAG_GLOSSY_IMAGE 4u // the glossy images are written (FrameRequest::glossy)
-
-// Second bounce (voxel_bounce*.comp, docs/vct.md "Second bounce"): one diffuse gather per
-// (occupied block of bounceBlockSide()^3 voxels, normal class), a class being one of the 26 directions of a cube's faces,
-// edges and corners nearest to the voxel normal (voxelNormalClass, voxel_block.glsl). The job
-// buffer (one per grid, rewritten every relit frame) holds, in uints:
-//   header  GI_BOUNCE_HEADER words: 0..3 the gathers' VkDispatchIndirectCommand (x =
-//           ceil(largest class count / GI_VOXEL_LIST_GROUP), y = GI_BOUNCE_CLASSES: work group
-//           row k runs class k's jobs, so the SIMD lanes of a group trace the same directions),
-//           4..7 the misfit voxels' (normal more than 25 degrees from their class's mean: they
-//           gather their own cones) as the occupied lists' quads (x = ceil(count / group), y = z
-//           = 1, w = count), then GI_BOUNCE_CLASSES job counts, one per class;
-//   then (words after the header, offsets below) per block (x + Q (y + Q z), Q = N / side) the
-//   26-bit mask of the classes present; the jobs of class k (block index each) from
-//   k * Q^3 on; the misfit voxels, voxelListPack each; one misfit bit per voxel, two words
-//   per 4^3 block (bounceMisfitBit), zeroed by the clear, set by the gathers, read by the apply;
-//   per (block b, class k) at bounceGeometryOffset + GI_BOUNCE_GEOMETRY (26 b + k) the sums over
-//   the class's voxels that the job listing adds (voxel_mip_body.glsl) and the gathers read:
-//   count | (sum of x - block x) << 10, (sum of y - block y) | (sum of z - block z) << 16, the
-//   largest and the complement of the smallest of their normals' bytes (voxelNormalBytes: equal
-//   when all store the same normal), the largest dot(c, normal) (orderedFromFloat).
-// Only the header is cleared; the masks and misfit bits of all blocks are written, the rest
-// before it is read.
-// The gathers' results go to a second buffer (one storage buffer of both would exceed
-// lavapipe's 128 MiB range at 256^3): 2 words per (block b, class k) at 2 (26 b + k),
-// packHalf2x16 of r, g and of b, 0: (1/n) sum L_i.
-#define GI_BOUNCE_CLASSES 26u
-#define GI_BOUNCE_COUNTS 8u // header offset (words) of the per-class job counts
-#define GI_BOUNCE_HEADER (GI_BOUNCE_COUNTS + GI_BOUNCE_CLASSES)
-#define GI_BOUNCE_MISFITS 4u // header offset (words) of the misfit quad
-// Side of a block (voxels): 8 from 64^3 on, 4 below (a block at most 1/8 of the grid: the
-// room's second bounce at 32^3 with 8-voxel blocks, 1.6 m, had 1.3x the indirect error).
-GI_INLINE uint bounceBlockSide(uint n) { return n >= 64u ? 8u : 4u; }
-GI_INLINE uint bounceBlockCount(uint n) {
-    uint side = n / bounceBlockSide(n);
-    return side * side * side;
-}
-GI_INLINE uint bounceJobOffset(uint n) { return bounceBlockCount(n); }
-GI_INLINE uint bounceMisfitOffset(uint n) { return bounceJobOffset(n) + GI_BOUNCE_CLASSES * bounceBlockCount(n); }
-GI_INLINE uint bounceMisfitBitsOffset(uint n) { return bounceMisfitOffset(n) + n * n * n; }
-// Word (x, relative to bounceMisfitBitsOffset) and bit (y) of voxel c's misfit bit: the 64 voxels
-// of a 4^3 block share two consecutive words (the job pass zeroes them per 4^3 block).
-GI_INLINE uvec2 bounceMisfitBit(uvec3 c, uint n) {
-    uint b4 = (c.x >> 2u) + (n >> 2u) * ((c.y >> 2u) + (n >> 2u) * (c.z >> 2u));
-    uint v = (c.x & 3u) + 4u * (c.y & 3u) + 16u * (c.z & 3u);
-    return uvec2(2u * b4 + (v >> 5u), v & 31u);
-}
-#define GI_BOUNCE_GEOMETRY 5u // words per (block, class) of the sums over its voxels
-GI_INLINE uint bounceGeometryOffset(uint n) { return bounceMisfitBitsOffset(n) + n * n * n / 32u; }
-GI_INLINE uint bounceGeometryWords(uint n) { return GI_BOUNCE_GEOMETRY * GI_BOUNCE_CLASSES * bounceBlockCount(n); }
-// Words after the header (misfits: at most every voxel; misfit bits: one per voxel).
-GI_INLINE uint bounceJobWords(uint n) { return bounceGeometryOffset(n) + bounceGeometryWords(n); }
-GI_INLINE uint bounceResultWords(uint n) { return 2u * GI_BOUNCE_CLASSES * bounceBlockCount(n); }
-
-// voxel_bounce*.comp: the grid and the diffuse cones.
-GI_GPU_STRUCT(VoxelBouncePush) {
-    VoxelGridParams grid;
-    ConeParams cones;
-};
-GI_CHECK_SIZE(VoxelBouncePush, 80);
-
-// vct_trace*.comp, vct_upsample.comp: per-pixel cones over the G-buffer (cones.info.zw =
-// full-res size), optionally at 1/f resolution with a discontinuity refine.
-GI_GPU_STRUCT(VctTracePush) {
-    VoxelGridParams grid;
-    ConeParams cones;
-    vec4 eye;     // xyz camera position (world), w refine threshold (gi/lowres_upsample.h)
-    uvec4 lowRes; // x factor f, y, z low-res width, height, w refine-list capacity (pixels)
-};
-GI_CHECK_SIZE(VctTracePush, 112);
-
-// vct_soft_shadow.comp: direct light of the punctual lights over the G-buffer with cone-traced
-// visibility (cones.cone.w = tan(shadow half-angle)) instead of the shadow atlas.
-GI_GPU_STRUCT(VctShadowPush) {
-    VoxelGridParams grid;
-    ConeParams cones;
-    uvec4 info; // x light count, y width, z height, w 0
-};
-GI_CHECK_SIZE(VctShadowPush, 96);
-// Refine list (vct_upsample.comp -> vct_trace_refine.comp): uint count, then the refine
-// trace's VkDispatchIndirectCommand (groups of GI_VCT_REFINE_GROUP), then the traced pixels
-// (vctRefineEntry in shaders/gi/voxel/vct_refine.glsl: quad, pixel in it, pixels it serves).
-#define GI_VCT_REFINE_GROUP 64u
-#define GI_VCT_REFINE_HEADER 4u
+// Bindings (set 1).
+#define VOXELIZE_BINDING_VERTICES 0     // GPU scene vertices (engine/scene_types.h)
+#define VOXELIZE_BINDING_INDICES 1      // GPU scene indices
+#define VOXELIZE_BINDING_INSTANCES 2    // GPU scene instances
+#define VOXELIZE_BINDING_MATERIALS 3    // GPU scene materials
+#define VOXELIZE_BINDING_TOUCHED_BITS 5 // touched bits, bit x + N (y + N z)
+// The accumulation records (gi/voxel_grid.h): GI_VOXEL_ACC_SLABS ranges of whole z-layers at
+// consecutive bindings from this one (voxel_acc.glsl; voxelize, resolve and merge).
+#define VOXEL_ACC_BINDING_RECORDS 10
+#define VOXEL_RESOLVE_BINDING_ALBEDO 1        // resolve, merge: albedo volume written
+#define VOXEL_RESOLVE_BINDING_NORMAL 2        // normal volume written
+#define VOXEL_RESOLVE_BINDING_EMISSION 3      // emission volume written
+#define VOXEL_RESOLVE_BINDING_FACES 4         // faces volume written
+#define VOXEL_RESOLVE_BINDING_STATIC_ALBEDO 5 // merge only: the static volumes' albedo (occupancy)
+#define VOXEL_RESOLVE_BINDING_TOUCHED 9       // touched list the indirect dispatch runs over
+#define VOXEL_STALE_BINDING_TOUCHED_BITS 0    // voxel_resolve_stale.comp: this voxelization's touched bits
+#define VOXEL_STALE_BINDING_ALBEDO 1          // albedo volume (stale voxels zeroed)
+#define VOXEL_STALE_BINDING_NORMAL 2          // normal volume
+#define VOXEL_STALE_BINDING_EMISSION 3        // emission volume
+#define VOXEL_STALE_BINDING_FACES 4           // faces volume
+#define VOXEL_STALE_BINDING_PREVIOUS 9        // touched list of the last voxelization into the volumes
+#define VOXEL_TOUCHED_BINDING_BITS 0          // voxel_touched_list.comp: touched bits (listed, then zeroed)
+#define VOXEL_TOUCHED_BINDING_LIST 1          // the touched list it appends to
 
 GI_NAMESPACE_END
 #endif

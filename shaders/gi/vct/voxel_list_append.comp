@@ -3,18 +3,18 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_ballot : require
 // Once per voxelization, after voxel_compact.comp: appends every occupied voxel and 2^3 block
-// to the occupied lists (headers = indirect dispatch arguments, gi/voxel_passes.h) from their
+// to the occupied lists (headers = indirect dispatch arguments, gi/vct_passes.h) from their
 // bits, one invocation per 32-bit word (32 neighbours along x), so consecutive list entries
 // are neighbours in the grid and the SIMD lanes of the passes over the list march, gather and
 // store coherently (appending in the voxelizer's touch order interleaved different triangles'
 // voxels: the voxel light measured ~1.3x slower). One atomic per subgroup and list reserves the
 // slots of the subgroup's words. The list order still depends on scheduling between
 // subgroups; every consumer writes per voxel, so results do not.
-#include "gi/voxel_passes.h"
+#include "gi/vct_passes.h"
 
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in;
 layout(push_constant) uniform Push { VoxelGridPush pc; };
-layout(set = 1, binding = 1, std430) buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint entries[]; };
+layout(set = 1, binding = VCT_APPEND_BINDING_LIST, std430) buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint entries[]; };
 
 // Reserves `count` slots per lane in the list whose header quad starts at `quad` (one atomic
 // per subgroup, adding the dispatch groups the slots open); returns the lane's first slot.

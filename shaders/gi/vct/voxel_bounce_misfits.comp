@@ -4,15 +4,15 @@
 // from their class's mean gather the diffuse cones over their own hemisphere, from one voxel
 // above their centre, and overwrite what the apply (voxel_bounce_apply.comp) wrote for them.
 // A compact list of their own, so no SIMD lane waits on another's gather.
-#include "gi/voxel_passes.h"
+#include "gi/vct_passes.h"
 
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in; // one invocation per misfit voxel (indirect)
 layout(push_constant) uniform Push { VoxelBouncePush pc; };
 #include "voxel_cone.glsl"
-layout(set = 1, binding = 2, rgba8) uniform readonly image3D albedoVol;
-layout(set = 1, binding = 3, rgba8) uniform readonly image3D normalVol;
-layout(set = 1, binding = 4, rgba16f) uniform writeonly image3D bounceOut;
-layout(set = 1, binding = 5, std430) readonly buffer Jobs { uint header[GI_BOUNCE_HEADER]; uint words[]; };
+layout(set = 1, binding = VCT_MISFITS_BINDING_ALBEDO, rgba8) uniform readonly image3D albedoVol;
+layout(set = 1, binding = VCT_MISFITS_BINDING_NORMAL, rgba8) uniform readonly image3D normalVol;
+layout(set = 1, binding = VCT_MISFITS_BINDING_OUTPUT, rgba16f) uniform writeonly image3D bounceOut;
+layout(set = 1, binding = VCT_MISFITS_BINDING_JOBS, std430) readonly buffer Jobs { uint header[GI_BOUNCE_HEADER]; uint words[]; };
 #include "voxel_block.glsl"
 
 void main() {

@@ -4,15 +4,15 @@
 #extension GL_KHR_shader_subgroup_ballot : require
 // Once per voxelization, per touched list of the grid (the whole scene's or the static one, then
 // the dynamic one): sets the occupancy bits of each listed voxel, of its 2^3 block and of its
-// 4^3 block in the occupied list's bit arrays (gi/voxel_passes.h). Every touched voxel is
+// 4^3 block in the occupied list's bit arrays (gi/vct_passes.h). Every touched voxel is
 // occupied, so nothing is read from the volumes: the cost follows the occupied voxels, not N^3.
 // voxel_list_append.comp then lists the set bits in grid order.
-#include "gi/voxel_passes.h"
+#include "gi/vct_passes.h"
 
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in;
 layout(push_constant) uniform Push { VoxelGridPush pc; };
-layout(set = 1, binding = 0, std430) readonly buffer Touched { uint touchedHeader[GI_VOXEL_TOUCHED_HEADER]; uint touched[]; };
-layout(set = 1, binding = 1, std430) buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint entries[]; };
+layout(set = 1, binding = VCT_COMPACT_BINDING_TOUCHED, std430) readonly buffer Touched { uint touchedHeader[GI_VOXEL_TOUCHED_HEADER]; uint touched[]; };
+layout(set = 1, binding = VCT_COMPACT_BINDING_LIST, std430) buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint entries[]; };
 
 // Sets bit i of the array at entries[base]: the lanes that share a word send one atomic (the
 // touched list runs along x, so neighbouring lanes mostly share their words).

@@ -1,15 +1,15 @@
-// One level of the anisotropic radiance mips (Crassin's pre-integration): each output voxel
+// One level of the directional volume's mips (Crassin's pre-integration): each output voxel
 // covers 2x2x2 source voxels; for each of the six viewing directions the two source voxels
 // along that direction are composited front to back (premultiplied, c = c_f + (1 - a_f) c_b),
 // then the four resulting columns are averaged, each from the same direction's tile one level
 // finer (level 0: the voxels' own views). The six directions are stacks of layers of one 2D
-// array image, addressed by voxelAnisoTexel (voxel_passes.h). With GI_VOXEL_MIP_LIST (level 1 only, voxel_mip_list.comp) one
+// array image, addressed by vctDirectionalTexel (vct_passes.h). With GI_VOXEL_MIP_LIST (level 1 only, voxel_mip_list.comp) one
 // invocation per listed occupied 2^3 block: a block without occupied voxels has only empty
 // level-0 texels (the list pass's clear zeroes level 0 and every writer of level 0 writes listed
 // voxels only), so its level-1 texels are 0, which the same clear wrote; ~10% of the blocks are
 // occupied, and level 1 reads the whole 6 N^3 level 0 in the dense dispatch.
 #extension GL_EXT_control_flow_attributes : require
-#include "gi/voxel_passes.h"
+#include "gi/vct_passes.h"
 
 #ifdef GI_VOXEL_MIP_TAIL
 // The coarsest levels in one work group (voxel_mip_tail.comp): level info.x (info.y <= 8 texels
@@ -19,18 +19,18 @@
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #elif defined(GI_VOXEL_MIP_LIST)
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in; // indirect: the block quad of the list header
-layout(set = 1, binding = 2, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint entries[]; };
+layout(set = 1, binding = VCT_MIP_BINDING_LIST, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint entries[]; };
 #else
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #endif
 layout(push_constant) uniform Push { VoxelMipPush pc; };
-layout(set = 1, binding = 0, rgba16f) uniform readonly image2DArray src; // aniso level - 1
+layout(set = 1, binding = VCT_MIP_BINDING_SOURCE, rgba16f) uniform readonly image2DArray src; // level - 1
 #ifdef GI_VOXEL_MIP_JOBS
-layout(set = 1, binding = 3, rgba8) uniform readonly image3D normalVol;
-layout(set = 1, binding = 4, std430) buffer Jobs { uint jobHeader[GI_BOUNCE_HEADER]; uint words[]; };
+layout(set = 1, binding = VCT_MIP_BINDING_NORMAL, rgba8) uniform readonly image3D normalVol;
+layout(set = 1, binding = VCT_MIP_BINDING_JOBS, std430) buffer Jobs { uint jobHeader[GI_BOUNCE_HEADER]; uint words[]; };
 #include "voxel_block.glsl"
 
-// Second bounce, job list (gi/voxel_passes.h; the clear wrote the header's constant words and
+// Second bounce, job list (gi/vct_passes.h; the clear wrote the header's constant words and
 // zeroed the counts and every block's class mask): the classes of the block's voxels' normals
 // (voxel_block.glsl) join its bounce block's mask, and the invocation that sets a class's bit
 // first appends the (bounce block, class) job to that class's list. The order within a list
@@ -38,7 +38,7 @@ layout(set = 1, binding = 4, std430) buffer Jobs { uint jobHeader[GI_BOUNCE_HEAD
 // at them, so the images do not. (A pass of its own over the 4^3 blocks took ~0.5 ms at 64^3.)
 // It also adds the voxels to their (bounce block, class)'s sums, which spare most gathers their
 // loops over the block's voxels (voxel_bounce.comp).
-// The sums of the voxels of one class in a bounce block (gi/voxel_passes.h) gain those of
+// The sums of the voxels of one class in a bounce block (gi/vct_passes.h) gain those of
 // `count` voxels: integer adds and maxima, so they do not depend on the order. The largest
 // dot(c, normal) uses `first`, the normal of one of them: it is read only when every voxel of
 // the class stores the same normal.
@@ -130,12 +130,12 @@ void appendJobs(ivec3 c, uint n) {
 
 #ifdef GI_VOXEL_MIP_TAIL
 // Levels info.x .. info.x + 3 (those past the last are bound to the last and not touched).
-layout(set = 1, binding = 1, rgba16f) uniform coherent image2DArray tail0;
-layout(set = 1, binding = 2, rgba16f) uniform coherent image2DArray tail1;
-layout(set = 1, binding = 3, rgba16f) uniform coherent image2DArray tail2;
-layout(set = 1, binding = 4, rgba16f) uniform coherent image2DArray tail3;
+layout(set = 1, binding = VCT_MIP_BINDING_TAIL + 0, rgba16f) uniform coherent image2DArray tail0;
+layout(set = 1, binding = VCT_MIP_BINDING_TAIL + 1, rgba16f) uniform coherent image2DArray tail1;
+layout(set = 1, binding = VCT_MIP_BINDING_TAIL + 2, rgba16f) uniform coherent image2DArray tail2;
+layout(set = 1, binding = VCT_MIP_BINDING_TAIL + 3, rgba16f) uniform coherent image2DArray tail3;
 #else
-layout(set = 1, binding = 1, rgba16f) uniform writeonly image2DArray dst; // aniso level
+layout(set = 1, binding = VCT_MIP_BINDING_TARGET, rgba16f) uniform writeonly image2DArray dst; // level
 #endif
 
 vec4 over(vec4 front, vec4 back) { return front + (1.0 - front.a) * back; }
@@ -155,7 +155,7 @@ vec4 integrate(vec4 t[8], int axis, bool positive) {
 // t := the 2x2x2 block at `base` of view d of image IMG (the level below).
 #define GI_MIP_GATHER(IMG, base, d, n, t)                                                              \
     [[unroll]] for (int i = 0; i < 8; ++i)                                                            \
-        t[i] = imageLoad(IMG, voxelAnisoTexel((base) + ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1), d, n));
+        t[i] = imageLoad(IMG, vctDirectionalTexel((base) + ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1), d, n));
 
 // Texel c of every view of image DST from image SRC one level finer. Unrolled (with integrate):
 // every array index is a constant, so llvmpipe keeps the eight texels in registers instead of a
@@ -164,7 +164,7 @@ vec4 integrate(vec4 t[8], int axis, bool positive) {
     [[unroll]] for (int d = 0; d < 6; ++d) {                                                          \
         vec4 t[8];                                                                                     \
         GI_MIP_GATHER(SRC, 2 * (c), uint(d), n, t)                                                     \
-        imageStore(DST, voxelAnisoTexel(c, uint(d), n), integrate(t, d >> 1, (d & 1) == 0));          \
+        imageStore(DST, vctDirectionalTexel(c, uint(d), n), integrate(t, d >> 1, (d & 1) == 0));          \
     }
 
 #ifdef GI_VOXEL_MIP_TAIL

@@ -5,7 +5,7 @@
 // images from every f-th pixel (gi/lowres_upsample.h); vct_upsample.comp interpolates them
 // and lists the pixels across discontinuities, which the refine variant (GI_VCT_REFINE)
 // traces at full resolution.
-#include "gi/voxel_passes.h"
+#include "gi/vct_passes.h"
 #ifndef GI_VCT_REFINE
 #define GI_LOWRES_SOURCE_ONLY
 #include "gi/lowres_upsample.h"
@@ -18,13 +18,13 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #endif
 layout(push_constant) uniform Push { VctTracePush pc; };
 #include "voxel_cone.glsl"
-layout(set = 1, binding = 2, rgba32f) uniform readonly image2D gPosition;
-layout(set = 1, binding = 3, rgba16f) uniform readonly image2D gNormal;
-layout(set = 1, binding = 4, rgba16f) uniform readonly image2D gAlbedo;
-layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D outIndirect; // rgb indirect, a = AO
-layout(set = 1, binding = 6, rgba32f) uniform writeonly image2D outGlossy;   // rgb glossy cone radiance
+layout(set = 1, binding = VCT_TRACE_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
+layout(set = 1, binding = VCT_TRACE_BINDING_NORMAL, rgba16f) uniform readonly image2D gNormal;
+layout(set = 1, binding = VCT_TRACE_BINDING_ALBEDO, rgba16f) uniform readonly image2D gAlbedo;
+layout(set = 1, binding = VCT_TRACE_BINDING_INDIRECT, rgba32f) uniform writeonly image2D outIndirect; // rgb indirect, a = AO
+layout(set = 1, binding = VCT_TRACE_BINDING_GLOSSY, rgba32f) uniform writeonly image2D outGlossy;   // rgb glossy cone radiance
 #ifdef GI_VCT_REFINE
-layout(set = 1, binding = 7, std430) readonly buffer RefineList {
+layout(set = 1, binding = VCT_TRACE_BINDING_REFINE_LIST, std430) readonly buffer RefineList {
     uint refineCount;
     uint refinePad[3];
     uvec2 refineEntries[]; // vctRefineEntry
@@ -33,7 +33,7 @@ layout(set = 1, binding = 7, std430) readonly buffer RefineList {
 #else
 // The refine list's header, zeroed here for the upsample (which appends) and the refine (an
 // indirect dispatch of its groups): count 0, groups {0, 1, 1}. Saves a pass.
-layout(set = 1, binding = 7, std430) writeonly buffer RefineList {
+layout(set = 1, binding = VCT_TRACE_BINDING_REFINE_LIST, std430) writeonly buffer RefineList {
     uvec4 refineHeader;
 };
 #endif

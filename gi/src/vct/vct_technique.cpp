@@ -1,12 +1,12 @@
 // Voxel cone tracing as a GiSystem technique: owns the voxel grid and the VCT volumes, re-fits
 // them when a scene is uploaded, and adds the voxel + VCT passes to each frame's graph. The
 // grid is also published on the blackboard (VoxelGridData) for other techniques.
-#include "voxel/vct_technique.hpp"
+#include "vct/vct_technique.hpp"
 
 #include <algorithm>
 #include <memory>
 
-#include "voxel/voxel_graph.hpp"
+#include "vct/vct_passes.hpp"
 
 namespace vkgi::gi {
 
@@ -97,12 +97,13 @@ public:
         m_update = VoxelUpdate::None;
         m_lit = true;
         in.blackboard.add(grid);
-        VctGBufferHandles g{gbuffer.position, gbuffer.normal, gbuffer.albedo, gbuffer.emission, frame.width,
-                            frame.height, frame.camera.position};
+        VctGBufferHandles g{gbuffer.position, gbuffer.normal, gbuffer.albedo,       gbuffer.emission,
+                            frame.width,      frame.height,   frame.camera.position};
         VctPassOptions options{relight, selection.features.emissive};
         options.glossyImage = selection.request.glossy;
         if (!options.glossyImage)
-            selection.leaveOut("gi.vct.trace:glossy-image", LeftOutReason::NotNeeded, "the glossy image is not requested");
+            selection.leaveOut("gi.vct.trace:glossy-image", LeftOutReason::NotNeeded,
+                               "the glossy image is not requested");
         if (const ShadowData* sd = &in.shadow) {
             options.shadowAtlas = sd->atlas;
             options.shadowViews = sd->views;

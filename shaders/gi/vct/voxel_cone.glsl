@@ -1,8 +1,9 @@
-// Cone tracing through the voxel radiance (Crassin et al. 2011). The includer declares nothing
-// at bindings 0..1; binding 1 is the directional volume (a 2D array: per viewing direction a
-// stack of slices across its axis, level 0 the voxels themselves, level k the 2^k-voxel blocks;
-// voxel_passes.h). Everything is in grid units (voxels); radiance stays scaled by radianceScale.
-layout(set = 1, binding = 1) uniform sampler2DArray aniso;
+// Cone tracing through the voxel radiance (Crassin et al. 2011). It samples the directional
+// volume at VCT_CONE_BINDING_DIRECTIONAL, which the includer leaves to it (a 2D array: per
+// viewing direction a stack of slices across its axis, level 0 the voxels themselves, level k
+// the 2^k-voxel blocks; vct_passes.h). Everything is in grid units (voxels); radiance stays
+// scaled by radianceScale.
+layout(set = 1, binding = VCT_CONE_BINDING_DIRECTIONAL) uniform sampler2DArray directional;
 
 // Cones start this far (voxels) from their origin, which callers already offset by one voxel
 // along the normal: together they clear the surface's own (conservatively thick) voxel.
@@ -69,7 +70,7 @@ int coneLevel(float diameter, float reach, int maxLevel) {
 // its opacity at 64^3, more the finer the grid, i.e. the coarser the level its walls are
 // reached at). The radiance is the mean of the views' radiances weighted by what each
 // contributes to the extinction, so an opaque face-on view hides the edge-on views behind it.
-vec4 sampleAniso(ConeFrame f, vec3 p, int level, float invSize, bool ahead) {
+vec4 sampleDirectional(ConeFrame f, vec3 p, int level, float invSize, bool ahead) {
     float texels = f.n * invSize; // this level's resolution
     // Each view is read at the centre of its texel along its own axis (filtered across it): a
     // texel of view k is a slab along k whose opacity already integrates what lies along k, so
@@ -110,9 +111,9 @@ vec4 sampleAniso(ConeFrame f, vec3 p, int level, float invSize, bool ahead) {
     vec3 layer = f.stack + clamp(slice, vec3(0.0), vec3(texels - 1.0));
     vec3 uvw = p * f.invN;
     float lod = float(level);
-    vec4 sx = (inside.x * edge.y * edge.z) * textureLod(aniso, vec3(uvw.yz, layer.x), lod);
-    vec4 sy = (inside.y * edge.x * edge.z) * textureLod(aniso, vec3(uvw.xz, layer.y), lod);
-    vec4 sz = (inside.z * edge.x * edge.y) * textureLod(aniso, vec3(uvw.xy, layer.z), lod);
+    vec4 sx = (inside.x * edge.y * edge.z) * textureLod(directional, vec3(uvw.yz, layer.x), lod);
+    vec4 sy = (inside.y * edge.x * edge.z) * textureLod(directional, vec3(uvw.xz, layer.y), lod);
+    vec4 sz = (inside.z * edge.x * edge.y) * textureLod(directional, vec3(uvw.xy, layer.z), lod);
     vec3 alpha = vec3(sx.a, sy.a, sz.a);
     // optical depth of one texel seen along each axis, from its stored opacity (units of ln 2)
     vec3 tau = f.w * -log2(max(1.0 - alpha, kMinTransmit));
@@ -124,7 +125,7 @@ vec4 sampleAniso(ConeFrame f, vec3 p, int level, float invSize, bool ahead) {
 }
 
 // Distance along a cone beyond which every sample lies half a texel or more outside the grid on
-// some axis, where it reads exactly 0 (sampleAniso): stopping there changes no result, and a
+// some axis, where it reads exactly 0 (sampleDirectional): stopping there changes no result, and a
 // cone leaving the grid no longer steps through empty space up to the grid diagonal (a 30-degree
 // cone's own bounds test, |p| beyond the grid by a diameter, never fires once t > 1 / (2 tan)).
 // Along the axis j the sample at t is speed_j * t - dist_j past the face ahead (dist_j from the
@@ -173,7 +174,7 @@ vec4 traceCone(vec3 origin, vec3 dir, float rise, float tanHalf, float stepFacto
         int level = coneLevel(diameter, rise * t / 1.5, f.maxLevel);
         float invSize = exp2Int(-level);
         float stepLength = stepFactor * min(diameter, exp2Int(level));
-        vec4 s = sampleAniso(f, p, level, invSize, true);
+        vec4 s = sampleDirectional(f, p, level, invSize, true);
         float a = 1.0 - exp2(-s.a * stepLength * invSize);
         acc.rgb += ((1.0 - acc.a) * (s.a > 0.0 ? a / s.a : 0.0)) * s.rgb;
         acc.a += (1.0 - acc.a) * a;
@@ -204,7 +205,7 @@ float coneVisibility(vec3 origin, vec3 dir, float rise, float tanHalf, float ste
         float invSize = exp2Int(-level);
         float stepLength = stepFactor * min(diameter, exp2Int(level));
         // Only the part of the step before the light occludes it.
-        depth += sampleAniso(f, p, level, invSize, false).a * min(stepLength, tEnd - t) * invSize;
+        depth += sampleDirectional(f, p, level, invSize, false).a * min(stepLength, tEnd - t) * invSize;
         t += stepLength;
     }
     return exp2(-depth);

@@ -9,18 +9,18 @@
 // share, voxel_light_body.glsl), so view texel rgb = a s (L + B): the per-pixel gather then sees
 // emission + one bounce + two bounces. Reads and writes only its own voxel's texels.
 #extension GL_EXT_control_flow_attributes : require
-#include "gi/voxel_passes.h"
+#include "gi/vct_passes.h"
 
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in; // one invocation per occupied voxel (indirect)
 layout(push_constant) uniform Push { VoxelGridPush pc; };
-layout(set = 1, binding = 0, rgba8) uniform readonly image3D albedoVol;
-layout(set = 1, binding = 1, rgba8) uniform readonly image3D normalVol;
-layout(set = 1, binding = 2, std430) readonly buffer Jobs { uint header[GI_BOUNCE_HEADER]; uint words[]; };
-layout(set = 1, binding = 3, rgba16f) uniform readonly image3D misfitBounce;
-layout(set = 1, binding = 4, std430) readonly buffer List { uint listHeader[GI_VOXEL_LIST_HEADER]; uint entries[]; };
-layout(set = 1, binding = 5, std430) readonly buffer Results { uint results[]; };
-layout(set = 1, binding = 6, r32ui) uniform readonly uimage3D facesVol;
-layout(set = 1, binding = 7, rgba16f) uniform image2DArray anisoLevel0;
+layout(set = 1, binding = VCT_APPLY_BINDING_ALBEDO, rgba8) uniform readonly image3D albedoVol;
+layout(set = 1, binding = VCT_APPLY_BINDING_NORMAL, rgba8) uniform readonly image3D normalVol;
+layout(set = 1, binding = VCT_APPLY_BINDING_JOBS, std430) readonly buffer Jobs { uint header[GI_BOUNCE_HEADER]; uint words[]; };
+layout(set = 1, binding = VCT_APPLY_BINDING_MISFITS, rgba16f) uniform readonly image3D misfitBounce;
+layout(set = 1, binding = VCT_APPLY_BINDING_LIST, std430) readonly buffer List { uint listHeader[GI_VOXEL_LIST_HEADER]; uint entries[]; };
+layout(set = 1, binding = VCT_APPLY_BINDING_RESULTS, std430) readonly buffer Results { uint results[]; };
+layout(set = 1, binding = VCT_APPLY_BINDING_FACES, r32ui) uniform readonly uimage3D facesVol;
+layout(set = 1, binding = VCT_APPLY_BINDING_DIRECTIONAL, rgba16f) uniform image2DArray directionalLevel0;
 #include "voxel_block.glsl"
 
 void main() {
@@ -70,7 +70,7 @@ void main() {
     if (b == vec3(0.0))
         return;
     uint faces = imageLoad(facesVol, c).x;
-    [[unroll]] for (uint v = 0u; v < GI_VOXEL_ANISO_DIRECTIONS; ++v) {
+    [[unroll]] for (uint v = 0u; v < GI_VCT_DIRECTIONS; ++v) {
         uint d = v ^ 1u; // the faces a ray travelling along v sees look towards v ^ 1
         float towards = (d & 1u) == 0u ? normal[d >> 1u] : -normal[d >> 1u];
         float front = voxelFaceCoverage(faces, d);
@@ -78,9 +78,9 @@ void main() {
             continue;
         float axisCover = voxelFaceCoverage(faces, 2u * (v >> 1u)) + voxelFaceCoverage(faces, 2u * (v >> 1u) + 1u);
         float shown = min(1.0, 2.0 * front / axisCover);
-        ivec3 t = voxelAnisoTexel(c, v, n);
-        vec4 texel = imageLoad(anisoLevel0, t);
+        ivec3 t = vctDirectionalTexel(c, v, n);
+        vec4 texel = imageLoad(directionalLevel0, t);
         texel.rgb = min(texel.rgb + b * (texel.a * shown), vec3(65000.0));
-        imageStore(anisoLevel0, t, texel);
+        imageStore(directionalLevel0, t, texel);
     }
 }

@@ -1,4 +1,4 @@
-// Normal classes of the second bounce (voxel_bounce*.comp, gi/voxel_passes.h). The includer
+// Normal classes of the second bounce (voxel_bounce*.comp, gi/vct_passes.h). The includer
 // declares the normal volume `normalVol` (rgba8 image3D).
 //
 // Everything that decides which gather a voxel takes is integer arithmetic on the stored bytes,
@@ -61,7 +61,7 @@ float floatFromOrdered(uint u) {
 }
 
 // Occupied-list helpers (the includer declares that list's words after its header as `entries`
-// and defines VOXEL_BLOCK_LIST; gi/voxel_passes.h).
+// and defines VOXEL_BLOCK_LIST; gi/vct_passes.h).
 #ifdef VOXEL_BLOCK_LIST
 // Whether 4^3 block q (in 4^3-block coordinates) holds an occupied voxel.
 bool coarseOccupied(ivec3 q, uint n) {

@@ -7,7 +7,9 @@
 namespace vkgi::gi {
 
 namespace {
-bool isPowerOfTwo(uint32_t v) { return v != 0 && (v & (v - 1)) == 0; }
+bool isPowerOfTwo(uint32_t v) {
+    return v != 0 && (v & (v - 1)) == 0;
+}
 } // namespace
 
 Result<void> validateVctSettings(const VctSettings& s) {
@@ -35,7 +37,7 @@ Result<void> validateVctSettings(const VctSettings& s) {
     if (uint32_t(s.occlusion) > uint32_t(VctOcclusion::ShadowMap))
         return makeError("vct: occlusion " + std::to_string(uint32_t(s.occlusion)) + " is not a VctOcclusion");
     if (s.gridBox && (!s.gridBox->valid() || !std::isfinite(s.gridBox->min.x + s.gridBox->min.y + s.gridBox->min.z +
-                                                             s.gridBox->max.x + s.gridBox->max.y + s.gridBox->max.z)))
+                                                            s.gridBox->max.x + s.gridBox->max.y + s.gridBox->max.z)))
         return makeError("vct: gridBox must be a finite, non-empty box");
     return {};
 }

@@ -11,17 +11,17 @@
 // Output in nits, the same layout as the deferred pass's image (DirectData::direct).
 #include "engine/lights.h"
 #include "engine/scene_types.h"
-#include "gi/voxel_passes.h"
+#include "gi/vct_passes.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform Push { VctShadowPush pc; };
 #include "voxel_cone.glsl"
-layout(set = 1, binding = 2, rgba32f) uniform readonly image2D gPosition;
-layout(set = 1, binding = 3, rgba16f) uniform readonly image2D gNormal;
-layout(set = 1, binding = 4, rgba16f) uniform readonly image2D gAlbedo;
-layout(set = 1, binding = 5, rgba32f) uniform readonly image2D gEmission;
-layout(set = 1, binding = 6, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(set = 1, binding = 7, rgba32f) uniform writeonly image2D outDirect;
+layout(set = 1, binding = VCT_SHADOW_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
+layout(set = 1, binding = VCT_SHADOW_BINDING_NORMAL, rgba16f) uniform readonly image2D gNormal;
+layout(set = 1, binding = VCT_SHADOW_BINDING_ALBEDO, rgba16f) uniform readonly image2D gAlbedo;
+layout(set = 1, binding = VCT_SHADOW_BINDING_EMISSION, rgba32f) uniform readonly image2D gEmission;
+layout(set = 1, binding = VCT_SHADOW_BINDING_LIGHTS, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(set = 1, binding = VCT_SHADOW_BINDING_DIRECT, rgba32f) uniform writeonly image2D outDirect;
 
 const float kPi = 3.14159265358979;
 

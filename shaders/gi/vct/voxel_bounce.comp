@@ -10,16 +10,16 @@
 // kClassFit from m are appended to the misfit list and their misfit bits set (they gather their
 // own cones, voxel_bounce_misfits.comp, and the apply takes those). Sums run over the block in a
 // fixed order: deterministic.
-#include "gi/voxel_passes.h"
+#include "gi/vct_passes.h"
 
 // One invocation per job (indirect): work group row k runs the jobs of class k.
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in;
 layout(push_constant) uniform Push { VoxelBouncePush pc; };
 #include "voxel_cone.glsl"
-layout(set = 1, binding = 2, rgba8) uniform readonly image3D normalVol;
-layout(set = 1, binding = 3, std430) buffer Jobs { uint header[GI_BOUNCE_HEADER]; uint words[]; };
-layout(set = 1, binding = 4, std430) writeonly buffer Results { uint results[]; };
-layout(set = 1, binding = 5, std430) readonly buffer List { uint listHeader[GI_VOXEL_LIST_HEADER]; uint entries[]; };
+layout(set = 1, binding = VCT_BOUNCE_BINDING_NORMAL, rgba8) uniform readonly image3D normalVol;
+layout(set = 1, binding = VCT_BOUNCE_BINDING_JOBS, std430) buffer Jobs { uint header[GI_BOUNCE_HEADER]; uint words[]; };
+layout(set = 1, binding = VCT_BOUNCE_BINDING_RESULTS, std430) writeonly buffer Results { uint results[]; };
+layout(set = 1, binding = VCT_BOUNCE_BINDING_LIST, std430) readonly buffer List { uint listHeader[GI_VOXEL_LIST_HEADER]; uint entries[]; };
 #define VOXEL_BLOCK_LIST
 #include "voxel_block.glsl"
 
@@ -44,7 +44,7 @@ void main() {
     vec3 sumPosition = vec3(0.0), sumNormal = vec3(0.0), first = vec3(0.0);
     float count = 0.0, highest = -1e30;
     bool same = true;
-    // The sums the job listing added (gi/voxel_passes.h) when all the class's voxels store the
+    // The sums the job listing added (gi/vct_passes.h) when all the class's voxels store the
     // same normal (its largest and smallest normal bytes agree): the values the loop below
     // finds, bit for bit (integer sums below 2^24 are exact in floats in any order).
     uint record = bounceGeometryOffset(n) + GI_BOUNCE_GEOMETRY * (GI_BOUNCE_CLASSES * b + cls);

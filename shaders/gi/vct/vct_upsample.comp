@@ -13,20 +13,20 @@
 // decisions, and at f = 4 the blocks are aligned so that all 16 pixels interpolate the same 2x2
 // low-res texels, whose G-buffer samples and values are loaded once per block (12 loads instead
 // of 12 per pixel).
-#include "gi/voxel_passes.h"
+#include "gi/vct_passes.h"
 
 layout(local_size_x = 8, local_size_y = 8) in; // blocks
 layout(push_constant) uniform Push { VctTracePush pc; };
 // Point reads only: storage images (lavapipe loads their texels much faster than it fetches
 // through a sampler).
-layout(set = 1, binding = 0, rgba32f) uniform readonly image2D gPosition;
-layout(set = 1, binding = 1, rgba16f) uniform readonly image2D gNormal;
-layout(set = 1, binding = 2, rgba32f) uniform readonly image2D lowIndirect;
-layout(set = 1, binding = 3, rgba32f) uniform readonly image2D lowGlossy;
-layout(set = 1, binding = 4, rgba32f) uniform writeonly image2D outIndirect;
-layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D outGlossy;
-layout(set = 1, binding = 7, rgba16f) uniform readonly image2D gAlbedo; // w = metallic
-layout(set = 1, binding = 6, std430) buffer RefineList {
+layout(set = 1, binding = VCT_UPSAMPLE_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
+layout(set = 1, binding = VCT_UPSAMPLE_BINDING_NORMAL, rgba16f) uniform readonly image2D gNormal;
+layout(set = 1, binding = VCT_UPSAMPLE_BINDING_LOW_INDIRECT, rgba32f) uniform readonly image2D lowIndirect;
+layout(set = 1, binding = VCT_UPSAMPLE_BINDING_LOW_GLOSSY, rgba32f) uniform readonly image2D lowGlossy;
+layout(set = 1, binding = VCT_UPSAMPLE_BINDING_INDIRECT, rgba32f) uniform writeonly image2D outIndirect;
+layout(set = 1, binding = VCT_UPSAMPLE_BINDING_GLOSSY, rgba32f) uniform writeonly image2D outGlossy;
+layout(set = 1, binding = VCT_UPSAMPLE_BINDING_ALBEDO, rgba16f) uniform readonly image2D gAlbedo; // w = metallic
+layout(set = 1, binding = VCT_UPSAMPLE_BINDING_REFINE_LIST, std430) buffer RefineList {
     uint refineCount;
     uint refineGroups[3]; // VkDispatchIndirectCommand of vct_trace_refine.comp ({0, 1, 1} before: vct_trace.comp)
     uvec2 refineEntries[]; // vctRefineEntry

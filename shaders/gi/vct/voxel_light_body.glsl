@@ -12,7 +12,7 @@
 // from below, where the isotropic voxel of before showed the interior its sunlit top.
 #include "engine/lights.h"
 #include "engine/scene_types.h"
-#include "gi/voxel_passes.h"
+#include "gi/vct_passes.h"
 #ifdef GI_VOXEL_LIGHT_SHADOW_MAP
 #include "gi/direct_types.h"
 #endif
@@ -20,31 +20,32 @@
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in; // one invocation per occupied voxel (indirect)
 layout(push_constant) uniform Push { VoxelLightPush pc; };
 
-layout(set = 1, binding = 0, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(set = 1, binding = 3, rgba16f) uniform readonly image3D emissionVol;
+layout(set = 1, binding = VCT_LIGHT_BINDING_LIGHTS, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(set = 1, binding = VCT_LIGHT_BINDING_EMISSION, rgba16f) uniform readonly image3D emissionVol;
 #ifdef GI_VOXEL_LIGHT_SOFT
-layout(set = 1, binding = 4) uniform sampler3D albedoVol; // a = occupancy; linear filtering for soft shadows
+layout(set = 1, binding = VCT_LIGHT_BINDING_OCCUPANCY) uniform sampler3D albedoVol; // a = occupancy; linear filtering for soft shadows
 vec4 albedoAt(ivec3 c) { return texelFetch(albedoVol, c, 0); }
 #else
 // The hard march and the shadow-map variant read single texels: a storage image, whose loads
 // lavapipe serves far faster than texelFetch through a sampler.
-layout(set = 1, binding = 4, rgba8) uniform readonly image3D albedoVol; // a = occupancy
+layout(set = 1, binding = VCT_LIGHT_BINDING_OCCUPANCY, rgba8) uniform readonly image3D albedoVol; // a = occupancy
 vec4 albedoAt(ivec3 c) { return imageLoad(albedoVol, c); }
 #endif
-layout(set = 1, binding = 5, rgba16f) uniform writeonly image2DArray anisoOut; // level 0 of the directional volume
-layout(set = 1, binding = 6, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint voxels[]; };
-layout(set = 1, binding = 10, r32ui) uniform readonly uimage3D facesVol;
-layout(set = 1, binding = 11, r8ui) uniform uimage3D writtenVol; // the axes stored last time (voxel_passes.h)
+layout(set = 1, binding = VCT_LIGHT_BINDING_DIRECTIONAL, rgba16f) uniform writeonly image2DArray directionalOut; // level 0 of the directional volume
+layout(set = 1, binding = VCT_LIGHT_BINDING_LIST, std430) readonly buffer List { uint header[GI_VOXEL_LIST_HEADER]; uint voxels[]; };
+layout(set = 1, binding = VCT_LIGHT_BINDING_FACES, r32ui) uniform readonly uimage3D facesVol;
+layout(set = 1, binding = VCT_LIGHT_BINDING_WRITTEN, r8ui) uniform uimage3D writtenVol; // the axes stored last time (vct_passes.h)
 #if !defined(GI_VOXEL_LIGHT_SOFT) && !defined(GI_VOXEL_LIGHT_SHADOW_MAP)
-// The list buffer (binding 6) again, as R32_UINT texels, for the hard march's occupancy bits:
-// lavapipe loads an SSBO word per lane in a loop with a branch each, a texel without (one more
-// load per march step cost ~1.1 ms as an SSBO word, ~0.5 ms as a 3D image texel, Cornell 64^3).
-layout(set = 1, binding = 12, r32ui) uniform readonly uimageBuffer listWords;
+// The list buffer (VCT_LIGHT_BINDING_LIST) again, as R32_UINT texels, for the hard march's
+// occupancy bits: lavapipe loads an SSBO word per lane in a loop with a branch each, a texel
+// without (one more load per march step cost ~1.1 ms as an SSBO word, ~0.5 ms as a 3D image
+// texel, Cornell 64^3).
+layout(set = 1, binding = VCT_LIGHT_BINDING_LIST_WORDS, r32ui) uniform readonly uimageBuffer listWords;
 #endif
 #ifdef GI_VOXEL_LIGHT_SHADOW_MAP
-layout(set = 1, binding = 7, std430) readonly buffer LightShadows { GpuLightShadow lightShadows[]; };
-layout(set = 1, binding = 8, std430) readonly buffer ShadowViews { GpuShadowView shadowViews[]; };
-layout(set = 1, binding = 9) uniform sampler2DArrayShadow shadowAtlas;
+layout(set = 1, binding = VCT_LIGHT_BINDING_LIGHT_SHADOWS, std430) readonly buffer LightShadows { GpuLightShadow lightShadows[]; };
+layout(set = 1, binding = VCT_LIGHT_BINDING_SHADOW_VIEWS, std430) readonly buffer ShadowViews { GpuShadowView shadowViews[]; };
+layout(set = 1, binding = VCT_LIGHT_BINDING_SHADOW_ATLAS) uniform sampler2DArrayShadow shadowAtlas;
 
 // Visibility of light i from voxel centre p (world; unit normal n or zero, unit toLight) in the
 // direct-light shadow atlas (gi/direct_types.h), one bilinear compare. Every point of the
@@ -111,7 +112,7 @@ float visibility(vec3 p, vec3 dir, float tMax) {
     }
     return transmit;
 #else
-    // Occupancy from the list's bits (gi/voxel_passes.h), equal to albedo.a > 0 and cheaper
+    // Occupancy from the list's bits (gi/vct_passes.h), equal to albedo.a > 0 and cheaper
     // per step than an image load; 4^3 blocks without any occupied voxel are skipped. Each
     // iteration costs the same whatever it does (lavapipe runs both sides of a branch), so the
     // per-ray work is done once before the loop and the loop tests nothing else per sample.
@@ -222,7 +223,7 @@ void storeView(ivec3 c, uint v, vec3 faceRadiance, float front, float axisCover,
     // Half-float ceiling: radianceScale maps the brightest light to GI_VOXEL_RADIANCE_TARGET,
     // 16x below it; clamping keeps the volume finite whatever happens.
     vec3 rgb = min(faceRadiance, vec3(65000.0)) * (alpha * shown);
-    imageStore(anisoOut, voxelAnisoTexel(c, v, pc.grid.dims.x), (axes & (1u << k)) != 0u ? vec4(rgb, alpha) : vec4(0.0));
+    imageStore(directionalOut, vctDirectionalTexel(c, v, pc.grid.dims.x), (axes & (1u << k)) != 0u ? vec4(rgb, alpha) : vec4(0.0));
 }
 
 void main() {
@@ -280,7 +281,7 @@ void main() {
     // (its back is the inside of a closed surface), like the path tracer's one-sided faces.
     vec3 axisCover = coverPos + coverNeg;
     float maxCover = max(max(axisCover.x, axisCover.y), axisCover.z);
-    // The views stored: those with opacity > 0 (gi/voxel_passes.h), and, once, zeros into the
+    // The views stored: those with opacity > 0 (gi/vct_passes.h), and, once, zeros into the
     // views of the axes stored last time that the voxel's faces (re-voxelized) no longer cover.
     uint axes = voxelViewAxes(faces), before = imageLoad(writtenVol, c).x;
     if (before != axes)

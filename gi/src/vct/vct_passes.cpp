@@ -1,0 +1,394 @@
+// The voxel cone tracing passes (list, voxel light, mips, second bounce, soft shadows, trace):
+// each compute pass declared, bound and dispatched in one place (rg::ComputePass).
+#include "vct/vct_passes.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "engine/rg/compute_pass.hpp"
+#include "engine/vk_check.hpp"
+
+namespace vkgi::gi {
+
+using rg::Access;
+
+namespace {
+
+// Adds one pass per level k >= 1 of the directional volume, built from level k - 1, up to the
+// tail, and one for the tail's levels ("prefix[t-L]"); returns the newest version. Level 1 is
+// written at the listed occupied blocks only and keeps the zeros elsewhere (gi.vct.list.clear /
+// .stale; no discard).
+// With `jobs` (and the grid's normal volume) the level-1 pass also lists the second bounce's
+// jobs into it.
+rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::ImageHandle directional,
+                             rg::BufferHandle list, const char* prefix, rg::BufferHandle* jobs = nullptr,
+                             rg::ImageHandle normal = {}) {
+    const VctVolumes::Pipelines& p = v.pipelines();
+    const gpu::VoxelGridParams& params = v.grid().params();
+    uint32_t tail = v.mipTailLevel(), last = v.directionalLevels() - 1;
+    for (uint32_t level = 1; level <= std::min(tail, last); ++level) {
+        uint32_t count = level == tail ? last - tail + 1 : 1;
+        std::string name = std::string(prefix) + "[" + std::to_string(level) +
+                           (count > 1 ? "-" + std::to_string(last) : std::string()) + "]";
+        uint32_t size = std::max(1u, v.grid().resolution() >> level);
+        gpu::VoxelMipPush push{params, glm::uvec4(level, size, 0u, 0u)};
+        const rg::SubresourceRange source = rg::SubresourceRange::mip(level - 1);
+        if (level == 1 && jobs) { // the listed occupied blocks, and the bounce jobs (voxel_mip_body.glsl)
+            rg::ComputePass(graph, name, p.mipListJobs)
+                .push(push)
+                .read(VCT_MIP_BINDING_SOURCE, directional, source)
+                .write(VCT_MIP_BINDING_TARGET, directional, rg::SubresourceRange::mip(1))
+                .read(VCT_MIP_BINDING_LIST, list)
+                .read(VCT_MIP_BINDING_NORMAL, normal)
+                .write(VCT_MIP_BINDING_JOBS, *jobs)
+                .dispatchIndirect(list, GI_VOXEL_LIST_BLOCKS * sizeof(uint32_t));
+        } else if (level == 1) { // the listed occupied blocks only (voxel_mip_body.glsl)
+            rg::ComputePass(graph, name, p.mipList)
+                .push(push)
+                .read(VCT_MIP_BINDING_SOURCE, directional, source)
+                .write(VCT_MIP_BINDING_TARGET, directional, rg::SubresourceRange::mip(1))
+                .read(VCT_MIP_BINDING_LIST, list)
+                .dispatchIndirect(list, GI_VOXEL_LIST_BLOCKS * sizeof(uint32_t));
+        } else if (level == tail) { // this level and all coarser ones, four at most
+            GI_ASSERT(count <= 4, "the mip tail has at most four levels");
+            push.info.z = count;
+            // Tail bindings past the last level are bound to the last level and not touched.
+            rg::ImageHandle levels[4] = {directional, directional, directional, directional};
+            rg::ComputePass pass(graph, name, p.mipTail);
+            pass.push(push).read(VCT_MIP_BINDING_SOURCE, directional, source);
+            for (uint32_t i = 0; i < 4; ++i)
+                pass.overwrite(VCT_MIP_BINDING_TAIL + i, levels[i],
+                               rg::SubresourceRange::mip(std::min(level + i, last)));
+            pass.dispatchGroups({1u, 1u, 1u});
+            directional = levels[0];
+        } else {
+            rg::ComputePass(graph, name, p.mip)
+                .push(push)
+                .read(VCT_MIP_BINDING_SOURCE, directional, source)
+                .overwrite(VCT_MIP_BINDING_TARGET, directional, rg::SubresourceRange::mip(level))
+                .dispatch(glm::uvec3(size));
+        }
+    }
+    return directional;
+}
+
+// Once per voxelization: the occupied-voxel list the light and bounce passes run over. The
+// voxel light writes only the listed voxels' views, the level-1 mip only the listed blocks, and
+// the rest must read empty: the first voxelization zeroes levels 0 and 1 (and the record of
+// what they hold) by transfer clears, later ones only what went stale (gi.vct.list.stale, after
+// the list is built). The list header and bits are zeroed here.
+void addListPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid, rg::BufferHandle& list,
+                   rg::ImageHandle& directional, rg::ImageHandle& written) {
+    const VctVolumes::Pipelines& p = volumes.pipelines();
+    const uint32_t n = volumes.grid().resolution();
+    const gpu::VoxelGridPush push{volumes.grid().params()};
+    rg::BufferHandle writtenBits = graph.importBuffer("gi.vct.written_bits", volumes.writtenBitsState());
+    const rg::SubresourceRange levels01{0, 2, 0, rg::kAll};
+    bool first = !volumes.writtenKnown();
+    graph.addPass(
+        "gi.vct.list.clear",
+        [&](rg::PassBuilder& b) {
+            list = b.write(list, Access::TransferWrite);
+            if (first) {
+                directional = b.write(directional, Access::TransferWrite, levels01);
+                written = b.write(written, Access::TransferWrite);
+                writtenBits = b.write(writtenBits, Access::TransferWrite);
+            }
+        },
+        [n, list, directional, written, writtenBits, first](rg::PassContext& ctx) {
+            VkCommandBuffer cmd = ctx.cmd();
+            VkBuffer l = ctx.buffer(list).buffer;
+            VkDeviceSize slots = VkDeviceSize(n) * n * n + (n / 2) * (n / 2) * (n / 2);
+            vkCmdFillBuffer(cmd, l, 0, GI_VOXEL_LIST_HEADER * sizeof(uint32_t), 0);
+            vkCmdFillBuffer(cmd, l, (GI_VOXEL_LIST_HEADER + slots) * sizeof(uint32_t), VK_WHOLE_SIZE, 0);
+            if (!first)
+                return;
+            vkCmdFillBuffer(cmd, ctx.buffer(writtenBits).buffer, 0, VK_WHOLE_SIZE, 0);
+            VkClearColorValue zero{};
+            VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+            vkCmdClearColorImage(cmd, ctx.image(written).image, ctx.layout(written), &zero, 1, &all);
+            // Level 0 whole; level 1 only the first N/2 layers of each direction, the ones it uses.
+            VkImageSubresourceRange ranges[1 + GI_VCT_DIRECTIONS];
+            ranges[0] = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, VK_REMAINING_ARRAY_LAYERS};
+            for (uint32_t d = 0; d < GI_VCT_DIRECTIONS; ++d)
+                ranges[1 + d] = {VK_IMAGE_ASPECT_COLOR_BIT, 1, 1, d * n, n / 2};
+            vkCmdClearColorImage(cmd, ctx.image(directional).image, ctx.layout(directional), &zero,
+                                 1 + GI_VCT_DIRECTIONS, ranges);
+        });
+    // One pass per touched list of the grid (the whole scene's or the static draws', then the
+    // dynamic draws'), each an indirect dispatch over its list setting the list's occupancy
+    // bits, then one pass listing the set bits in grid order.
+    for (rg::BufferHandle touched : {grid.touched, grid.touchedDynamic}) {
+        if (!touched.valid())
+            continue;
+        rg::ComputePass(graph, touched == grid.touched ? "gi.vct.list" : "gi.vct.list.dynamic", p.compact)
+            .push(push)
+            .read(VCT_COMPACT_BINDING_TOUCHED, touched)
+            .write(VCT_COMPACT_BINDING_LIST, list)
+            .dispatchIndirect(touched);
+    }
+    uint32_t words = (n * n * n + (n / 2) * (n / 2) * (n / 2)) / 32; // voxel and block bit words
+    rg::ComputePass(graph, "gi.vct.list.append", p.listAppend)
+        .push(push)
+        .write(VCT_APPEND_BINDING_LIST, list)
+        .dispatch({words, 1u, 1u});
+    rg::ImageHandle level1 = directional; // both levels become this pass's version
+    rg::ComputePass(graph, "gi.vct.list.stale", p.listStale)
+        .push(push)
+        .read(VCT_STALE_BINDING_LIST, list)
+        .write(VCT_STALE_BINDING_WRITTEN_BITS, writtenBits)
+        .write(VCT_STALE_BINDING_WRITTEN, written)
+        .write(VCT_STALE_BINDING_LEVEL0, directional, rg::SubresourceRange::mip(0))
+        .write(VCT_STALE_BINDING_LEVEL1, level1, rg::SubresourceRange::mip(1))
+        .dispatch({gpu::voxelWrittenBitsWords(n), 1u, 1u});
+    volumes.setListBuilt(true);
+    volumes.setWrittenKnown(true);
+}
+
+// "gi.vct.light": grid volumes + lights (+ the emission volume unless `options.emission` is
+// false) -> the six level-0 views of the directional volume at the listed voxels (indirect over the list); reads
+// and updates the written volume. The shadow-atlas variant with VctOcclusion::ShadowMap and an
+// atlas, else the ray march of `settings.occlusion`.
+void addLightPass(rg::RenderGraph& graph, const VctVolumes& volumes, const VoxelGridData& grid, rg::BufferHandle lights,
+                  uint32_t lightCount, const VctSettings& settings, const VctPassOptions& options,
+                  rg::BufferHandle list, rg::ImageHandle& directional, rg::ImageHandle& written) {
+    const VctVolumes::Pipelines& p = volumes.pipelines();
+    bool useShadowMap = settings.occlusion == VctOcclusion::ShadowMap && options.shadowAtlas.valid();
+    bool soft = !useShadowMap && settings.occlusion == VctOcclusion::RayMarchSoft;
+    uint32_t mode = settings.occlusion == VctOcclusion::RayMarchSoft ? GI_VCT_OCCLUSION_SOFT : GI_VCT_OCCLUSION_HARD;
+    gpu::VoxelLightPush push{volumes.grid().params(),
+                             glm::uvec4(lightCount, mode, options.emission ? GI_VOXEL_LIGHT_EMISSION : 0u, 0u)};
+    rg::ComputePass pass(graph, "gi.vct.light", useShadowMap ? p.lightShadowMap : soft ? p.lightSoft : p.light);
+    pass.push(push);
+    if (useShadowMap)
+        pass.sample(VCT_LIGHT_BINDING_SHADOW_ATLAS, options.shadowAtlas, options.shadowSampler)
+            .read(VCT_LIGHT_BINDING_SHADOW_VIEWS, options.shadowViews)
+            .read(VCT_LIGHT_BINDING_LIGHT_SHADOWS, options.lightShadows);
+    pass.read(VCT_LIGHT_BINDING_LIST, list).read(VCT_LIGHT_BINDING_LIGHTS, lights);
+    // Only the soft march filters the occupancy; the others load texels.
+    if (soft)
+        pass.sample(VCT_LIGHT_BINDING_OCCUPANCY, grid.albedo, volumes.occupancySampler());
+    else
+        pass.read(VCT_LIGHT_BINDING_OCCUPANCY, grid.albedo);
+    pass.read(VCT_LIGHT_BINDING_FACES, grid.faces)
+        .read(VCT_LIGHT_BINDING_EMISSION, grid.emission)
+        .write(VCT_LIGHT_BINDING_WRITTEN, written)
+        .write(VCT_LIGHT_BINDING_DIRECTIONAL, directional, rg::SubresourceRange::mip(0)); // the listed voxels
+    if (!useShadowMap && !soft)
+        pass.readTexels(VCT_LIGHT_BINDING_LIST_WORDS, list, volumes.listWords());
+    pass.dispatchIndirect(list);
+}
+
+// Second bounce: one gather per (block, normal class), its misfit voxels one each
+// (gi/vct_passes.h) into level 0 of the directional volume at the listed voxels; `jobs` is the job list the
+// level-1 mip built.
+rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
+                                const gpu::ConeParams& cones, rg::BufferHandle list, rg::BufferHandle jobs,
+                                rg::ImageHandle directional) {
+    const VctVolumes::Pipelines& p = volumes.pipelines();
+    const gpu::VoxelBouncePush push{volumes.grid().params(), cones};
+    rg::BufferHandle results = graph.importBuffer("gi.vct.bounce.results", volumes.bounceResultsState());
+    rg::BufferHandle gatherArgs = jobs; // the gathers' dispatch, before they append the misfits
+    rg::ComputePass(graph, "gi.vct.bounce.blocks", p.bounce)
+        .push(push)
+        .sample(VCT_CONE_BINDING_DIRECTIONAL, directional, volumes.sampler())
+        .read(VCT_BOUNCE_BINDING_NORMAL, grid.normal)
+        .write(VCT_BOUNCE_BINDING_JOBS, jobs) // the misfit list
+        .write(VCT_BOUNCE_BINDING_RESULTS, results)
+        .read(VCT_BOUNCE_BINDING_LIST, list)
+        .dispatchIndirect(gatherArgs);
+    ImageDesc bounceDesc;
+    bounceDesc.type = VK_IMAGE_TYPE_3D;
+    bounceDesc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    bounceDesc.width = bounceDesc.height = bounceDesc.depth = volumes.grid().resolution();
+    // The misfits first: they read level 0 of the first bounce, which the apply then adds to.
+    // Only the misfit voxels are written; the apply reads no others.
+    rg::ImageHandle light = graph.createImage("gi.vct.bounce.light", bounceDesc);
+    rg::ComputePass(graph, "gi.vct.bounce.misfits", p.bounceMisfits)
+        .push(push)
+        .sample(VCT_CONE_BINDING_DIRECTIONAL, directional, volumes.sampler())
+        .read(VCT_MISFITS_BINDING_ALBEDO, grid.albedo)
+        .read(VCT_MISFITS_BINDING_NORMAL, grid.normal)
+        .overwrite(VCT_MISFITS_BINDING_OUTPUT, light)
+        .read(VCT_MISFITS_BINDING_JOBS, jobs)
+        .dispatchIndirect(jobs, GI_BOUNCE_MISFITS * sizeof(uint32_t));
+    rg::ComputePass(graph, "gi.vct.bounce", p.bounceApply)
+        .push(gpu::VoxelGridPush{volumes.grid().params()})
+        .read(VCT_APPLY_BINDING_ALBEDO, grid.albedo)
+        .read(VCT_APPLY_BINDING_NORMAL, grid.normal)
+        .read(VCT_APPLY_BINDING_JOBS, jobs)
+        .read(VCT_APPLY_BINDING_MISFITS, light)
+        .read(VCT_APPLY_BINDING_LIST, list)
+        .read(VCT_APPLY_BINDING_RESULTS, results)
+        .read(VCT_APPLY_BINDING_FACES, grid.faces)
+        .write(VCT_APPLY_BINDING_DIRECTIONAL, directional, rg::SubresourceRange::mip(0)) // the listed voxels
+        .dispatchIndirect(list);
+    return addMipPasses(graph, volumes, directional, list, "gi.vct.bounce.mip");
+}
+
+// The per-pixel passes ("gi.vct.trace" and, at low resolution, the upsample and refine) through
+// out.directional.
+VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, VctOutputs out,
+                          const VctSettings& settings, const VctGBufferHandles& g, bool glossyImage);
+
+// "gi.vct.shadow": direct light with cone-traced visibility through out.directional into out.direct.
+// Only with VctSettings::softShadows and a G-buffer with emission.
+VctOutputs addSoftShadowPass(rg::RenderGraph& graph, const VctVolumes& volumes, VctOutputs out,
+                             const VctSettings& settings, const VctGBufferHandles* gbuffer, rg::BufferHandle lights,
+                             uint32_t lightCount) {
+    if (!settings.softShadows || !gbuffer || !gbuffer->emission.valid())
+        return out;
+    const VctGBufferHandles& g = *gbuffer;
+    gpu::VctShadowPush push{volumes.grid().params(), volumes.coneParams(settings, g.width, g.height),
+                            glm::uvec4(lightCount, g.width, g.height, 0u)};
+    ImageDesc desc;
+    desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+    desc.width = g.width;
+    desc.height = g.height;
+    out.direct = graph.createImage("gi.vct.direct_soft", desc);
+    rg::ComputePass(graph, "gi.vct.shadow", volumes.pipelines().softShadow)
+        .push(push)
+        .sample(VCT_CONE_BINDING_DIRECTIONAL, out.directional, volumes.sampler())
+        .read(VCT_SHADOW_BINDING_POSITION, g.position)
+        .read(VCT_SHADOW_BINDING_NORMAL, g.normal)
+        .read(VCT_SHADOW_BINDING_ALBEDO, g.albedo)
+        .read(VCT_SHADOW_BINDING_EMISSION, g.emission)
+        .read(VCT_SHADOW_BINDING_LIGHTS, lights)
+        .overwrite(VCT_SHADOW_BINDING_DIRECT, out.direct)
+        .dispatch({g.width, g.height, 1u});
+    return out;
+}
+
+// The passes every frame runs after the voxel light and mips: soft shadows and the trace.
+VctOutputs addPixelPasses(rg::RenderGraph& graph, const VctVolumes& volumes, VctOutputs out,
+                          const VctSettings& settings, const VctGBufferHandles* gbuffer, rg::BufferHandle lights,
+                          uint32_t lightCount, bool glossyImage) {
+    out = addSoftShadowPass(graph, volumes, out, settings, gbuffer, lights, lightCount);
+    return gbuffer ? addTracePasses(graph, volumes, out, settings, *gbuffer, glossyImage) : out;
+}
+
+} // namespace
+
+VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid, rg::BufferHandle lights,
+                        uint32_t lightCount, const VctSettings& settings, const VctGBufferHandles* gbuffer,
+                        VctPassOptions options) {
+    VctOutputs out;
+    rg::BufferHandle list = graph.importBuffer("gi.vct.voxel_list", volumes.listState());
+    out.directional = graph.importImage("gi.vct.directional", volumes.directionalState());
+    if (!options.relight) // nothing the voxel light depends on changed: the kept volume and mips
+        return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage);
+    // The axes whose level-0 views each voxel last stored (gi/vct_passes.h): the voxel light
+    // zeroes those its faces no longer cover, gi.vct.list.stale those of emptied voxels.
+    rg::ImageHandle written = graph.importImage("gi.vct.written", volumes.writtenState());
+    if (grid.changed || !volumes.listBuilt())
+        addListPasses(graph, volumes, grid, list, out.directional, written);
+    addLightPass(graph, volumes, grid, lights, lightCount, settings, options, list, out.directional, written);
+    // The second bounce's jobs: the level-1 mip lists them after this clear of the header, class
+    // masks and misfit bits (gi/vct_passes.h).
+    rg::BufferHandle jobs;
+    if (settings.bounces >= 2) {
+        jobs = graph.importBuffer("gi.vct.bounce.jobs", volumes.bounceJobsState());
+        graph.addPass(
+            "gi.vct.bounce.jobs.clear", [&](rg::PassBuilder& b) { jobs = b.write(jobs, Access::TransferWrite); },
+            [jobs, n = volumes.grid().resolution()](rg::PassContext& ctx) {
+                // Header: the gathers' dispatch (x = 0, one work-group row per class), the
+                // misfits' (x = 0), zero counts; then every block's class mask, the misfit bits
+                // and the sums 0.
+                VkBuffer buffer = ctx.buffer(jobs).buffer;
+                uint32_t header[GI_BOUNCE_HEADER] = {0u, GI_BOUNCE_CLASSES, 1u, 0u, 0u, 1u, 1u, 0u};
+                vkCmdUpdateBuffer(ctx.cmd(), buffer, 0, sizeof(header), header);
+                vkCmdFillBuffer(ctx.cmd(), buffer, sizeof(header),
+                                VkDeviceSize(gpu::bounceBlockCount(n)) * sizeof(uint32_t), 0);
+                vkCmdFillBuffer(ctx.cmd(), buffer,
+                                sizeof(header) + VkDeviceSize(gpu::bounceMisfitBitsOffset(n)) * sizeof(uint32_t),
+                                VkDeviceSize(n * n * n / 32 + gpu::bounceGeometryWords(n)) * sizeof(uint32_t), 0);
+            });
+    }
+    out.directional =
+        addMipPasses(graph, volumes, out.directional, list, "gi.vct.mip", jobs.valid() ? &jobs : nullptr, grid.normal);
+    if (settings.bounces >= 2) {
+        gpu::ConeParams cones =
+            volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
+        out.directional = addBouncePasses(graph, volumes, grid, cones, list, jobs, out.directional);
+    }
+    return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage);
+}
+
+namespace {
+
+VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, VctOutputs out,
+                          const VctSettings& settings, const VctGBufferHandles& g, bool glossyImage) {
+    const VctVolumes::Pipelines& p = volumes.pipelines();
+    gpu::ConeParams cones = volumes.coneParams(settings, g.width, g.height);
+    if (glossyImage)
+        cones.info.y |= GI_VCT_FLAG_GLOSSY_IMAGE;
+    const uint32_t f = settings.lowResFactor;
+    gpu::VctTracePush push{volumes.grid().params(), cones, glm::vec4(g.eye, settings.refineThreshold),
+                           glm::uvec4(f, (g.width + f - 1) / f, (g.height + f - 1) / f, g.width * g.height)};
+    push.cones.info.z = g.width;
+    push.cones.info.w = g.height;
+    auto image = [](uint32_t w, uint32_t h) {
+        ImageDesc d;
+        d.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+        d.width = w;
+        d.height = h;
+        return d;
+    };
+    ImageDesc lowDesc = image(push.lowRes.y, push.lowRes.z);
+    rg::ImageHandle indirect = graph.createImage(f == 1 ? "gi.vct.indirect" : "gi.vct.indirect.low", lowDesc);
+    rg::ImageHandle glossy = graph.createImage(f == 1 ? "gi.vct.glossy" : "gi.vct.glossy.low", lowDesc);
+    // The refine list of the upsample and refine, whose header the trace zeroes (at f = 1 the
+    // header alone, unused: one shader for both).
+    BufferDesc listDesc;
+    listDesc.size = VkDeviceSize(GI_VCT_REFINE_HEADER + (f == 1 ? 0u : 2u * push.lowRes.w)) * sizeof(uint32_t);
+    listDesc.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
+    rg::BufferHandle refineList = graph.createBuffer("gi.vct.refine_list", listDesc);
+    rg::ComputePass(graph, "gi.vct.trace", p.trace)
+        .push(push)
+        .sample(VCT_CONE_BINDING_DIRECTIONAL, out.directional, volumes.sampler())
+        .read(VCT_TRACE_BINDING_POSITION, g.position)
+        .read(VCT_TRACE_BINDING_NORMAL, g.normal)
+        .read(VCT_TRACE_BINDING_ALBEDO, g.albedo)
+        .overwrite(VCT_TRACE_BINDING_INDIRECT, indirect)
+        .overwrite(VCT_TRACE_BINDING_GLOSSY, glossy)
+        .write(VCT_TRACE_BINDING_REFINE_LIST, refineList)
+        .dispatch({push.lowRes.y, push.lowRes.z, 1u});
+    if (f == 1) {
+        out.indirect = indirect;
+        out.glossy = glossy;
+        return out;
+    }
+    // Low-res: upsample + refine list, then the listed pixels at full resolution.
+    ImageDesc fullDesc = image(g.width, g.height);
+    out.indirect = graph.createImage("gi.vct.indirect", fullDesc);
+    out.glossy = graph.createImage("gi.vct.glossy", fullDesc);
+    // 4x4 pixel blocks from -f / 2 on (vctRefineBlockOrigin in vct_refine.glsl).
+    auto blocks = [shift = f / 2u](uint32_t size) { return (size + shift + 3u) / 4u; };
+    rg::ComputePass(graph, "gi.vct.upsample", p.upsample)
+        .push(push)
+        .read(VCT_UPSAMPLE_BINDING_POSITION, g.position)
+        .read(VCT_UPSAMPLE_BINDING_NORMAL, g.normal)
+        .read(VCT_UPSAMPLE_BINDING_LOW_INDIRECT, indirect)
+        .read(VCT_UPSAMPLE_BINDING_LOW_GLOSSY, glossy)
+        .overwrite(VCT_UPSAMPLE_BINDING_INDIRECT, out.indirect)
+        .overwrite(VCT_UPSAMPLE_BINDING_GLOSSY, out.glossy)
+        .write(VCT_UPSAMPLE_BINDING_REFINE_LIST, refineList)
+        .read(VCT_UPSAMPLE_BINDING_ALBEDO, g.albedo)
+        .dispatch({blocks(g.width), blocks(g.height), 1u});
+    // Work groups counted by the upsample (header words 1..3, gi/vct_passes.h).
+    rg::ComputePass(graph, "gi.vct.refine", p.traceRefine)
+        .push(push)
+        .sample(VCT_CONE_BINDING_DIRECTIONAL, out.directional, volumes.sampler())
+        .read(VCT_TRACE_BINDING_POSITION, g.position)
+        .read(VCT_TRACE_BINDING_NORMAL, g.normal)
+        .read(VCT_TRACE_BINDING_ALBEDO, g.albedo)
+        .write(VCT_TRACE_BINDING_INDIRECT, out.indirect)
+        .write(VCT_TRACE_BINDING_GLOSSY, out.glossy)
+        .read(VCT_TRACE_BINDING_REFINE_LIST, refineList)
+        .dispatchIndirect(refineList, sizeof(uint32_t));
+    return out;
+}
+
+} // namespace
+
+} // namespace vkgi::gi
