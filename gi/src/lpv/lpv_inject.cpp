@@ -29,7 +29,7 @@ Result<Injector> Injector::create(Context& ctx) {
     for (const Item& item : items) {
         std::vector<SpecConstant> spec;
         if (item.pipeline == &inj.reduce[0] || item.pipeline == &inj.reduce[1])
-            spec.push_back({0, item.pipeline == &inj.reduce[0] ? 2u : 4u});
+            spec.push_back({LPV_REDUCE_SPEC_FACTOR, item.pipeline == &inj.reduce[0] ? 2u : 4u});
         auto p = createComputePipeline(ctx, {item.shader, spec});
         if (!p) {
             inj.destroy(ctx);
@@ -159,12 +159,12 @@ InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injec
         [=](rg::PassContext& ctx) {
             ctx.dispatch(*resolve, rg::PassContext::groupsFor(*resolve, glm::uvec3(cells)), push,
                          {ctx.buffer(LPV_RESOLVE_BINDING_BUFFER, buf),
-                          ctx.storage(LPV_RESOLVE_BINDING_WAVE_R + 0, wave.channel[0]),
-                          ctx.storage(LPV_RESOLVE_BINDING_WAVE_R + 1, wave.channel[1]),
-                          ctx.storage(LPV_RESOLVE_BINDING_WAVE_R + 2, wave.channel[2]),
-                          ctx.storage(LPV_RESOLVE_BINDING_ACC_R + 0, acc.channel[0]),
-                          ctx.storage(LPV_RESOLVE_BINDING_ACC_R + 1, acc.channel[1]),
-                          ctx.storage(LPV_RESOLVE_BINDING_ACC_R + 2, acc.channel[2])});
+                          ctx.storage(LPV_RESOLVE_BINDING_WAVEFRONT_R, wave.channel[0]),
+                          ctx.storage(LPV_RESOLVE_BINDING_WAVEFRONT_G, wave.channel[1]),
+                          ctx.storage(LPV_RESOLVE_BINDING_WAVEFRONT_B, wave.channel[2]),
+                          ctx.storage(LPV_RESOLVE_BINDING_ACCUMULATION_R, acc.channel[0]),
+                          ctx.storage(LPV_RESOLVE_BINDING_ACCUMULATION_G, acc.channel[1]),
+                          ctx.storage(LPV_RESOLVE_BINDING_ACCUMULATION_B, acc.channel[2])});
         });
     return {wave, acc, buf};
 }
@@ -186,7 +186,7 @@ rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& 
     rg::ImageHandle gv = graph.createImage(prefix + ".gv", desc);
     gpu::LpvInjectPush push{};
     push.grid = grid;
-    push.params = glm::vec4(float(LPV_GV_FIXED_SCALE), 0.0f, 0.0f, 0.0f);
+    push.params = glm::vec4(float(LPV_GEOMETRY_VOLUME_FIXED_SCALE), 0.0f, 0.0f, 0.0f);
     const Injector* inj = &injector;
     graph.addPass(
         (prefix + ".gv.clear"), [&](rg::PassBuilder& b) { buf = b.write(buf, Access::TransferWrite); },
@@ -228,9 +228,9 @@ rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& 
             },
             [=](rg::PassContext& ctx) {
                 ctx.dispatch(*src.pipeline, rg::PassContext::groupsFor(*src.pipeline, src.texels), push,
-                             {ctx.storage(LPV_GV_BINDING_POSITION, src.position),
-                              ctx.storage(LPV_GV_BINDING_NORMAL, src.normal),
-                              ctx.buffer(LPV_GV_BINDING_BUFFER, buf)});
+                             {ctx.storage(LPV_GEOMETRY_VOLUME_BINDING_POSITION, src.position),
+                              ctx.storage(LPV_GEOMETRY_VOLUME_BINDING_NORMAL, src.normal),
+                              ctx.buffer(LPV_GEOMETRY_VOLUME_BINDING_SUMS, buf)});
             });
     }
     graph.addPass(
@@ -241,7 +241,7 @@ rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& 
         },
         [=](rg::PassContext& ctx) {
             ctx.dispatch(inj->gvResolve, rg::PassContext::groupsFor(inj->gvResolve, glm::uvec3(corners)), push,
-                         {ctx.buffer(LPV_GV_BINDING_BUFFER, buf), ctx.storage(LPV_GV_BINDING_OUTPUT, gv)});
+                         {ctx.buffer(LPV_GEOMETRY_VOLUME_BINDING_SUMS, buf), ctx.storage(LPV_GEOMETRY_VOLUME_BINDING_OUTPUT, gv)});
         });
     return gv;
 }
@@ -265,9 +265,9 @@ rg::ImageHandle addAccumulationSumPass(rg::RenderGraph& graph, const Injector& i
         },
         [=](rg::PassContext& ctx) {
             ctx.dispatch(*pipeline, rg::PassContext::groupsFor(*pipeline, cells), push,
-                         {ctx.storage(LPV_SUM_BINDING_ACC_R + 0, acc.channel[0]),
-                          ctx.storage(LPV_SUM_BINDING_ACC_R + 1, acc.channel[1]),
-                          ctx.storage(LPV_SUM_BINDING_ACC_R + 2, acc.channel[2]),
+                         {ctx.storage(LPV_SUM_BINDING_ACCUMULATION_R, acc.channel[0]),
+                          ctx.storage(LPV_SUM_BINDING_ACCUMULATION_G, acc.channel[1]),
+                          ctx.storage(LPV_SUM_BINDING_ACCUMULATION_B, acc.channel[2]),
                           ctx.storage(LPV_SUM_BINDING_OUTPUT, sum)});
         });
     return sum;
@@ -316,9 +316,9 @@ rg::ImageHandle addLookupPass(rg::RenderGraph& graph, const Injector& injector, 
                          {ctx.storage(LPV_LOOKUP_BINDING_POSITION, gbuffer.position),
                           ctx.storage(LPV_LOOKUP_BINDING_NORMAL, gbuffer.normal),
                           ctx.storage(LPV_LOOKUP_BINDING_ALBEDO, gbuffer.albedo),
-                          ctx.sampled(LPV_LOOKUP_BINDING_ACC_R + 0, acc.channel[0], inj->linear),
-                          ctx.sampled(LPV_LOOKUP_BINDING_ACC_R + 1, acc.channel[1], inj->linear),
-                          ctx.sampled(LPV_LOOKUP_BINDING_ACC_R + 2, acc.channel[2], inj->linear),
+                          ctx.sampled(LPV_LOOKUP_BINDING_ACCUMULATION_R, acc.channel[0], inj->linear),
+                          ctx.sampled(LPV_LOOKUP_BINDING_ACCUMULATION_G, acc.channel[1], inj->linear),
+                          ctx.sampled(LPV_LOOKUP_BINDING_ACCUMULATION_B, acc.channel[2], inj->linear),
                           ctx.sampled(LPV_LOOKUP_BINDING_SUM, sum.valid() ? sum : acc.channel[0], inj->linear),
                           ctx.buffer(LPV_LOOKUP_BINDING_BUFFER, buffer),
                           ctx.storage(LPV_LOOKUP_BINDING_OUTPUT, out)});

@@ -96,14 +96,14 @@ void Propagator::record(const Context& ctx, VkCommandBuffer cmd, const Propagate
         return item;
     };
     for (uint32_t c = 0; c < 3; ++c) {
-        items[c] = storage(LPV_BINDING_SRC_R + c, src.channel[c]);
-        items[3 + c] = storage(LPV_BINDING_DST_R + c, dst.channel[c]);
-        items[6 + c] = storage(LPV_BINDING_ACC_R + c, acc.channel[c]);
+        items[c] = storage(LPV_PROPAGATE_BINDING_SOURCE_R + c, src.channel[c]);
+        items[3 + c] = storage(LPV_PROPAGATE_BINDING_TARGET_R + c, dst.channel[c]);
+        items[6 + c] = storage(LPV_PROPAGATE_BINDING_ACCUMULATION_R + c, acc.channel[c]);
     }
-    items[9] = storage(LPV_BINDING_GV, step.geometryVolume);
-    items[10].binding = LPV_BINDING_VOXEL_ALBEDO;
+    items[9] = storage(LPV_PROPAGATE_BINDING_GEOMETRY_VOLUME, step.geometryVolume);
+    items[10].binding = LPV_PROPAGATE_BINDING_VOXEL_ALBEDO;
     items[10].image = {m_linear, step.voxelAlbedo, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    items[11].binding = LPV_BINDING_VOXEL_NORMAL;
+    items[11].binding = LPV_PROPAGATE_BINDING_VOXEL_NORMAL;
     items[11].image = {m_linear, step.voxelNormal, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
     pushDescriptors(ctx, cmd, pipeline, items);
     vkCmdDispatch(cmd, groupCount(uint32_t(step.cells.x), LPV_LOCAL_SIZE_X),
