@@ -468,10 +468,10 @@ TEST_F(LpvPropagation, StepTimeAt32Cubed) {
                         pushConstants(cmd, *baseline, &push, sizeof(push));
                         DescriptorItem items[6];
                         for (uint32_t c = 0; c < 3; ++c) {
-                            items[c].binding = LPV_BINDING_SRC_R + c;
+                            items[c].binding = LPV_PROPAGATE_BINDING_SOURCE_R + c;
                             items[c].image = {VK_NULL_HANDLE, m_volumes[s & 1].channel[c].image.view,
                                               VK_IMAGE_LAYOUT_GENERAL};
-                            items[3 + c].binding = LPV_BINDING_DST_R + c;
+                            items[3 + c].binding = LPV_PROPAGATE_BINDING_TARGET_R + c;
                             items[3 + c].image = {VK_NULL_HANDLE, m_volumes[1 - (s & 1)].channel[c].image.view,
                                                   VK_IMAGE_LAYOUT_GENERAL};
                         }

@@ -18,17 +18,22 @@
 
 namespace vkgi::gi::lpv {
 
+// The pipelines and the sampler of the passes around propagation: RSM reduction, injection,
+// geometry volume, channel sum and lookup. The graph code in lpv_inject.cpp binds every resource.
 class Injector {
 public:
     static Result<Injector> create(Context& ctx);
     void destroy(Context& ctx);
 
-    Pipeline range, inject, lookup;
-    Pipeline resolve[2]; // [RGBA32F?]
-    Pipeline gvRsm, gvCamera, gvResolve;
-    Pipeline reduce[2];                 // factor 2, 4
-    Pipeline sum[2];                    // lookup_sum: [RGBA32F?]
-    VkSampler linear = VK_NULL_HANDLE;  // trilinear SH lookup, clamp to edge (RSM and G-buffer: imageLoad)
+    Pipeline fluxRange;                        // inject_range.comp: M, the largest RSM texel flux
+    Pipeline inject;                           // inject.comp: surfels -> fixed-point SH sums
+    Pipeline resolve[2];                       // inject_resolve: [RGBA32F?]
+    Pipeline rsmReduce[2];                     // inject_reduce.comp: factor 2, 4
+    Pipeline geometryFromRsm, geometryFromCamera; // gv_inject_rsm / gv_inject_camera.comp
+    Pipeline geometryResolve;                  // gv_resolve.comp
+    Pipeline channelSum[2];                    // lookup_sum: [RGBA32F?]
+    Pipeline lookup;                           // lookup.comp
+    VkSampler linearSampler = VK_NULL_HANDLE;  // trilinear SH lookup, clamp to edge (RSM and G-buffer: imageLoad)
 };
 
 // The reflective shadow map as the direct-lighting module publishes it (gi/frame_data.hpp):
@@ -47,7 +52,7 @@ struct GBufferInput {
 struct InjectionResult {
     ShHandles wavefront;
     ShHandles accumulation;
-    rg::BufferHandle buffer; // header holds M, read by the lookup
+    rg::BufferHandle buffer; // the injection buffer: its header holds M, read by the lookup
 };
 
 // The RSM reduced by `factor` per axis (gi.lpv.inject.reduce, inject_reduce.comp): one surfel per
@@ -58,7 +63,8 @@ RsmInput addRsmReducePass(rg::RenderGraph& graph, const Injector& injector, cons
                           const std::string& prefix = "gi.lpv");
 
 // Injects every RSM texel into `grid`, writing (fully) the given wavefront and accumulation
-// volumes. `buffer` may be a transient (invalid handle: one is created).
+// volumes. `buffer` is the injection buffer, e.g. an imported one kept for the lookup of later
+// frames (invalid handle: a transient is created).
 InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
                                    VkFormat format, const RsmInput& rsm, ShHandles wavefront, ShHandles accumulation,
                                    rg::BufferHandle buffer = {}, const std::string& prefix = "gi.lpv");

@@ -1,7 +1,8 @@
 #include "lpv/lpv_passes.hpp"
 
 #include <string>
-#include <utility>
+
+#include "engine/rg/compute_pass.hpp"
 
 namespace vkgi::gi::lpv {
 
@@ -32,59 +33,47 @@ PropagationVolumes addPropagationPasses(rg::RenderGraph& graph, const Propagator
                                         const std::string& prefix) {
     if (iterations == 0)
         return volumes;
+    // Every specialization declares the geometry volume and voxel bindings: without occlusion or
+    // bounce they take the propagator's stand-in images, which the step never reads.
     const bool occlusion = geometryVolume.valid();
     const bool bounce = voxels.albedo.valid();
-    rg::ImageHandle gv = occlusion ? geometryVolume : graph.importImage("gi.lpv.gv.none", propagator.noGeometry(),
-                                                                         Access::ComputeStorageRead);
+    if (!occlusion)
+        geometryVolume = graph.importImage("gi.lpv.gv.none", propagator.noGeometry(), Access::ComputeStorageRead);
     rg::ImageHandle voxelAlbedo = voxels.albedo, voxelNormal = voxels.normal;
     if (!bounce)
         voxelAlbedo = voxelNormal =
             graph.importImage("gi.lpv.voxels.none", propagator.noVoxels(), Access::ComputeSampledRead);
-    PropagateStep step;
-    step.cells = cells;
-    step.format = format;
-    step.occlusion = occlusion;
-    step.bounce = bounce;
-    step.lpvOrigin = lpvOrigin;
+    gpu::LpvPropagatePush push{};
+    push.gridSize = glm::ivec4(cells, 0);
+    push.lpvOrigin = lpvOrigin;
     if (bounce)
-        step.voxelOrigin = glm::vec4(glm::vec3(voxels.originSize), 1.0f / (voxels.originSize.w * float(voxels.resolution)));
-    const Propagator* prop = &propagator;
+        push.voxelOrigin = glm::vec4(glm::vec3(voxels.originSize), 1.0f / (voxels.originSize.w * float(voxels.resolution)));
+    const VkSampler voxelSampler = propagator.voxelSampler();
     for (uint32_t k = 0; k < iterations; ++k) {
-        ShHandles src = volumes.wavefront, dst = volumes.scratch, acc = volumes.accumulation;
+        ShHandles source = volumes.wavefront, target = volumes.scratch;
+        ShHandles& accumulation = volumes.accumulation;
         // Steps accumulate in pairs: the second of each adds both wavefronts; an unpaired last step its own.
         const uint32_t accumulate = k % 2 == 1 ? LPV_ACCUMULATE_PAIR
                                     : k + 1 == iterations ? LPV_ACCUMULATE_OWN
                                                           : LPV_ACCUMULATE_NONE;
-        graph.addPass(
-            prefix + ".propagate[" + std::to_string(k) + "]",
-            [&](rg::PassBuilder& b) {
-                b.read(gv, Access::ComputeStorageRead);
-                b.read(voxelAlbedo, Access::ComputeSampledRead);
-                if (voxelNormal.index != voxelAlbedo.index)
-                    b.read(voxelNormal, Access::ComputeSampledRead);
-                for (int c = 0; c < 3; ++c) {
-                    b.read(src.channel[c], Access::ComputeStorageRead);
-                    dst.channel[c] = b.write(dst.channel[c], Access::ComputeStorageWriteDiscard);
-                    acc.channel[c] = b.write(acc.channel[c], Access::ComputeStorageReadWrite);
-                }
-            },
-            [=](rg::PassContext& ctx) {
-                ShViews s, d, a;
-                for (int c = 0; c < 3; ++c) {
-                    s.channel[c] = ctx.view(src.channel[c]);
-                    d.channel[c] = ctx.view(dst.channel[c]);
-                    a.channel[c] = ctx.view(acc.channel[c]);
-                }
-                PropagateStep bound = step;
-                bound.accumulate = accumulate;
-                bound.geometryVolume = ctx.view(gv);
-                bound.voxelAlbedo = ctx.view(voxelAlbedo);
-                bound.voxelNormal = ctx.view(voxelNormal);
-                prop->record(ctx.context(), ctx.cmd(), bound, s, d, a);
-            });
-        volumes.scratch = src;
-        volumes.wavefront = dst;
-        volumes.accumulation = acc;
+        rg::ComputePass(graph, prefix + ".propagate[" + std::to_string(k) + "]",
+                        propagator.pipeline(format, occlusion, bounce, accumulate))
+            .push(push)
+            .read(LPV_PROPAGATE_BINDING_SOURCE_R, source.channel[0])
+            .read(LPV_PROPAGATE_BINDING_SOURCE_G, source.channel[1])
+            .read(LPV_PROPAGATE_BINDING_SOURCE_B, source.channel[2])
+            .overwrite(LPV_PROPAGATE_BINDING_TARGET_R, target.channel[0])
+            .overwrite(LPV_PROPAGATE_BINDING_TARGET_G, target.channel[1])
+            .overwrite(LPV_PROPAGATE_BINDING_TARGET_B, target.channel[2])
+            .write(LPV_PROPAGATE_BINDING_ACCUMULATION_R, accumulation.channel[0])
+            .write(LPV_PROPAGATE_BINDING_ACCUMULATION_G, accumulation.channel[1])
+            .write(LPV_PROPAGATE_BINDING_ACCUMULATION_B, accumulation.channel[2])
+            .read(LPV_PROPAGATE_BINDING_GEOMETRY_VOLUME, geometryVolume)
+            .sample(LPV_PROPAGATE_BINDING_VOXEL_ALBEDO, voxelAlbedo, voxelSampler)
+            .sample(LPV_PROPAGATE_BINDING_VOXEL_NORMAL, voxelNormal, voxelSampler)
+            .dispatch(glm::uvec3(cells));
+        volumes.scratch = source;
+        volumes.wavefront = target;
     }
     return volumes;
 }

@@ -1,7 +1,7 @@
 #pragma once
-// LPV work as render-graph passes: one pass per propagation iteration ("gi.lpv.propagate[k]"),
-// ping-ponging two wavefront volumes and adding each new wavefront to the accumulation volume.
-// The graph derives every barrier; nothing here records one.
+// LPV propagation as render-graph passes: one rg::ComputePass per iteration
+// ("gi.lpv.propagate[k]"), ping-ponging two wavefront volumes and adding the new wavefronts to
+// the accumulation volume. The graph derives every barrier; nothing here records one.
 #include <array>
 #include <cstdint>
 #include <string>

@@ -29,13 +29,28 @@ namespace vkgi::gi {
 namespace {
 
 // Voxel grid resolution for the bounce: twice the LPV's (so trilinear sampling at a cell centre
-// averages the 2^3 voxels inside it), a power of two in the voxelizer's range.
+// averages the 2^3 voxels inside it), a power of two in the voxelizer's range. 128^3 keeps the
+// three RGBA8 volumes inside the module's memory budget.
 uint32_t voxelResolutionFor(uint32_t lpvCells) {
-    uint32_t r = GI_VOXEL_MIN_RESOLUTION;
-    while (r < 2 * lpvCells && r < 128u) // 128^3 RGBA8 x 3 volumes = 24 MiB: the module budget's limit
-        r *= 2;
-    return r;
+    uint32_t resolution = GI_VOXEL_MIN_RESOLUTION;
+    while (resolution < 2 * lpvCells && resolution < 128u)
+        resolution *= 2;
+    return resolution;
 }
+
+// What every grid of a frame injects from and looks up for.
+struct FrameSources {
+    VkFormat format = VK_FORMAT_UNDEFINED; // SH storage format
+    lpv::RsmInput rsm;                     // the RSM as the light passes wrote it (before any reduction)
+    lpv::GBufferInput gbuffer;
+};
+
+// The persistent volumes of the single-grid case as this frame's graph sees them.
+struct KeptVolumes {
+    lpv::ShHandles accumulation;
+    rg::BufferHandle injectionBuffer;
+    rg::ImageHandle channelSum; // invalid without damping
+};
 
 class LpvTechnique final : public TechniqueModule {
 public:
@@ -54,142 +69,183 @@ public:
     bool needsRsm() const override { return m_grid.has_value(); }
 
     Result<void> sceneChanged(Context& ctx, const Scene& scene, const GpuScene& gpu, bool uploaded) override {
+        if (auto fitted = fitGrid(scene, gpu); !fitted)
+            return fitted.error();
+        m_draws.clear();
+        for (const GpuDraw& d : gpu.draws)
+            m_draws.push_back({d.instance, d.firstIndex, d.indexCount / 3, d.vertexOffset, d.dynamic});
+        if (m_settings.bounces && gpu.bounds.valid() && (uploaded || !m_voxels))
+            return createVoxelGrid(ctx, gpu.bounds);
+        return {}; // moved objects arrive as PassSelection::changes with the next frame
+    }
+
+    IndirectOutputs addPasses(rg::RenderGraph& graph, const TechniqueInputs& in) override {
+        if (!m_grid || !in.rsm || in.rsm->layers.empty())
+            return {addUnlitPasses(graph, in), {}, {}, {}};
+        noteMovedGeometry(in.selection.changes);
+        const FrameData& frame = in.frame;
+        const RsmData& rsm = *in.rsm;
+        FrameSources sources;
+        sources.format = m_settings.halfFloat ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
+        sources.rsm = {rsm.position, rsm.normal, rsm.flux, rsm.resolution, uint32_t(rsm.layers.size())};
+        sources.gbuffer = {in.gbuffer.position, in.gbuffer.normal, in.gbuffer.albedo, frame.width, frame.height};
+        std::vector<gpu::LpvGrid> grids = gridsFor(frame);
+        if (grids.size() == 1)
+            return {addKeptGridPasses(graph, in, grids[0], sources), {}, {}, {}};
+        return {addCascadePasses(graph, in, grids, sources), {}, {}, {}};
+    }
+
+    uint64_t persistentBytes() const override {
+        uint64_t n = m_voxels ? uint64_t(m_voxels->bytes()) : 0;
+        for (const rg::PersistentImage& image : m_cache.accumulation)
+            n += image.image.alloc.size;
+        if (m_cache.channelSum.image.image)
+            n += m_cache.channelSum.image.alloc.size;
+        return n + m_cache.injectionBuffer.buffer.alloc.size;
+    }
+
+private:
+    // The grid fitted to the part of the scene the lights reach (none when nothing is lit).
+    Result<void> fitGrid(const Scene& scene, const GpuScene& gpu) {
         m_grid.reset();
         m_directional = false;
         for (const Light& l : scene.lights)
             m_directional = m_directional || l.type == LightType::Directional;
         Aabb region = lpv::litRegion(gpu.bounds, scene.lights);
-        if (region.valid()) {
-            auto grid = lpv::fitLpvGrid(region, m_settings.gridSize);
-            if (!grid)
-                return grid.error();
-            m_grid = *grid;
-        }
-        m_draws.clear();
-        for (const GpuDraw& d : gpu.draws)
-            m_draws.push_back({d.instance, d.firstIndex, d.indexCount / 3, d.vertexOffset, d.dynamic});
-        if (m_settings.bounces && gpu.bounds.valid() && (uploaded || !m_voxels)) {
-            auto params = fitVoxelGrid(gpu.bounds, voxelResolutionFor(m_settings.gridSize), 1.0f);
-            if (!params)
-                return params.error();
-            auto voxels = VoxelGrid::create(ctx, *params);
-            if (!voxels)
-                return voxels.error();
-            m_voxels = std::move(*voxels);
-            m_voxelUpdate = VoxelUpdate::Full;
-        } // moved objects arrive as PassSelection::changes with the next frame
+        if (!region.valid())
+            return {};
+        auto grid = lpv::fitLpvGrid(region, m_settings.gridSize);
+        if (!grid)
+            return grid.error();
+        m_grid = *grid;
         return {};
     }
 
-    IndirectOutputs addPasses(rg::RenderGraph& graph, const TechniqueInputs& in) override {
-        const FrameData& frame = in.frame;
-        const GBufferData& gbuffer = in.gbuffer;
-        const RsmData* rsmData = in.rsm;
-        lpv::GBufferInput gb{gbuffer.position, gbuffer.normal, gbuffer.albedo, frame.width, frame.height};
-        if (!m_grid || !rsmData || rsmData->layers.empty()) {
-            m_cache.valid = false; // the changes of this frame are not looked at
-            in.selection.leaveOut("gi.lpv.*", LeftOutReason::NotNeeded,
-                                  !m_grid ? "no light reaches the scene (the LPV injects only the RSM)"
-                                          : "no light has shadow-atlas layers");
-            return {addBlack(graph, frame), {}, {}, {}};
-        }
-        const VkFormat format = m_settings.halfFloat ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
-        lpv::RsmInput rsmFull{rsmData->position, rsmData->normal, rsmData->flux, rsmData->resolution,
-                              uint32_t(rsmData->layers.size())};
-        PassSelection& selection = in.selection;
-        const SceneChanges& changes = selection.changes;
-        // Pending re-voxelization: a moved static object invalidates the static bake.
+    // A new voxel grid of the bounce around `bounds`, voxelized in full with the next frame.
+    Result<void> createVoxelGrid(Context& ctx, const Aabb& bounds) {
+        auto params = fitVoxelGrid(bounds, voxelResolutionFor(m_settings.gridSize), 1.0f);
+        if (!params)
+            return params.error();
+        auto voxels = VoxelGrid::create(ctx, *params);
+        if (!voxels)
+            return voxels.error();
+        m_voxels = std::move(*voxels);
+        m_voxelUpdate = VoxelUpdate::Full;
+        return {};
+    }
+
+    // Pending re-voxelization: a moved static object invalidates the static bake.
+    void noteMovedGeometry(const SceneChanges& changes) {
         VoxelUpdate moved = changes.all || changes.staticGeometry ? VoxelUpdate::Full
                             : changes.dynamicGeometry             ? VoxelUpdate::Dynamic
                                                                   : VoxelUpdate::None;
         if (m_voxels)
             m_voxelUpdate = std::max(m_voxelUpdate, moved);
-        // One grid fitted to the lit region, or (directional light, cascades > 1) nested grids
-        // following the camera.
-        std::vector<gpu::LpvGrid> grids{*m_grid};
-        if (m_settings.cascades > 1 && m_directional) {
-            // The coarsest level spans twice the lit region, so it covers it from any camera inside.
-            float finest = 2.0f * m_grid->origin.w / float(1u << (m_settings.cascades - 1));
-            grids = lpv::fitCascades(frame.camera.position, glm::normalize(frame.camera.forward), finest,
-                                     m_settings.gridSize, m_settings.cascades);
+    }
+
+    // One grid fitted to the lit region, or (directional light, cascades > 1) nested grids
+    // following the camera.
+    std::vector<gpu::LpvGrid> gridsFor(const FrameData& frame) const {
+        if (m_settings.cascades <= 1 || !m_directional)
+            return {*m_grid};
+        // The coarsest level spans twice the lit region, so it covers it from any camera inside.
+        float finest = 2.0f * m_grid->origin.w / float(1u << (m_settings.cascades - 1));
+        return lpv::fitCascades(frame.camera.position, glm::normalize(frame.camera.forward), finest,
+                                m_settings.gridSize, m_settings.cascades);
+    }
+
+    // One grid: the propagated volume is kept and reused while nothing it depends on changed.
+    rg::ImageHandle addKeptGridPasses(rg::RenderGraph& graph, const TechniqueInputs& in, const gpu::LpvGrid& grid,
+                                      const FrameSources& sources) {
+        const bool fresh = ensureCache(glm::ivec3(grid.size), sources.format);
+        KeptVolumes kept = importCache(graph);
+        if (fresh || needsPropagation(grid, in.selection.changes)) {
+            lpv::VoxelInput voxels = addVoxelPasses(graph, in);
+            const lpv::RsmInput rsm = reducedRsm(graph, sources.rsm);
+            lpv::InjectionResult propagated = addGridPasses(graph, grid, sources, rsm, voxels, "gi.lpv",
+                                                            kept.accumulation, kept.injectionBuffer);
+            kept.accumulation = propagated.accumulation;
+            kept.injectionBuffer = propagated.buffer;
+            if (kept.channelSum.valid())
+                kept.channelSum =
+                    lpv::addAccumulationSumPass(graph, m_injector, grid, kept.accumulation, kept.channelSum);
+            m_cache.grid = grid;
+            m_cache.valid = true;
+        } else {
+            leaveOutUnchanged(in.selection, kept.channelSum.valid());
         }
-        rg::ImageHandle indirect;
-        if (grids.size() == 1) {
-            // One grid: the propagated volume is kept and reused while nothing it depends on changed.
-            const gpu::LpvGrid& grid = grids[0];
-            bool fresh = ensureCache(glm::ivec3(grid.size), format);
-            bool sameGrid = std::memcmp(&grid, &m_cache.grid, sizeof(grid)) == 0;
-            bool viewChanged = m_settings.occlusion && changes.camera;
-            bool rerun = fresh || !m_cache.valid || !sameGrid || changes.any() || viewChanged ||
-                         m_voxelUpdate != VoxelUpdate::None;
-            lpv::ShHandles accumulation;
-            for (int c = 0; c < 3; ++c)
-                accumulation.channel[c] = graph.importImage("gi.lpv.accumulation." + std::string(1, "rgb"[c]),
-                                                            m_cache.accumulation[c]);
-            rg::BufferHandle buffer = graph.importBuffer("gi.lpv.injection", m_cache.injection);
-            rg::ImageHandle sum; // the damping's channel sum of the kept volume, kept with it
-            if (m_cache.sum.image.image)
-                sum = graph.importImage("gi.lpv.accumulation.sum", m_cache.sum);
-            if (rerun) {
-                addVolumePasses(graph, in, grid, format, rsmFull, gb, accumulation, buffer);
-                if (sum.valid())
-                    sum = lpv::addAccumulationSumPass(graph, m_injector, grid, accumulation, sum);
-                m_cache.grid = grid;
-                m_cache.valid = true;
-            } else {
-                std::string why = m_settings.occlusion ? "no light or object changed and the camera did not move"
-                                                       : "no light or object changed";
-                selection.leaveOut("gi.lpv.inject*", LeftOutReason::NotDirty, why);
-                if (m_settings.occlusion)
-                    selection.leaveOut("gi.lpv.gv.*", LeftOutReason::NotDirty, why);
-                selection.leaveOut("gi.lpv.propagate*", LeftOutReason::NotDirty, why);
-                if (sum.valid())
-                    selection.leaveOut("gi.lpv.lookup.sum", LeftOutReason::NotDirty, why);
-                if (m_voxels)
-                    selection.leaveOut("gi.voxel.*", LeftOutReason::NotDirty, why);
-            }
-            indirect = lpv::addLookupPass(graph, m_injector, grid, accumulation, buffer, gb, m_settings.damping, {}, {},
-                                          "gi.lpv", sum);
-            return {indirect, {}, {}, {}};
-        }
+        return lpv::addLookupPass(graph, m_injector, grid, kept.accumulation, kept.injectionBuffer, sources.gbuffer,
+                                  m_settings.damping, {}, {}, "gi.lpv", kept.channelSum);
+    }
+
+    // True when the kept volume does not hold this frame's light in `grid`.
+    bool needsPropagation(const gpu::LpvGrid& grid, const SceneChanges& changes) const {
+        const bool sameGrid = std::memcmp(&grid, &m_cache.grid, sizeof(grid)) == 0;
+        const bool viewChanged = m_settings.occlusion && changes.camera;
+        return !m_cache.valid || !sameGrid || changes.any() || viewChanged || m_voxelUpdate != VoxelUpdate::None;
+    }
+
+    // The passes that only refresh the kept volume, left out while it holds this frame's light.
+    void leaveOutUnchanged(PassSelection& selection, bool channelSum) const {
+        const std::string why = m_settings.occlusion ? "no light or object changed and the camera did not move"
+                                                     : "no light or object changed";
+        selection.leaveOut("gi.lpv.inject*", LeftOutReason::NotDirty, why);
+        if (m_settings.occlusion)
+            selection.leaveOut("gi.lpv.gv.*", LeftOutReason::NotDirty, why);
+        selection.leaveOut("gi.lpv.propagate*", LeftOutReason::NotDirty, why);
+        if (channelSum)
+            selection.leaveOut("gi.lpv.lookup.sum", LeftOutReason::NotDirty, why);
+        if (m_voxels)
+            selection.leaveOut("gi.voxel.*", LeftOutReason::NotDirty, why);
+    }
+
+    // Camera-following cascades, all transient: every level is injected, propagated and looked
+    // up every frame, the coarser levels adding to what the finer ones wrote.
+    rg::ImageHandle addCascadePasses(rg::RenderGraph& graph, const TechniqueInputs& in,
+                                     const std::vector<gpu::LpvGrid>& grids, const FrameSources& sources) {
         lpv::VoxelInput voxels = addVoxelPasses(graph, in);
-        const lpv::RsmInput rsm = reducedRsm(graph, rsmFull);
+        const lpv::RsmInput rsm = reducedRsm(graph, sources.rsm);
+        rg::ImageHandle indirect;
         for (size_t k = 0; k < grids.size(); ++k) {
             const gpu::LpvGrid& grid = grids[k];
-            const glm::ivec3 cells(grid.size);
             const std::string prefix = k == 0 ? "gi.lpv" : "gi.lpv.c" + std::to_string(k);
-            lpv::InjectionResult injected = lpv::addInjectionPasses(
-                graph, m_injector, grid, format, rsm, lpv::createShVolume(graph, (prefix + ".wave.a").c_str(), cells, format),
-                lpv::createShVolume(graph, (prefix + ".accumulation").c_str(), cells, format), {}, prefix);
-            rg::ImageHandle gv;
-            if (m_settings.occlusion)
-                gv = lpv::addGeometryVolumePasses(graph, m_injector, grid, rsm, gb, prefix);
-            lpv::PropagationVolumes volumes{injected.wavefront,
-                                            lpv::createShVolume(graph, (prefix + ".wave.b").c_str(), cells, format),
-                                            injected.accumulation};
-            volumes = lpv::addPropagationPasses(graph, m_propagator, cells, format, volumes, gv, m_settings.iterations,
-                                                voxels, grid.origin, prefix);
+            lpv::ShHandles accumulation = lpv::createShVolume(graph, (prefix + ".accumulation").c_str(),
+                                                              glm::ivec3(grid.size), sources.format);
+            lpv::InjectionResult propagated =
+                addGridPasses(graph, grid, sources, rsm, voxels, prefix, accumulation, {});
             lpv::CascadeBlend blend;
-            blend.fadeBorder = grids.size() > 1;
+            blend.fadeBorder = true;
             blend.accumulate = k > 0;
             for (size_t j = k >= 2 ? k - 2 : 0; j < k; ++j)
                 blend.finer.push_back(grids[j]);
-            indirect = lpv::addLookupPass(graph, m_injector, grid, volumes.accumulation, injected.buffer, gb,
-                                          m_settings.damping, indirect, blend, prefix);
+            indirect = lpv::addLookupPass(graph, m_injector, grid, propagated.accumulation, propagated.buffer,
+                                          sources.gbuffer, m_settings.damping, indirect, blend, prefix);
         }
-        return {indirect, {}, {}, {}};
+        return indirect;
     }
 
-    uint64_t persistentBytes() const override {
-        uint64_t n = m_voxels ? uint64_t(m_voxels->bytes()) : 0;
-        for (const rg::PersistentImage& img : m_cache.accumulation)
-            n += img.image.alloc.size;
-        if (m_cache.sum.image.image)
-            n += m_cache.sum.image.alloc.size;
-        return n + m_cache.injection.buffer.alloc.size;
+    // Injection, geometry volume and propagation of one grid into `accumulation` (written
+    // whole) with `injectionBuffer` (invalid: a transient). Returns the accumulated light and
+    // the injection buffer the lookup reads.
+    lpv::InjectionResult addGridPasses(rg::RenderGraph& graph, const gpu::LpvGrid& grid, const FrameSources& sources,
+                                       const lpv::RsmInput& rsm, const lpv::VoxelInput& voxels,
+                                       const std::string& prefix, const lpv::ShHandles& accumulation,
+                                       rg::BufferHandle injectionBuffer) {
+        const glm::ivec3 cells(grid.size);
+        lpv::ShHandles firstWavefront = lpv::createShVolume(graph, (prefix + ".wave.a").c_str(), cells, sources.format);
+        lpv::InjectionResult injected = lpv::addInjectionPasses(graph, m_injector, grid, sources.format, rsm,
+                                                                firstWavefront, accumulation, injectionBuffer, prefix);
+        rg::ImageHandle geometryVolume;
+        if (m_settings.occlusion)
+            geometryVolume = lpv::addGeometryVolumePasses(graph, m_injector, grid, rsm, sources.gbuffer, prefix);
+        lpv::PropagationVolumes volumes{injected.wavefront,
+                                        lpv::createShVolume(graph, (prefix + ".wave.b").c_str(), cells, sources.format),
+                                        injected.accumulation};
+        volumes = lpv::addPropagationPasses(graph, m_propagator, cells, sources.format, volumes, geometryVolume,
+                                            m_settings.iterations, voxels, grid.origin, prefix);
+        return {volumes.wavefront, volumes.accumulation, injected.buffer};
     }
 
-private:
     // The voxel grid of the bounce (when on), re-voxelized for the pending m_voxelUpdate.
     lpv::VoxelInput addVoxelPasses(rg::RenderGraph& graph, const TechniqueInputs& in) {
         if (!m_voxels)
@@ -208,60 +264,16 @@ private:
         return lpv::addRsmReducePass(graph, m_injector, rsm, m_settings.rsmReduce);
     }
 
-    // Injection, geometry volume and propagation of one grid into `accumulation` (+ `buffer`).
-    void addVolumePasses(rg::RenderGraph& graph, const TechniqueInputs& in, const gpu::LpvGrid& grid, VkFormat format,
-                         const lpv::RsmInput& rsmFull, const lpv::GBufferInput& gb, lpv::ShHandles& accumulation,
-                         rg::BufferHandle& buffer) {
-        lpv::VoxelInput voxels = addVoxelPasses(graph, in);
-        const lpv::RsmInput rsm = reducedRsm(graph, rsmFull);
-        const glm::ivec3 cells(grid.size);
-        lpv::InjectionResult injected = lpv::addInjectionPasses(
-            graph, m_injector, grid, format, rsm, lpv::createShVolume(graph, "gi.lpv.wave.a", cells, format),
-            accumulation, buffer, "gi.lpv");
-        rg::ImageHandle gv;
-        if (m_settings.occlusion)
-            gv = lpv::addGeometryVolumePasses(graph, m_injector, grid, rsm, gb, "gi.lpv");
-        lpv::PropagationVolumes volumes{injected.wavefront, lpv::createShVolume(graph, "gi.lpv.wave.b", cells, format),
-                                        injected.accumulation};
-        volumes = lpv::addPropagationPasses(graph, m_propagator, cells, format, volumes, gv, m_settings.iterations,
-                                            voxels, grid.origin, "gi.lpv");
-        accumulation = volumes.accumulation;
-        buffer = injected.buffer;
+    // No lit region or no light in the shadow atlas: nothing to inject, a black indirect image.
+    rg::ImageHandle addUnlitPasses(rg::RenderGraph& graph, const TechniqueInputs& in) {
+        m_cache.valid = false; // the changes of this frame are not looked at
+        in.selection.leaveOut("gi.lpv.*", LeftOutReason::NotNeeded,
+                              !m_grid ? "no light reaches the scene (the LPV injects only the RSM)"
+                                      : "no light has shadow-atlas layers");
+        return addBlack(graph, in.frame);
     }
 
-    // The kept volume for `cells` x `format`; true when (re)allocated (contents undefined).
-    bool ensureCache(glm::ivec3 cells, VkFormat format) {
-        if (m_cache.cells == cells && m_cache.format == format)
-            return false;
-        if (m_cache.cells != glm::ivec3(0))
-            vkDeviceWaitIdle(m_ctx.device());
-        destroyCache();
-        for (int c = 0; c < 3; ++c) {
-            std::string name = "gi.lpv.accumulation." + std::string(1, "rgb"[c]);
-            m_cache.accumulation[c].image = createImage(m_ctx, lpv::shImageDesc(cells, format), name.c_str());
-        }
-        if (m_settings.damping > 0.0f)
-            m_cache.sum.image = createImage(m_ctx, lpv::shImageDesc(cells, format), "gi.lpv.accumulation.sum");
-        BufferDesc desc{lpv::injectionBufferBytes(cells), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT};
-        m_cache.injection.buffer = createBuffer(m_ctx, desc, "gi.lpv.injection");
-        m_cache.cells = cells;
-        m_cache.format = format;
-        m_cache.valid = false;
-        return true;
-    }
-
-    void destroyCache() {
-        for (rg::PersistentImage& img : m_cache.accumulation)
-            if (img.image.image)
-                destroyImage(m_ctx, img.image);
-        if (m_cache.sum.image.image)
-            destroyImage(m_ctx, m_cache.sum.image);
-        if (m_cache.injection.buffer.buffer)
-            destroyBuffer(m_ctx, m_cache.injection.buffer);
-        m_cache = {};
-    }
-
-    // No lit geometry: a black indirect image (the lookup with an empty grid would read nothing).
+    // A black indirect image (the lookup with an empty grid would read nothing).
     rg::ImageHandle addBlack(rg::RenderGraph& graph, const FrameData& frame) {
         ImageDesc desc;
         desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
@@ -279,6 +291,50 @@ private:
         return out;
     }
 
+    // The kept volume for `cells` x `format`; true when (re)allocated (contents undefined).
+    bool ensureCache(glm::ivec3 cells, VkFormat format) {
+        if (m_cache.cells == cells && m_cache.format == format)
+            return false;
+        if (m_cache.cells != glm::ivec3(0))
+            vkDeviceWaitIdle(m_ctx.device());
+        destroyCache();
+        for (int c = 0; c < 3; ++c)
+            m_cache.accumulation[c].image =
+                createImage(m_ctx, lpv::shImageDesc(cells, format), accumulationName(c).c_str());
+        if (m_settings.damping > 0.0f)
+            m_cache.channelSum.image = createImage(m_ctx, lpv::shImageDesc(cells, format), "gi.lpv.accumulation.sum");
+        BufferDesc desc{lpv::injectionBufferBytes(cells), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT};
+        m_cache.injectionBuffer.buffer = createBuffer(m_ctx, desc, "gi.lpv.injection");
+        m_cache.cells = cells;
+        m_cache.format = format;
+        m_cache.valid = false;
+        return true;
+    }
+
+    // The kept volumes imported into this frame's graph.
+    KeptVolumes importCache(rg::RenderGraph& graph) {
+        KeptVolumes kept;
+        for (int c = 0; c < 3; ++c)
+            kept.accumulation.channel[c] = graph.importImage(accumulationName(c), m_cache.accumulation[c]);
+        kept.injectionBuffer = graph.importBuffer("gi.lpv.injection", m_cache.injectionBuffer);
+        if (m_cache.channelSum.image.image)
+            kept.channelSum = graph.importImage("gi.lpv.accumulation.sum", m_cache.channelSum);
+        return kept;
+    }
+
+    static std::string accumulationName(int channel) { return "gi.lpv.accumulation." + std::string(1, "rgb"[channel]); }
+
+    void destroyCache() {
+        for (rg::PersistentImage& image : m_cache.accumulation)
+            if (image.image.image)
+                destroyImage(m_ctx, image.image);
+        if (m_cache.channelSum.image.image)
+            destroyImage(m_ctx, m_cache.channelSum.image);
+        if (m_cache.injectionBuffer.buffer.buffer)
+            destroyBuffer(m_ctx, m_cache.injectionBuffer.buffer);
+        m_cache = {};
+    }
+
     Context& m_ctx;
     LpvSettings m_settings;
     lpv::Propagator m_propagator;
@@ -292,8 +348,8 @@ private:
     // single-grid case, kept across frames.
     struct Cache {
         std::array<rg::PersistentImage, 3> accumulation;
-        rg::PersistentImage sum; // R + G + B of `accumulation` (the damping's input; only with damping)
-        rg::PersistentBuffer injection;
+        rg::PersistentImage channelSum; // R + G + B of `accumulation` (the damping's input; only with damping)
+        rg::PersistentBuffer injectionBuffer;
         glm::ivec3 cells{0};
         VkFormat format = VK_FORMAT_UNDEFINED;
         gpu::LpvGrid grid{};

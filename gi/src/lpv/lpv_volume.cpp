@@ -1,30 +1,13 @@
 #include "lpv/lpv_volume.hpp"
 
-#include <string>
-
 #include "engine/context.hpp"
 #include "engine/vk_check.hpp"
 #include "gi/lpv.h"
-#include "lpv/lpv_passes.hpp"
 
 namespace vkgi::gi::lpv {
 
 bool isSupportedShFormat(VkFormat format) {
     return format == VK_FORMAT_R16G16B16A16_SFLOAT || format == VK_FORMAT_R32G32B32A32_SFLOAT;
-}
-
-ShImages createShImages(Context& ctx, glm::ivec3 cells, VkFormat format, const char* name) {
-    ShImages images;
-    ImageDesc desc = shImageDesc(cells, format);
-    const char* suffix[3] = {".r", ".g", ".b"};
-    for (int c = 0; c < 3; ++c)
-        images.channel[c] = createImage(ctx, desc, (std::string(name) + suffix[c]).c_str());
-    return images;
-}
-
-void destroyShImages(Context& ctx, ShImages& images) {
-    for (Image& image : images.channel)
-        destroyImage(ctx, image);
 }
 
 Result<Propagator> Propagator::create(Context& ctx) {
@@ -33,15 +16,16 @@ Result<Propagator> Propagator::create(Context& ctx) {
     for (int f = 0; f < 2; ++f)
         for (uint32_t occlusion = 0; occlusion < 2; ++occlusion)
             for (uint32_t bounce = 0; bounce < 2; ++bounce)
-                for (uint32_t acc = 0; acc < 3; ++acc) {
-                    auto pipeline = createComputePipeline(
-                        ctx, {shaders[f],
-                              {{LPV_SPEC_OCCLUSION, occlusion}, {LPV_SPEC_BOUNCE, bounce}, {LPV_SPEC_ACCUMULATE, acc}}});
+                for (uint32_t accumulate = 0; accumulate < 3; ++accumulate) {
+                    auto pipeline = createComputePipeline(ctx, {shaders[f],
+                                                                {{LPV_SPEC_OCCLUSION, occlusion},
+                                                                 {LPV_SPEC_BOUNCE, bounce},
+                                                                 {LPV_SPEC_ACCUMULATE, accumulate}}});
                     if (!pipeline) {
                         p.destroy(ctx);
                         return pipeline.error();
                     }
-                    p.m_pipelines[f][occlusion][bounce][acc] = *pipeline;
+                    p.m_pipelines[f][occlusion][bounce][accumulate] = *pipeline;
                 }
     ImageDesc desc;
     desc.type = VK_IMAGE_TYPE_3D;
@@ -56,7 +40,7 @@ Result<Propagator> Propagator::create(Context& ctx) {
     uploadImage(ctx, p.m_noVoxels, &zero, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     SamplerDesc linear;
     linear.mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-    p.m_linear = createSampler(ctx, linear);
+    p.m_voxelSampler = createSampler(ctx, linear);
     return p;
 }
 
@@ -71,44 +55,16 @@ void Propagator::destroy(Context& ctx) {
         destroyImage(ctx, m_noGeometry);
     if (m_noVoxels)
         destroyImage(ctx, m_noVoxels);
-    if (m_linear != VK_NULL_HANDLE) {
-        vkDestroySampler(ctx.device(), m_linear, nullptr);
-        m_linear = VK_NULL_HANDLE;
+    if (m_voxelSampler != VK_NULL_HANDLE) {
+        vkDestroySampler(ctx.device(), m_voxelSampler, nullptr);
+        m_voxelSampler = VK_NULL_HANDLE;
     }
 }
 
-void Propagator::record(const Context& ctx, VkCommandBuffer cmd, const PropagateStep& step, const ShViews& src,
-                        const ShViews& dst, const ShViews& acc) const {
-    GI_ASSERT(isSupportedShFormat(step.format), "lpv::Propagator::record: SH format must be RGBA16F or RGBA32F");
-    const Pipeline& pipeline =
-        m_pipelines[step.format == VK_FORMAT_R32G32B32A32_SFLOAT][step.occlusion][step.bounce][step.accumulate];
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline);
-    gpu::LpvPropagatePush push{};
-    push.gridSize = glm::ivec4(step.cells, 0);
-    push.lpvOrigin = step.lpvOrigin;
-    push.voxelOrigin = step.voxelOrigin;
-    pushConstants(cmd, pipeline, &push, sizeof(push));
-    DescriptorItem items[12];
-    auto storage = [](uint32_t binding, VkImageView view) {
-        DescriptorItem item;
-        item.binding = binding;
-        item.image = {VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL};
-        return item;
-    };
-    for (uint32_t c = 0; c < 3; ++c) {
-        items[c] = storage(LPV_BINDING_SRC_R + c, src.channel[c]);
-        items[3 + c] = storage(LPV_BINDING_DST_R + c, dst.channel[c]);
-        items[6 + c] = storage(LPV_BINDING_ACC_R + c, acc.channel[c]);
-    }
-    items[9] = storage(LPV_BINDING_GV, step.geometryVolume);
-    items[10].binding = LPV_BINDING_VOXEL_ALBEDO;
-    items[10].image = {m_linear, step.voxelAlbedo, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    items[11].binding = LPV_BINDING_VOXEL_NORMAL;
-    items[11].image = {m_linear, step.voxelNormal, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    pushDescriptors(ctx, cmd, pipeline, items);
-    vkCmdDispatch(cmd, groupCount(uint32_t(step.cells.x), LPV_LOCAL_SIZE_X),
-                  groupCount(uint32_t(step.cells.y), LPV_LOCAL_SIZE_Y),
-                  groupCount(uint32_t(step.cells.z), LPV_LOCAL_SIZE_Z));
+const Pipeline& Propagator::pipeline(VkFormat format, bool occlusion, bool bounce, uint32_t accumulate) const {
+    GI_ASSERT(isSupportedShFormat(format), "lpv::Propagator::pipeline: SH format must be RGBA16F or RGBA32F");
+    GI_ASSERT(accumulate <= LPV_ACCUMULATE_PAIR, "lpv::Propagator::pipeline: accumulate must be LPV_ACCUMULATE_*");
+    return m_pipelines[format == VK_FORMAT_R32G32B32A32_SFLOAT][occlusion][bounce][accumulate];
 }
 
 } // namespace vkgi::gi::lpv

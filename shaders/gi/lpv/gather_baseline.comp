@@ -1,18 +1,18 @@
 #version 460
-// Benchmark baseline only (not used by the engine): the plain 6-neighbour gather the LPV step
-// is measured against (../shared/LAVAPIPE.md: 3 RGBA16F SH images in, 3 out, one 4x4 matrix
+// Benchmark baseline only (not used by the engine): the plain 6-neighbour gather the LPV step's
+// cost is compared with (../shared/LAVAPIPE.md: 3 RGBA16F SH images in, 3 out, one 4x4 matrix
 // per neighbour and colour, no accumulation, no occlusion).
 #extension GL_GOOGLE_include_directive : require
 #include "gi/lpv.h"
 
 layout(local_size_x = LPV_LOCAL_SIZE_X, local_size_y = LPV_LOCAL_SIZE_Y, local_size_z = LPV_LOCAL_SIZE_Z) in;
 layout(push_constant) uniform PushBlock { LpvPropagatePush pc; };
-layout(set = 1, binding = LPV_BINDING_SRC_R, rgba16f) uniform readonly image3D srcR;
-layout(set = 1, binding = LPV_BINDING_SRC_G, rgba16f) uniform readonly image3D srcG;
-layout(set = 1, binding = LPV_BINDING_SRC_B, rgba16f) uniform readonly image3D srcB;
-layout(set = 1, binding = LPV_BINDING_DST_R, rgba16f) uniform writeonly image3D dstR;
-layout(set = 1, binding = LPV_BINDING_DST_G, rgba16f) uniform writeonly image3D dstG;
-layout(set = 1, binding = LPV_BINDING_DST_B, rgba16f) uniform writeonly image3D dstB;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_R, rgba16f) uniform readonly image3D srcR;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_G, rgba16f) uniform readonly image3D srcG;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_B, rgba16f) uniform readonly image3D srcB;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_R, rgba16f) uniform writeonly image3D dstR;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_G, rgba16f) uniform writeonly image3D dstG;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_B, rgba16f) uniform writeonly image3D dstB;
 
 void main() {
     ivec3 p = ivec3(gl_GlobalInvocationID);

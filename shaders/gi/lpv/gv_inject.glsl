@@ -12,15 +12,15 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform PushBlock { LpvInjectPush pc; };
 #if GV_ARRAY
-layout(set = 1, binding = LPV_GV_BINDING_POSITION, rgba32f) uniform readonly image2DArray gvPosition;
-layout(set = 1, binding = LPV_GV_BINDING_NORMAL, rgba16f) uniform readonly image2DArray gvNormal;
+layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_POSITION, rgba32f) uniform readonly image2DArray gvPosition;
+layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_NORMAL, rgba16f) uniform readonly image2DArray gvNormal;
 #define GV_TEXEL(t) (t)
 #else
-layout(set = 1, binding = LPV_GV_BINDING_POSITION, rgba32f) uniform readonly image2D gvPosition;
-layout(set = 1, binding = LPV_GV_BINDING_NORMAL, rgba16f) uniform readonly image2D gvNormal;
+layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_POSITION, rgba32f) uniform readonly image2D gvPosition;
+layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_NORMAL, rgba16f) uniform readonly image2D gvNormal;
 #define GV_TEXEL(t) (t).xy
 #endif
-layout(set = 1, binding = LPV_GV_BINDING_BUFFER, std430) buffer GeometryVolumeSums { int data[]; } sums;
+layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_SUMS, std430) buffer GeometryVolumeSums { int data[]; } sums;
 
 bool finite3(vec3 v) {
     return abs(v.x) + abs(v.y) + abs(v.z) < 1e30;

@@ -7,8 +7,8 @@
 
 layout(local_size_x = LPV_LOCAL_SIZE_X, local_size_y = LPV_LOCAL_SIZE_Y, local_size_z = LPV_LOCAL_SIZE_Z) in;
 layout(push_constant) uniform PushBlock { LpvInjectPush pc; };
-layout(set = 1, binding = LPV_GV_BINDING_BUFFER, std430) readonly buffer GeometryVolumeSums { int data[]; } sums;
-layout(set = 1, binding = LPV_GV_BINDING_OUTPUT, rgba16f) uniform writeonly image3D geometryVolume;
+layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_SUMS, std430) readonly buffer GeometryVolumeSums { int data[]; } sums;
+layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_OUTPUT, rgba16f) uniform writeonly image3D geometryVolume;
 
 vec4 load(int cell) {
     int base = LPV_INJECT_HEADER_INTS + 4 * cell;

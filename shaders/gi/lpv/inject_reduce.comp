@@ -12,8 +12,8 @@
 #include "gi/lpv_passes.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-// The factor, specialised (2 or 4): with a run-time trip count the block loop was ~3x slower.
-layout(constant_id = 0) const int kFactor = 2;
+// The factor, specialised (2 or 4): a constant trip count lets the block loop unroll.
+layout(constant_id = LPV_REDUCE_SPEC_FACTOR) const int kFactor = 2;
 layout(push_constant) uniform PushBlock { LpvInjectPush pc; }; // rsm: source texels per row, layers, F, output texels per row
 // Storage images, not samplers: on lavapipe imageLoad is cheaper than texelFetch through a sampler.
 layout(set = 1, binding = LPV_INJECT_BINDING_POSITION, rgba32f) uniform readonly image2DArray rsmPosition;

@@ -6,12 +6,12 @@
 layout(local_size_x = LPV_LOCAL_SIZE_X, local_size_y = LPV_LOCAL_SIZE_Y, local_size_z = LPV_LOCAL_SIZE_Z) in;
 layout(push_constant) uniform PushBlock { LpvInjectPush pc; };
 layout(set = 1, binding = LPV_RESOLVE_BINDING_BUFFER, std430) readonly buffer Injection { int data[]; } injection;
-layout(set = 1, binding = LPV_RESOLVE_BINDING_WAVE_R + 0, LPV_FORMAT) uniform writeonly image3D waveR;
-layout(set = 1, binding = LPV_RESOLVE_BINDING_WAVE_R + 1, LPV_FORMAT) uniform writeonly image3D waveG;
-layout(set = 1, binding = LPV_RESOLVE_BINDING_WAVE_R + 2, LPV_FORMAT) uniform writeonly image3D waveB;
-layout(set = 1, binding = LPV_RESOLVE_BINDING_ACC_R + 0, LPV_FORMAT) uniform writeonly image3D accR;
-layout(set = 1, binding = LPV_RESOLVE_BINDING_ACC_R + 1, LPV_FORMAT) uniform writeonly image3D accG;
-layout(set = 1, binding = LPV_RESOLVE_BINDING_ACC_R + 2, LPV_FORMAT) uniform writeonly image3D accB;
+layout(set = 1, binding = LPV_RESOLVE_BINDING_WAVEFRONT_R, LPV_FORMAT) uniform writeonly image3D waveR;
+layout(set = 1, binding = LPV_RESOLVE_BINDING_WAVEFRONT_G, LPV_FORMAT) uniform writeonly image3D waveG;
+layout(set = 1, binding = LPV_RESOLVE_BINDING_WAVEFRONT_B, LPV_FORMAT) uniform writeonly image3D waveB;
+layout(set = 1, binding = LPV_RESOLVE_BINDING_ACCUMULATION_R, LPV_FORMAT) uniform writeonly image3D accR;
+layout(set = 1, binding = LPV_RESOLVE_BINDING_ACCUMULATION_G, LPV_FORMAT) uniform writeonly image3D accG;
+layout(set = 1, binding = LPV_RESOLVE_BINDING_ACCUMULATION_B, LPV_FORMAT) uniform writeonly image3D accB;
 
 vec4 load(int base) {
     return vec4(injection.data[base], injection.data[base + 1], injection.data[base + 2], injection.data[base + 3]) /

@@ -19,9 +19,9 @@ layout(push_constant) uniform PushBlock { LpvLookupPush pc; };
 layout(set = 1, binding = LPV_LOOKUP_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_NORMAL, rgba16f) uniform readonly image2D gNormal;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_ALBEDO, rgba16f) uniform readonly image2D gAlbedo;
-layout(set = 1, binding = LPV_LOOKUP_BINDING_ACC_R + 0) uniform sampler3D accR;
-layout(set = 1, binding = LPV_LOOKUP_BINDING_ACC_R + 1) uniform sampler3D accG;
-layout(set = 1, binding = LPV_LOOKUP_BINDING_ACC_R + 2) uniform sampler3D accB;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_ACCUMULATION_R) uniform sampler3D accR;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_ACCUMULATION_G) uniform sampler3D accG;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_ACCUMULATION_B) uniform sampler3D accB;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_BUFFER, std430) readonly buffer Injection { uint header[LPV_INJECT_HEADER_INTS]; } injection;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_OUTPUT, rgba32f) uniform image2D outIndirect;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_SUM) uniform sampler3D accSum; // R + G + B (lookup_sum.glsl)

@@ -6,9 +6,9 @@
 
 layout(local_size_x = LPV_LOCAL_SIZE_X, local_size_y = LPV_LOCAL_SIZE_Y, local_size_z = LPV_LOCAL_SIZE_Z) in;
 layout(push_constant) uniform PushBlock { LpvInjectPush pc; };
-layout(set = 1, binding = LPV_SUM_BINDING_ACC_R + 0, LPV_FORMAT) uniform readonly image3D accR;
-layout(set = 1, binding = LPV_SUM_BINDING_ACC_R + 1, LPV_FORMAT) uniform readonly image3D accG;
-layout(set = 1, binding = LPV_SUM_BINDING_ACC_R + 2, LPV_FORMAT) uniform readonly image3D accB;
+layout(set = 1, binding = LPV_SUM_BINDING_ACCUMULATION_R, LPV_FORMAT) uniform readonly image3D accR;
+layout(set = 1, binding = LPV_SUM_BINDING_ACCUMULATION_G, LPV_FORMAT) uniform readonly image3D accG;
+layout(set = 1, binding = LPV_SUM_BINDING_ACCUMULATION_B, LPV_FORMAT) uniform readonly image3D accB;
 layout(set = 1, binding = LPV_SUM_BINDING_OUTPUT, LPV_FORMAT) uniform writeonly image3D outSum;
 
 void main() {

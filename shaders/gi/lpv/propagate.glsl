@@ -18,25 +18,25 @@
 
 layout(local_size_x = LPV_LOCAL_SIZE_X, local_size_y = LPV_LOCAL_SIZE_Y, local_size_z = LPV_LOCAL_SIZE_Z) in;
 layout(push_constant) uniform PushBlock { LpvPropagatePush pc; };
-// Specialised instead of branched on: with the occlusion loop present the free path was ~1.5x slower.
+// Specialised instead of branched on: the occlusion loop left in a free step slows it down.
 layout(constant_id = LPV_SPEC_OCCLUSION) const bool kOcclusion = false;
 layout(constant_id = LPV_SPEC_BOUNCE) const bool kBounce = false;
-// The accumulation's load and store cost ~16 % of a step: a pair of steps does it once, the
-// second adding the first's wavefront (its source, at this cell) with its own.
+// The accumulation's load and store are a sizeable part of a step: a pair of steps does it once,
+// the second adding the first's wavefront (its source, at this cell) with its own.
 layout(constant_id = LPV_SPEC_ACCUMULATE) const int kAccumulate = LPV_ACCUMULATE_OWN;
 
-layout(set = 1, binding = LPV_BINDING_SRC_R, LPV_FORMAT) uniform readonly image3D srcR;
-layout(set = 1, binding = LPV_BINDING_SRC_G, LPV_FORMAT) uniform readonly image3D srcG;
-layout(set = 1, binding = LPV_BINDING_SRC_B, LPV_FORMAT) uniform readonly image3D srcB;
-layout(set = 1, binding = LPV_BINDING_DST_R, LPV_FORMAT) uniform writeonly image3D dstR;
-layout(set = 1, binding = LPV_BINDING_DST_G, LPV_FORMAT) uniform writeonly image3D dstG;
-layout(set = 1, binding = LPV_BINDING_DST_B, LPV_FORMAT) uniform writeonly image3D dstB;
-layout(set = 1, binding = LPV_BINDING_ACC_R, LPV_FORMAT) uniform image3D accR;
-layout(set = 1, binding = LPV_BINDING_ACC_G, LPV_FORMAT) uniform image3D accG;
-layout(set = 1, binding = LPV_BINDING_ACC_B, LPV_FORMAT) uniform image3D accB;
-layout(set = 1, binding = LPV_BINDING_GV, rgba16f) uniform readonly image3D geometryVolume;
-layout(set = 1, binding = LPV_BINDING_VOXEL_ALBEDO) uniform sampler3D voxelAlbedo;
-layout(set = 1, binding = LPV_BINDING_VOXEL_NORMAL) uniform sampler3D voxelNormal;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_R, LPV_FORMAT) uniform readonly image3D srcR;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_G, LPV_FORMAT) uniform readonly image3D srcG;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_B, LPV_FORMAT) uniform readonly image3D srcB;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_R, LPV_FORMAT) uniform writeonly image3D dstR;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_G, LPV_FORMAT) uniform writeonly image3D dstG;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_B, LPV_FORMAT) uniform writeonly image3D dstB;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_ACCUMULATION_R, LPV_FORMAT) uniform image3D accR;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_ACCUMULATION_G, LPV_FORMAT) uniform image3D accG;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_ACCUMULATION_B, LPV_FORMAT) uniform image3D accB;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_GEOMETRY_VOLUME, rgba16f) uniform readonly image3D geometryVolume;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_VOXEL_ALBEDO) uniform sampler3D voxelAlbedo;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_VOXEL_NORMAL) uniform sampler3D voxelNormal;
 
 // Mean blocking SH over the 4 GV cells at the corners of each of the cell's 6 faces (the face
 // shared with the source of gather direction i is faces[i]). The 8 corners are loaded once:
@@ -119,8 +119,8 @@ void main() {
     if (kOcclusion)
         faceBlocking(p, faces);
     // One neighbour in its own frame: PERM maps (x, y, z) SH to (c0, c_a, c_b, c_c), UNPERM back.
-    // Written out for the 6 neighbours (a loop over i kept lpvAxisStep(i) and the face vectors as
-    // run-time values: the free step measured 2.1x the plain gather that way).
+    // Written out for the 6 neighbours: a loop over i kept lpvAxisStep(i) and the face vectors as
+    // run-time values instead of folding them into constants.
 #define LPV_GATHER(I, PERM, UNPERM)                                                                           \
     {                                                                                                        \
         vec4 r, g, b;                                                                                        \

@@ -10,19 +10,19 @@
 
 #include "gi/sh.h"
 
-// Push-descriptor bindings (set 1) of lpv/propagate.comp: one image per colour channel.
-#define LPV_BINDING_SRC_R 0
-#define LPV_BINDING_SRC_G 1
-#define LPV_BINDING_SRC_B 2
-#define LPV_BINDING_DST_R 3
-#define LPV_BINDING_DST_G 4
-#define LPV_BINDING_DST_B 5
-#define LPV_BINDING_ACC_R 6
-#define LPV_BINDING_ACC_G 7
-#define LPV_BINDING_ACC_B 8
-#define LPV_BINDING_GV 9
-#define LPV_BINDING_VOXEL_ALBEDO 10 // shared voxel grid (gi/voxel_grid.h), sampled trilinearly
-#define LPV_BINDING_VOXEL_NORMAL 11
+// Push-descriptor bindings (set 1) of lpv/propagate_<format>.comp: one image per colour channel.
+#define LPV_PROPAGATE_BINDING_SOURCE_R 0       // wavefront the step gathers from, read only
+#define LPV_PROPAGATE_BINDING_SOURCE_G 1
+#define LPV_PROPAGATE_BINDING_SOURCE_B 2
+#define LPV_PROPAGATE_BINDING_TARGET_R 3       // the new wavefront, written whole
+#define LPV_PROPAGATE_BINDING_TARGET_G 4
+#define LPV_PROPAGATE_BINDING_TARGET_B 5
+#define LPV_PROPAGATE_BINDING_ACCUMULATION_R 6 // light accumulated over the steps, read-modify-write
+#define LPV_PROPAGATE_BINDING_ACCUMULATION_G 7
+#define LPV_PROPAGATE_BINDING_ACCUMULATION_B 8
+#define LPV_PROPAGATE_BINDING_GEOMETRY_VOLUME 9 // blocking potential on the cell corners (RGBA16F, cells + 1)
+#define LPV_PROPAGATE_BINDING_VOXEL_ALBEDO 10   // shared voxel grid (gi/voxel_grid.h), sampled trilinearly
+#define LPV_PROPAGATE_BINDING_VOXEL_NORMAL 11   // its filtered normal encoding, sampled trilinearly
 
 // Specialization constant ids of lpv/propagate.comp.
 #define LPV_SPEC_OCCLUSION 0 // bool: attenuate by the geometry volume
@@ -34,7 +34,7 @@
 #define LPV_ACCUMULATE_OWN 1
 #define LPV_ACCUMULATE_PAIR 2
 
-#define LPV_LOCAL_SIZE_X 8 // 8x8x4 measured 2x faster than 4x4x4 on lavapipe (../shared/LAVAPIPE.md)
+#define LPV_LOCAL_SIZE_X 8 // 8x8x4 rather than 4x4x4: lavapipe runs the wider groups faster (../shared/LAVAPIPE.md)
 #define LPV_LOCAL_SIZE_Y 8
 #define LPV_LOCAL_SIZE_Z 4
 

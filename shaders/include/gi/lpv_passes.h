@@ -17,38 +17,55 @@
 #define LPV_INJECT_HEADER_INTS 4
 #define LPV_INJECT_CELL_INTS 12
 
-// Bindings (set 1).
+// Bindings (set 1) of inject_range.comp, inject.comp and inject_reduce.comp.
 #define LPV_INJECT_BINDING_POSITION 0 // RSM world position (RGBA32F 2D array, w = 1 where valid)
 #define LPV_INJECT_BINDING_NORMAL 1   // RSM normal (RGBA16F 2D array)
 #define LPV_INJECT_BINDING_FLUX 2     // RSM reflected flux (RGBA32F 2D array)
-#define LPV_INJECT_BINDING_BUFFER 3   // injection buffer
+#define LPV_INJECT_BINDING_BUFFER 3   // injection buffer (not bound by inject_reduce.comp)
 #define LPV_REDUCE_BINDING_POSITION 4 // reduced RSM written by inject_reduce.comp (same formats as the RSM)
 #define LPV_REDUCE_BINDING_NORMAL 5
 #define LPV_REDUCE_BINDING_FLUX 6
-#define LPV_RESOLVE_BINDING_BUFFER 0
-#define LPV_RESOLVE_BINDING_WAVE_R 1  // wavefront 0 (R, G, B at 1, 2, 3)
-#define LPV_RESOLVE_BINDING_ACC_R 4   // accumulation (R, G, B at 4, 5, 6)
-#define LPV_LOOKUP_BINDING_POSITION 0 // G-buffer world position (RGBA32F, w = 1 where geometry)
-#define LPV_LOOKUP_BINDING_NORMAL 1   // G-buffer normal (RGBA16F)
-#define LPV_LOOKUP_BINDING_ALBEDO 2   // G-buffer albedo (RGBA16F)
-#define LPV_LOOKUP_BINDING_ACC_R 3    // accumulated SH, sampled trilinearly (R, G, B at 3, 4, 5)
-#define LPV_LOOKUP_BINDING_BUFFER 6   // injection buffer (for M)
-#define LPV_LOOKUP_BINDING_OUTPUT 7   // indirect radiance (RGBA32F)
-#define LPV_LOOKUP_BINDING_SUM 8      // channel sum R + G + B of the accumulated SH (the damping's input)
-#define LPV_SUM_BINDING_ACC_R 0       // lookup_sum: accumulated SH (R, G, B at 0, 1, 2), storage images
-#define LPV_SUM_BINDING_OUTPUT 3      // lookup_sum: their channel sum, same format
+// Specialization constant id of inject_reduce.comp: the reduction factor per axis (2 or 4).
+#define LPV_REDUCE_SPEC_FACTOR 0
 
-#define LPV_GV_BINDING_POSITION 0   // surfel positions (RSM: 2D array; camera: 2D), w = 1 where valid
-#define LPV_GV_BINDING_NORMAL 1     // surfel normals
-#define LPV_GV_BINDING_BUFFER 2     // GV sums: header, then 2 slots (RSM, camera) of (N+1)^3 x 4 ints
-#define LPV_GV_BINDING_OUTPUT 3     // geometry volume (RGBA16F, (N+1)^3)
-// Fixed-point scale of the GV sums: a surfel adds at most 1.0233 per coefficient (full
-// coverage), so 2^16 keeps 1.5e-5 resolution and room for 32768 full-coverage surfels per cell.
-#define LPV_GV_FIXED_SCALE 65536.0
+// Bindings of inject_resolve_<format>.comp.
+#define LPV_RESOLVE_BINDING_BUFFER 0         // injection buffer, read only
+#define LPV_RESOLVE_BINDING_WAVEFRONT_R 1    // first wavefront (R, G, B channel images), written whole
+#define LPV_RESOLVE_BINDING_WAVEFRONT_G 2
+#define LPV_RESOLVE_BINDING_WAVEFRONT_B 3
+#define LPV_RESOLVE_BINDING_ACCUMULATION_R 4 // accumulation volume, starts as the injected light
+#define LPV_RESOLVE_BINDING_ACCUMULATION_G 5
+#define LPV_RESOLVE_BINDING_ACCUMULATION_B 6
+
+// Bindings of lookup.comp.
+#define LPV_LOOKUP_BINDING_POSITION 0       // G-buffer world position (RGBA32F, w = 1 where geometry)
+#define LPV_LOOKUP_BINDING_NORMAL 1         // G-buffer normal (RGBA16F)
+#define LPV_LOOKUP_BINDING_ALBEDO 2         // G-buffer albedo (RGBA16F)
+#define LPV_LOOKUP_BINDING_ACCUMULATION_R 3 // accumulated SH, sampled trilinearly (R, G, B channel images)
+#define LPV_LOOKUP_BINDING_ACCUMULATION_G 4
+#define LPV_LOOKUP_BINDING_ACCUMULATION_B 5
+#define LPV_LOOKUP_BINDING_BUFFER 6         // injection buffer (for M)
+#define LPV_LOOKUP_BINDING_OUTPUT 7         // indirect radiance (RGBA32F)
+#define LPV_LOOKUP_BINDING_SUM 8            // channel sum R + G + B of the accumulated SH (the damping's input)
+
+// Bindings of lookup_sum_<format>.comp.
+#define LPV_SUM_BINDING_ACCUMULATION_R 0 // accumulated SH (R, G, B channel images), storage images
+#define LPV_SUM_BINDING_ACCUMULATION_G 1
+#define LPV_SUM_BINDING_ACCUMULATION_B 2
+#define LPV_SUM_BINDING_OUTPUT 3         // their channel sum, same format
+
+// Bindings of the geometry volume passes, gv_inject_<source>.comp and gv_resolve.comp.
+#define LPV_GEOMETRY_VOLUME_BINDING_POSITION 0 // surfel positions (RSM: 2D array; camera: 2D), w = 1 where valid
+#define LPV_GEOMETRY_VOLUME_BINDING_NORMAL 1   // surfel normals
+#define LPV_GEOMETRY_VOLUME_BINDING_SUMS 2     // fixed-point sums: header, then 2 slots (RSM, camera) of (N+1)^3 x 4 ints
+#define LPV_GEOMETRY_VOLUME_BINDING_OUTPUT 3   // geometry volume (RGBA16F, (N+1)^3)
+// Fixed-point scale of the geometry volume sums: a surfel adds at most 1.0233 per coefficient
+// (full coverage), so 2^16 keeps 1.5e-5 resolution and room for 32768 full-coverage surfels per cell.
+#define LPV_GEOMETRY_VOLUME_FIXED_SCALE 65536.0
 
 // Texels of one RSM row each inject invocation walks, merging runs that land in the same cell
 // before its atomics: neighbouring texels nearly always share a cell, so this divides the
-// atomics (~35 M/s on lavapipe) by about this factor.
+// atomics (the injection's bottleneck on lavapipe) by about this factor.
 #define LPV_INJECT_RUN 8
 
 GI_NAMESPACE_BEGIN

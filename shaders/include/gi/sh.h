@@ -17,7 +17,7 @@
 #include "shared/bridge.h"
 
 // Loops that must be unrolled on lavapipe (the quadrature below: unrolled, its directions are
-// constants; a rolled loop recomputes them and measured ~1.5x the lookup's time).
+// constants; a rolled loop recomputes them at every call, a large share of the lookup's cost).
 #ifdef __cplusplus
 #define GI_SH_UNROLL
 #else
