@@ -220,9 +220,13 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
         },
         [](const GenerateData& d, rg::PassContext& pc) {
             pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.info.y, 1, 1}), d.push,
-                        {pc.sampled(0, d.rsmPosition, d.sampler), pc.sampled(1, d.rsmNormal, d.sampler),
-                         pc.sampled(2, d.rsmFlux, d.sampler), pc.buffer(3, d.views), pc.buffer(4, d.lights),
-                         pc.buffer(5, d.directions), pc.buffer(6, d.vpls)});
+                        {pc.sampled(VPL_GENERATE_BINDING_RSM_POSITION, d.rsmPosition, d.sampler),
+                         pc.sampled(VPL_GENERATE_BINDING_RSM_NORMAL, d.rsmNormal, d.sampler),
+                         pc.sampled(VPL_GENERATE_BINDING_RSM_FLUX, d.rsmFlux, d.sampler),
+                         pc.buffer(VPL_GENERATE_BINDING_SHADOW_VIEWS, d.views),
+                         pc.buffer(VPL_GENERATE_BINDING_LIGHTS, d.lights),
+                         pc.buffer(VPL_GENERATE_BINDING_DIRECTIONS, d.directions),
+                         pc.buffer(VPL_GENERATE_BINDING_VPLS, d.vpls)});
         });
     out.vpls = gen.vpls;
 
@@ -256,7 +260,8 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
             b.read(d.vpls, rg::Access::ComputeStorageRead);
             auto w = rg::Access::ComputeStorageWriteDiscard;
             d.indirect = b.write(b.create(f == 1 && s.negativeVplCount == 0 ? "vpl.indirect" : "vpl.gather_indirect",
-                                          image2D(lowW, lowH)), w);
+                                          image2D(lowW, lowH)),
+                                 w);
             d.incident = b.write(b.create("vpl.incident", image2D(lowW, lowH)), w);
             d.travel = b.write(b.create("vpl.travel", image2D(lowW, lowH)), w);
             d.push = shade;
@@ -264,11 +269,13 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
             d.sampler = m->pointSampler;
         },
         [](const GatherData& d, rg::PassContext& pc) {
-            pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.size.x, d.push.size.y, 1}),
-                        d.push,
-                        {pc.sampled(0, d.pos, d.sampler), pc.sampled(1, d.nrm, d.sampler),
-                         pc.sampled(2, d.alb, d.sampler), pc.buffer(3, d.vpls), pc.storage(4, d.indirect),
-                         pc.storage(5, d.incident), pc.storage(6, d.travel)});
+            pc.dispatch(
+                *d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.size.x, d.push.size.y, 1}), d.push,
+                {pc.sampled(VPL_GATHER_BINDING_POSITION, d.pos, d.sampler),
+                 pc.sampled(VPL_GATHER_BINDING_NORMAL, d.nrm, d.sampler),
+                 pc.sampled(VPL_GATHER_BINDING_ALBEDO, d.alb, d.sampler), pc.buffer(VPL_GATHER_BINDING_VPLS, d.vpls),
+                 pc.storage(VPL_GATHER_BINDING_INDIRECT, d.indirect),
+                 pc.storage(VPL_GATHER_BINDING_INCIDENT, d.incident), pc.storage(VPL_GATHER_BINDING_TRAVEL, d.travel)});
         });
     rg::ImageHandle lowIndirect = gat.indirect;
     rg::BufferHandle negVpls = gen.vpls; // bound (with count 0) when negative VPLs are off
@@ -302,9 +309,11 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
             },
             [](const NegGenData& d, rg::PassContext& pc) {
                 pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.info.x, 1, 1}), d.push,
-                            {pc.sampled(0, d.pos, d.sampler), pc.sampled(1, d.nrm, d.sampler),
-                             pc.sampled(2, d.incident, d.sampler), pc.sampled(3, d.travel, d.sampler),
-                             pc.buffer(4, d.neg)});
+                            {pc.sampled(VPL_NEGATIVE_GENERATE_BINDING_POSITION, d.pos, d.sampler),
+                             pc.sampled(VPL_NEGATIVE_GENERATE_BINDING_NORMAL, d.nrm, d.sampler),
+                             pc.sampled(VPL_NEGATIVE_GENERATE_BINDING_INCIDENT, d.incident, d.sampler),
+                             pc.sampled(VPL_NEGATIVE_GENERATE_BINDING_TRAVEL, d.travel, d.sampler),
+                             pc.buffer(VPL_NEGATIVE_GENERATE_BINDING_NEGATIVE_VPLS, d.neg)});
             });
         negVpls = ng.neg;
         out.negativeVpls = ng.neg;
@@ -336,9 +345,12 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
             [](const NegShadeData& d, rg::PassContext& pc) {
                 pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.size.x, d.push.size.y, 1}),
                             d.push,
-                            {pc.sampled(0, d.pos, d.sampler), pc.sampled(1, d.nrm, d.sampler),
-                             pc.sampled(2, d.alb, d.sampler), pc.buffer(3, d.neg),
-                             pc.sampled(4, d.positive, d.sampler), pc.storage(5, d.indirect)});
+                            {pc.sampled(VPL_NEGATIVE_GATHER_BINDING_POSITION, d.pos, d.sampler),
+                             pc.sampled(VPL_NEGATIVE_GATHER_BINDING_NORMAL, d.nrm, d.sampler),
+                             pc.sampled(VPL_NEGATIVE_GATHER_BINDING_ALBEDO, d.alb, d.sampler),
+                             pc.buffer(VPL_NEGATIVE_GATHER_BINDING_NEGATIVE_VPLS, d.neg),
+                             pc.sampled(VPL_NEGATIVE_GATHER_BINDING_POSITIVE_INDIRECT, d.positive, d.sampler),
+                             pc.storage(VPL_NEGATIVE_GATHER_BINDING_INDIRECT, d.indirect)});
             });
         lowIndirect = ns.indirect;
     }
@@ -354,11 +366,11 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
     const auto& cl = graph.addPass<ClearListData>(
         "vpl.refine_clear",
         [&](rg::PassBuilder& b, ClearListData& d) {
-            VkDeviceSize bytes = 16 + VkDeviceSize(in.width) * in.height * 4;
+            VkDeviceSize bytes = VPL_REFINE_LIST_HEADER_BYTES + VkDeviceSize(in.width) * in.height * 4;
             d.list = b.write(b.create("vpl.refine_list", storageBuffer(bytes)), rg::Access::TransferWrite);
         },
         [](const ClearListData& d, rg::PassContext& pc) {
-            vkCmdFillBuffer(pc.cmd(), pc.buffer(d.list).buffer, 0, 16, 0);
+            vkCmdFillBuffer(pc.cmd(), pc.buffer(d.list).buffer, 0, VPL_REFINE_LIST_HEADER_BYTES, 0);
         });
 
     struct UpsampleData {
@@ -385,8 +397,11 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
         [](const UpsampleData& d, rg::PassContext& pc) {
             pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.counts.z, d.push.counts.w, 1}),
                         d.push,
-                        {pc.sampled(0, d.pos, d.sampler), pc.sampled(1, d.nrm, d.sampler),
-                         pc.sampled(2, d.low, d.sampler), pc.storage(3, d.indirect), pc.buffer(4, d.list)});
+                        {pc.sampled(VPL_UPSAMPLE_BINDING_POSITION, d.pos, d.sampler),
+                         pc.sampled(VPL_UPSAMPLE_BINDING_NORMAL, d.nrm, d.sampler),
+                         pc.sampled(VPL_UPSAMPLE_BINDING_LOW_RES_INDIRECT, d.low, d.sampler),
+                         pc.storage(VPL_UPSAMPLE_BINDING_INDIRECT, d.indirect),
+                         pc.buffer(VPL_UPSAMPLE_BINDING_REFINE_LIST, d.list)});
         });
 
     struct RefineData {
@@ -418,9 +433,12 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
         },
         [](const RefineData& d, rg::PassContext& pc) {
             pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.size.w, 1, 1}), d.push,
-                        {pc.sampled(0, d.pos, d.sampler), pc.sampled(1, d.nrm, d.sampler),
-                         pc.sampled(2, d.alb, d.sampler), pc.buffer(3, d.vpls), pc.buffer(4, d.neg),
-                         pc.buffer(5, d.list), pc.storage(6, d.indirect)});
+                        {pc.sampled(VPL_REFINE_BINDING_POSITION, d.pos, d.sampler),
+                         pc.sampled(VPL_REFINE_BINDING_NORMAL, d.nrm, d.sampler),
+                         pc.sampled(VPL_REFINE_BINDING_ALBEDO, d.alb, d.sampler),
+                         pc.buffer(VPL_REFINE_BINDING_VPLS, d.vpls), pc.buffer(VPL_REFINE_BINDING_NEGATIVE_VPLS, d.neg),
+                         pc.buffer(VPL_REFINE_BINDING_REFINE_LIST, d.list),
+                         pc.storage(VPL_REFINE_BINDING_INDIRECT, d.indirect)});
         });
     out.indirect = rf.indirect;
     out.refineList = us.list;
