@@ -11,6 +11,7 @@
 #include "engine/context.hpp"
 #include "engine/pipeline.hpp"
 #include "engine/resources.hpp"
+#include "engine/rg/compute_pass.hpp"
 #include "gi/vpl.h"
 #include "gi/vpl.hpp"
 
@@ -191,44 +192,21 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
                          d.directionData.size() * sizeof(glm::vec4));
         });
 
-    struct GenerateData {
-        rg::ImageHandle rsmPosition, rsmNormal, rsmFlux;
-        rg::BufferHandle views, lights, directions, vpls;
-        gpu::VplGeneratePush push;
-        const Pipeline* pipeline;
-        VkSampler sampler;
-    };
-    const auto& gen = graph.addPass<GenerateData>(
-        "vpl.generate",
-        [&](rg::PassBuilder& b, GenerateData& d) {
-            d.rsmPosition = in.rsmPosition;
-            d.rsmNormal = in.rsmNormal;
-            d.rsmFlux = in.rsmFlux;
-            d.views = in.shadowViews;
-            d.lights = up.lights;
-            d.directions = up.directions;
-            for (rg::ImageHandle h : {d.rsmPosition, d.rsmNormal, d.rsmFlux})
-                b.read(h, rg::Access::ComputeSampledRead);
-            for (rg::BufferHandle h : {d.views, d.lights, d.directions})
-                b.read(h, rg::Access::ComputeStorageRead);
-            d.vpls = b.write(b.create("vpl.vpls", storageBuffer(VkDeviceSize(vplTotal) * sizeof(gpu::VplRecord))),
-                             rg::Access::ComputeStorageWriteDiscard);
-            d.push = {};
-            d.push.info = glm::uvec4(uint32_t(lights.size()), vplTotal, 0, 0);
-            d.pipeline = &m->generate;
-            d.sampler = m->pointSampler;
-        },
-        [](const GenerateData& d, rg::PassContext& pc) {
-            pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.info.y, 1, 1}), d.push,
-                        {pc.sampled(VPL_GENERATE_BINDING_RSM_POSITION, d.rsmPosition, d.sampler),
-                         pc.sampled(VPL_GENERATE_BINDING_RSM_NORMAL, d.rsmNormal, d.sampler),
-                         pc.sampled(VPL_GENERATE_BINDING_RSM_FLUX, d.rsmFlux, d.sampler),
-                         pc.buffer(VPL_GENERATE_BINDING_SHADOW_VIEWS, d.views),
-                         pc.buffer(VPL_GENERATE_BINDING_LIGHTS, d.lights),
-                         pc.buffer(VPL_GENERATE_BINDING_DIRECTIONS, d.directions),
-                         pc.buffer(VPL_GENERATE_BINDING_VPLS, d.vpls)});
-        });
-    out.vpls = gen.vpls;
+    rg::BufferHandle vpls =
+        graph.createBuffer("vpl.vpls", storageBuffer(VkDeviceSize(vplTotal) * sizeof(gpu::VplRecord)));
+    gpu::VplGeneratePush generatePush{};
+    generatePush.info = glm::uvec4(uint32_t(lights.size()), vplTotal, 0, 0);
+    rg::ComputePass(graph, "vpl.generate", m->generate)
+        .push(generatePush)
+        .sample(VPL_GENERATE_BINDING_RSM_POSITION, in.rsmPosition, m->pointSampler)
+        .sample(VPL_GENERATE_BINDING_RSM_NORMAL, in.rsmNormal, m->pointSampler)
+        .sample(VPL_GENERATE_BINDING_RSM_FLUX, in.rsmFlux, m->pointSampler)
+        .read(VPL_GENERATE_BINDING_SHADOW_VIEWS, in.shadowViews)
+        .read(VPL_GENERATE_BINDING_LIGHTS, up.lights)
+        .read(VPL_GENERATE_BINDING_DIRECTIONS, up.directions)
+        .overwrite(VPL_GENERATE_BINDING_VPLS, vpls)
+        .dispatch({vplTotal, 1, 1});
+    out.vpls = vpls;
 
     // Gather resolution and the shared push constants of the per-pixel passes.
     const uint32_t f = s.lowResFactor;
@@ -241,118 +219,50 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
     shade.camera = glm::vec4(in.camera.position, 0.0f);
     shade.params = glm::vec4(clampDist * clampDist, s.refineThreshold, 0.0f, 0.0f);
 
-    struct GatherData {
-        rg::ImageHandle pos, nrm, alb, indirect, incident, travel;
-        rg::BufferHandle vpls;
-        gpu::VplShadePush push;
-        const Pipeline* pipeline;
-        VkSampler sampler;
-    };
-    const auto& gat = graph.addPass<GatherData>(
-        "vpl.gather",
-        [&](rg::PassBuilder& b, GatherData& d) {
-            d.pos = in.gPosition;
-            d.nrm = in.gNormal;
-            d.alb = in.gAlbedo;
-            d.vpls = gen.vpls;
-            for (rg::ImageHandle h : {d.pos, d.nrm, d.alb})
-                b.read(h, rg::Access::ComputeSampledRead);
-            b.read(d.vpls, rg::Access::ComputeStorageRead);
-            auto w = rg::Access::ComputeStorageWriteDiscard;
-            d.indirect = b.write(b.create(f == 1 && s.negativeVplCount == 0 ? "vpl.indirect" : "vpl.gather_indirect",
-                                          image2D(lowW, lowH)),
-                                 w);
-            d.incident = b.write(b.create("vpl.incident", image2D(lowW, lowH)), w);
-            d.travel = b.write(b.create("vpl.travel", image2D(lowW, lowH)), w);
-            d.push = shade;
-            d.pipeline = &m->gather;
-            d.sampler = m->pointSampler;
-        },
-        [](const GatherData& d, rg::PassContext& pc) {
-            pc.dispatch(
-                *d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.size.x, d.push.size.y, 1}), d.push,
-                {pc.sampled(VPL_GATHER_BINDING_POSITION, d.pos, d.sampler),
-                 pc.sampled(VPL_GATHER_BINDING_NORMAL, d.nrm, d.sampler),
-                 pc.sampled(VPL_GATHER_BINDING_ALBEDO, d.alb, d.sampler), pc.buffer(VPL_GATHER_BINDING_VPLS, d.vpls),
-                 pc.storage(VPL_GATHER_BINDING_INDIRECT, d.indirect),
-                 pc.storage(VPL_GATHER_BINDING_INCIDENT, d.incident), pc.storage(VPL_GATHER_BINDING_TRAVEL, d.travel)});
-        });
-    rg::ImageHandle lowIndirect = gat.indirect;
-    rg::BufferHandle negVpls = gen.vpls; // bound (with count 0) when negative VPLs are off
+    rg::ImageHandle lowIndirect = graph.createImage(
+        f == 1 && s.negativeVplCount == 0 ? "vpl.indirect" : "vpl.gather_indirect", image2D(lowW, lowH));
+    rg::ImageHandle incident = graph.createImage("vpl.incident", image2D(lowW, lowH));
+    rg::ImageHandle travel = graph.createImage("vpl.travel", image2D(lowW, lowH));
+    rg::ComputePass(graph, "vpl.gather", m->gather)
+        .push(shade)
+        .sample(VPL_GATHER_BINDING_POSITION, in.gPosition, m->pointSampler)
+        .sample(VPL_GATHER_BINDING_NORMAL, in.gNormal, m->pointSampler)
+        .sample(VPL_GATHER_BINDING_ALBEDO, in.gAlbedo, m->pointSampler)
+        .read(VPL_GATHER_BINDING_VPLS, vpls)
+        .overwrite(VPL_GATHER_BINDING_INDIRECT, lowIndirect)
+        .overwrite(VPL_GATHER_BINDING_INCIDENT, incident)
+        .overwrite(VPL_GATHER_BINDING_TRAVEL, travel)
+        .dispatch({lowW, lowH, 1});
+    rg::BufferHandle negativeVpls = vpls; // bound (with count 0) when negative VPLs are off
 
     if (s.negativeVplCount > 0) {
-        struct NegGenData {
-            rg::ImageHandle pos, nrm, incident, travel;
-            rg::BufferHandle neg;
-            gpu::VplGeneratePush push;
-            const Pipeline* pipeline;
-            VkSampler sampler;
-        };
-        const auto& ng = graph.addPass<NegGenData>(
-            "vpl.negative_generate",
-            [&](rg::PassBuilder& b, NegGenData& d) {
-                d.pos = in.gPosition;
-                d.nrm = in.gNormal;
-                d.incident = gat.incident;
-                d.travel = gat.travel;
-                for (rg::ImageHandle h : {d.pos, d.nrm, d.incident, d.travel})
-                    b.read(h, rg::Access::ComputeSampledRead);
-                d.neg = b.write(b.create("vpl.negative_vpls",
-                                         storageBuffer(VkDeviceSize(s.negativeVplCount) * sizeof(gpu::VplRecord))),
-                                rg::Access::ComputeStorageWriteDiscard);
-                d.push = {};
-                d.push.info = glm::uvec4(s.negativeVplCount, s.negativeVplCount, f, 0);
-                d.push.size = glm::uvec4(lowW, lowH, in.width, in.height);
-                d.push.camera = glm::vec4(in.camera.position, tanHalf);
-                d.pipeline = &m->negativeGenerate;
-                d.sampler = m->pointSampler;
-            },
-            [](const NegGenData& d, rg::PassContext& pc) {
-                pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.info.x, 1, 1}), d.push,
-                            {pc.sampled(VPL_NEGATIVE_GENERATE_BINDING_POSITION, d.pos, d.sampler),
-                             pc.sampled(VPL_NEGATIVE_GENERATE_BINDING_NORMAL, d.nrm, d.sampler),
-                             pc.sampled(VPL_NEGATIVE_GENERATE_BINDING_INCIDENT, d.incident, d.sampler),
-                             pc.sampled(VPL_NEGATIVE_GENERATE_BINDING_TRAVEL, d.travel, d.sampler),
-                             pc.buffer(VPL_NEGATIVE_GENERATE_BINDING_NEGATIVE_VPLS, d.neg)});
-            });
-        negVpls = ng.neg;
-        out.negativeVpls = ng.neg;
+        negativeVpls = graph.createBuffer("vpl.negative_vpls",
+                                          storageBuffer(VkDeviceSize(s.negativeVplCount) * sizeof(gpu::VplRecord)));
+        gpu::VplGeneratePush negativePush{};
+        negativePush.info = glm::uvec4(s.negativeVplCount, s.negativeVplCount, f, 0);
+        negativePush.size = glm::uvec4(lowW, lowH, in.width, in.height);
+        negativePush.camera = glm::vec4(in.camera.position, tanHalf);
+        rg::ComputePass(graph, "vpl.negative_generate", m->negativeGenerate)
+            .push(negativePush)
+            .sample(VPL_NEGATIVE_GENERATE_BINDING_POSITION, in.gPosition, m->pointSampler)
+            .sample(VPL_NEGATIVE_GENERATE_BINDING_NORMAL, in.gNormal, m->pointSampler)
+            .sample(VPL_NEGATIVE_GENERATE_BINDING_INCIDENT, incident, m->pointSampler)
+            .sample(VPL_NEGATIVE_GENERATE_BINDING_TRAVEL, travel, m->pointSampler)
+            .overwrite(VPL_NEGATIVE_GENERATE_BINDING_NEGATIVE_VPLS, negativeVpls)
+            .dispatch({s.negativeVplCount, 1, 1});
+        out.negativeVpls = negativeVpls;
 
-        struct NegShadeData {
-            rg::ImageHandle pos, nrm, alb, positive, indirect;
-            rg::BufferHandle neg;
-            gpu::VplShadePush push;
-            const Pipeline* pipeline;
-            VkSampler sampler;
-        };
-        const auto& ns = graph.addPass<NegShadeData>(
-            "vpl.negative_gather",
-            [&](rg::PassBuilder& b, NegShadeData& d) {
-                d.pos = in.gPosition;
-                d.nrm = in.gNormal;
-                d.alb = in.gAlbedo;
-                d.positive = gat.indirect;
-                d.neg = ng.neg;
-                for (rg::ImageHandle h : {d.pos, d.nrm, d.alb, d.positive})
-                    b.read(h, rg::Access::ComputeSampledRead);
-                b.read(d.neg, rg::Access::ComputeStorageRead);
-                d.indirect = b.write(b.create(f == 1 ? "vpl.indirect" : "vpl.negative_indirect", image2D(lowW, lowH)),
-                                     rg::Access::ComputeStorageWriteDiscard);
-                d.push = shade;
-                d.pipeline = &m->negativeGather;
-                d.sampler = m->pointSampler;
-            },
-            [](const NegShadeData& d, rg::PassContext& pc) {
-                pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.size.x, d.push.size.y, 1}),
-                            d.push,
-                            {pc.sampled(VPL_NEGATIVE_GATHER_BINDING_POSITION, d.pos, d.sampler),
-                             pc.sampled(VPL_NEGATIVE_GATHER_BINDING_NORMAL, d.nrm, d.sampler),
-                             pc.sampled(VPL_NEGATIVE_GATHER_BINDING_ALBEDO, d.alb, d.sampler),
-                             pc.buffer(VPL_NEGATIVE_GATHER_BINDING_NEGATIVE_VPLS, d.neg),
-                             pc.sampled(VPL_NEGATIVE_GATHER_BINDING_POSITIVE_INDIRECT, d.positive, d.sampler),
-                             pc.storage(VPL_NEGATIVE_GATHER_BINDING_INDIRECT, d.indirect)});
-            });
-        lowIndirect = ns.indirect;
+        rg::ImageHandle positiveIndirect = lowIndirect;
+        lowIndirect = graph.createImage(f == 1 ? "vpl.indirect" : "vpl.negative_indirect", image2D(lowW, lowH));
+        rg::ComputePass(graph, "vpl.negative_gather", m->negativeGather)
+            .push(shade)
+            .sample(VPL_NEGATIVE_GATHER_BINDING_POSITION, in.gPosition, m->pointSampler)
+            .sample(VPL_NEGATIVE_GATHER_BINDING_NORMAL, in.gNormal, m->pointSampler)
+            .sample(VPL_NEGATIVE_GATHER_BINDING_ALBEDO, in.gAlbedo, m->pointSampler)
+            .read(VPL_NEGATIVE_GATHER_BINDING_NEGATIVE_VPLS, negativeVpls)
+            .sample(VPL_NEGATIVE_GATHER_BINDING_POSITIVE_INDIRECT, positiveIndirect, m->pointSampler)
+            .overwrite(VPL_NEGATIVE_GATHER_BINDING_INDIRECT, lowIndirect)
+            .dispatch({lowW, lowH, 1});
     }
 
     if (f == 1) {
@@ -363,7 +273,7 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
     struct ClearListData {
         rg::BufferHandle list;
     };
-    const auto& cl = graph.addPass<ClearListData>(
+    const auto& cleared = graph.addPass<ClearListData>(
         "vpl.refine_clear",
         [&](rg::PassBuilder& b, ClearListData& d) {
             VkDeviceSize bytes = VPL_REFINE_LIST_HEADER_BYTES + VkDeviceSize(in.width) * in.height * 4;
@@ -372,76 +282,30 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
         [](const ClearListData& d, rg::PassContext& pc) {
             vkCmdFillBuffer(pc.cmd(), pc.buffer(d.list).buffer, 0, VPL_REFINE_LIST_HEADER_BYTES, 0);
         });
+    rg::BufferHandle refineList = cleared.list;
 
-    struct UpsampleData {
-        rg::ImageHandle pos, nrm, low, indirect;
-        rg::BufferHandle list;
-        gpu::VplShadePush push;
-        const Pipeline* pipeline;
-        VkSampler sampler;
-    };
-    const auto& us = graph.addPass<UpsampleData>(
-        "vpl.upsample",
-        [&](rg::PassBuilder& b, UpsampleData& d) {
-            d.pos = in.gPosition;
-            d.nrm = in.gNormal;
-            d.low = lowIndirect;
-            for (rg::ImageHandle h : {d.pos, d.nrm, d.low})
-                b.read(h, rg::Access::ComputeSampledRead);
-            d.list = b.write(cl.list, rg::Access::ComputeStorageReadWrite);
-            d.indirect = b.write(b.create("vpl.indirect", fullDesc), rg::Access::ComputeStorageWriteDiscard);
-            d.push = shade;
-            d.pipeline = &m->upsample;
-            d.sampler = m->pointSampler;
-        },
-        [](const UpsampleData& d, rg::PassContext& pc) {
-            pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.counts.z, d.push.counts.w, 1}),
-                        d.push,
-                        {pc.sampled(VPL_UPSAMPLE_BINDING_POSITION, d.pos, d.sampler),
-                         pc.sampled(VPL_UPSAMPLE_BINDING_NORMAL, d.nrm, d.sampler),
-                         pc.sampled(VPL_UPSAMPLE_BINDING_LOW_RES_INDIRECT, d.low, d.sampler),
-                         pc.storage(VPL_UPSAMPLE_BINDING_INDIRECT, d.indirect),
-                         pc.buffer(VPL_UPSAMPLE_BINDING_REFINE_LIST, d.list)});
-        });
+    rg::ImageHandle indirect = graph.createImage("vpl.indirect", fullDesc);
+    rg::ComputePass(graph, "vpl.upsample", m->upsample)
+        .push(shade)
+        .sample(VPL_UPSAMPLE_BINDING_POSITION, in.gPosition, m->pointSampler)
+        .sample(VPL_UPSAMPLE_BINDING_NORMAL, in.gNormal, m->pointSampler)
+        .sample(VPL_UPSAMPLE_BINDING_LOW_RES_INDIRECT, lowIndirect, m->pointSampler)
+        .overwrite(VPL_UPSAMPLE_BINDING_INDIRECT, indirect)
+        .write(VPL_UPSAMPLE_BINDING_REFINE_LIST, refineList)
+        .dispatch({in.width, in.height, 1});
 
-    struct RefineData {
-        rg::ImageHandle pos, nrm, alb, indirect;
-        rg::BufferHandle vpls, neg, list;
-        gpu::VplShadePush push;
-        const Pipeline* pipeline;
-        VkSampler sampler;
-    };
-    const auto& rf = graph.addPass<RefineData>(
-        "vpl.refine",
-        [&](rg::PassBuilder& b, RefineData& d) {
-            d.pos = in.gPosition;
-            d.nrm = in.gNormal;
-            d.alb = in.gAlbedo;
-            d.vpls = gen.vpls;
-            d.neg = negVpls;
-            d.list = us.list;
-            for (rg::ImageHandle h : {d.pos, d.nrm, d.alb})
-                b.read(h, rg::Access::ComputeSampledRead);
-            b.read(d.vpls, rg::Access::ComputeStorageRead);
-            if (d.neg != d.vpls)
-                b.read(d.neg, rg::Access::ComputeStorageRead);
-            b.read(d.list, rg::Access::ComputeStorageRead);
-            d.indirect = b.write(us.indirect, rg::Access::ComputeStorageWrite);
-            d.push = shade;
-            d.pipeline = &m->refine;
-            d.sampler = m->pointSampler;
-        },
-        [](const RefineData& d, rg::PassContext& pc) {
-            pc.dispatch(*d.pipeline, rg::PassContext::groupsFor(*d.pipeline, {d.push.size.w, 1, 1}), d.push,
-                        {pc.sampled(VPL_REFINE_BINDING_POSITION, d.pos, d.sampler),
-                         pc.sampled(VPL_REFINE_BINDING_NORMAL, d.nrm, d.sampler),
-                         pc.sampled(VPL_REFINE_BINDING_ALBEDO, d.alb, d.sampler),
-                         pc.buffer(VPL_REFINE_BINDING_VPLS, d.vpls), pc.buffer(VPL_REFINE_BINDING_NEGATIVE_VPLS, d.neg),
-                         pc.buffer(VPL_REFINE_BINDING_REFINE_LIST, d.list),
-                         pc.storage(VPL_REFINE_BINDING_INDIRECT, d.indirect)});
-        });
-    out.indirect = rf.indirect;
-    out.refineList = us.list;
+    rg::ComputePass(graph, "vpl.refine", m->refine)
+        .push(shade)
+        .sample(VPL_REFINE_BINDING_POSITION, in.gPosition, m->pointSampler)
+        .sample(VPL_REFINE_BINDING_NORMAL, in.gNormal, m->pointSampler)
+        .sample(VPL_REFINE_BINDING_ALBEDO, in.gAlbedo, m->pointSampler)
+        .read(VPL_REFINE_BINDING_VPLS, vpls)
+        .read(VPL_REFINE_BINDING_NEGATIVE_VPLS, negativeVpls)
+        .read(VPL_REFINE_BINDING_REFINE_LIST, refineList)
+        .write(VPL_REFINE_BINDING_INDIRECT, indirect)
+        .dispatch({in.width * in.height, 1, 1});
+    out.indirect = indirect;
+    out.refineList = refineList;
     return out;
 }
 
