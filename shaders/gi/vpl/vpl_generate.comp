@@ -18,7 +18,9 @@ layout(push_constant) uniform PushBlock { VplGeneratePush pc; };
 layout(set = 1, binding = VPL_GENERATE_BINDING_RSM_POSITION) uniform sampler2DArray rsmPosition;
 layout(set = 1, binding = VPL_GENERATE_BINDING_RSM_NORMAL) uniform sampler2DArray rsmNormal;
 layout(set = 1, binding = VPL_GENERATE_BINDING_RSM_FLUX) uniform sampler2DArray rsmFlux;
-layout(set = 1, binding = VPL_GENERATE_BINDING_SHADOW_VIEWS, std430) readonly buffer ShadowViews { GpuShadowView shadowViews[]; };
+layout(set = 1, binding = VPL_GENERATE_BINDING_SHADOW_VIEWS, std430) readonly buffer ShadowViews {
+    GpuShadowView shadowViews[];
+};
 layout(set = 1, binding = VPL_GENERATE_BINDING_LIGHTS, std430) readonly buffer Lights { VplLight lights[]; };
 layout(set = 1, binding = VPL_GENERATE_BINDING_DIRECTIONS, std430) readonly buffer Directions { vec4 directions[]; };
 layout(set = 1, binding = VPL_GENERATE_BINDING_VPLS, std430) writeonly buffer Vpls { VplRecord vpls[]; };

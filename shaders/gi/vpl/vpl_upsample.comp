@@ -7,7 +7,7 @@
 #include "gi/vpl.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_2D, local_size_y = GI_VPL_LOCAL_SIZE_2D) in;
-layout(push_constant) uniform PushBlock { VplShadePush pc; };
+layout(push_constant) uniform PushBlock { VplPixelPush pc; };
 
 layout(set = 1, binding = VPL_UPSAMPLE_BINDING_POSITION) uniform sampler2D gPosition;
 layout(set = 1, binding = VPL_UPSAMPLE_BINDING_NORMAL) uniform sampler2D gNormal;

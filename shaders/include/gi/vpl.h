@@ -31,7 +31,7 @@
 #define VPL_GENERATE_BINDING_LIGHTS 4       // VplLight per light
 #define VPL_GENERATE_BINDING_DIRECTIONS 5   // local Halton directions (or window points), light after light
 #define VPL_GENERATE_BINDING_VPLS 6         // output: VplRecord per positive VPL
-// vpl_shade.comp: the positive VPLs' light at the gather resolution.
+// vpl_gather.comp: the positive VPLs' light at the gather resolution.
 #define VPL_GATHER_BINDING_POSITION 0 // G-buffer world position (w = 1 where geometry)
 #define VPL_GATHER_BINDING_NORMAL 1   // G-buffer normal
 #define VPL_GATHER_BINDING_ALBEDO 2   // G-buffer albedo
@@ -45,7 +45,7 @@
 #define VPL_NEGATIVE_GENERATE_BINDING_INCIDENT 2      // the gather's VPL irradiance
 #define VPL_NEGATIVE_GENERATE_BINDING_TRAVEL 3        // the gather's travel directions
 #define VPL_NEGATIVE_GENERATE_BINDING_NEGATIVE_VPLS 4 // output: VplRecord per negative VPL
-// vpl_negative_shade.comp: the gather image minus the negative VPLs' light.
+// vpl_negative_gather.comp: the gather image minus the negative VPLs' light.
 #define VPL_NEGATIVE_GATHER_BINDING_POSITION 0          // G-buffer world position
 #define VPL_NEGATIVE_GATHER_BINDING_NORMAL 1            // G-buffer normal
 #define VPL_NEGATIVE_GATHER_BINDING_ALBEDO 2            // G-buffer albedo
@@ -105,13 +105,13 @@ GI_GPU_STRUCT(VplGeneratePush) {
 GI_CHECK_SIZE(VplGeneratePush, 48);
 
 // Push constants of the per-pixel passes (gather, negative gather, upsample, refine).
-GI_GPU_STRUCT(VplShadePush) {
+GI_GPU_STRUCT(VplPixelPush) {
     uvec4 size;   // x width, y height of the image being written, z low-res factor, w refine capacity
     uvec4 counts; // x positive VPLs, y negative VPLs, z full-res width, w full-res height
     vec4 camera;  // xyz camera position, w 0
     vec4 params;  // x clamp distance^2, y refine threshold, z, w 0
 };
-GI_CHECK_SIZE(VplShadePush, 64);
+GI_CHECK_SIZE(VplPixelPush, 64);
 
 // Radical inverse of `i` in `base`: the i-th element of the van der Corput sequence, the
 // coordinates of the Halton sequence (bases 2 and 3 here, as in the paper).

@@ -7,7 +7,7 @@
 #include "gi/vpl.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_2D, local_size_y = GI_VPL_LOCAL_SIZE_2D) in;
-layout(push_constant) uniform PushBlock { VplShadePush pc; };
+layout(push_constant) uniform PushBlock { VplPixelPush pc; };
 
 layout(set = 1, binding = VPL_GATHER_BINDING_POSITION) uniform sampler2D gPosition;
 layout(set = 1, binding = VPL_GATHER_BINDING_NORMAL) uniform sampler2D gNormal;
@@ -18,7 +18,7 @@ layout(set = 1, binding = VPL_GATHER_BINDING_INCIDENT, rgba32f) uniform writeonl
 layout(set = 1, binding = VPL_GATHER_BINDING_TRAVEL, rgba32f) uniform writeonly image2D outTravel;
 
 // No negative VPLs are read here; the shared gather header still needs the name.
-#define negVpls vpls
+#define negativeVpls vpls
 #include "gi/vpl_gather.h"
 
 void main() {

@@ -44,7 +44,7 @@ void updateBuffer(VkCommandBuffer cmd, VkBuffer buffer, const void* data, VkDevi
 
 } // namespace
 
-struct VplRenderer::Impl {
+struct VplTechnique::Impl {
     Context& ctx;
     Pipeline generate, gather, negativeGenerate, negativeGather, upsample, refine;
     VkSampler pointSampler = VK_NULL_HANDLE; // texelFetch-only, but sampled bindings need one
@@ -69,9 +69,9 @@ struct VplRenderer::Impl {
     }
 };
 
-VplRenderer::VplRenderer(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
+VplTechnique::VplTechnique(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
 
-VplRenderer::~VplRenderer() {
+VplTechnique::~VplTechnique() {
     Context& ctx = m->ctx;
     for (Pipeline* p : {&m->generate, &m->gather, &m->negativeGenerate, &m->negativeGather, &m->upsample, &m->refine})
         destroyPipeline(ctx, *p);
@@ -79,14 +79,14 @@ VplRenderer::~VplRenderer() {
         vkDestroySampler(ctx.device(), m->pointSampler, nullptr);
 }
 
-Result<std::unique_ptr<VplRenderer>> VplRenderer::create(Context& ctx) {
+Result<std::unique_ptr<VplTechnique>> VplTechnique::create(Context& ctx) {
     auto impl = std::make_unique<Impl>(ctx);
-    std::unique_ptr<VplRenderer> r(new VplRenderer(std::move(impl)));
+    std::unique_ptr<VplTechnique> r(new VplTechnique(std::move(impl)));
     const std::pair<Pipeline*, const char*> shaders[] = {
         {&r->m->generate, "gi/vpl/vpl_generate.comp"},
-        {&r->m->gather, "gi/vpl/vpl_shade.comp"},
+        {&r->m->gather, "gi/vpl/vpl_gather.comp"},
         {&r->m->negativeGenerate, "gi/vpl/vpl_negative_generate.comp"},
-        {&r->m->negativeGather, "gi/vpl/vpl_negative_shade.comp"},
+        {&r->m->negativeGather, "gi/vpl/vpl_negative_gather.comp"},
         {&r->m->upsample, "gi/vpl/vpl_upsample.comp"},
         {&r->m->refine, "gi/vpl/vpl_refine.comp"},
     };
@@ -103,14 +103,14 @@ Result<std::unique_ptr<VplRenderer>> VplRenderer::create(Context& ctx) {
     return r;
 }
 
-Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& s) {
+Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& s) {
     if (auto ok = validateVplSettings(s); !ok)
         return ok.error();
     if (in.width == 0 || in.height == 0 || in.width > 65535 || in.height > 65535)
-        return makeError("VplRenderer: image size " + std::to_string(in.width) + "x" + std::to_string(in.height) +
+        return makeError("VplTechnique: image size " + std::to_string(in.width) + "x" + std::to_string(in.height) +
                          " is outside 1..65535 (refine list packs 16-bit coordinates)");
     if (in.spots.size() > kMaxVplLights)
-        return makeError("VplRenderer: " + std::to_string(in.spots.size()) + " lights exceed the maximum " +
+        return makeError("VplTechnique: " + std::to_string(in.spots.size()) + " lights exceed the maximum " +
                          std::to_string(kMaxVplLights));
     VplOutputs out;
     const ImageDesc fullDesc = image2D(in.width, in.height);
@@ -140,7 +140,7 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
     std::vector<glm::vec4> dirs;
     for (const VplSpot& spot : in.spots) {
         if (spot.layerCount != 1 && spot.layerCount != 6)
-            return makeError("VplRenderer: a light's RSM layer count must be 1 or 6, got " +
+            return makeError("VplTechnique: a light's RSM layer count must be 1 or 6, got " +
                              std::to_string(spot.layerCount));
         gpu::VplLight l{};
         l.info = glm::uvec4(uint32_t(dirs.size()), s.vplCount, spot.firstLayer, spot.layerCount);
@@ -148,7 +148,7 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
             // Halton points of the orthographic window; each VPL stands for 1/N of its area
             // (the shader turns that into flux with the layer's texel area, vpl_generate.comp).
             if (spot.layerCount != 1)
-                return makeError("VplRenderer: a directional light has one orthographic RSM layer, got " +
+                return makeError("VplTechnique: a directional light has one orthographic RSM layer, got " +
                                  std::to_string(spot.layerCount));
             l.position = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f / float(s.vplCount));
             for (const glm::vec3& p : windowSamplePoints(s.vplCount))
@@ -175,7 +175,7 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
         std::vector<gpu::VplLight> lightData;
         std::vector<glm::vec4> directionData;
     };
-    const auto& up = graph.addPass<UploadData>(
+    const auto& uploaded = graph.addPass<UploadData>(
         "vpl.upload",
         [&](rg::PassBuilder& b, UploadData& d) {
             d.lightData = lights;
@@ -202,8 +202,8 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
         .sample(VPL_GENERATE_BINDING_RSM_NORMAL, in.rsmNormal, m->pointSampler)
         .sample(VPL_GENERATE_BINDING_RSM_FLUX, in.rsmFlux, m->pointSampler)
         .read(VPL_GENERATE_BINDING_SHADOW_VIEWS, in.shadowViews)
-        .read(VPL_GENERATE_BINDING_LIGHTS, up.lights)
-        .read(VPL_GENERATE_BINDING_DIRECTIONS, up.directions)
+        .read(VPL_GENERATE_BINDING_LIGHTS, uploaded.lights)
+        .read(VPL_GENERATE_BINDING_DIRECTIONS, uploaded.directions)
         .overwrite(VPL_GENERATE_BINDING_VPLS, vpls)
         .dispatch({vplTotal, 1, 1});
     out.vpls = vpls;
@@ -213,18 +213,18 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
     const uint32_t lowW = (in.width + f - 1) / f, lowH = (in.height + f - 1) / f;
     const float clampDist = s.clampDistance * std::max(in.sceneDiagonal, 1e-6f);
     const float tanHalf = std::tan(0.5f * in.camera.yfov);
-    gpu::VplShadePush shade{};
-    shade.size = glm::uvec4(lowW, lowH, f, in.width * in.height);
-    shade.counts = glm::uvec4(vplTotal, s.negativeVplCount, in.width, in.height);
-    shade.camera = glm::vec4(in.camera.position, 0.0f);
-    shade.params = glm::vec4(clampDist * clampDist, s.refineThreshold, 0.0f, 0.0f);
+    gpu::VplPixelPush pixelPush{};
+    pixelPush.size = glm::uvec4(lowW, lowH, f, in.width * in.height);
+    pixelPush.counts = glm::uvec4(vplTotal, s.negativeVplCount, in.width, in.height);
+    pixelPush.camera = glm::vec4(in.camera.position, 0.0f);
+    pixelPush.params = glm::vec4(clampDist * clampDist, s.refineThreshold, 0.0f, 0.0f);
 
     rg::ImageHandle lowIndirect = graph.createImage(
         f == 1 && s.negativeVplCount == 0 ? "vpl.indirect" : "vpl.gather_indirect", image2D(lowW, lowH));
     rg::ImageHandle incident = graph.createImage("vpl.incident", image2D(lowW, lowH));
     rg::ImageHandle travel = graph.createImage("vpl.travel", image2D(lowW, lowH));
     rg::ComputePass(graph, "vpl.gather", m->gather)
-        .push(shade)
+        .push(pixelPush)
         .sample(VPL_GATHER_BINDING_POSITION, in.gPosition, m->pointSampler)
         .sample(VPL_GATHER_BINDING_NORMAL, in.gNormal, m->pointSampler)
         .sample(VPL_GATHER_BINDING_ALBEDO, in.gAlbedo, m->pointSampler)
@@ -255,7 +255,7 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
         rg::ImageHandle positiveIndirect = lowIndirect;
         lowIndirect = graph.createImage(f == 1 ? "vpl.indirect" : "vpl.negative_indirect", image2D(lowW, lowH));
         rg::ComputePass(graph, "vpl.negative_gather", m->negativeGather)
-            .push(shade)
+            .push(pixelPush)
             .sample(VPL_NEGATIVE_GATHER_BINDING_POSITION, in.gPosition, m->pointSampler)
             .sample(VPL_NEGATIVE_GATHER_BINDING_NORMAL, in.gNormal, m->pointSampler)
             .sample(VPL_NEGATIVE_GATHER_BINDING_ALBEDO, in.gAlbedo, m->pointSampler)
@@ -286,7 +286,7 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
 
     rg::ImageHandle indirect = graph.createImage("vpl.indirect", fullDesc);
     rg::ComputePass(graph, "vpl.upsample", m->upsample)
-        .push(shade)
+        .push(pixelPush)
         .sample(VPL_UPSAMPLE_BINDING_POSITION, in.gPosition, m->pointSampler)
         .sample(VPL_UPSAMPLE_BINDING_NORMAL, in.gNormal, m->pointSampler)
         .sample(VPL_UPSAMPLE_BINDING_LOW_RES_INDIRECT, lowIndirect, m->pointSampler)
@@ -295,7 +295,7 @@ Result<VplOutputs> VplRenderer::addPasses(rg::RenderGraph& graph, const VplInput
         .dispatch({in.width, in.height, 1});
 
     rg::ComputePass(graph, "vpl.refine", m->refine)
-        .push(shade)
+        .push(pixelPush)
         .sample(VPL_REFINE_BINDING_POSITION, in.gPosition, m->pointSampler)
         .sample(VPL_REFINE_BINDING_NORMAL, in.gNormal, m->pointSampler)
         .sample(VPL_REFINE_BINDING_ALBEDO, in.gAlbedo, m->pointSampler)
