@@ -3,8 +3,8 @@
 
 #include "lpv/lpv_technique.hpp"
 #include "technique.hpp"
-#include "vpl/vpl_module.hpp"
 #include "vct/vct_technique.hpp"
+#include "vpl/vpl_technique_module.hpp"
 
 namespace vkgi::gi {
 
@@ -61,7 +61,7 @@ Result<std::unique_ptr<TechniqueModule>> createTechnique(Context& ctx, const GiS
     switch (settings.technique) {
     case Technique::None: return std::unique_ptr<TechniqueModule>();
     case Technique::Lpv: return createLpvTechnique(ctx, settings);
-    case Technique::Vpl: return createVplModule(ctx, settings);
+    case Technique::Vpl: return createVplTechniqueModule(ctx, settings);
     case Technique::Vct: return createVctTechnique(ctx, settings.vct);
     }
     return makeError(std::string("technique ") + toString(settings.technique) + " is not built into this library");

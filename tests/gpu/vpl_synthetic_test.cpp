@@ -125,13 +125,13 @@ protected:
         GpuTest::SetUp();
         if (HasFatalFailure() || IsSkipped())
             return;
-        auto r = VplRenderer::create(ctx());
+        auto r = VplTechnique::create(ctx());
         ASSERT_TRUE(r) << r.error().message;
-        m_renderer = std::move(r.value());
+        m_technique = std::move(r.value());
     }
     void TearDown() override {
         vkDeviceWaitIdle(ctx().device());
-        m_renderer.reset();
+        m_technique.reset();
         GpuTest::TearDown();
     }
 
@@ -227,7 +227,7 @@ protected:
             in.shadowViews = g.importBuffer("views", views, rg::Access::TransferWrite);
             in.spots.push_back({light.position, light.direction, std::cos(kConeHalf), 0, 1});
             in.sceneDiagonal = 2.0f;
-            auto out = m_renderer->addPasses(g, in, settings);
+            auto out = m_technique->addPasses(g, in, settings);
             EXPECT_TRUE(out) << out.error().message;
             if (!out)
                 return result;
@@ -257,7 +257,7 @@ protected:
         return result;
     }
 
-    std::unique_ptr<VplRenderer> m_renderer;
+    std::unique_ptr<VplTechnique> m_technique;
     std::vector<Buffer> m_host;
 };
 

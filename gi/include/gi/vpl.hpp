@@ -100,23 +100,25 @@ struct VplOutputs {
     uint32_t vplCount = 0;        // records in `vpls`
 };
 
-// The VPL technique's pipelines and cached Halton directions. Passes are added per frame.
-class VplRenderer {
+// The VPL technique: its pipelines and cached Halton directions; the passes are added per
+// frame. GiSystem runs it as Technique::Vpl; tests and tools may drive it directly on their own
+// G-buffer and RSM.
+class VplTechnique {
 public:
-    static Result<std::unique_ptr<VplRenderer>> create(Context& ctx);
-    ~VplRenderer();
-    VplRenderer(const VplRenderer&) = delete;
-    VplRenderer& operator=(const VplRenderer&) = delete;
+    static Result<std::unique_ptr<VplTechnique>> create(Context& ctx);
+    ~VplTechnique();
+    VplTechnique(const VplTechnique&) = delete;
+    VplTechnique& operator=(const VplTechnique&) = delete;
 
     // Adds the VPL passes (upload, generate, gather, [negative VPLs], [upsample + refine]).
-    // Without spots it adds one pass that clears `indirect` (GiSystem's module does not call it
-    // then: a scene with no light gets no VPL pass at all). Errors: bad settings, too many spots, a cone too
-    // narrow for the requested VPL count.
+    // Without spots it adds one pass that clears `indirect` (GiSystem does not call it then: a
+    // scene with no light gets no VPL pass at all). Errors: bad settings, too many spots, a cone
+    // too narrow for the requested VPL count.
     Result<VplOutputs> addPasses(rg::RenderGraph& graph, const VplInputs& inputs, const VplSettings& settings);
 
 private:
     struct Impl;
-    explicit VplRenderer(std::unique_ptr<Impl> impl);
+    explicit VplTechnique(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> m;
 };
 

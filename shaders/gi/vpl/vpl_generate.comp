@@ -15,13 +15,15 @@
 layout(local_size_x = GI_VPL_LOCAL_SIZE_1D) in;
 layout(push_constant) uniform PushBlock { VplGeneratePush pc; };
 
-layout(set = 1, binding = 0) uniform sampler2DArray rsmPosition;
-layout(set = 1, binding = 1) uniform sampler2DArray rsmNormal;
-layout(set = 1, binding = 2) uniform sampler2DArray rsmFlux;
-layout(set = 1, binding = 3, std430) readonly buffer ShadowViews { GpuShadowView shadowViews[]; };
-layout(set = 1, binding = 4, std430) readonly buffer Lights { VplLight lights[]; };
-layout(set = 1, binding = 5, std430) readonly buffer Directions { vec4 directions[]; };
-layout(set = 1, binding = 6, std430) writeonly buffer Vpls { VplRecord vpls[]; };
+layout(set = 1, binding = VPL_GENERATE_BINDING_RSM_POSITION) uniform sampler2DArray rsmPosition;
+layout(set = 1, binding = VPL_GENERATE_BINDING_RSM_NORMAL) uniform sampler2DArray rsmNormal;
+layout(set = 1, binding = VPL_GENERATE_BINDING_RSM_FLUX) uniform sampler2DArray rsmFlux;
+layout(set = 1, binding = VPL_GENERATE_BINDING_SHADOW_VIEWS, std430) readonly buffer ShadowViews {
+    GpuShadowView shadowViews[];
+};
+layout(set = 1, binding = VPL_GENERATE_BINDING_LIGHTS, std430) readonly buffer Lights { VplLight lights[]; };
+layout(set = 1, binding = VPL_GENERATE_BINDING_DIRECTIONS, std430) readonly buffer Directions { vec4 directions[]; };
+layout(set = 1, binding = VPL_GENERATE_BINDING_VPLS, std430) writeonly buffer Vpls { VplRecord vpls[]; };
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

@@ -10,11 +10,13 @@
 layout(local_size_x = GI_VPL_LOCAL_SIZE_1D) in;
 layout(push_constant) uniform PushBlock { VplGeneratePush pc; };
 
-layout(set = 1, binding = 0) uniform sampler2D gPosition;
-layout(set = 1, binding = 1) uniform sampler2D gNormal;
-layout(set = 1, binding = 2) uniform sampler2D incident;
-layout(set = 1, binding = 3) uniform sampler2D travel;
-layout(set = 1, binding = 4, std430) writeonly buffer NegVpls { VplRecord negVpls[]; };
+layout(set = 1, binding = VPL_NEGATIVE_GENERATE_BINDING_POSITION) uniform sampler2D gPosition;
+layout(set = 1, binding = VPL_NEGATIVE_GENERATE_BINDING_NORMAL) uniform sampler2D gNormal;
+layout(set = 1, binding = VPL_NEGATIVE_GENERATE_BINDING_INCIDENT) uniform sampler2D incident;
+layout(set = 1, binding = VPL_NEGATIVE_GENERATE_BINDING_TRAVEL) uniform sampler2D travel;
+layout(set = 1, binding = VPL_NEGATIVE_GENERATE_BINDING_NEGATIVE_VPLS, std430) writeonly buffer NegativeVpls {
+    VplRecord negativeVpls[];
+};
 
 // Grazing views would give a pixel an unbounded world area; |cos| is floored at 0.2 (78 degrees),
 // which caps one sample's area at 5x its frontal value.
@@ -49,5 +51,5 @@ void main() {
         v.direction = vec4(sum / len, 0.0);
         v.flux = vec4(texelFetch(incident, px, 0).rgb * area, 0.0);
     }
-    negVpls[i] = v;
+    negativeVpls[i] = v;
 }

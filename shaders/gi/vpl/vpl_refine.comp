@@ -5,19 +5,21 @@
 #include "gi/vpl.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_1D) in;
-layout(push_constant) uniform PushBlock { VplShadePush pc; };
+layout(push_constant) uniform PushBlock { VplPixelPush pc; };
 
-layout(set = 1, binding = 0) uniform sampler2D gPosition;
-layout(set = 1, binding = 1) uniform sampler2D gNormal;
-layout(set = 1, binding = 2) uniform sampler2D gAlbedo;
-layout(set = 1, binding = 3, std430) readonly buffer Vpls { VplRecord vpls[]; };
-layout(set = 1, binding = 4, std430) readonly buffer NegVpls { VplRecord negVpls[]; };
-layout(set = 1, binding = 5, std430) readonly buffer RefineList {
+layout(set = 1, binding = VPL_REFINE_BINDING_POSITION) uniform sampler2D gPosition;
+layout(set = 1, binding = VPL_REFINE_BINDING_NORMAL) uniform sampler2D gNormal;
+layout(set = 1, binding = VPL_REFINE_BINDING_ALBEDO) uniform sampler2D gAlbedo;
+layout(set = 1, binding = VPL_REFINE_BINDING_VPLS, std430) readonly buffer Vpls { VplRecord vpls[]; };
+layout(set = 1, binding = VPL_REFINE_BINDING_NEGATIVE_VPLS, std430) readonly buffer NegativeVpls {
+    VplRecord negativeVpls[];
+};
+layout(set = 1, binding = VPL_REFINE_BINDING_REFINE_LIST, std430) readonly buffer RefineList {
     uint refineCount;
     uint refinePad[3];
     uint refinePixels[];
 };
-layout(set = 1, binding = 6, rgba32f) uniform writeonly image2D outIndirect;
+layout(set = 1, binding = VPL_REFINE_BINDING_INDIRECT, rgba32f) uniform writeonly image2D outIndirect;
 
 #include "gi/vpl_gather.h"
 

@@ -7,14 +7,14 @@
 #include "gi/vpl.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_2D, local_size_y = GI_VPL_LOCAL_SIZE_2D) in;
-layout(push_constant) uniform PushBlock { VplShadePush pc; };
+layout(push_constant) uniform PushBlock { VplPixelPush pc; };
 
-layout(set = 1, binding = 0) uniform sampler2D gPosition;
-layout(set = 1, binding = 1) uniform sampler2D gNormal;
-layout(set = 1, binding = 2) uniform sampler2D lowIndirect;
-layout(set = 1, binding = 3, rgba32f) uniform writeonly image2D outIndirect;
+layout(set = 1, binding = VPL_UPSAMPLE_BINDING_POSITION) uniform sampler2D gPosition;
+layout(set = 1, binding = VPL_UPSAMPLE_BINDING_NORMAL) uniform sampler2D gNormal;
+layout(set = 1, binding = VPL_UPSAMPLE_BINDING_LOW_RES_INDIRECT) uniform sampler2D lowIndirect;
+layout(set = 1, binding = VPL_UPSAMPLE_BINDING_INDIRECT, rgba32f) uniform writeonly image2D outIndirect;
 #include "gi/lowres_upsample.h"
-layout(set = 1, binding = 4, std430) buffer RefineList {
+layout(set = 1, binding = VPL_UPSAMPLE_BINDING_REFINE_LIST, std430) buffer RefineList {
     uint refineCount;
     uint refinePad[3];
     uint refinePixels[]; // x | y << 16

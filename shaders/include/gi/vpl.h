@@ -22,6 +22,54 @@
 
 #define GI_VPL_PI 3.14159265358979f
 
+// Bindings (set 1). The G-buffer and the RSM are point-sampled (texelFetch) through samplers.
+// vpl_generate.comp: one VPL per Halton sample of each light's RSM layers.
+#define VPL_GENERATE_BINDING_RSM_POSITION 0 // RSM world position (RGBA32F 2D array, w = 1 where valid)
+#define VPL_GENERATE_BINDING_RSM_NORMAL 1   // RSM normal (2D array)
+#define VPL_GENERATE_BINDING_RSM_FLUX 2     // RSM reflected flux (2D array)
+#define VPL_GENERATE_BINDING_SHADOW_VIEWS 3 // GpuShadowView per RSM layer (gi/direct_types.h)
+#define VPL_GENERATE_BINDING_LIGHTS 4       // VplLight per light
+#define VPL_GENERATE_BINDING_DIRECTIONS 5   // local Halton directions (or window points), light after light
+#define VPL_GENERATE_BINDING_VPLS 6         // output: VplRecord per positive VPL
+// vpl_gather.comp: the positive VPLs' light at the gather resolution.
+#define VPL_GATHER_BINDING_POSITION 0 // G-buffer world position (w = 1 where geometry)
+#define VPL_GATHER_BINDING_NORMAL 1   // G-buffer normal
+#define VPL_GATHER_BINDING_ALBEDO 2   // G-buffer albedo
+#define VPL_GATHER_BINDING_VPLS 3     // VplRecord per positive VPL
+#define VPL_GATHER_BINDING_INDIRECT 4 // output: indirect radiance (RGBA32F)
+#define VPL_GATHER_BINDING_INCIDENT 5 // output: VPL irradiance E (the negative VPLs' flux)
+#define VPL_GATHER_BINDING_TRAVEL 6   // output: luminance-weighted sum of the light's travel directions
+// vpl_negative_generate.comp: negative VPLs at Halton-picked pixels of the gather image.
+#define VPL_NEGATIVE_GENERATE_BINDING_POSITION 0      // G-buffer world position
+#define VPL_NEGATIVE_GENERATE_BINDING_NORMAL 1        // G-buffer normal
+#define VPL_NEGATIVE_GENERATE_BINDING_INCIDENT 2      // the gather's VPL irradiance
+#define VPL_NEGATIVE_GENERATE_BINDING_TRAVEL 3        // the gather's travel directions
+#define VPL_NEGATIVE_GENERATE_BINDING_NEGATIVE_VPLS 4 // output: VplRecord per negative VPL
+// vpl_negative_gather.comp: the gather image minus the negative VPLs' light.
+#define VPL_NEGATIVE_GATHER_BINDING_POSITION 0          // G-buffer world position
+#define VPL_NEGATIVE_GATHER_BINDING_NORMAL 1            // G-buffer normal
+#define VPL_NEGATIVE_GATHER_BINDING_ALBEDO 2            // G-buffer albedo
+#define VPL_NEGATIVE_GATHER_BINDING_NEGATIVE_VPLS 3     // VplRecord per negative VPL
+#define VPL_NEGATIVE_GATHER_BINDING_POSITIVE_INDIRECT 4 // the gather's indirect radiance
+#define VPL_NEGATIVE_GATHER_BINDING_INDIRECT 5          // output: indirect radiance (RGBA32F)
+// vpl_upsample.comp: full-resolution interpolation of the low-resolution indirect light.
+#define VPL_UPSAMPLE_BINDING_POSITION 0         // G-buffer world position
+#define VPL_UPSAMPLE_BINDING_NORMAL 1           // G-buffer normal
+#define VPL_UPSAMPLE_BINDING_LOW_RES_INDIRECT 2 // indirect radiance at the gather resolution
+#define VPL_UPSAMPLE_BINDING_INDIRECT 3         // output: full-resolution indirect radiance (RGBA32F)
+#define VPL_UPSAMPLE_BINDING_REFINE_LIST 4      // refine list (layout below), appended to
+// vpl_refine.comp: the full gather at the pixels of the refine list.
+#define VPL_REFINE_BINDING_POSITION 0      // G-buffer world position
+#define VPL_REFINE_BINDING_NORMAL 1        // G-buffer normal
+#define VPL_REFINE_BINDING_ALBEDO 2        // G-buffer albedo
+#define VPL_REFINE_BINDING_VPLS 3          // VplRecord per positive VPL
+#define VPL_REFINE_BINDING_NEGATIVE_VPLS 4 // VplRecord per negative VPL (the positive ones when off: count 0)
+#define VPL_REFINE_BINDING_REFINE_LIST 5   // refine list (layout below)
+#define VPL_REFINE_BINDING_INDIRECT 6      // output: the upsampled indirect radiance, refined pixels rewritten
+
+// Refine list: a uint count, 3 uints of padding, then one packed pixel (x | y << 16) per entry.
+#define VPL_REFINE_LIST_HEADER_BYTES 16
+
 GI_NAMESPACE_BEGIN
 
 // One positive VPL (a surface point seen by the light) or one negative VPL (a camera-visible
@@ -57,13 +105,13 @@ GI_GPU_STRUCT(VplGeneratePush) {
 GI_CHECK_SIZE(VplGeneratePush, 48);
 
 // Push constants of the per-pixel passes (gather, negative gather, upsample, refine).
-GI_GPU_STRUCT(VplShadePush) {
+GI_GPU_STRUCT(VplPixelPush) {
     uvec4 size;   // x width, y height of the image being written, z low-res factor, w refine capacity
     uvec4 counts; // x positive VPLs, y negative VPLs, z full-res width, w full-res height
     vec4 camera;  // xyz camera position, w 0
     vec4 params;  // x clamp distance^2, y refine threshold, z, w 0
 };
-GI_CHECK_SIZE(VplShadePush, 64);
+GI_CHECK_SIZE(VplPixelPush, 64);
 
 // Radical inverse of `i` in `base`: the i-th element of the van der Corput sequence, the
 // coordinates of the Halton sequence (bases 2 and 3 here, as in the paper).

@@ -1,5 +1,5 @@
 // GLSL only: the VPL gathers shared by the gather, negative and refine passes. The includer
-// declares `VplRecord vpls[]` and `VplRecord negVpls[]` storage buffers before including this.
+// declares `VplRecord vpls[]` and `VplRecord negativeVpls[]` storage buffers before including this.
 // No visibility term (as in the paper); the loops have run-time trip counts so lavapipe's JIT
 // never unrolls them.
 #ifndef VKGI_GI_VPL_GATHER_H
@@ -32,7 +32,7 @@ vec3 vplGatherPositive(vec3 x, vec3 n, uint count, float clamp2, out vec3 travel
 vec3 vplGatherNegative(vec3 x, vec3 n, uint count, float clamp2) {
     vec3 e = vec3(0.0);
     for (uint k = 0u; k < count; ++k) {
-        VplRecord v = negVpls[k];
+        VplRecord v = negativeVpls[k];
         vec3 d = x - v.position.xyz;
         float d2 = dot(d, d);
         vec3 w = d * inversesqrt(max(d2, 1e-30));

@@ -7,18 +7,18 @@
 #include "gi/vpl.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_2D, local_size_y = GI_VPL_LOCAL_SIZE_2D) in;
-layout(push_constant) uniform PushBlock { VplShadePush pc; };
+layout(push_constant) uniform PushBlock { VplPixelPush pc; };
 
-layout(set = 1, binding = 0) uniform sampler2D gPosition;
-layout(set = 1, binding = 1) uniform sampler2D gNormal;
-layout(set = 1, binding = 2) uniform sampler2D gAlbedo;
-layout(set = 1, binding = 3, std430) readonly buffer Vpls { VplRecord vpls[]; };
-layout(set = 1, binding = 4, rgba32f) uniform writeonly image2D outIndirect;
-layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D outIncident;
-layout(set = 1, binding = 6, rgba32f) uniform writeonly image2D outTravel;
+layout(set = 1, binding = VPL_GATHER_BINDING_POSITION) uniform sampler2D gPosition;
+layout(set = 1, binding = VPL_GATHER_BINDING_NORMAL) uniform sampler2D gNormal;
+layout(set = 1, binding = VPL_GATHER_BINDING_ALBEDO) uniform sampler2D gAlbedo;
+layout(set = 1, binding = VPL_GATHER_BINDING_VPLS, std430) readonly buffer Vpls { VplRecord vpls[]; };
+layout(set = 1, binding = VPL_GATHER_BINDING_INDIRECT, rgba32f) uniform writeonly image2D outIndirect;
+layout(set = 1, binding = VPL_GATHER_BINDING_INCIDENT, rgba32f) uniform writeonly image2D outIncident;
+layout(set = 1, binding = VPL_GATHER_BINDING_TRAVEL, rgba32f) uniform writeonly image2D outTravel;
 
 // No negative VPLs are read here; the shared gather header still needs the name.
-#define negVpls vpls
+#define negativeVpls vpls
 #include "gi/vpl_gather.h"
 
 void main() {

@@ -5,16 +5,18 @@
 #include "gi/vpl.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_2D, local_size_y = GI_VPL_LOCAL_SIZE_2D) in;
-layout(push_constant) uniform PushBlock { VplShadePush pc; };
+layout(push_constant) uniform PushBlock { VplPixelPush pc; };
 
-layout(set = 1, binding = 0) uniform sampler2D gPosition;
-layout(set = 1, binding = 1) uniform sampler2D gNormal;
-layout(set = 1, binding = 2) uniform sampler2D gAlbedo;
-layout(set = 1, binding = 3, std430) readonly buffer NegVpls { VplRecord negVpls[]; };
-layout(set = 1, binding = 4) uniform sampler2D positiveIndirect;
-layout(set = 1, binding = 5, rgba32f) uniform writeonly image2D outIndirect;
+layout(set = 1, binding = VPL_NEGATIVE_GATHER_BINDING_POSITION) uniform sampler2D gPosition;
+layout(set = 1, binding = VPL_NEGATIVE_GATHER_BINDING_NORMAL) uniform sampler2D gNormal;
+layout(set = 1, binding = VPL_NEGATIVE_GATHER_BINDING_ALBEDO) uniform sampler2D gAlbedo;
+layout(set = 1, binding = VPL_NEGATIVE_GATHER_BINDING_NEGATIVE_VPLS, std430) readonly buffer NegativeVpls {
+    VplRecord negativeVpls[];
+};
+layout(set = 1, binding = VPL_NEGATIVE_GATHER_BINDING_POSITIVE_INDIRECT) uniform sampler2D positiveIndirect;
+layout(set = 1, binding = VPL_NEGATIVE_GATHER_BINDING_INDIRECT, rgba32f) uniform writeonly image2D outIndirect;
 
-#define vpls negVpls
+#define vpls negativeVpls
 #include "gi/vpl_gather.h"
 
 void main() {

@@ -1,0 +1,408 @@
+// The VPL technique as render-graph passes: upload of the per-light tables, VPL generation
+// from the RSM, the deferred gather over the G-buffer, negative VPLs, and the low-resolution
+// gather with discontinuity refinement. All synchronisation comes from the declared accesses.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <string>
+#include <utility>
+
+#include "engine/context.hpp"
+#include "engine/pipeline.hpp"
+#include "engine/resources.hpp"
+#include "engine/rg/compute_pass.hpp"
+#include "gi/vpl.h"
+#include "gi/vpl.hpp"
+
+namespace vkgi::gi {
+
+namespace {
+
+constexpr VkFormat kRadianceFormat = VK_FORMAT_R32G32B32A32_SFLOAT; // 32F: 1e9 cd stays finite
+// vkCmdUpdateBuffer moves at most 65536 bytes per call.
+constexpr VkDeviceSize kUpdateChunk = 65536;
+
+ImageDesc radianceImage(uint32_t width, uint32_t height) {
+    ImageDesc d;
+    d.format = kRadianceFormat;
+    d.width = width;
+    d.height = height;
+    d.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    return d;
+}
+
+BufferDesc storageBuffer(VkDeviceSize bytes) {
+    return {bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::GpuOnly};
+}
+
+void updateBuffer(VkCommandBuffer cmd, VkBuffer buffer, const void* data, VkDeviceSize bytes) {
+    const auto* p = static_cast<const uint8_t*>(data);
+    for (VkDeviceSize offset = 0; offset < bytes; offset += kUpdateChunk)
+        vkCmdUpdateBuffer(cmd, buffer, offset, std::min(kUpdateChunk, bytes - offset), p + offset);
+}
+
+// What the generation pass reads per light: one VplLight each, and the local Halton directions
+// (or window points) of all lights one after the other.
+struct LightTables {
+    std::vector<gpu::VplLight> lights;
+    std::vector<glm::vec4> directions;
+};
+
+struct LightTableHandles {
+    rg::BufferHandle lights;
+    rg::BufferHandle directions;
+};
+
+// The gather's images at the gather resolution.
+struct GatherImages {
+    rg::ImageHandle indirect; // indirect radiance albedo/pi * E
+    rg::ImageHandle incident; // VPL irradiance E
+    rg::ImageHandle travel;   // luminance-weighted sum of the directions the light travels in
+};
+
+Result<void> checkInputs(const VplInputs& in, const VplSettings& settings) {
+    if (auto ok = validateVplSettings(settings); !ok)
+        return ok.error();
+    if (in.width == 0 || in.height == 0 || in.width > 65535 || in.height > 65535)
+        return makeError("VplTechnique: image size " + std::to_string(in.width) + "x" + std::to_string(in.height) +
+                         " is outside 1..65535 (refine list packs 16-bit coordinates)");
+    if (in.spots.size() > kMaxVplLights)
+        return makeError("VplTechnique: " + std::to_string(in.spots.size()) + " lights exceed the maximum " +
+                         std::to_string(kMaxVplLights));
+    for (const VplSpot& spot : in.spots) {
+        if (spot.layerCount != 1 && spot.layerCount != 6)
+            return makeError("VplTechnique: a light's RSM layer count must be 1 or 6, got " +
+                             std::to_string(spot.layerCount));
+        if (spot.directional && spot.layerCount != 1)
+            return makeError("VplTechnique: a directional light has one orthographic RSM layer, got " +
+                             std::to_string(spot.layerCount));
+    }
+    return {};
+}
+
+// Documented fall-back: no spotlight, no VPL light. One clear keeps the output defined.
+VplOutputs addClearPass(rg::RenderGraph& graph, uint32_t width, uint32_t height) {
+    rg::ImageHandle indirect = graph.createImage("vpl.indirect", radianceImage(width, height));
+    graph.addPass(
+        "vpl.no_spot_clear", [&](rg::PassBuilder& b) { indirect = b.write(indirect, rg::Access::TransferWrite); },
+        [indirect](rg::PassContext& pc) {
+            VkClearColorValue zero{};
+            VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+            vkCmdClearColorImage(pc.cmd(), pc.image(indirect).image, pc.layout(indirect), &zero, 1, &range);
+        });
+    VplOutputs out;
+    out.indirect = indirect;
+    return out;
+}
+
+LightTableHandles addUploadPass(rg::RenderGraph& graph, LightTables tables) {
+    LightTableHandles handles;
+    handles.lights = graph.createBuffer("vpl.lights", storageBuffer(tables.lights.size() * sizeof(gpu::VplLight)));
+    handles.directions =
+        graph.createBuffer("vpl.directions", storageBuffer(tables.directions.size() * sizeof(glm::vec4)));
+    struct UploadData {
+        LightTables tables;
+        LightTableHandles handles;
+    };
+    graph.addPass<UploadData>(
+        "vpl.upload",
+        [&](rg::PassBuilder& b, UploadData& d) {
+            d.tables = std::move(tables);
+            handles.lights = b.write(handles.lights, rg::Access::TransferWrite);
+            handles.directions = b.write(handles.directions, rg::Access::TransferWrite);
+            d.handles = handles;
+        },
+        [](const UploadData& d, rg::PassContext& pc) {
+            updateBuffer(pc.cmd(), pc.buffer(d.handles.lights).buffer, d.tables.lights.data(),
+                         d.tables.lights.size() * sizeof(gpu::VplLight));
+            updateBuffer(pc.cmd(), pc.buffer(d.handles.directions).buffer, d.tables.directions.data(),
+                         d.tables.directions.size() * sizeof(glm::vec4));
+        });
+    return handles;
+}
+
+// The refine list, its count zeroed (the rest is written before it is read).
+rg::BufferHandle addRefineClearPass(rg::RenderGraph& graph, uint32_t width, uint32_t height) {
+    const VkDeviceSize bytes = VPL_REFINE_LIST_HEADER_BYTES + VkDeviceSize(width) * height * sizeof(uint32_t);
+    rg::BufferHandle list = graph.createBuffer("vpl.refine_list", storageBuffer(bytes));
+    graph.addPass(
+        "vpl.refine_clear", [&](rg::PassBuilder& b) { list = b.write(list, rg::Access::TransferWrite); },
+        [list](rg::PassContext& pc) {
+            vkCmdFillBuffer(pc.cmd(), pc.buffer(list).buffer, 0, VPL_REFINE_LIST_HEADER_BYTES, 0);
+        });
+    return list;
+}
+
+// Push constants shared by the per-pixel passes.
+gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, uint32_t vplCount) {
+    const uint32_t factor = settings.lowResFactor;
+    const uint32_t lowResWidth = (in.width + factor - 1) / factor, lowResHeight = (in.height + factor - 1) / factor;
+    const float clampDistance = settings.clampDistance * std::max(in.sceneDiagonal, 1e-6f);
+    gpu::VplPixelPush push{};
+    push.size = glm::uvec4(lowResWidth, lowResHeight, factor, in.width * in.height);
+    push.counts = glm::uvec4(vplCount, settings.negativeVplCount, in.width, in.height);
+    push.camera = glm::vec4(in.camera.position, 0.0f);
+    push.params = glm::vec4(clampDistance * clampDistance, settings.refineThreshold, 0.0f, 0.0f);
+    return push;
+}
+
+} // namespace
+
+struct VplTechnique::Impl {
+    Context& ctx;
+    Pipeline generate, gather, negativeGenerate, negativeGather, upsample, refine;
+    VkSampler pointSampler = VK_NULL_HANDLE; // texelFetch-only, but sampled bindings need one
+    // Halton directions per (count, cosOuter bits): the CPU search is the only costly CPU step.
+    std::map<std::pair<uint32_t, uint32_t>, std::vector<glm::vec3>> directionCache;
+
+    explicit Impl(Context& c) : ctx(c) {}
+    Result<const std::vector<glm::vec3>*> directions(uint32_t count, float cosOuter);
+    Result<LightTables> lightTables(const std::vector<VplSpot>& spots, uint32_t vplCount);
+
+    rg::BufferHandle addGeneratePass(rg::RenderGraph& graph, const VplInputs& in, const LightTableHandles& tables,
+                                     uint32_t lightCount, uint32_t vplCount);
+    GatherImages addGatherPass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
+                               const gpu::VplPixelPush& push, const char* indirectName);
+    rg::BufferHandle addNegativeGeneratePass(rg::RenderGraph& graph, const VplInputs& in, const GatherImages& gathered,
+                                             const gpu::VplPixelPush& pixel);
+    rg::ImageHandle addNegativeGatherPass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle negativeVpls,
+                                          rg::ImageHandle positiveIndirect, const gpu::VplPixelPush& push,
+                                          const char* indirectName);
+    rg::ImageHandle addUpsamplePass(rg::RenderGraph& graph, const VplInputs& in, rg::ImageHandle lowResIndirect,
+                                    rg::BufferHandle& refineList, const gpu::VplPixelPush& push);
+    void addRefinePass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
+                       rg::BufferHandle negativeVpls, rg::BufferHandle refineList, rg::ImageHandle& indirect,
+                       const gpu::VplPixelPush& push);
+};
+
+Result<const std::vector<glm::vec3>*> VplTechnique::Impl::directions(uint32_t count, float cosOuter) {
+    uint32_t bits;
+    std::memcpy(&bits, &cosOuter, sizeof(bits));
+    auto key = std::make_pair(count, bits);
+    auto it = directionCache.find(key);
+    if (it == directionCache.end()) {
+        auto found = spotSampleDirections(count, cosOuter);
+        if (!found)
+            return found.error();
+        if (directionCache.size() > 64) // settings sweeps: keep the cache bounded
+            directionCache.clear();
+        it = directionCache.emplace(key, std::move(found.value())).first;
+    }
+    return &it->second;
+}
+
+Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& spots, uint32_t vplCount) {
+    LightTables tables;
+    for (const VplSpot& spot : spots) {
+        gpu::VplLight light{};
+        light.info = glm::uvec4(uint32_t(tables.directions.size()), vplCount, spot.firstLayer, spot.layerCount);
+        if (spot.directional) {
+            // Halton points of the orthographic window; each VPL stands for 1/N of its area
+            // (the shader turns that into flux with the layer's texel area, vpl_generate.comp).
+            light.position = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f / float(vplCount));
+            for (const glm::vec3& p : windowSamplePoints(vplCount))
+                tables.directions.emplace_back(p, 0.0f);
+        } else {
+            auto local = directions(vplCount, spot.cosOuter);
+            if (!local)
+                return local.error();
+            glm::mat3 frame = spotFrame(spot.direction);
+            light.position = glm::vec4(spot.position, coneSolidAngle(spot.cosOuter) / float(vplCount));
+            light.axisX = glm::vec4(frame[0], 0.0f);
+            light.axisY = glm::vec4(frame[1], 0.0f);
+            light.axisZ = glm::vec4(frame[2], 0.0f);
+            for (const glm::vec3& d : **local)
+                tables.directions.emplace_back(d, 0.0f);
+        }
+        tables.lights.push_back(light);
+    }
+    return tables;
+}
+
+rg::BufferHandle VplTechnique::Impl::addGeneratePass(rg::RenderGraph& graph, const VplInputs& in,
+                                                     const LightTableHandles& tables, uint32_t lightCount,
+                                                     uint32_t vplCount) {
+    rg::BufferHandle vpls =
+        graph.createBuffer("vpl.vpls", storageBuffer(VkDeviceSize(vplCount) * sizeof(gpu::VplRecord)));
+    gpu::VplGeneratePush push{};
+    push.info = glm::uvec4(lightCount, vplCount, 0, 0);
+    rg::ComputePass(graph, "vpl.generate", generate)
+        .push(push)
+        .sample(VPL_GENERATE_BINDING_RSM_POSITION, in.rsmPosition, pointSampler)
+        .sample(VPL_GENERATE_BINDING_RSM_NORMAL, in.rsmNormal, pointSampler)
+        .sample(VPL_GENERATE_BINDING_RSM_FLUX, in.rsmFlux, pointSampler)
+        .read(VPL_GENERATE_BINDING_SHADOW_VIEWS, in.shadowViews)
+        .read(VPL_GENERATE_BINDING_LIGHTS, tables.lights)
+        .read(VPL_GENERATE_BINDING_DIRECTIONS, tables.directions)
+        .overwrite(VPL_GENERATE_BINDING_VPLS, vpls)
+        .dispatch({vplCount, 1, 1});
+    return vpls;
+}
+
+GatherImages VplTechnique::Impl::addGatherPass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
+                                               const gpu::VplPixelPush& push, const char* indirectName) {
+    const uint32_t width = push.size.x, height = push.size.y;
+    GatherImages out;
+    out.indirect = graph.createImage(indirectName, radianceImage(width, height));
+    out.incident = graph.createImage("vpl.incident", radianceImage(width, height));
+    out.travel = graph.createImage("vpl.travel", radianceImage(width, height));
+    rg::ComputePass(graph, "vpl.gather", gather)
+        .push(push)
+        .sample(VPL_GATHER_BINDING_POSITION, in.gPosition, pointSampler)
+        .sample(VPL_GATHER_BINDING_NORMAL, in.gNormal, pointSampler)
+        .sample(VPL_GATHER_BINDING_ALBEDO, in.gAlbedo, pointSampler)
+        .read(VPL_GATHER_BINDING_VPLS, vpls)
+        .overwrite(VPL_GATHER_BINDING_INDIRECT, out.indirect)
+        .overwrite(VPL_GATHER_BINDING_INCIDENT, out.incident)
+        .overwrite(VPL_GATHER_BINDING_TRAVEL, out.travel)
+        .dispatch({width, height, 1});
+    return out;
+}
+
+rg::BufferHandle VplTechnique::Impl::addNegativeGeneratePass(rg::RenderGraph& graph, const VplInputs& in,
+                                                             const GatherImages& gathered,
+                                                             const gpu::VplPixelPush& pixel) {
+    const uint32_t count = pixel.counts.y;
+    rg::BufferHandle negativeVpls =
+        graph.createBuffer("vpl.negative_vpls", storageBuffer(VkDeviceSize(count) * sizeof(gpu::VplRecord)));
+    gpu::VplGeneratePush push{};
+    push.info = glm::uvec4(count, count, pixel.size.z, 0);
+    push.size = glm::uvec4(pixel.size.x, pixel.size.y, in.width, in.height);
+    push.camera = glm::vec4(in.camera.position, std::tan(0.5f * in.camera.yfov));
+    rg::ComputePass(graph, "vpl.negative_generate", negativeGenerate)
+        .push(push)
+        .sample(VPL_NEGATIVE_GENERATE_BINDING_POSITION, in.gPosition, pointSampler)
+        .sample(VPL_NEGATIVE_GENERATE_BINDING_NORMAL, in.gNormal, pointSampler)
+        .sample(VPL_NEGATIVE_GENERATE_BINDING_INCIDENT, gathered.incident, pointSampler)
+        .sample(VPL_NEGATIVE_GENERATE_BINDING_TRAVEL, gathered.travel, pointSampler)
+        .overwrite(VPL_NEGATIVE_GENERATE_BINDING_NEGATIVE_VPLS, negativeVpls)
+        .dispatch({count, 1, 1});
+    return negativeVpls;
+}
+
+rg::ImageHandle VplTechnique::Impl::addNegativeGatherPass(rg::RenderGraph& graph, const VplInputs& in,
+                                                          rg::BufferHandle negativeVpls,
+                                                          rg::ImageHandle positiveIndirect,
+                                                          const gpu::VplPixelPush& push, const char* indirectName) {
+    const uint32_t width = push.size.x, height = push.size.y;
+    rg::ImageHandle indirect = graph.createImage(indirectName, radianceImage(width, height));
+    rg::ComputePass(graph, "vpl.negative_gather", negativeGather)
+        .push(push)
+        .sample(VPL_NEGATIVE_GATHER_BINDING_POSITION, in.gPosition, pointSampler)
+        .sample(VPL_NEGATIVE_GATHER_BINDING_NORMAL, in.gNormal, pointSampler)
+        .sample(VPL_NEGATIVE_GATHER_BINDING_ALBEDO, in.gAlbedo, pointSampler)
+        .read(VPL_NEGATIVE_GATHER_BINDING_NEGATIVE_VPLS, negativeVpls)
+        .sample(VPL_NEGATIVE_GATHER_BINDING_POSITIVE_INDIRECT, positiveIndirect, pointSampler)
+        .overwrite(VPL_NEGATIVE_GATHER_BINDING_INDIRECT, indirect)
+        .dispatch({width, height, 1});
+    return indirect;
+}
+
+rg::ImageHandle VplTechnique::Impl::addUpsamplePass(rg::RenderGraph& graph, const VplInputs& in,
+                                                    rg::ImageHandle lowResIndirect, rg::BufferHandle& refineList,
+                                                    const gpu::VplPixelPush& push) {
+    rg::ImageHandle indirect = graph.createImage("vpl.indirect", radianceImage(in.width, in.height));
+    rg::ComputePass(graph, "vpl.upsample", upsample)
+        .push(push)
+        .sample(VPL_UPSAMPLE_BINDING_POSITION, in.gPosition, pointSampler)
+        .sample(VPL_UPSAMPLE_BINDING_NORMAL, in.gNormal, pointSampler)
+        .sample(VPL_UPSAMPLE_BINDING_LOW_RES_INDIRECT, lowResIndirect, pointSampler)
+        .overwrite(VPL_UPSAMPLE_BINDING_INDIRECT, indirect)
+        .write(VPL_UPSAMPLE_BINDING_REFINE_LIST, refineList)
+        .dispatch({in.width, in.height, 1});
+    return indirect;
+}
+
+void VplTechnique::Impl::addRefinePass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
+                                       rg::BufferHandle negativeVpls, rg::BufferHandle refineList,
+                                       rg::ImageHandle& indirect, const gpu::VplPixelPush& push) {
+    rg::ComputePass(graph, "vpl.refine", refine)
+        .push(push)
+        .sample(VPL_REFINE_BINDING_POSITION, in.gPosition, pointSampler)
+        .sample(VPL_REFINE_BINDING_NORMAL, in.gNormal, pointSampler)
+        .sample(VPL_REFINE_BINDING_ALBEDO, in.gAlbedo, pointSampler)
+        .read(VPL_REFINE_BINDING_VPLS, vpls)
+        .read(VPL_REFINE_BINDING_NEGATIVE_VPLS, negativeVpls)
+        .read(VPL_REFINE_BINDING_REFINE_LIST, refineList)
+        .write(VPL_REFINE_BINDING_INDIRECT, indirect)
+        .dispatch({push.size.w, 1, 1}); // one thread per refine-list slot
+}
+
+VplTechnique::VplTechnique(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
+
+VplTechnique::~VplTechnique() {
+    Context& ctx = m->ctx;
+    for (Pipeline* p : {&m->generate, &m->gather, &m->negativeGenerate, &m->negativeGather, &m->upsample, &m->refine})
+        destroyPipeline(ctx, *p);
+    if (m->pointSampler)
+        vkDestroySampler(ctx.device(), m->pointSampler, nullptr);
+}
+
+Result<std::unique_ptr<VplTechnique>> VplTechnique::create(Context& ctx) {
+    auto impl = std::make_unique<Impl>(ctx);
+    std::unique_ptr<VplTechnique> technique(new VplTechnique(std::move(impl)));
+    Impl& m = *technique->m;
+    const std::pair<Pipeline*, const char*> shaders[] = {
+        {&m.generate, "gi/vpl/vpl_generate.comp"},
+        {&m.gather, "gi/vpl/vpl_gather.comp"},
+        {&m.negativeGenerate, "gi/vpl/vpl_negative_generate.comp"},
+        {&m.negativeGather, "gi/vpl/vpl_negative_gather.comp"},
+        {&m.upsample, "gi/vpl/vpl_upsample.comp"},
+        {&m.refine, "gi/vpl/vpl_refine.comp"},
+    };
+    for (const auto& [pipeline, name] : shaders) {
+        auto p = createComputePipeline(ctx, {name, {}});
+        if (!p)
+            return p.error();
+        *pipeline = std::move(p.value());
+    }
+    SamplerDesc point;
+    point.filter = VK_FILTER_NEAREST;
+    point.mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    m.pointSampler = createSampler(ctx, point);
+    return technique;
+}
+
+Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& settings) {
+    if (auto ok = checkInputs(in, settings); !ok)
+        return ok.error();
+    if (in.spots.empty())
+        return addClearPass(graph, in.width, in.height);
+    auto tables = m->lightTables(in.spots, settings.vplCount);
+    if (!tables)
+        return tables.error();
+
+    VplOutputs out;
+    const uint32_t lightCount = uint32_t(tables->lights.size());
+    out.vplCount = uint32_t(tables->directions.size());
+    const LightTableHandles uploaded = addUploadPass(graph, std::move(tables.value()));
+    out.vpls = m->addGeneratePass(graph, in, uploaded, lightCount, out.vplCount);
+
+    // The last pass at the gather resolution writes the technique's output when there is no
+    // upsample; its image carries the output's name.
+    const bool lowRes = settings.lowResFactor > 1;
+    const bool negative = settings.negativeVplCount > 0;
+    const gpu::VplPixelPush push = pixelPush(in, settings, out.vplCount);
+    const GatherImages gathered =
+        m->addGatherPass(graph, in, out.vpls, push, !lowRes && !negative ? "vpl.indirect" : "vpl.gather_indirect");
+    rg::ImageHandle lowResIndirect = gathered.indirect;
+    rg::BufferHandle negativeVpls = out.vpls; // bound (with count 0) when negative VPLs are off
+    if (negative) {
+        negativeVpls = m->addNegativeGeneratePass(graph, in, gathered, push);
+        out.negativeVpls = negativeVpls;
+        lowResIndirect = m->addNegativeGatherPass(graph, in, negativeVpls, gathered.indirect, push,
+                                                  lowRes ? "vpl.negative_indirect" : "vpl.indirect");
+    }
+    if (!lowRes) {
+        out.indirect = lowResIndirect;
+        return out;
+    }
+
+    out.refineList = addRefineClearPass(graph, in.width, in.height);
+    out.indirect = m->addUpsamplePass(graph, in, lowResIndirect, out.refineList, push);
+    m->addRefinePass(graph, in, out.vpls, negativeVpls, out.refineList, out.indirect, push);
+    return out;
+}
+
+} // namespace vkgi::gi

@@ -1,0 +1,135 @@
+// Technique::Vpl inside GiSystem: every light of the scene with RSM layers becomes a VplSpot
+// (spotlights as in the paper; point lights as spots with the whole sphere for a cone;
+// directional lights sample their orthographic RSM window).
+#include "vpl/vpl_technique_module.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "engine/vk_check.hpp"
+#include "gi/vpl.hpp"
+
+namespace vkgi::gi {
+
+namespace {
+
+// The VplSpot of every light that owns layers of the shadow atlas, in scene order (a light past
+// the atlas's layer limit has none and gets no VPLs, as it gets no shadow).
+std::vector<VplSpot> spotsWithRsmLayers(const Scene& scene, const RsmData& rsm) {
+    std::vector<VplSpot> spots;
+    for (uint32_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& light = scene.lights[i];
+        uint32_t firstLayer = ~0u, layerCount = 0;
+        for (uint32_t k = 0; k < rsm.layers.size(); ++k)
+            if (rsm.layers[k].light == i) {
+                firstLayer = std::min(firstLayer, k);
+                ++layerCount;
+            }
+        if (layerCount == 0)
+            continue;
+        switch (light.type) {
+        case LightType::Spot:
+            spots.push_back({light.position, glm::normalize(light.direction), std::cos(light.outerConeAngle),
+                             firstLayer, layerCount});
+            break;
+        case LightType::Point: // a spot whose cone is the whole sphere, on the cube's six layers
+            spots.push_back({light.position, glm::vec3(0.0f, -1.0f, 0.0f), -1.0f, firstLayer, layerCount});
+            break;
+        case LightType::Directional: {
+            VplSpot sun;
+            sun.firstLayer = firstLayer;
+            sun.layerCount = layerCount;
+            sun.directional = true;
+            spots.push_back(sun);
+            break;
+        }
+        }
+    }
+    return spots;
+}
+
+VplInputs vplInputs(const TechniqueInputs& inputs, const RsmData& rsm) {
+    const FrameData& frame = inputs.frame;
+    VplInputs in;
+    in.gPosition = inputs.gbuffer.position;
+    in.gNormal = inputs.gbuffer.normal;
+    in.gAlbedo = inputs.gbuffer.albedo;
+    in.width = frame.width;
+    in.height = frame.height;
+    in.camera = frame.camera;
+    in.rsmPosition = rsm.position;
+    in.rsmNormal = rsm.normal;
+    in.rsmFlux = rsm.flux;
+    in.shadowViews = inputs.shadow.views;
+    const Scene& scene = *frame.scene;
+    Aabb bounds = scene.bounds();
+    in.sceneDiagonal = bounds.valid() ? glm::length(bounds.extent()) : 1.0f;
+    in.spots = spotsWithRsmLayers(scene, rsm);
+    return in;
+}
+
+class VplTechniqueModule final : public TechniqueModule {
+public:
+    VplTechniqueModule(std::unique_ptr<VplTechnique> technique, const VplSettings& settings)
+        : m_technique(std::move(technique)), m_settings(settings) {}
+
+    // Without a light there is nothing to bounce: the light passes then leave the RSM out.
+    bool needsRsm() const override { return m_lights > 0; }
+
+    // Everything addPasses could reject is checked here, where errors can still be returned.
+    Result<void> sceneChanged(Context&, const Scene& scene, const GpuScene&, bool) override {
+        uint32_t lights = 0;
+        for (const Light& l : scene.lights) {
+            ++lights;
+            if (l.type != LightType::Spot)
+                continue;
+            auto dirs = spotSampleDirections(m_settings.vplCount, std::cos(l.outerConeAngle));
+            if (!dirs)
+                return makeError("scene '" + scene.name + "', spot '" + l.name + "': " + dirs.error().message);
+        }
+        if (lights > kMaxVplLights)
+            return makeError("scene '" + scene.name + "': " + std::to_string(lights) +
+                             " lights exceed the VPL technique's maximum of " + std::to_string(kMaxVplLights));
+        m_lights = lights;
+        return {};
+    }
+
+    IndirectOutputs addPasses(rg::RenderGraph& graph, const TechniqueInputs& inputs) override {
+        if (!inputs.rsm) {
+            inputs.selection.leaveOut("vpl.*", LeftOutReason::NotNeeded, "no light in the scene");
+            return {};
+        }
+        VplInputs in = vplInputs(inputs, *inputs.rsm);
+        if (in.spots.empty()) {
+            // No light with an RSM: nothing to bounce, so the technique adds no pass and no
+            // indirect image; GiSystem then composites nothing (the frame is the direct image).
+            inputs.selection.leaveOut("vpl.*", LeftOutReason::NotNeeded,
+                                      "no light has shadow-atlas layers (past maxShadowLayers)");
+            return {};
+        }
+        auto out = m_technique->addPasses(graph, in, m_settings);
+        GI_ASSERT(out.ok(), "VplTechniqueModule::addPasses: inputs were validated in sceneChanged");
+        inputs.blackboard.add(*out);
+        return {out->indirect, {}, {}, {}};
+    }
+
+private:
+    std::unique_ptr<VplTechnique> m_technique;
+    VplSettings m_settings;
+    uint32_t m_lights = 0; // lights of the current scene
+};
+
+} // namespace
+
+Result<std::unique_ptr<TechniqueModule>> createVplTechniqueModule(Context& ctx, const GiSettings& settings) {
+    if (auto ok = validateVplSettings(settings.vpl); !ok)
+        return ok.error();
+    auto technique = VplTechnique::create(ctx);
+    if (!technique)
+        return technique.error();
+    return std::unique_ptr<TechniqueModule>(new VplTechniqueModule(std::move(technique.value()), settings.vpl));
+}
+
+} // namespace vkgi::gi

@@ -1,0 +1,13 @@
+#pragma once
+// Technique::Vpl's GiSystem module (private to gi/): a thin adapter that reads the shared
+// G-buffer, RSM and shadow views from TechniqueInputs, runs VplTechnique (gi/vpl.hpp) and
+// publishes IndirectData (and VplOutputs, for tests and tools that want the VPL buffers).
+#include <memory>
+
+#include "technique.hpp"
+
+namespace vkgi::gi {
+
+Result<std::unique_ptr<TechniqueModule>> createVplTechniqueModule(Context& ctx, const GiSettings& settings);
+
+} // namespace vkgi::gi
