@@ -13,16 +13,15 @@ struct LpvSettings {
     bool occlusion = true;    // attenuate by the geometry volume (fuzzy blocking) while propagating
     bool bounces = false;     // reflect the light the GV stops at occupied voxels of the shared voxel grid
                               // (Gaitatzes et al.; needs occlusion); off by default: on the Cornell box
-                              // it lowers RMSE but raises relMSE so far (docs/lpv.md)
+                              // it lowers RMSE but raises relMSE (docs/lpv.md)
     float damping = 1.0f;     // light-bleeding damping strength at lookup (thesis 3.3.1), 0 = off, 0..1
     uint32_t cascades = 1;    // nested camera-centred volumes (1..3) for scenes with a directional light,
                               // blended over 2 cells at their borders; other scenes use one fitted grid
     bool halfFloat = true;    // RGBA16F SH storage (half the bandwidth); false = RGBA32F reference
-    uint32_t rsmReduce = 4;   // 1, 2 or 4: inject (and build the GV) from the RSM reduced by this factor per axis,
-                              // one flux-weighted surfel per block, energy conserved. 4 by default: Cornell
-                              // 256^2, 32^3 x 8 frame ~15% faster, and against converged references the
-                              // indirect relMSE is lower than at 1 (Cornell 0.470 -> 0.462, room 0.780 ->
-                              // 0.715; docs/lpv.md "Reduced RSM")
+    uint32_t rsmReduce = 4;   // 1, 2 or 4: inject (and build the geometry volume) from the RSM reduced by this
+                              // factor per axis, one flux-weighted surfel per block, energy conserved. 4 by
+                              // default: factor^2 fewer texels to read, and against converged references
+                              // it is as accurate as 1 or better (docs/lpv.md "Reduced RSM")
 };
 
 // Checks ranges; the error names the field and the accepted range.

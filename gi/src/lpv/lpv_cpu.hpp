@@ -16,7 +16,9 @@ struct ShVolume {
 
     ShVolume() = default;
     explicit ShVolume(glm::ivec3 cells);
-    size_t index(glm::ivec3 p) const { return size_t(p.x) + size_t(size.x) * (size_t(p.y) + size_t(size.y) * size_t(p.z)); }
+    size_t index(glm::ivec3 p) const {
+        return size_t(p.x) + size_t(size.x) * (size_t(p.y) + size_t(size.y) * size_t(p.z));
+    }
     bool contains(glm::ivec3 p) const;
     size_t cellCount() const { return size_t(size.x) * size_t(size.y) * size_t(size.z); }
 };
@@ -28,14 +30,15 @@ struct GeometryVolume {
     bool empty() const { return blocking.empty(); }
 };
 
-// One gather step: dst = propagate(src); acc += dst when acc is given.
-void propagateStep(const ShVolume& src, ShVolume& dst, ShVolume* acc, const GeometryVolume& gv);
+// One gather step: target = propagate(source); accumulation += target when accumulation is given.
+void propagateStep(const ShVolume& source, ShVolume& target, ShVolume* accumulation,
+                   const GeometryVolume& geometryVolume);
 
 // Sum over cells of the integral of the intensity SH (total flux in flight) of one channel.
 double totalFlux(const ShVolume& v, int channel);
 
 // Flux of one channel that the next propagation step sends out of the grid (through its
 // boundary faces), which is all it loses in empty space.
-double boundaryOutflow(const ShVolume& v, int channel, const GeometryVolume& gv);
+double boundaryOutflow(const ShVolume& v, int channel, const GeometryVolume& geometryVolume);
 
 } // namespace vkgi::gi::lpv

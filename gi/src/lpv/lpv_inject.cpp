@@ -106,7 +106,8 @@ InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injec
                                    rg::BufferHandle buffer, const std::string& prefix) {
     const glm::ivec3 cells(grid.size);
     if (!buffer.valid())
-        buffer = graph.createBuffer(prefix + ".injection", {injectionBufferBytes(cells), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
+        buffer = graph.createBuffer(prefix + ".injection",
+                                    {injectionBufferBytes(cells), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
     gpu::LpvInjectPush push{};
     push.grid = grid;
     push.rsm = glm::ivec4(int(rsm.resolution), int(rsm.layers), 0, 0);
@@ -173,9 +174,9 @@ rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& 
                                         const RsmInput& rsm, const GBufferInput& gbuffer, const std::string& prefix) {
     const glm::ivec3 corners = glm::ivec3(grid.size) + 1;
     const size_t cornerCount = size_t(corners.x) * corners.y * corners.z;
-    rg::BufferHandle sums = graph.createBuffer(
-        prefix + ".gv.sums",
-        {VkDeviceSize(LPV_INJECT_HEADER_INTS + 2 * 4 * cornerCount) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
+    rg::BufferHandle sums =
+        graph.createBuffer(prefix + ".gv.sums", {VkDeviceSize(LPV_INJECT_HEADER_INTS + 2 * 4 * cornerCount) * 4,
+                                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
     ImageDesc desc;
     desc.type = VK_IMAGE_TYPE_3D;
     desc.format = kGeometryVolumeFormat;
@@ -198,9 +199,8 @@ rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& 
         const uint32_t stride = cameraSampleStride(grid, gbuffer);
         push.rsm = glm::ivec4(int(gbuffer.width), 1, 1, int(gbuffer.height)); // slot 1
         push.params.y = float(stride);
-        addSurfelPass(graph, prefix + ".gv.camera", injector.geometryFromCamera, push, gbuffer.position,
-                      gbuffer.normal, {(gbuffer.width + stride - 1) / stride, (gbuffer.height + stride - 1) / stride, 1},
-                      sums);
+        addSurfelPass(graph, prefix + ".gv.camera", injector.geometryFromCamera, push, gbuffer.position, gbuffer.normal,
+                      {(gbuffer.width + stride - 1) / stride, (gbuffer.height + stride - 1) / stride, 1}, sums);
     }
     rg::ComputePass(graph, prefix + ".gv.resolve", injector.geometryResolve)
         .push(push)
@@ -211,7 +211,7 @@ rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& 
 }
 
 rg::ImageHandle addAccumulationSumPass(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
-                                      const ShHandles& accumulation, rg::ImageHandle sum, const std::string& prefix) {
+                                       const ShHandles& accumulation, rg::ImageHandle sum, const std::string& prefix) {
     const ImageDesc& accumulationDesc = graph.imageDesc(accumulation.channel[0]);
     const glm::uvec3 cells(accumulationDesc.width, accumulationDesc.height, accumulationDesc.depth);
     if (!sum.valid())

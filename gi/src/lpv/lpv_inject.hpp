@@ -25,15 +25,15 @@ public:
     static Result<Injector> create(Context& ctx);
     void destroy(Context& ctx);
 
-    Pipeline fluxRange;                        // inject_range.comp: M, the largest RSM texel flux
-    Pipeline inject;                           // inject.comp: surfels -> fixed-point SH sums
-    Pipeline resolve[2];                       // inject_resolve: [RGBA32F?]
-    Pipeline rsmReduce[2];                     // inject_reduce.comp: factor 2, 4
+    Pipeline fluxRange;                           // inject_range.comp: M, the largest RSM texel flux
+    Pipeline inject;                              // inject.comp: surfels -> fixed-point SH sums
+    Pipeline resolve[2];                          // inject_resolve: [RGBA32F?]
+    Pipeline rsmReduce[2];                        // inject_reduce.comp: factor 2, 4
     Pipeline geometryFromRsm, geometryFromCamera; // gv_inject_rsm / gv_inject_camera.comp
-    Pipeline geometryResolve;                  // gv_resolve.comp
-    Pipeline channelSum[2];                    // lookup_sum: [RGBA32F?]
-    Pipeline lookup;                           // lookup.comp
-    VkSampler linearSampler = VK_NULL_HANDLE;  // trilinear SH lookup, clamp to edge (RSM and G-buffer: imageLoad)
+    Pipeline geometryResolve;                     // gv_resolve.comp
+    Pipeline channelSum[2];                       // lookup_sum: [RGBA32F?]
+    Pipeline lookup;                              // lookup.comp
+    VkSampler linearSampler = VK_NULL_HANDLE;     // trilinear SH lookup, clamp to edge (RSM and G-buffer: imageLoad)
 };
 
 // The reflective shadow map as the direct-lighting module publishes it (gi/frame_data.hpp):
@@ -91,8 +91,8 @@ struct CascadeBlend {
 // The channel sum R + G + B of the accumulated SH volume (`<prefix>.lookup.sum`, same size and
 // format), which the lookup's damping reads, written into `sum` (invalid: a transient is created).
 rg::ImageHandle addAccumulationSumPass(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
-                                      const ShHandles& accumulation, rg::ImageHandle sum = {},
-                                      const std::string& prefix = "gi.lpv");
+                                       const ShHandles& accumulation, rg::ImageHandle sum = {},
+                                       const std::string& prefix = "gi.lpv");
 
 // Indirect radiance (RGBA32F, G-buffer size) written into `output` (invalid: a transient is
 // created). `damping` is the light-bleeding damping strength (0 = off); it reads `sum`, the

@@ -47,13 +47,14 @@ PropagationVolumes addPropagationPasses(rg::RenderGraph& graph, const Propagator
     push.gridSize = glm::ivec4(cells, 0);
     push.lpvOrigin = lpvOrigin;
     if (bounce)
-        push.voxelOrigin = glm::vec4(glm::vec3(voxels.originSize), 1.0f / (voxels.originSize.w * float(voxels.resolution)));
+        push.voxelOrigin =
+            glm::vec4(glm::vec3(voxels.originSize), 1.0f / (voxels.originSize.w * float(voxels.resolution)));
     const VkSampler voxelSampler = propagator.voxelSampler();
     for (uint32_t k = 0; k < iterations; ++k) {
         ShHandles source = volumes.wavefront, target = volumes.scratch;
         ShHandles& accumulation = volumes.accumulation;
         // Steps accumulate in pairs: the second of each adds both wavefronts; an unpaired last step its own.
-        const uint32_t accumulate = k % 2 == 1 ? LPV_ACCUMULATE_PAIR
+        const uint32_t accumulate = k % 2 == 1            ? LPV_ACCUMULATE_PAIR
                                     : k + 1 == iterations ? LPV_ACCUMULATE_OWN
                                                           : LPV_ACCUMULATE_NONE;
         rg::ComputePass(graph, prefix + ".propagate[" + std::to_string(k) + "]",

@@ -5,7 +5,7 @@
 namespace vkgi::gi {
 
 namespace {
-constexpr uint32_t kMaxGrid = 128;        // 128^3 x 3 volumes x 3 channels of RGBA16F = 144 MiB: the largest we support
+constexpr uint32_t kMaxGrid = 128; // 128^3 x 3 volumes x 3 channels of RGBA16F: the largest we support
 constexpr uint32_t kMaxIterations = 4096; // far beyond any grid diagonal (128 * sqrt(3) = 222 cells)
 } // namespace
 

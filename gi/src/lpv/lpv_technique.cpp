@@ -162,8 +162,8 @@ private:
         if (fresh || needsPropagation(grid, in.selection.changes)) {
             lpv::VoxelInput voxels = addVoxelPasses(graph, in);
             const lpv::RsmInput rsm = reducedRsm(graph, sources.rsm);
-            lpv::InjectionResult propagated = addGridPasses(graph, grid, sources, rsm, voxels, "gi.lpv",
-                                                            kept.accumulation, kept.injectionBuffer);
+            lpv::InjectionResult propagated =
+                addGridPasses(graph, grid, sources, rsm, voxels, "gi.lpv", kept.accumulation, kept.injectionBuffer);
             kept.accumulation = propagated.accumulation;
             kept.injectionBuffer = propagated.buffer;
             if (kept.channelSum.valid())
@@ -209,8 +209,8 @@ private:
         for (size_t k = 0; k < grids.size(); ++k) {
             const gpu::LpvGrid& grid = grids[k];
             const std::string prefix = k == 0 ? "gi.lpv" : "gi.lpv.c" + std::to_string(k);
-            lpv::ShHandles accumulation = lpv::createShVolume(graph, (prefix + ".accumulation").c_str(),
-                                                              glm::ivec3(grid.size), sources.format);
+            lpv::ShHandles accumulation =
+                lpv::createShVolume(graph, (prefix + ".accumulation").c_str(), glm::ivec3(grid.size), sources.format);
             lpv::InjectionResult propagated =
                 addGridPasses(graph, grid, sources, rsm, voxels, prefix, accumulation, {});
             lpv::CascadeBlend blend;
@@ -252,7 +252,8 @@ private:
             return {};
         const SceneHandles& scene = in.scene;
         VoxelGridData grid = addVoxelGridPasses(
-            graph, *m_voxels, {scene.vertices, scene.indices, scene.instances, scene.materials, m_draws}, m_voxelUpdate);
+            graph, *m_voxels, {scene.vertices, scene.indices, scene.instances, scene.materials, m_draws},
+            m_voxelUpdate);
         m_voxelUpdate = VoxelUpdate::None;
         return {grid.albedo, grid.normal, grid.params.originSize, grid.params.dims.x};
     }
@@ -303,7 +304,8 @@ private:
                 createImage(m_ctx, lpv::shImageDesc(cells, format), accumulationName(c).c_str());
         if (m_settings.damping > 0.0f)
             m_cache.channelSum.image = createImage(m_ctx, lpv::shImageDesc(cells, format), "gi.lpv.accumulation.sum");
-        BufferDesc desc{lpv::injectionBufferBytes(cells), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT};
+        BufferDesc desc{lpv::injectionBufferBytes(cells),
+                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT};
         m_cache.injectionBuffer.buffer = createBuffer(m_ctx, desc, "gi.lpv.injection");
         m_cache.cells = cells;
         m_cache.format = format;

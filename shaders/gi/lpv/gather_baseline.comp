@@ -7,12 +7,12 @@
 
 layout(local_size_x = LPV_LOCAL_SIZE_X, local_size_y = LPV_LOCAL_SIZE_Y, local_size_z = LPV_LOCAL_SIZE_Z) in;
 layout(push_constant) uniform PushBlock { LpvPropagatePush pc; };
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_R, rgba16f) uniform readonly image3D srcR;
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_G, rgba16f) uniform readonly image3D srcG;
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_B, rgba16f) uniform readonly image3D srcB;
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_R, rgba16f) uniform writeonly image3D dstR;
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_G, rgba16f) uniform writeonly image3D dstG;
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_B, rgba16f) uniform writeonly image3D dstB;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_R, rgba16f) uniform readonly image3D sourceR;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_G, rgba16f) uniform readonly image3D sourceG;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_B, rgba16f) uniform readonly image3D sourceB;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_R, rgba16f) uniform writeonly image3D targetR;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_G, rgba16f) uniform writeonly image3D targetG;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_B, rgba16f) uniform writeonly image3D targetB;
 
 void main() {
     ivec3 p = ivec3(gl_GlobalInvocationID);
@@ -23,11 +23,11 @@ void main() {
     for (int i = 0; i < 6; ++i) {
         ivec3 q = clamp(p - lpvAxisStep(i), ivec3(0), size - 1);
         mat4 m = mat4(pc.params.x + float(i));
-        sumR += m * imageLoad(srcR, q);
-        sumG += m * imageLoad(srcG, q);
-        sumB += m * imageLoad(srcB, q);
+        sumR += m * imageLoad(sourceR, q);
+        sumG += m * imageLoad(sourceG, q);
+        sumB += m * imageLoad(sourceB, q);
     }
-    imageStore(dstR, p, sumR);
-    imageStore(dstG, p, sumG);
-    imageStore(dstB, p, sumB);
+    imageStore(targetR, p, sumR);
+    imageStore(targetG, p, sumG);
+    imageStore(targetB, p, sumB);
 }

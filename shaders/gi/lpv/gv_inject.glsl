@@ -11,14 +11,14 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform PushBlock { LpvInjectPush pc; };
-#if GV_ARRAY
-layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_POSITION, rgba32f) uniform readonly image2DArray gvPosition;
-layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_NORMAL, rgba16f) uniform readonly image2DArray gvNormal;
-#define GV_TEXEL(t) (t)
+#if SURFEL_ARRAY
+layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_POSITION, rgba32f) uniform readonly image2DArray surfelPosition;
+layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_NORMAL, rgba16f) uniform readonly image2DArray surfelNormal;
+#define SURFEL_TEXEL(t) (t)
 #else
-layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_POSITION, rgba32f) uniform readonly image2D gvPosition;
-layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_NORMAL, rgba16f) uniform readonly image2D gvNormal;
-#define GV_TEXEL(t) (t).xy
+layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_POSITION, rgba32f) uniform readonly image2D surfelPosition;
+layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_NORMAL, rgba16f) uniform readonly image2D surfelNormal;
+#define SURFEL_TEXEL(t) (t).xy
 #endif
 layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_SUMS, std430) buffer GeometryVolumeSums { int data[]; } sums;
 
@@ -33,7 +33,7 @@ vec3 edge(ivec3 t, ivec3 step, vec3 p, float cell) {
         ivec3 u = side == 0 ? t + step : t - step;
         if (u.x < 0 || u.y < 0 || u.x >= pc.rsm.x || u.y >= pc.rsm.w)
             continue;
-        vec4 q = imageLoad(gvPosition, GV_TEXEL(u));
+        vec4 q = imageLoad(surfelPosition, SURFEL_TEXEL(u));
         vec3 e = q.xyz - p;
         if (q.w > 0.0 && finite3(q.xyz) && dot(e, e) < cell * cell)
             return e;
@@ -48,8 +48,8 @@ void main() {
     ivec3 t = ivec3(ivec2(gl_GlobalInvocationID.xy) * stride, gl_GlobalInvocationID.z);
     if (t.x >= pc.rsm.x || t.y >= pc.rsm.w || t.z >= pc.rsm.y)
         return;
-    vec4 position = imageLoad(gvPosition, GV_TEXEL(t));
-    vec3 n = imageLoad(gvNormal, GV_TEXEL(t)).xyz;
+    vec4 position = imageLoad(surfelPosition, SURFEL_TEXEL(t));
+    vec3 n = imageLoad(surfelNormal, SURFEL_TEXEL(t)).xyz;
     float nn = dot(n, n);
     if (position.w <= 0.0 || !finite3(position.xyz) || !(nn > 1e-12 && nn < 1e30))
         return;

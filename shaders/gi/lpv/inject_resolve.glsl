@@ -6,12 +6,12 @@
 layout(local_size_x = LPV_LOCAL_SIZE_X, local_size_y = LPV_LOCAL_SIZE_Y, local_size_z = LPV_LOCAL_SIZE_Z) in;
 layout(push_constant) uniform PushBlock { LpvInjectPush pc; };
 layout(set = 1, binding = LPV_RESOLVE_BINDING_BUFFER, std430) readonly buffer Injection { int data[]; } injection;
-layout(set = 1, binding = LPV_RESOLVE_BINDING_WAVEFRONT_R, LPV_FORMAT) uniform writeonly image3D waveR;
-layout(set = 1, binding = LPV_RESOLVE_BINDING_WAVEFRONT_G, LPV_FORMAT) uniform writeonly image3D waveG;
-layout(set = 1, binding = LPV_RESOLVE_BINDING_WAVEFRONT_B, LPV_FORMAT) uniform writeonly image3D waveB;
-layout(set = 1, binding = LPV_RESOLVE_BINDING_ACCUMULATION_R, LPV_FORMAT) uniform writeonly image3D accR;
-layout(set = 1, binding = LPV_RESOLVE_BINDING_ACCUMULATION_G, LPV_FORMAT) uniform writeonly image3D accG;
-layout(set = 1, binding = LPV_RESOLVE_BINDING_ACCUMULATION_B, LPV_FORMAT) uniform writeonly image3D accB;
+layout(set = 1, binding = LPV_RESOLVE_BINDING_WAVEFRONT_R, LPV_FORMAT) uniform writeonly image3D wavefrontR;
+layout(set = 1, binding = LPV_RESOLVE_BINDING_WAVEFRONT_G, LPV_FORMAT) uniform writeonly image3D wavefrontG;
+layout(set = 1, binding = LPV_RESOLVE_BINDING_WAVEFRONT_B, LPV_FORMAT) uniform writeonly image3D wavefrontB;
+layout(set = 1, binding = LPV_RESOLVE_BINDING_ACCUMULATION_R, LPV_FORMAT) uniform writeonly image3D accumulationR;
+layout(set = 1, binding = LPV_RESOLVE_BINDING_ACCUMULATION_G, LPV_FORMAT) uniform writeonly image3D accumulationG;
+layout(set = 1, binding = LPV_RESOLVE_BINDING_ACCUMULATION_B, LPV_FORMAT) uniform writeonly image3D accumulationB;
 
 vec4 load(int base) {
     return vec4(injection.data[base], injection.data[base + 1], injection.data[base + 2], injection.data[base + 3]) /
@@ -25,10 +25,10 @@ void main() {
         return;
     int base = LPV_INJECT_HEADER_INTS + LPV_INJECT_CELL_INTS * (p.x + size.x * (p.y + size.y * p.z));
     vec4 r = load(base), g = load(base + 4), b = load(base + 8);
-    imageStore(waveR, p, r);
-    imageStore(waveG, p, g);
-    imageStore(waveB, p, b);
-    imageStore(accR, p, r);
-    imageStore(accG, p, g);
-    imageStore(accB, p, b);
+    imageStore(wavefrontR, p, r);
+    imageStore(wavefrontG, p, g);
+    imageStore(wavefrontB, p, b);
+    imageStore(accumulationR, p, r);
+    imageStore(accumulationG, p, g);
+    imageStore(accumulationB, p, b);
 }

@@ -5,8 +5,8 @@
 // travelling towards it (direction -n; the 2-band lobes' negative ringing behind emitters would
 // cancel real light: docs/lpv.md "Lookup"), and a Lambertian surface sends albedo / pi of it back. The volume is sampled
 // half a cell in front of the surface: at the surface itself trilinear filtering mixes in the
-// cells behind it, which the geometry volume keeps dark (measured on the integrating sphere:
-// 0.48x of the closed-form second bounce at the surface, 0.93x half a cell in front).
+// cells behind it, which the geometry volume keeps dark (docs/lpv.md "Lookup" compares both on
+// the integrating sphere).
 // Light bleeding (Elvek's thesis section 3.3.1, directional-derivative damping, as we read it):
 // light that legitimately reaches the front of a surface cannot grow when we step behind it, so
 // the irradiance half a cell behind (Eb) and in front (Ef) of the surface are compared, and
@@ -19,12 +19,12 @@ layout(push_constant) uniform PushBlock { LpvLookupPush pc; };
 layout(set = 1, binding = LPV_LOOKUP_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_NORMAL, rgba16f) uniform readonly image2D gNormal;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_ALBEDO, rgba16f) uniform readonly image2D gAlbedo;
-layout(set = 1, binding = LPV_LOOKUP_BINDING_ACCUMULATION_R) uniform sampler3D accR;
-layout(set = 1, binding = LPV_LOOKUP_BINDING_ACCUMULATION_G) uniform sampler3D accG;
-layout(set = 1, binding = LPV_LOOKUP_BINDING_ACCUMULATION_B) uniform sampler3D accB;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_ACCUMULATION_R) uniform sampler3D accumulationR;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_ACCUMULATION_G) uniform sampler3D accumulationG;
+layout(set = 1, binding = LPV_LOOKUP_BINDING_ACCUMULATION_B) uniform sampler3D accumulationB;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_BUFFER, std430) readonly buffer Injection { uint header[LPV_INJECT_HEADER_INTS]; } injection;
 layout(set = 1, binding = LPV_LOOKUP_BINDING_OUTPUT, rgba32f) uniform image2D outIndirect;
-layout(set = 1, binding = LPV_LOOKUP_BINDING_SUM) uniform sampler3D accSum; // R + G + B (lookup_sum.glsl)
+layout(set = 1, binding = LPV_LOOKUP_BINDING_SUM) uniform sampler3D accumulationSum; // R + G + B (lookup_sum.glsl)
 
 // Normalised irradiance (R, G, B) at world position p for normal n; zero outside the grid.
 vec3 irradiance(vec3 p, vec3 n) {
@@ -33,7 +33,8 @@ vec3 irradiance(vec3 p, vec3 n) {
         return vec3(0.0);
     // Irradiance from the light travelling towards the surface (directions around -n), counting
     // only the non-negative part of the 2-band intensity (gi/sh.h, docs/lpv.md "Lookup").
-    return shClampedCosineIntegralOfPositivePart(texture(accR, uvw), texture(accG, uvw), texture(accB, uvw), -n);
+    return shClampedCosineIntegralOfPositivePart(texture(accumulationR, uvw), texture(accumulationG, uvw),
+                                                 texture(accumulationB, uvw), -n);
 }
 
 // Channel-summed SH at world position p (zero outside the grid).
@@ -41,7 +42,7 @@ vec4 shSum(vec3 p) {
     vec3 uvw = (p - pc.grid.origin.xyz) / (pc.grid.origin.w * vec3(pc.grid.size.xyz));
     if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0))))
         return vec4(0.0);
-    return texture(accSum, uvw);
+    return texture(accumulationSum, uvw);
 }
 
 // Irradiance of the channel-summed light at p and q for normal n (non-negative part, as irradiance()).

@@ -6,14 +6,14 @@
 
 layout(local_size_x = LPV_LOCAL_SIZE_X, local_size_y = LPV_LOCAL_SIZE_Y, local_size_z = LPV_LOCAL_SIZE_Z) in;
 layout(push_constant) uniform PushBlock { LpvInjectPush pc; };
-layout(set = 1, binding = LPV_SUM_BINDING_ACCUMULATION_R, LPV_FORMAT) uniform readonly image3D accR;
-layout(set = 1, binding = LPV_SUM_BINDING_ACCUMULATION_G, LPV_FORMAT) uniform readonly image3D accG;
-layout(set = 1, binding = LPV_SUM_BINDING_ACCUMULATION_B, LPV_FORMAT) uniform readonly image3D accB;
+layout(set = 1, binding = LPV_SUM_BINDING_ACCUMULATION_R, LPV_FORMAT) uniform readonly image3D accumulationR;
+layout(set = 1, binding = LPV_SUM_BINDING_ACCUMULATION_G, LPV_FORMAT) uniform readonly image3D accumulationG;
+layout(set = 1, binding = LPV_SUM_BINDING_ACCUMULATION_B, LPV_FORMAT) uniform readonly image3D accumulationB;
 layout(set = 1, binding = LPV_SUM_BINDING_OUTPUT, LPV_FORMAT) uniform writeonly image3D outSum;
 
 void main() {
     ivec3 p = ivec3(gl_GlobalInvocationID);
     if (any(greaterThanEqual(p, pc.grid.size.xyz)))
         return;
-    imageStore(outSum, p, imageLoad(accR, p) + imageLoad(accG, p) + imageLoad(accB, p));
+    imageStore(outSum, p, imageLoad(accumulationR, p) + imageLoad(accumulationG, p) + imageLoad(accumulationB, p));
 }

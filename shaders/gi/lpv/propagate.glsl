@@ -25,15 +25,15 @@ layout(constant_id = LPV_SPEC_BOUNCE) const bool kBounce = false;
 // the second adding the first's wavefront (its source, at this cell) with its own.
 layout(constant_id = LPV_SPEC_ACCUMULATE) const int kAccumulate = LPV_ACCUMULATE_OWN;
 
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_R, LPV_FORMAT) uniform readonly image3D srcR;
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_G, LPV_FORMAT) uniform readonly image3D srcG;
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_B, LPV_FORMAT) uniform readonly image3D srcB;
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_R, LPV_FORMAT) uniform writeonly image3D dstR;
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_G, LPV_FORMAT) uniform writeonly image3D dstG;
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_B, LPV_FORMAT) uniform writeonly image3D dstB;
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_ACCUMULATION_R, LPV_FORMAT) uniform image3D accR;
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_ACCUMULATION_G, LPV_FORMAT) uniform image3D accG;
-layout(set = 1, binding = LPV_PROPAGATE_BINDING_ACCUMULATION_B, LPV_FORMAT) uniform image3D accB;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_R, LPV_FORMAT) uniform readonly image3D sourceR;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_G, LPV_FORMAT) uniform readonly image3D sourceG;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_SOURCE_B, LPV_FORMAT) uniform readonly image3D sourceB;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_R, LPV_FORMAT) uniform writeonly image3D targetR;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_G, LPV_FORMAT) uniform writeonly image3D targetG;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_TARGET_B, LPV_FORMAT) uniform writeonly image3D targetB;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_ACCUMULATION_R, LPV_FORMAT) uniform image3D accumulationR;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_ACCUMULATION_G, LPV_FORMAT) uniform image3D accumulationG;
+layout(set = 1, binding = LPV_PROPAGATE_BINDING_ACCUMULATION_B, LPV_FORMAT) uniform image3D accumulationB;
 layout(set = 1, binding = LPV_PROPAGATE_BINDING_GEOMETRY_VOLUME, rgba16f) uniform readonly image3D geometryVolume;
 layout(set = 1, binding = LPV_PROPAGATE_BINDING_VOXEL_ALBEDO) uniform sampler3D voxelAlbedo;
 layout(set = 1, binding = LPV_PROPAGATE_BINDING_VOXEL_NORMAL) uniform sampler3D voxelNormal;
@@ -59,9 +59,9 @@ void loadSource(ivec3 p, ivec3 size, int i, out vec4 r, out vec4 g, out vec4 b) 
     ivec3 q = p - lpvAxisStep(i);
     float inside = float(all(greaterThanEqual(q, ivec3(0))) && all(lessThan(q, size)));
     q = clamp(q, ivec3(0), size - 1);
-    r = inside * imageLoad(srcR, q);
-    g = inside * imageLoad(srcG, q);
-    b = inside * imageLoad(srcB, q);
+    r = inside * imageLoad(sourceR, q);
+    g = inside * imageLoad(sourceG, q);
+    b = inside * imageLoad(sourceB, q);
 }
 
 // The face loop of one neighbour (5 faces: lpvFaceWeight, lpvTransmittance at lpvFaceDirection,
@@ -182,16 +182,16 @@ void main() {
             }
         }
     }
-    imageStore(dstR, p, sumR);
-    imageStore(dstG, p, sumG);
-    imageStore(dstB, p, sumB);
+    imageStore(targetR, p, sumR);
+    imageStore(targetG, p, sumG);
+    imageStore(targetB, p, sumB);
     if (kAccumulate == LPV_ACCUMULATE_PAIR) {
-        imageStore(accR, p, imageLoad(accR, p) + (imageLoad(srcR, p) + sumR));
-        imageStore(accG, p, imageLoad(accG, p) + (imageLoad(srcG, p) + sumG));
-        imageStore(accB, p, imageLoad(accB, p) + (imageLoad(srcB, p) + sumB));
+        imageStore(accumulationR, p, imageLoad(accumulationR, p) + (imageLoad(sourceR, p) + sumR));
+        imageStore(accumulationG, p, imageLoad(accumulationG, p) + (imageLoad(sourceG, p) + sumG));
+        imageStore(accumulationB, p, imageLoad(accumulationB, p) + (imageLoad(sourceB, p) + sumB));
     } else if (kAccumulate == LPV_ACCUMULATE_OWN) {
-        imageStore(accR, p, imageLoad(accR, p) + sumR);
-        imageStore(accG, p, imageLoad(accG, p) + sumG);
-        imageStore(accB, p, imageLoad(accB, p) + sumB);
+        imageStore(accumulationR, p, imageLoad(accumulationR, p) + sumR);
+        imageStore(accumulationG, p, imageLoad(accumulationG, p) + sumG);
+        imageStore(accumulationB, p, imageLoad(accumulationB, p) + sumB);
     }
 }
