@@ -497,8 +497,8 @@ TEST_F(VplScene, DISABLED_MeasureAgainstReference) {
             FrameRequest req;
             req.composite = true;
             req.indirect = true;
-            // GPU timestamps of the first frames of a system are unreliable on lavapipe (seen: a
-            // 0.01 ms gather in a 230 ms frame), so: 3 warm-up frames, then the per-pass median of 5.
+            // GPU timestamps of the first frames of a system are unreliable on lavapipe, so: 3
+            // warm-up frames, then the per-pass median of 5.
             std::vector<std::vector<rg::PassTiming>> runs;
             Result<FrameResult> frame = makeError("no frame");
             for (int i = 0; i < 8; ++i) {

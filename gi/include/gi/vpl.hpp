@@ -23,8 +23,8 @@ namespace vkgi::gi {
 constexpr uint32_t kMaxVplsPerLight = 4096;
 constexpr uint32_t kMaxNegativeVpls = 4096;
 constexpr uint32_t kMaxVplLights = 8;
-// Halton indices searched for the points of one cone before giving up: 2^22 keeps the CPU
-// search under ~0.5 s and still serves 4096 VPLs in a cone of half-angle >= ~3.6 degrees.
+// Halton indices searched for the points of one cone before giving up: 2^22 bounds the CPU
+// search and still serves 4096 VPLs in a cone of half-angle >= ~3.6 degrees.
 constexpr uint32_t kMaxHaltonSearch = 1u << 22;
 
 // The knobs of the VPL technique (what vkgi-bench sweeps).
@@ -36,8 +36,7 @@ struct VplSettings {
     // Clamp of the 1/d^2 term near a VPL, as a fraction of the scene's bounding-box diagonal:
     // d^2 is replaced by max(d^2, (clampDistance * diagonal)^2). It removes the bright splotches
     // next to VPLs at the cost of darkening contact regions. 0.02 gave the lowest indirect RMSE
-    // on cornell_spot at 100-400 VPLs (0.01 splotches at 100 VPLs, 0.05+ darkens corners;
-    // measured in docs/vpl.md).
+    // on cornell_spot (docs/vpl.md): smaller clamps leave splotches, larger ones darken corners.
     float clampDistance = 0.02f;
 };
 

@@ -8,8 +8,8 @@
 #define VKGI_GI_VPL_H
 #include "../shared/bridge.h"
 
-// Most positive VPLs one light may own: the gather is O(pixels * VPLs) and 4096 VPLs at
-// 256^2 already cost seconds per frame on lavapipe, far past any useful setting.
+// Most positive VPLs one light may own: the gather is O(pixels * VPLs), and 4096 is already
+// far past any interactive setting.
 #define GI_VPL_MAX_PER_LIGHT 4096u
 // Most lights that get VPLs in one frame (the per-light parameter table is sized by it).
 #define GI_VPL_MAX_LIGHTS 8u
