@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "engine/file_util.hpp"
@@ -24,7 +25,9 @@ fs::path freshDir(const std::string& name) {
 
 std::string readAll(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
 }
 
 size_t entries(const fs::path& dir) {

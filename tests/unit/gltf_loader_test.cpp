@@ -533,10 +533,10 @@ TEST(GltfLoader, SizeLimitsAreCheckedBeforeReading) {
         << r.error().message;
     fs::path g = writeGlb(dir, j, blob);
     // GLB whose header claims more bytes than the file has.
-    std::vector<uint8_t> bytes;
+    std::vector<uint8_t> bytes(fs::file_size(g));
     {
         std::ifstream in(g, std::ios::binary);
-        bytes.assign(std::istreambuf_iterator<char>(in), {});
+        in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
     }
     bytes[8] = uint8_t(bytes[8] + 4);
     writeBytes(dir / "lying.glb", bytes);
