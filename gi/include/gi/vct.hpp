@@ -34,7 +34,7 @@ struct VctSettings {
     // pixels whose low-res neighbours lie across a discontinuity (background, normals or
     // tangent-plane distance beyond refineThreshold, as the VPL low-res gather) are traced at
     // full resolution. Default 4: at 128^2 and 256^2 the error against the path tracer is that of
-    // 2 within 1% (docs/vct.md) and the trace passes take about half the time.
+    // 2 within 1% (docs/vct.md) for fewer traced pixels.
     uint32_t lowResFactor = 4;
     float refineThreshold = 0.1f;
     bool glossy = true;          // glossy cone whose aperture follows the roughness
@@ -42,9 +42,9 @@ struct VctSettings {
     float aoDistance = 0.0f;     // Villegas' AO decay distance in metres; 0 = 1/8 of the grid
     bool softShadows = false;    // cone-traced shadows of punctual lights
     float shadowAperture = 0.05f; // half-angle of the shadow cone (radians)
-    // The hard march by default. The shadow map is cheaper (Cornell 256^2, 64^3: gi.vct.light
-    // 7.0 -> 4.6 ms) but its lookup leaks the sun through the room's 2-voxel window wall: mean
-    // indirect 1.73x the path tracer's (march 1.08x), 16^3 Cornell boxes 1.27x (docs/vct.md).
+    // The hard march by default. The shadow map is cheaper but its lookup leaks the sun through
+    // the room's 2-voxel window wall: mean indirect 1.73x the path tracer's (march 1.08x), 16^3
+    // Cornell boxes 1.27x (docs/vct.md).
     VctOcclusion occlusion = VctOcclusion::RayMarchHard;
 };
 

@@ -146,9 +146,9 @@ void addListPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridD
 }
 
 // "gi.vct.light": grid volumes + lights (+ the emission volume unless `options.emission` is
-// false) -> the six level-0 views of the directional volume at the listed voxels (indirect over the list); reads
-// and updates the written volume. The shadow-atlas variant with VctOcclusion::ShadowMap and an
-// atlas, else the ray march of `settings.occlusion`.
+// false) -> the six level-0 views of the directional volume at the listed voxels (indirect over
+// the list); reads and updates the written volume. The shadow-atlas variant with
+// VctOcclusion::ShadowMap and an atlas, else the ray march of `settings.occlusion`.
 void addLightPass(rg::RenderGraph& graph, const VctVolumes& volumes, const VoxelGridData& grid, rg::BufferHandle lights,
                   uint32_t lightCount, const VctSettings& settings, const VctPassOptions& options,
                   rg::BufferHandle list, rg::ImageHandle& directional, rg::ImageHandle& written) {
@@ -180,8 +180,8 @@ void addLightPass(rg::RenderGraph& graph, const VctVolumes& volumes, const Voxel
 }
 
 // Second bounce: one gather per (block, normal class), its misfit voxels one each
-// (gi/vct_passes.h) into level 0 of the directional volume at the listed voxels; `jobs` is the job list the
-// level-1 mip built.
+// (gi/vct_passes.h), into level 0 of the directional volume at the listed voxels, then its mips
+// again; `jobs` is the job list the level-1 mip built.
 rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
                                 const gpu::ConeParams& cones, rg::BufferHandle list, rg::BufferHandle jobs,
                                 rg::ImageHandle directional) {

@@ -65,7 +65,8 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     v->m_list.buffer = createBuffer(ctx, list, "vct.voxel_list");
     // The hard voxel-light march reads the list's occupancy bits through an R32_UINT storage texel
     // buffer: lavapipe loads a texel per lane without the per-lane branches of an SSBO load
-    // (voxel_light_body.glsl). 4 (N^3 + ...) bytes: 78 MB at 256^3, within lavapipe's 2^27 texels.
+    // (voxel_light_body.glsl). Its 4 (N^3 + ...) bytes stay within lavapipe's 2^27 texels up to
+    // GI_VOXEL_MAX_RESOLUTION.
     VkBufferViewCreateInfo words{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
     words.buffer = v->m_list.buffer.buffer;
     words.format = VK_FORMAT_R32_UINT;

@@ -135,7 +135,7 @@ void addVoxelize(rg::RenderGraph& graph, const VoxelGrid& grid, const VoxelScene
     // Row slices per triangle (voxelize.comp), for draws that fit in one work group (one CPU
     // thread otherwise; the Cornell walls): about 8 rows each for a grid-wide triangle. Draws
     // of more triangles already spread over work groups, and their triangles are mostly small:
-    // slicing them only repeats each triangle's setup (atrium voxelize 16 -> 24 ms).
+    // slicing them only repeats each triangle's setup.
     const Pipeline& pipeline = grid.pipelines().voxelize;
     const uint32_t slices = std::max(1u, grid.resolution() / 8u);
     std::vector<Draw> draws;

@@ -82,7 +82,7 @@ void main() {
     ivec2 low = ivec2(pc.lowRes.yz);
     // llvmpipe runs 8 invocations of a group row as one SIMD batch: each batch takes a 4x2 tile
     // of the group's 8x8 blocks (16x8 pixels) instead of a row (32x4), which crosses fewer
-    // edges (upsample ~-20% when every pixel ran the edge code).
+    // edges (fewer batches run the edge code).
     uint lane = gl_LocalInvocationIndex;
     ivec2 block = ivec2(gl_WorkGroupID.xy) * 8 +
                   ivec2((lane & 3u) | ((lane >> 1u) & 4u), ((lane >> 2u) & 1u) | ((lane >> 3u) & 6u));
@@ -104,7 +104,7 @@ void main() {
     // edge code (the rest of the tap fit, the sharing) for the marked ones only. llvmpipe (Mesa
     // 22) runs both sides of every branch, masked, but leaves a loop once no lane is in it: the
     // edge code then runs as often as the batch's lane with the most edge pixels needs it, not
-    // at every pixel (upsample -30%).
+    // at every pixel.
     int cells = (4 / f) * (4 / f);
     for (int c = 0; c < cells; ++c) {
         vec4 q[4];

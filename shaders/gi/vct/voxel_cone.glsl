@@ -100,7 +100,7 @@ vec4 sampleDirectional(ConeFrame f, vec3 p, int level, float invSize, bool ahead
         slice = f.aheadSign * floor(f.aheadSign * q + 0.5) + f.aheadShift;
     // Beyond the grid every view is empty. Along a view's axis a slice outside [0, texels)
     // (whose layer would belong to another slice or view) weighs 0. Across it the sampler
-    // clamps to the edge (lavapipe filters ~8% faster than with a border colour) and `edge`
+    // clamps to the edge (lavapipe filters it faster than a border colour) and `edge`
     // restores the transparent border exactly: within half a texel of the grid's face the
     // bilinear taps are the edge texel and one beyond it, which the border makes 0, i.e. the
     // clamped value times the edge texel's weight q + 0.5 (texels + 0.5 - q at the far face);

@@ -38,8 +38,7 @@ layout(set = 1, binding = VCT_LIGHT_BINDING_WRITTEN, r8ui) uniform uimage3D writ
 #if !defined(GI_VOXEL_LIGHT_SOFT) && !defined(GI_VOXEL_LIGHT_SHADOW_MAP)
 // The list buffer (VCT_LIGHT_BINDING_LIST) again, as R32_UINT texels, for the hard march's
 // occupancy bits: lavapipe loads an SSBO word per lane in a loop with a branch each, a texel
-// without (one more load per march step cost ~1.1 ms as an SSBO word, ~0.5 ms as a 3D image
-// texel, Cornell 64^3).
+// without.
 layout(set = 1, binding = VCT_LIGHT_BINDING_LIST_WORDS, r32ui) uniform readonly uimageBuffer listWords;
 #endif
 #ifdef GI_VOXEL_LIGHT_SHADOW_MAP

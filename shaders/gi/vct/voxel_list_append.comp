@@ -7,7 +7,7 @@
 // bits, one invocation per 32-bit word (32 neighbours along x), so consecutive list entries
 // are neighbours in the grid and the SIMD lanes of the passes over the list march, gather and
 // store coherently (appending in the voxelizer's touch order interleaved different triangles'
-// voxels: the voxel light measured ~1.3x slower). One atomic per subgroup and list reserves the
+// voxels, and the voxel light ran slower). One atomic per subgroup and list reserves the
 // slots of the subgroup's words. The list order still depends on scheduling between
 // subgroups; every consumer writes per voxel, so results do not.
 #include "gi/vct_passes.h"

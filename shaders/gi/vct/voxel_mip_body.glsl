@@ -14,8 +14,8 @@
 #ifdef GI_VOXEL_MIP_TAIL
 // The coarsest levels in one work group (voxel_mip_tail.comp): level info.x (info.y <= 8 texels
 // a side) from `src`, then each next one from the previous, info.z levels in all (<= 4). The
-// levels are read back within the group after a barrier; separate passes cost ~0.03-0.1 ms of
-// dispatch and barrier each for a few hundred texels.
+// levels are read back within the group after a barrier, where separate passes would each pay
+// a dispatch and a pipeline barrier for a few hundred texels.
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #elif defined(GI_VOXEL_MIP_LIST)
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in; // indirect: the block quad of the list header
@@ -35,7 +35,8 @@ layout(set = 1, binding = VCT_MIP_BINDING_JOBS, std430) buffer Jobs { uint jobHe
 // (voxel_block.glsl) join its bounce block's mask, and the invocation that sets a class's bit
 // first appends the (bounce block, class) job to that class's list. The order within a list
 // follows the scheduling; each gather depends only on its block and class and stores its result
-// at them, so the images do not. (A pass of its own over the 4^3 blocks took ~0.5 ms at 64^3.)
+// at them, so the images do not. (This pass already reads the listed blocks' voxels, which a
+// pass of its own over the 4^3 blocks would read again.)
 // It also adds the voxels to their (bounce block, class)'s sums, which spare most gathers their
 // loops over the block's voxels (voxel_bounce.comp).
 // The sums of the voxels of one class in a bounce block (gi/vct_passes.h) gain those of

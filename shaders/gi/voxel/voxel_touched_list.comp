@@ -7,7 +7,7 @@
 // 32-bit word, and zeroes the words, so the bits are zero for the next voxelization. Grid order
 // within each subgroup's 8 x 32 voxels: the resolve and the stale clear that run over the list
 // then store to neighbouring texels (appended in the voxelizer's order their scattered image
-// stores missed the cache: Cornell 64^3: gi.voxel.resolve 2.5-3.9 -> 1.2 ms).
+// stores missed the cache).
 #include "gi/voxel_passes.h"
 
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in;
