@@ -9,8 +9,8 @@
 namespace vkgi {
 
 namespace {
-// Block size: large enough that the default module (64 MiB budget) needs only a few blocks,
-// small enough not to over-reserve on lavapipe's single 2 GiB heap.
+// Block size: large enough that the default module's memory budget (DESIGN.md) needs only a few
+// blocks, small enough not to over-reserve on lavapipe's single device heap.
 constexpr VkDeviceSize kBlockSize = 64ull << 20;
 VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
 } // namespace

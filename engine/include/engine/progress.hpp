@@ -16,7 +16,7 @@ public:
     Progress(const Progress&) = delete;
     Progress& operator=(const Progress&) = delete;
 
-    // Thread-safe; redraws at most every 100 ms.
+    // Thread-safe; redraws are rate-limited so a fast loop does not flood the terminal.
     void add(uint64_t done);
     void finish();
     // Prints one line on stderr without breaking the bar (it is redrawn below the line).

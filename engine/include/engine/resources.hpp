@@ -24,7 +24,7 @@ struct Allocation {
     void* mapped = nullptr; // host pointer when the memory type is host-visible
 };
 
-// Sub-allocates from 64 MiB device-memory blocks per memory type (first fit, coalescing free
+// Sub-allocates from fixed-size device-memory blocks (kBlockSize) per memory type (first fit, coalescing free
 // list). lavapipe has a single device-local + host-visible type, so this stays tiny; large
 // requests get a dedicated block. Tracks live bytes for the memory report.
 class Allocator {
