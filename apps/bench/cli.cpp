@@ -36,8 +36,8 @@ apps::OptionTable optionTable(Options& o) {
          }},
         switchOption("--quick", "one configuration per technique (smoke run)", o.quick),
         {"--set", "KNOBS",
-         "only this configuration of the one --techniques given: \"vct.grid=64 vct.cones=6\",\n"
-         "or \"\" for the library's defaults (e.g. per-pass times of the defaults with --passes)",
+         "only this configuration of the one --techniques given besides none: \"vct.grid=64\n"
+         "vct.cones=6\", or \"\" for every technique's defaults (e.g. --techniques none,vpl --passes)",
          [&o](const std::string& v) -> Result<void> {
              o.set = v;
              return {};
@@ -85,8 +85,15 @@ Result<void> checkCombination(Options& o, const std::vector<std::string>& given)
                          " (it uses its own scenes and sizes)");
     if (o.set && o.quick)
         return makeError("--set and --quick both pick the configurations: give one");
-    if (o.set && o.techniques.size() != 1)
-        return makeError("--set: name exactly one technique with --techniques (the knobs are that technique's)");
+    if (o.set && !o.set->empty()) {
+        // "none" has no knobs and rides along as the baseline of the ratios.
+        size_t withKnobs = 0;
+        for (const auto& t : o.techniques)
+            withKnobs += t != "none";
+        if (withKnobs != 1)
+            return makeError("--set: name exactly one technique besides none with --techniques (the knobs are "
+                             "that technique's); --set \"\" (the defaults) takes any");
+    }
     if (o.techniques.empty())
         o.techniques = gi::techniqueNames();
     for (const auto& t : o.techniques)

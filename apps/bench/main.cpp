@@ -107,7 +107,9 @@ int main(int argc, char** argv) {
     }
     std::vector<std::pair<std::string, std::string>> jobs; // technique, knobs
     for (const auto& t : opt->techniques)
-        for (const auto& k : opt->set ? std::vector<std::string>{*opt->set} : bench::sweepFor(t, opt->quick))
+        for (const auto& k : !opt->set ? bench::sweepFor(t, opt->quick)
+                             : t == "none" ? std::vector<std::string>{""}
+                                           : std::vector<std::string>{*opt->set})
             jobs.push_back({t, k});
     std::vector<Scene> scenes; // all loaded up front: a bad name fails before any long work
     for (const auto& sceneName : opt->scenes) {

@@ -23,6 +23,8 @@ namespace vkgi::gi {
 constexpr uint32_t kMaxVplsPerLight = 4096;
 constexpr uint32_t kMaxNegativeVpls = 4096;
 constexpr uint32_t kMaxVplLights = 8;
+// Largest interleave tile side: the filter reads (2n - 1)^2 neighbours (mirrors GI_VPL_MAX_INTERLEAVE).
+constexpr uint32_t kMaxVplInterleave = 4;
 // Halton indices searched for the points of one cone before giving up: 2^22 bounds the CPU
 // search and still serves 4096 VPLs in a cone of half-angle >= ~3.6 degrees.
 constexpr uint32_t kMaxHaltonSearch = 1u << 22;
@@ -38,6 +40,13 @@ struct VplSettings {
     // next to VPLs at the cost of darkening contact regions. 0.02 gave the lowest indirect RMSE
     // on cornell_spot (docs/vpl.md): smaller clamps leave splotches, larger ones darken corners.
     float clampDistance = 0.02f;
+    // Interleaved sampling: each pixel of an n x n tile gathers 1/n^2 of the VPLs and a
+    // geometry-aware tent filter over the tile sums the subsets back (docs/vpl.md). 1 = off
+    // (every pixel gathers every VPL); 2, 3 or 4.
+    uint32_t interleave = 1;
+    // The interleave filter's plane test: a neighbour further than this fraction of the
+    // pixel's distance to the camera off the pixel's tangent plane is another surface.
+    float interleaveTolerance = 0.02f;
 };
 
 // Checks every knob; the error names the knob, its value and the allowed range.
@@ -93,7 +102,8 @@ struct VplInputs {
 
 struct VplOutputs {
     rg::ImageHandle indirect;     // RGBA32F indirect radiance (nits) at the G-buffer size
-    rg::BufferHandle vpls;        // VplRecord per positive VPL, spot after spot
+    rg::BufferHandle vpls;        // VplRecord per positive VPL, in the interleaved subset order
+                                  // (gi/vpl.h); spot after spot when interleave = 1
     rg::BufferHandle negativeVpls; // VplRecord per negative VPL (invalid when off)
     rg::BufferHandle refineList;  // uint count, 3 pad, packed pixels (invalid when lowResFactor = 1)
     uint32_t vplCount = 0;        // records in `vpls`

@@ -8,7 +8,7 @@
 namespace vkgi::gi {
 
 static_assert(kMaxVplsPerLight == GI_VPL_MAX_PER_LIGHT && kMaxNegativeVpls == GI_VPL_MAX_NEGATIVE &&
-              kMaxVplLights == GI_VPL_MAX_LIGHTS, "C++ limits must mirror gi/vpl.h");
+              kMaxVplLights == GI_VPL_MAX_LIGHTS && kMaxVplInterleave == GI_VPL_MAX_INTERLEAVE, "C++ limits must mirror gi/vpl.h");
 
 Result<void> validateVplSettings(const VplSettings& s) {
     auto bad = [](const std::string& what) { return makeError("VplSettings: " + what); };
@@ -23,6 +23,11 @@ Result<void> validateVplSettings(const VplSettings& s) {
         return bad("refineThreshold " + std::to_string(s.refineThreshold) + " must be finite and >= 0");
     if (!std::isfinite(s.clampDistance) || s.clampDistance <= 0.0f || s.clampDistance > 1.0f)
         return bad("clampDistance " + std::to_string(s.clampDistance) + " must be in (0, 1]");
+    if (s.interleave < 1 || s.interleave > kMaxVplInterleave)
+        return bad("interleave " + std::to_string(s.interleave) + " is outside 1.." +
+                   std::to_string(kMaxVplInterleave));
+    if (!std::isfinite(s.interleaveTolerance) || s.interleaveTolerance <= 0.0f || s.interleaveTolerance > 1.0f)
+        return bad("interleaveTolerance " + std::to_string(s.interleaveTolerance) + " must be in (0, 1]");
     return {};
 }
 

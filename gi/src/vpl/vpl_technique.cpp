@@ -134,8 +134,19 @@ rg::BufferHandle addRefineClearPass(rg::RenderGraph& graph, uint32_t width, uint
     return list;
 }
 
+// The interleaved gather's dispatch: per axis, n sub-images of ceil(size / n) pixels, each a
+// whole number of work groups (vpl_gather.comp derives pixel and subset from the group).
+glm::uvec3 interleavedGrid(uint32_t width, uint32_t height, uint32_t n) {
+    auto axis = [n](uint32_t size) {
+        const uint32_t sub = (size + n - 1) / n;
+        return n * ((sub + GI_VPL_LOCAL_SIZE_2D - 1) / GI_VPL_LOCAL_SIZE_2D) * GI_VPL_LOCAL_SIZE_2D;
+    };
+    return {axis(width), axis(height), 1};
+}
+
 // Push constants shared by the per-pixel passes.
-gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, uint32_t vplCount) {
+gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, uint32_t lightCount) {
+    const uint32_t vplCount = lightCount * settings.vplCount;
     const uint32_t factor = settings.lowResFactor;
     const uint32_t lowResWidth = (in.width + factor - 1) / factor, lowResHeight = (in.height + factor - 1) / factor;
     const float clampDistance = settings.clampDistance * std::max(in.sceneDiagonal, 1e-6f);
@@ -143,7 +154,9 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
     push.size = glm::uvec4(lowResWidth, lowResHeight, factor, in.width * in.height);
     push.counts = glm::uvec4(vplCount, settings.negativeVplCount, in.width, in.height);
     push.camera = glm::vec4(in.camera.position, 0.0f);
-    push.params = glm::vec4(clampDistance * clampDistance, settings.refineThreshold, 0.0f, 0.0f);
+    push.params = glm::vec4(clampDistance * clampDistance, settings.refineThreshold, settings.interleaveTolerance,
+                            settings.negativeVplCount > 0 ? 1.0f : 0.0f);
+    push.interleave = glm::uvec4(settings.interleave, lightCount, settings.vplCount, 0);
     return push;
 }
 
@@ -151,19 +164,22 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
 
 struct VplTechnique::Impl {
     Context& ctx;
-    Pipeline generate, gather, negativeGenerate, negativeGather, upsample, refine;
+    Pipeline generate, gather, interleaveRows, interleaveColumns, negativeGenerate, negativeGather, upsample, refine;
     VkSampler pointSampler = VK_NULL_HANDLE; // texelFetch-only, but sampled bindings need one
     // Halton directions per (count, cosOuter bits): the CPU search is the only costly CPU step.
     std::map<std::pair<uint32_t, uint32_t>, std::vector<glm::vec3>> directionCache;
 
     explicit Impl(Context& c) : ctx(c) {}
     Result<const std::vector<glm::vec3>*> directions(uint32_t count, float cosOuter);
-    Result<LightTables> lightTables(const std::vector<VplSpot>& spots, uint32_t vplCount);
+    Result<LightTables> lightTables(const std::vector<VplSpot>& spots, uint32_t vplCount, uint32_t interleave);
 
     rg::BufferHandle addGeneratePass(rg::RenderGraph& graph, const VplInputs& in, const LightTableHandles& tables,
                                      uint32_t lightCount, uint32_t vplCount);
     GatherImages addGatherPass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
                                const gpu::VplPixelPush& push, const char* indirectName);
+    GatherImages addInterleaveFilterPasses(rg::RenderGraph& graph, const VplInputs& in,
+                                           const GatherImages& gathered, const gpu::VplPixelPush& push,
+                                           const char* indirectName);
     rg::BufferHandle addNegativeGeneratePass(rg::RenderGraph& graph, const VplInputs& in, const GatherImages& gathered,
                                              const gpu::VplPixelPush& pixel);
     rg::ImageHandle addNegativeGatherPass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle negativeVpls,
@@ -192,17 +208,19 @@ Result<const std::vector<glm::vec3>*> VplTechnique::Impl::directions(uint32_t co
     return &it->second;
 }
 
-Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& spots, uint32_t vplCount) {
+Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& spots, uint32_t vplCount,
+                                                    uint32_t interleave) {
     LightTables tables;
-    for (const VplSpot& spot : spots) {
+    std::vector<std::vector<glm::vec3>> samples; // per light, in Halton order
+    for (uint32_t l = 0; l < spots.size(); ++l) {
+        const VplSpot& spot = spots[l];
         gpu::VplLight light{};
-        light.info = glm::uvec4(uint32_t(tables.directions.size()), vplCount, spot.firstLayer, spot.layerCount);
+        light.info = glm::uvec4(0, vplCount, spot.firstLayer, spot.layerCount);
         if (spot.directional) {
             // Halton points of the orthographic window; each VPL stands for 1/N of its area
             // (the shader turns that into flux with the layer's texel area, vpl_generate.comp).
             light.position = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f / float(vplCount));
-            for (const glm::vec3& p : windowSamplePoints(vplCount))
-                tables.directions.emplace_back(p, 0.0f);
+            samples.push_back(windowSamplePoints(vplCount));
         } else {
             auto local = directions(vplCount, spot.cosOuter);
             if (!local)
@@ -212,11 +230,17 @@ Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& 
             light.axisX = glm::vec4(frame[0], 0.0f);
             light.axisY = glm::vec4(frame[1], 0.0f);
             light.axisZ = glm::vec4(frame[2], 0.0f);
-            for (const glm::vec3& d : **local)
-                tables.directions.emplace_back(d, 0.0f);
+            samples.push_back(**local);
         }
         tables.lights.push_back(light);
     }
+    // Subset-major order (gi/vpl.h): subset s holds each light's block of Halton samples
+    // [s N / n^2, (s + 1) N / n^2). With interleave 1 this is light after light.
+    const uint32_t subsets = interleave * interleave;
+    for (uint32_t s = 0; s < subsets; ++s)
+        for (uint32_t l = 0; l < samples.size(); ++l)
+            for (uint32_t k = s * vplCount / subsets; k < (s + 1) * vplCount / subsets; ++k)
+                tables.directions.emplace_back(samples[l][k], float(l));
     return tables;
 }
 
@@ -256,6 +280,39 @@ GatherImages VplTechnique::Impl::addGatherPass(rg::RenderGraph& graph, const Vpl
         .overwrite(VPL_GATHER_BINDING_INDIRECT, out.indirect)
         .overwrite(VPL_GATHER_BINDING_INCIDENT, out.incident)
         .overwrite(VPL_GATHER_BINDING_TRAVEL, out.travel)
+        .dispatch(interleavedGrid(width, height, push.interleave.x));
+    return out;
+}
+
+GatherImages VplTechnique::Impl::addInterleaveFilterPasses(rg::RenderGraph& graph, const VplInputs& in,
+                                                           const GatherImages& gathered,
+                                                           const gpu::VplPixelPush& push, const char* indirectName) {
+    const uint32_t width = push.size.x, height = push.size.y;
+    rg::ImageHandle rowsIncident = graph.createImage("vpl.rows_incident", radianceImage(width, height));
+    rg::ImageHandle rowsTravel = graph.createImage("vpl.rows_travel", radianceImage(width, height));
+    rg::ComputePass(graph, "vpl.interleave_rows", interleaveRows)
+        .push(push)
+        .sample(VPL_INTERLEAVE_ROWS_BINDING_POSITION, in.gPosition, pointSampler)
+        .sample(VPL_INTERLEAVE_ROWS_BINDING_NORMAL, in.gNormal, pointSampler)
+        .sample(VPL_INTERLEAVE_ROWS_BINDING_GATHER_INCIDENT, gathered.incident, pointSampler)
+        .sample(VPL_INTERLEAVE_ROWS_BINDING_GATHER_TRAVEL, gathered.travel, pointSampler)
+        .overwrite(VPL_INTERLEAVE_ROWS_BINDING_INCIDENT, rowsIncident)
+        .overwrite(VPL_INTERLEAVE_ROWS_BINDING_TRAVEL, rowsTravel)
+        .dispatch({width, height, 1});
+    GatherImages out;
+    out.indirect = graph.createImage(indirectName, radianceImage(width, height));
+    out.incident = graph.createImage("vpl.filtered_incident", radianceImage(width, height));
+    out.travel = graph.createImage("vpl.filtered_travel", radianceImage(width, height));
+    rg::ComputePass(graph, "vpl.interleave_columns", interleaveColumns)
+        .push(push)
+        .sample(VPL_INTERLEAVE_COLUMNS_BINDING_POSITION, in.gPosition, pointSampler)
+        .sample(VPL_INTERLEAVE_COLUMNS_BINDING_NORMAL, in.gNormal, pointSampler)
+        .sample(VPL_INTERLEAVE_COLUMNS_BINDING_ALBEDO, in.gAlbedo, pointSampler)
+        .sample(VPL_INTERLEAVE_COLUMNS_BINDING_ROWS_INCIDENT, rowsIncident, pointSampler)
+        .sample(VPL_INTERLEAVE_COLUMNS_BINDING_ROWS_TRAVEL, rowsTravel, pointSampler)
+        .overwrite(VPL_INTERLEAVE_COLUMNS_BINDING_INDIRECT, out.indirect)
+        .overwrite(VPL_INTERLEAVE_COLUMNS_BINDING_INCIDENT, out.incident)
+        .overwrite(VPL_INTERLEAVE_COLUMNS_BINDING_TRAVEL, out.travel)
         .dispatch({width, height, 1});
     return out;
 }
@@ -333,7 +390,8 @@ VplTechnique::VplTechnique(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
 
 VplTechnique::~VplTechnique() {
     Context& ctx = m->ctx;
-    for (Pipeline* p : {&m->generate, &m->gather, &m->negativeGenerate, &m->negativeGather, &m->upsample, &m->refine})
+    for (Pipeline* p : {&m->generate, &m->gather, &m->interleaveRows, &m->interleaveColumns, &m->negativeGenerate,
+                        &m->negativeGather, &m->upsample, &m->refine})
         destroyPipeline(ctx, *p);
     if (m->pointSampler)
         vkDestroySampler(ctx.device(), m->pointSampler, nullptr);
@@ -346,6 +404,8 @@ Result<std::unique_ptr<VplTechnique>> VplTechnique::create(Context& ctx) {
     const std::pair<Pipeline*, const char*> shaders[] = {
         {&m.generate, "gi/vpl/vpl_generate.comp"},
         {&m.gather, "gi/vpl/vpl_gather.comp"},
+        {&m.interleaveRows, "gi/vpl/vpl_interleave_rows.comp"},
+        {&m.interleaveColumns, "gi/vpl/vpl_interleave_columns.comp"},
         {&m.negativeGenerate, "gi/vpl/vpl_negative_generate.comp"},
         {&m.negativeGather, "gi/vpl/vpl_negative_gather.comp"},
         {&m.upsample, "gi/vpl/vpl_upsample.comp"},
@@ -369,7 +429,7 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
         return ok.error();
     if (in.spots.empty())
         return addClearPass(graph, in.width, in.height);
-    auto tables = m->lightTables(in.spots, settings.vplCount);
+    auto tables = m->lightTables(in.spots, settings.vplCount, settings.interleave);
     if (!tables)
         return tables.error();
 
@@ -383,9 +443,13 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
     // upsample; its image carries the output's name.
     const bool lowRes = settings.lowResFactor > 1;
     const bool negative = settings.negativeVplCount > 0;
-    const gpu::VplPixelPush push = pixelPush(in, settings, out.vplCount);
-    const GatherImages gathered =
-        m->addGatherPass(graph, in, out.vpls, push, !lowRes && !negative ? "vpl.indirect" : "vpl.gather_indirect");
+    const gpu::VplPixelPush push = pixelPush(in, settings, lightCount);
+    const bool interleaved = settings.interleave > 1;
+    GatherImages gathered = m->addGatherPass(graph, in, out.vpls, push,
+                                             !lowRes && !negative && !interleaved ? "vpl.indirect" : "vpl.gather_indirect");
+    if (interleaved)
+        gathered = m->addInterleaveFilterPasses(graph, in, gathered, push,
+                                              !lowRes && !negative ? "vpl.indirect" : "vpl.filtered_indirect");
     rg::ImageHandle lowResIndirect = gathered.indirect;
     rg::BufferHandle negativeVpls = out.vpls; // bound (with count 0) when negative VPLs are off
     if (negative) {

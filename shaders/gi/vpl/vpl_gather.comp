@@ -4,6 +4,11 @@
 // (i, j) of a 1/f-resolution image shades the G-buffer sample at (i f + f/2, j f + f/2).
 // Writes the indirect radiance albedo/pi * E, and for the negative VPLs the VPL irradiance E
 // and the luminance-weighted sum of the directions that light travels in.
+// Interleaved (tile side n > 1): pixel (x, y) gathers only subset (y mod n) n + (x mod n) and
+// scales it by n^2; vpl_interleave_filter.comp sums the subsets back. Work groups are laid out
+// so that all invocations of a group share one subset (the group's pixels are every n-th pixel
+// of the image, as in a de-interleaved sub-image), so the VPL loop reads the same records in
+// every lane.
 #include "gi/vpl.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_2D, local_size_y = GI_VPL_LOCAL_SIZE_2D) in;
@@ -22,9 +27,17 @@ layout(set = 1, binding = VPL_GATHER_BINDING_TRAVEL, rgba32f) uniform writeonly 
 #include "gi/vpl_gather.h"
 
 void main() {
-    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    uint side = pc.interleave.x;
+    uvec2 subSize = (pc.size.xy + side - 1u) / side;                      // pixels of one subset
+    uvec2 groups = (subSize + GI_VPL_LOCAL_SIZE_2D - 1u) / GI_VPL_LOCAL_SIZE_2D; // groups per subset
+    uvec2 cell = gl_WorkGroupID.xy / groups;                         // position in the tile
+    uvec2 inSubset = (gl_WorkGroupID.xy % groups) * GI_VPL_LOCAL_SIZE_2D + gl_LocalInvocationID.xy;
+    ivec2 px = ivec2(inSubset * side + cell);
     if (any(greaterThanEqual(uvec2(px), pc.size.xy)))
         return;
+    uint s = cell.y * side + cell.x;
+    uint first = vplSubsetStart(s, side, pc.interleave.y, pc.interleave.z);
+    uint end = vplSubsetStart(s + 1u, side, pc.interleave.y, pc.interleave.z);
     int f = int(pc.size.z);
     ivec2 sample_ = min(px * f + f / 2, ivec2(pc.counts.zw) - 1);
     vec4 position = texelFetch(gPosition, sample_, 0);
@@ -33,7 +46,12 @@ void main() {
     vec3 radiance = vec3(0.0);
     if (position.w > 0.0) {
         vec3 n = texelFetch(gNormal, sample_, 0).xyz;
-        e = vplGatherPositive(position.xyz, n, pc.counts.x, pc.params.x, travel);
+        e = vplGatherPositive(position.xyz, n, first, end, pc.params.x, travel);
+        if (side > 1u) {
+            float subsets = float(side * side);
+            e *= subsets;
+            travel *= subsets;
+        }
         radiance = texelFetch(gAlbedo, sample_, 0).rgb * e * (1.0 / GI_VPL_PI);
     }
     imageStore(outIndirect, px, vec4(radiance, 1.0));

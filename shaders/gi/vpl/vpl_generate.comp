@@ -1,6 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// One thread per VPL: the light's i-th Halton direction (local frame, precomputed on the CPU)
+// One thread per VPL: a light's Halton direction (local frame, precomputed on the CPU, with the
+// light's index in w; the table is in the interleaved subset order of gi/vpl.h)
 // is turned into world space, projected into the light's RSM layer, and the surface found there
 // becomes the VPL: position on that surface's plane along the exact Halton ray (so it moves
 // continuously with the light), its normal, and the flux of the solid angle it stands for,
@@ -29,10 +30,7 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.info.y)
         return;
-    uint l = 0u;
-    while (l + 1u < pc.info.x && i >= lights[l + 1u].info.x)
-        ++l;
-    VplLight light = lights[l];
+    VplLight light = lights[uint(directions[i].w)];
     vec3 local = directions[i].xyz;
     uint layer = light.info.z;
     GpuShadowView view = shadowViews[layer];

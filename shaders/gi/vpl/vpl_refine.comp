@@ -32,7 +32,7 @@ void main() {
     vec4 position = texelFetch(gPosition, px, 0);
     vec3 n = texelFetch(gNormal, px, 0).xyz;
     vec3 travel;
-    vec3 e = vplGatherPositive(position.xyz, n, pc.counts.x, pc.params.x, travel);
+    vec3 e = vplGatherPositive(position.xyz, n, 0u, pc.counts.x, pc.params.x, travel);
     vec3 albedo = texelFetch(gAlbedo, px, 0).rgb * (1.0 / GI_VPL_PI);
     vec3 radiance = albedo * e;
     if (pc.counts.y > 0u)

@@ -15,6 +15,9 @@
 #define GI_VPL_MAX_LIGHTS 8u
 // Most negative VPLs (paper section 3.3); same cost argument as above.
 #define GI_VPL_MAX_NEGATIVE 4096u
+// Largest interleave tile side (kMaxVplInterleave in gi/vpl.hpp): the filter reads 2n - 1
+// neighbours per axis.
+#define GI_VPL_MAX_INTERLEAVE 4u
 // Work-group width of the 1D passes (VPL generation): 64 = 8 lavapipe SIMD lanes x 8.
 #define GI_VPL_LOCAL_SIZE_1D 64
 // Work-group side of the 2D passes.
@@ -29,7 +32,7 @@
 #define VPL_GENERATE_BINDING_RSM_FLUX 2     // RSM reflected flux (2D array)
 #define VPL_GENERATE_BINDING_SHADOW_VIEWS 3 // GpuShadowView per RSM layer (gi/direct_types.h)
 #define VPL_GENERATE_BINDING_LIGHTS 4       // VplLight per light
-#define VPL_GENERATE_BINDING_DIRECTIONS 5   // local Halton directions (or window points), light after light
+#define VPL_GENERATE_BINDING_DIRECTIONS 5   // xyz local Halton direction (or window point), w light index, subset-major
 #define VPL_GENERATE_BINDING_VPLS 6         // output: VplRecord per positive VPL
 // vpl_gather.comp: the positive VPLs' light at the gather resolution.
 #define VPL_GATHER_BINDING_POSITION 0 // G-buffer world position (w = 1 where geometry)
@@ -39,6 +42,22 @@
 #define VPL_GATHER_BINDING_INDIRECT 4 // output: indirect radiance (RGBA32F)
 #define VPL_GATHER_BINDING_INCIDENT 5 // output: VPL irradiance E (the negative VPLs' flux)
 #define VPL_GATHER_BINDING_TRAVEL 6   // output: luminance-weighted sum of the light's travel directions
+// vpl_interleave_rows.comp and vpl_interleave_columns.comp: the interleaved gather's subsets
+// summed back over each tile (gi/vpl_interleave_filter.h), along rows, then along columns.
+#define VPL_INTERLEAVE_ROWS_BINDING_POSITION 0        // G-buffer world position
+#define VPL_INTERLEAVE_ROWS_BINDING_NORMAL 1          // G-buffer normal
+#define VPL_INTERLEAVE_ROWS_BINDING_GATHER_INCIDENT 2 // the interleaved gather's VPL irradiance (one subset, scaled)
+#define VPL_INTERLEAVE_ROWS_BINDING_GATHER_TRAVEL 3   // the interleaved gather's travel directions
+#define VPL_INTERLEAVE_ROWS_BINDING_INCIDENT 4        // output: irradiance filtered along rows
+#define VPL_INTERLEAVE_ROWS_BINDING_TRAVEL 5          // output: travel directions filtered along rows
+#define VPL_INTERLEAVE_COLUMNS_BINDING_POSITION 0      // G-buffer world position
+#define VPL_INTERLEAVE_COLUMNS_BINDING_NORMAL 1        // G-buffer normal
+#define VPL_INTERLEAVE_COLUMNS_BINDING_ALBEDO 2        // G-buffer albedo
+#define VPL_INTERLEAVE_COLUMNS_BINDING_ROWS_INCIDENT 3 // the row pass's irradiance
+#define VPL_INTERLEAVE_COLUMNS_BINDING_ROWS_TRAVEL 4   // the row pass's travel directions
+#define VPL_INTERLEAVE_COLUMNS_BINDING_INDIRECT 5      // output: indirect radiance albedo/pi * E (RGBA32F)
+#define VPL_INTERLEAVE_COLUMNS_BINDING_INCIDENT 6      // output: filtered VPL irradiance E
+#define VPL_INTERLEAVE_COLUMNS_BINDING_TRAVEL 7        // output: filtered travel directions (with negative VPLs)
 // vpl_negative_generate.comp: negative VPLs at Halton-picked pixels of the gather image.
 #define VPL_NEGATIVE_GENERATE_BINDING_POSITION 0      // G-buffer world position
 #define VPL_NEGATIVE_GENERATE_BINDING_NORMAL 1        // G-buffer normal
@@ -90,7 +109,7 @@ GI_GPU_STRUCT(VplLight) {
     vec4 axisX;    // spot frame: world-space images of the local x, y, z axes (z = spot axis)
     vec4 axisY;
     vec4 axisZ;
-    uvec4 info;    // x first sample direction = first output record, y VPL count,
+    uvec4 info;    // x 0 (each sample direction names its light), y VPL count,
                    // z first RSM layer, w RSM layer count (1 = one perspective layer, 6 = cube)
 };
 GI_CHECK_SIZE(VplLight, 80);
@@ -104,14 +123,28 @@ GI_GPU_STRUCT(VplGeneratePush) {
 };
 GI_CHECK_SIZE(VplGeneratePush, 48);
 
-// Push constants of the per-pixel passes (gather, negative gather, upsample, refine).
+// Push constants of the per-pixel passes (gather, interleave filter, negative gather, upsample,
+// refine).
 GI_GPU_STRUCT(VplPixelPush) {
-    uvec4 size;   // x width, y height of the image being written, z low-res factor, w refine capacity
-    uvec4 counts; // x positive VPLs, y negative VPLs, z full-res width, w full-res height
-    vec4 camera;  // xyz camera position, w 0
-    vec4 params;  // x clamp distance^2, y refine threshold, z, w 0
+    uvec4 size;       // x width, y height of the image being written, z low-res factor, w refine capacity
+    uvec4 counts;     // x positive VPLs, y negative VPLs, z full-res width, w full-res height
+    vec4 camera;      // xyz camera position, w 0
+    vec4 params;      // x clamp distance^2, y refine threshold, z interleave filter's plane tolerance
+                      // (fraction of the distance to the camera), w 1 when the filter passes must
+                      // also filter the travel directions (negative VPLs read them), else 0
+    uvec4 interleave; // x tile side n (1 = every pixel gathers every VPL), y lights, z VPLs per light, w 0
 };
-GI_CHECK_SIZE(VplPixelPush, 64);
+GI_CHECK_SIZE(VplPixelPush, 80);
+
+// Interleaved sampling (Keller & Heidrich; Segovia et al.): pixel (x, y) of the gather image
+// gathers subset s = (y mod n) n + (x mod n) of the n^2 subsets. The VPL buffer is laid out
+// subset-major: subset s holds, light after light, the contiguous block
+// [floor(s N / n^2), floor((s + 1) N / n^2)) of each light's N Halton samples, so every subset
+// is a shorter Halton run, spread over the whole cone like the full set. First record of
+// subset s (s = n^2 gives the total).
+GI_INLINE uint vplSubsetStart(uint s, uint n, uint lights, uint perLight) {
+    return lights * ((s * perLight) / (n * n));
+}
 
 // Radical inverse of `i` in `base`: the i-th element of the van der Corput sequence, the
 // coordinates of the Halton sequence (bases 2 and 3 here, as in the paper).

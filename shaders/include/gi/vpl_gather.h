@@ -8,13 +8,13 @@
 
 float vplLuminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
-// Irradiance (lux) at x (normal n) from the first `count` positive VPLs: each is a cosine
+// Irradiance (lux) at x (normal n) from the positive VPLs [first, end): each is a cosine
 // emitter, E = flux/pi * cosVpl * cosX / max(d^2, clamp2). `travel` receives the sum of the
 // unit directions the light travels in, weighted by the luminance of each contribution.
-vec3 vplGatherPositive(vec3 x, vec3 n, uint count, float clamp2, out vec3 travel) {
+vec3 vplGatherPositive(vec3 x, vec3 n, uint first, uint end, float clamp2, out vec3 travel) {
     vec3 e = vec3(0.0);
     travel = vec3(0.0);
-    for (uint k = 0u; k < count; ++k) {
+    for (uint k = first; k < end; ++k) {
         VplRecord v = vpls[k];
         vec3 d = v.position.xyz - x;
         float d2 = dot(d, d);
