@@ -181,7 +181,7 @@ TEST_F(VplScene, VplsLieOnDirectlyLitSurfacesInsideTheCone) {
     }
 }
 
-// Several spotlights: each gets its own N VPLs, in its own cone, spot after spot.
+// Several spotlights: each gets its own N VPLs, in its own cone, in the interleaved order.
 TEST_F(VplScene, EachSpotlightGetsItsOwnVpls) {
     Scene scene = builtin("cornell_spot");
     Light second = scene.lights[0];
@@ -197,13 +197,22 @@ TEST_F(VplScene, EachSpotlightGetsItsOwnVpls) {
     ASSERT_TRUE(set) << set.error().message;
     auto vpls = vplRecords(*sys, *scene.camera);
     ASSERT_EQ(vpls.size(), 128u);
+    // The records' order (gi/vpl.h): subset after subset of the interleave tile, each holding
+    // every light's block of its Halton samples, light after light.
+    std::vector<uint32_t> lightOf;
+    const uint32_t subsets = v.interleave * v.interleave;
+    for (uint32_t s = 0; s < subsets; ++s)
+        for (uint32_t light = 0; light < 2; ++light)
+            for (uint32_t k = s * 64 / subsets; k < (s + 1) * 64 / subsets; ++k)
+                lightOf.push_back(light);
+    ASSERT_EQ(lightOf.size(), vpls.size());
     for (size_t i = 0; i < vpls.size(); ++i) {
-        const Light& l = scene.lights[i / 64];
+        const Light& l = scene.lights[lightOf[i]];
         ASSERT_EQ(vpls[i].position.w, 1.0f) << i;
         glm::vec3 d = glm::normalize(glm::vec3(vpls[i].position) - l.position);
         // Within the outer cone plus ~2 RSM texels (see VplsLieOnDirectlyLitSurfacesInsideTheCone).
         EXPECT_LE(std::acos(std::min(1.0f, glm::dot(d, glm::normalize(l.direction)))), l.outerConeAngle + 0.03f)
-            << "VPL " << i << " belongs to light " << i / 64;
+            << "VPL " << i << " belongs to light " << lightOf[i];
     }
 }
 
@@ -292,19 +301,22 @@ TEST_F(VplScene, FiniteFrom1eMinus6To1e9Candela) {
     }
 }
 
-// Image sizes that are not multiples of the low-resolution factor or the 8x8 work groups:
-// the edge gather samples are clamped into the image, every pixel is written and finite, and
-// the low-resolution result stays close to full resolution (mean within 5 %: the measured
-// difference at 128^2 is < 1 %, docs/vpl.md).
+// Image sizes that are not multiples of the low-resolution factor, the interleave tile or the
+// 8x8 work groups: the edge gather samples are clamped into the image, every pixel is written
+// and finite, and the low-resolution and interleaved results stay close to the full gather at
+// full resolution (mean within 5 %: the measured difference at 128^2 is < 1 %, docs/vpl.md).
 TEST_F(VplScene, OddSizesWithLowResolutionAndNegativeVpls) {
     Scene scene = builtin("cornell_spot");
     const uint32_t w = 67, h = 45;
-    double mean[3] = {};
-    for (uint32_t f : {1u, 2u, 4u}) {
+    const std::pair<uint32_t, uint32_t> configurations[] = {{1, 1}, {2, 1}, {4, 1}, {1, 3}, {1, 4}, {2, 2}};
+    double mean[std::size(configurations)] = {};
+    for (size_t c = 0; c < std::size(configurations); ++c) {
+        const auto [f, n] = configurations[c];
         VplSettings v;
         v.vplCount = 64;
         v.negativeVplCount = 32;
         v.lowResFactor = f;
+        v.interleave = n;
         auto sys = makeSystem(v);
         ASSERT_TRUE(sys && sys->setScene(scene));
         FrameRequest req;
@@ -313,17 +325,22 @@ TEST_F(VplScene, OddSizesWithLowResolutionAndNegativeVpls) {
         auto frame = sys->renderFrame(*scene.camera, w, h, req);
         ASSERT_TRUE(frame) << frame.error().message;
         ASSERT_EQ(frame->indirect.pixels.size(), size_t(w) * h);
-        EXPECT_EQ(countNonFinite(frame->indirect), 0u) << f;
+        EXPECT_EQ(countNonFinite(frame->indirect), 0u) << f << ", " << n;
         double sum = 0.0;
         for (const glm::vec3& p : frame->indirect.pixels) {
             EXPECT_GE(std::min(p.x, std::min(p.y, p.z)), 0.0f);
             sum += p.x + p.y + p.z;
         }
-        mean[f == 1 ? 0 : f == 2 ? 1 : 2] = sum / (w * h);
+        mean[c] = sum / (w * h);
     }
     EXPECT_GT(mean[0], 0.0);
-    EXPECT_NEAR(mean[1], mean[0], 0.05 * mean[0]);
-    EXPECT_NEAR(mean[2], mean[0], 0.05 * mean[0]);
+    // Low resolution and interleaving together (the last configuration) interleave a 34x23
+    // gather image, two tiles across most surfaces here: finite and non-negative is all that is
+    // asked of it at this size (at 128^2 on cornell_spot its relMSE matches lowres 2 alone,
+    // docs/vpl.md).
+    for (size_t c = 1; c + 1 < std::size(configurations); ++c)
+        EXPECT_NEAR(mean[c], mean[0], 0.05 * mean[0])
+            << "lowres " << configurations[c].first << ", interleave " << configurations[c].second;
 }
 
 // Without a light (emission only) the technique leaves its passes out: no VPL pass runs, no

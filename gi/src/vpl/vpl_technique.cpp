@@ -122,14 +122,19 @@ LightTableHandles addUploadPass(rg::RenderGraph& graph, LightTables tables) {
     return handles;
 }
 
-// The refine list, its count zeroed (the rest is written before it is read).
+// The refine list (gi/vpl_refine_list.h) with its header reset: no entry, and the refine pass's
+// dispatch at 0 x 1 x 1 work groups (the entries are written before they are read).
 rg::BufferHandle addRefineClearPass(rg::RenderGraph& graph, uint32_t width, uint32_t height) {
     const VkDeviceSize bytes = VPL_REFINE_LIST_HEADER_BYTES + VkDeviceSize(width) * height * sizeof(uint32_t);
-    rg::BufferHandle list = graph.createBuffer("vpl.refine_list", storageBuffer(bytes));
+    BufferDesc desc = storageBuffer(bytes);
+    desc.usage |= VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
+    rg::BufferHandle list = graph.createBuffer("vpl.refine_list", desc);
     graph.addPass(
         "vpl.refine_clear", [&](rg::PassBuilder& b) { list = b.write(list, rg::Access::TransferWrite); },
         [list](rg::PassContext& pc) {
-            vkCmdFillBuffer(pc.cmd(), pc.buffer(list).buffer, 0, VPL_REFINE_LIST_HEADER_BYTES, 0);
+            const uint32_t header[4] = {0, 0, 1, 1};
+            static_assert(sizeof(header) == VPL_REFINE_LIST_HEADER_BYTES);
+            vkCmdUpdateBuffer(pc.cmd(), pc.buffer(list).buffer, 0, sizeof(header), header);
         });
     return list;
 }
@@ -178,8 +183,8 @@ struct VplTechnique::Impl {
     GatherImages addGatherPass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
                                const gpu::VplPixelPush& push, const char* indirectName);
     GatherImages addInterleaveFilterPasses(rg::RenderGraph& graph, const VplInputs& in,
-                                           const GatherImages& gathered, const gpu::VplPixelPush& push,
-                                           const char* indirectName);
+                                           const GatherImages& gathered, rg::BufferHandle& refineList,
+                                           const gpu::VplPixelPush& push, const char* indirectName);
     rg::BufferHandle addNegativeGeneratePass(rg::RenderGraph& graph, const VplInputs& in, const GatherImages& gathered,
                                              const gpu::VplPixelPush& pixel);
     rg::ImageHandle addNegativeGatherPass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle negativeVpls,
@@ -285,7 +290,7 @@ GatherImages VplTechnique::Impl::addGatherPass(rg::RenderGraph& graph, const Vpl
 }
 
 GatherImages VplTechnique::Impl::addInterleaveFilterPasses(rg::RenderGraph& graph, const VplInputs& in,
-                                                           const GatherImages& gathered,
+                                                           const GatherImages& gathered, rg::BufferHandle& refineList,
                                                            const gpu::VplPixelPush& push, const char* indirectName) {
     const uint32_t width = push.size.x, height = push.size.y;
     rg::ImageHandle rowsIncident = graph.createImage("vpl.rows_incident", radianceImage(width, height));
@@ -313,6 +318,7 @@ GatherImages VplTechnique::Impl::addInterleaveFilterPasses(rg::RenderGraph& grap
         .overwrite(VPL_INTERLEAVE_COLUMNS_BINDING_INDIRECT, out.indirect)
         .overwrite(VPL_INTERLEAVE_COLUMNS_BINDING_INCIDENT, out.incident)
         .overwrite(VPL_INTERLEAVE_COLUMNS_BINDING_TRAVEL, out.travel)
+        .write(VPL_INTERLEAVE_COLUMNS_BINDING_REFINE_LIST, refineList)
         .dispatch({width, height, 1});
     return out;
 }
@@ -383,7 +389,7 @@ void VplTechnique::Impl::addRefinePass(rg::RenderGraph& graph, const VplInputs& 
         .read(VPL_REFINE_BINDING_NEGATIVE_VPLS, negativeVpls)
         .read(VPL_REFINE_BINDING_REFINE_LIST, refineList)
         .write(VPL_REFINE_BINDING_INDIRECT, indirect)
-        .dispatch({push.size.w, 1, 1}); // one thread per refine-list slot
+        .dispatchIndirect(refineList, sizeof(uint32_t)); // one thread per entry (the header's command)
 }
 
 VplTechnique::VplTechnique(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
@@ -439,33 +445,34 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
     const LightTableHandles uploaded = addUploadPass(graph, std::move(tables.value()));
     out.vpls = m->addGeneratePass(graph, in, uploaded, lightCount, out.vplCount);
 
-    // The last pass at the gather resolution writes the technique's output when there is no
-    // upsample; its image carries the output's name.
+    // Each step's image carries the output's name when it is the last to create one.
     const bool lowRes = settings.lowResFactor > 1;
     const bool negative = settings.negativeVplCount > 0;
-    const gpu::VplPixelPush push = pixelPush(in, settings, lightCount);
     const bool interleaved = settings.interleave > 1;
+    const gpu::VplPixelPush push = pixelPush(in, settings, lightCount);
+    // Pixels gathered again with every VPL: the upsample's discontinuities (low resolution) or
+    // the pixels the interleave filter could not give every subset (full resolution).
+    if (lowRes || interleaved)
+        out.refineList = addRefineClearPass(graph, in.width, in.height);
+    auto name = [](bool last, const char* intermediate) { return last ? "vpl.indirect" : intermediate; };
     GatherImages gathered = m->addGatherPass(graph, in, out.vpls, push,
-                                             !lowRes && !negative && !interleaved ? "vpl.indirect" : "vpl.gather_indirect");
+                                             name(!lowRes && !negative && !interleaved, "vpl.gather_indirect"));
     if (interleaved)
-        gathered = m->addInterleaveFilterPasses(graph, in, gathered, push,
-                                              !lowRes && !negative ? "vpl.indirect" : "vpl.filtered_indirect");
-    rg::ImageHandle lowResIndirect = gathered.indirect;
+        gathered = m->addInterleaveFilterPasses(graph, in, gathered, out.refineList, push,
+                                                name(!lowRes && !negative, "vpl.filtered_indirect"));
+    rg::ImageHandle indirect = gathered.indirect;
     rg::BufferHandle negativeVpls = out.vpls; // bound (with count 0) when negative VPLs are off
     if (negative) {
         negativeVpls = m->addNegativeGeneratePass(graph, in, gathered, push);
         out.negativeVpls = negativeVpls;
-        lowResIndirect = m->addNegativeGatherPass(graph, in, negativeVpls, gathered.indirect, push,
-                                                  lowRes ? "vpl.negative_indirect" : "vpl.indirect");
+        indirect = m->addNegativeGatherPass(graph, in, negativeVpls, gathered.indirect, push,
+                                            name(!lowRes, "vpl.negative_indirect"));
     }
-    if (!lowRes) {
-        out.indirect = lowResIndirect;
-        return out;
-    }
-
-    out.refineList = addRefineClearPass(graph, in.width, in.height);
-    out.indirect = m->addUpsamplePass(graph, in, lowResIndirect, out.refineList, push);
-    m->addRefinePass(graph, in, out.vpls, negativeVpls, out.refineList, out.indirect, push);
+    if (lowRes)
+        indirect = m->addUpsamplePass(graph, in, indirect, out.refineList, push);
+    if (out.refineList.valid())
+        m->addRefinePass(graph, in, out.vpls, negativeVpls, out.refineList, indirect, push);
+    out.indirect = indirect;
     return out;
 }
 

@@ -4,11 +4,11 @@
 // (i, j) of a 1/f-resolution image shades the G-buffer sample at (i f + f/2, j f + f/2).
 // Writes the indirect radiance albedo/pi * E, and for the negative VPLs the VPL irradiance E
 // and the luminance-weighted sum of the directions that light travels in.
-// Interleaved (tile side n > 1): pixel (x, y) gathers only subset (y mod n) n + (x mod n) and
-// scales it by n^2; vpl_interleave_filter.comp sums the subsets back. Work groups are laid out
-// so that all invocations of a group share one subset (the group's pixels are every n-th pixel
-// of the image, as in a de-interleaved sub-image), so the VPL loop reads the same records in
-// every lane.
+// Interleaved (tile side n > 1): pixel (x, y) gathers only subset (y mod n) n + (x mod n), scaled
+// by (all VPLs / the subset's), and gi/vpl_interleave_filter.h averages the subsets back. Work
+// groups are laid out so that all invocations of a group share one subset (the group's pixels
+// are every n-th pixel of the image, as in a de-interleaved sub-image), so the VPL loop reads the
+// same records in every lane.
 #include "gi/vpl.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_2D, local_size_y = GI_VPL_LOCAL_SIZE_2D) in;
@@ -48,13 +48,21 @@ void main() {
         vec3 n = texelFetch(gNormal, sample_, 0).xyz;
         e = vplGatherPositive(position.xyz, n, first, end, pc.params.x, travel);
         if (side > 1u) {
-            float subsets = float(side * side);
-            e *= subsets;
-            travel *= subsets;
+            // The subset's share of the VPLs is about 1/n^2 but not exactly (N / n^2 blocks are
+            // whole): scaled by its own share, every subset estimates the full sum, so a window
+            // cut to some subsets stays unbiased (on an integrating sphere, exact).
+            float scale = end > first ? float(pc.counts.x) / float(end - first) : 0.0;
+            e *= scale;
+            travel *= scale;
+        } else {
+            radiance = texelFetch(gAlbedo, sample_, 0).rgb * e * (1.0 / GI_VPL_PI);
         }
-        radiance = texelFetch(gAlbedo, sample_, 0).rgb * e * (1.0 / GI_VPL_PI);
     }
-    imageStore(outIndirect, px, vec4(radiance, 1.0));
+    // Interleaved, the filter passes make the radiance, and only the negative VPLs read the
+    // travel directions: the writes nobody reads are left out.
+    if (side == 1u)
+        imageStore(outIndirect, px, vec4(radiance, 1.0));
     imageStore(outIncident, px, vec4(e, 0.0));
-    imageStore(outTravel, px, vec4(travel, 0.0));
+    if (side == 1u || pc.params.w > 0.0)
+        imageStore(outTravel, px, vec4(travel, 0.0));
 }

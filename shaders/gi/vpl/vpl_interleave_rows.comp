@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Interleaved gather, reconstruction along rows (gi/vpl_interleave_filter.h); the column pass
-// completes it.
+// completes it. Writes the irradiance with the number of subset classes it covers in w.
 #include "gi/vpl.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_2D, local_size_y = GI_VPL_LOCAL_SIZE_2D) in;
@@ -22,8 +22,9 @@ void main() {
         return;
     bool withTravel = pc.params.w > 0.0;
     vec3 e, travel;
-    vplInterleaveFilter(px, ivec2(1, 0), withTravel, e, travel);
-    imageStore(outIncident, px, vec4(e, 0.0));
+    float classes;
+    vplInterleaveFilter(px, ivec2(1, 0), withTravel, e, travel, classes);
+    imageStore(outIncident, px, vec4(e, classes));
     if (withTravel)
         imageStore(outTravel, px, vec4(travel, 0.0));
 }

@@ -3,6 +3,7 @@
 // Low-resolution optimisation, second half: the full positive and negative gather for each
 // pixel of the refine list, written over the interpolated value.
 #include "gi/vpl.h"
+#include "gi/vpl_refine_list.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_1D) in;
 layout(push_constant) uniform PushBlock { VplPixelPush pc; };
@@ -14,11 +15,7 @@ layout(set = 1, binding = VPL_REFINE_BINDING_VPLS, std430) readonly buffer Vpls 
 layout(set = 1, binding = VPL_REFINE_BINDING_NEGATIVE_VPLS, std430) readonly buffer NegativeVpls {
     VplRecord negativeVpls[];
 };
-layout(set = 1, binding = VPL_REFINE_BINDING_REFINE_LIST, std430) readonly buffer RefineList {
-    uint refineCount;
-    uint refinePad[3];
-    uint refinePixels[];
-};
+VPL_REFINE_LIST_BUFFER(VPL_REFINE_BINDING_REFINE_LIST, readonly);
 layout(set = 1, binding = VPL_REFINE_BINDING_INDIRECT, rgba32f) uniform writeonly image2D outIndirect;
 
 #include "gi/vpl_gather.h"

@@ -5,6 +5,7 @@
 // unless one lies across a discontinuity (gi/lowres_upsample.h); those pixels are appended to
 // the refine list and recomputed at full resolution.
 #include "gi/vpl.h"
+#include "gi/vpl_refine_list.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_2D, local_size_y = GI_VPL_LOCAL_SIZE_2D) in;
 layout(push_constant) uniform PushBlock { VplPixelPush pc; };
@@ -14,11 +15,7 @@ layout(set = 1, binding = VPL_UPSAMPLE_BINDING_NORMAL) uniform sampler2D gNormal
 layout(set = 1, binding = VPL_UPSAMPLE_BINDING_LOW_RES_INDIRECT) uniform sampler2D lowIndirect;
 layout(set = 1, binding = VPL_UPSAMPLE_BINDING_INDIRECT, rgba32f) uniform writeonly image2D outIndirect;
 #include "gi/lowres_upsample.h"
-layout(set = 1, binding = VPL_UPSAMPLE_BINDING_REFINE_LIST, std430) buffer RefineList {
-    uint refineCount;
-    uint refinePad[3];
-    uint refinePixels[]; // x | y << 16
-};
+VPL_REFINE_LIST_BUFFER(VPL_UPSAMPLE_BINDING_REFINE_LIST, );
 
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
@@ -40,8 +37,6 @@ void main() {
         sum += w[k] * texelFetch(lowIndirect, taps[k], 0).rgb;
     imageStore(outIndirect, px, vec4(sum, 1.0));
     if (refine) {
-        uint slot = atomicAdd(refineCount, 1u);
-        if (slot < pc.size.w)
-            refinePixels[slot] = uint(px.x) | (uint(px.y) << 16);
+        VPL_REFINE_LIST_APPEND(px, pc.size.w)
     }
 }

@@ -48,7 +48,7 @@
 #define VPL_INTERLEAVE_ROWS_BINDING_NORMAL 1          // G-buffer normal
 #define VPL_INTERLEAVE_ROWS_BINDING_GATHER_INCIDENT 2 // the interleaved gather's VPL irradiance (one subset, scaled)
 #define VPL_INTERLEAVE_ROWS_BINDING_GATHER_TRAVEL 3   // the interleaved gather's travel directions
-#define VPL_INTERLEAVE_ROWS_BINDING_INCIDENT 4        // output: irradiance filtered along rows
+#define VPL_INTERLEAVE_ROWS_BINDING_INCIDENT 4        // output: irradiance filtered along rows, w subset classes
 #define VPL_INTERLEAVE_ROWS_BINDING_TRAVEL 5          // output: travel directions filtered along rows
 #define VPL_INTERLEAVE_COLUMNS_BINDING_POSITION 0      // G-buffer world position
 #define VPL_INTERLEAVE_COLUMNS_BINDING_NORMAL 1        // G-buffer normal
@@ -58,6 +58,7 @@
 #define VPL_INTERLEAVE_COLUMNS_BINDING_INDIRECT 5      // output: indirect radiance albedo/pi * E (RGBA32F)
 #define VPL_INTERLEAVE_COLUMNS_BINDING_INCIDENT 6      // output: filtered VPL irradiance E
 #define VPL_INTERLEAVE_COLUMNS_BINDING_TRAVEL 7        // output: filtered travel directions (with negative VPLs)
+#define VPL_INTERLEAVE_COLUMNS_BINDING_REFINE_LIST 8   // refine list (gi/vpl_refine_list.h), appended to at full resolution
 // vpl_negative_generate.comp: negative VPLs at Halton-picked pixels of the gather image.
 #define VPL_NEGATIVE_GENERATE_BINDING_POSITION 0      // G-buffer world position
 #define VPL_NEGATIVE_GENERATE_BINDING_NORMAL 1        // G-buffer normal
@@ -76,17 +77,18 @@
 #define VPL_UPSAMPLE_BINDING_NORMAL 1           // G-buffer normal
 #define VPL_UPSAMPLE_BINDING_LOW_RES_INDIRECT 2 // indirect radiance at the gather resolution
 #define VPL_UPSAMPLE_BINDING_INDIRECT 3         // output: full-resolution indirect radiance (RGBA32F)
-#define VPL_UPSAMPLE_BINDING_REFINE_LIST 4      // refine list (layout below), appended to
+#define VPL_UPSAMPLE_BINDING_REFINE_LIST 4      // refine list (gi/vpl_refine_list.h), appended to
 // vpl_refine.comp: the full gather at the pixels of the refine list.
 #define VPL_REFINE_BINDING_POSITION 0      // G-buffer world position
 #define VPL_REFINE_BINDING_NORMAL 1        // G-buffer normal
 #define VPL_REFINE_BINDING_ALBEDO 2        // G-buffer albedo
 #define VPL_REFINE_BINDING_VPLS 3          // VplRecord per positive VPL
 #define VPL_REFINE_BINDING_NEGATIVE_VPLS 4 // VplRecord per negative VPL (the positive ones when off: count 0)
-#define VPL_REFINE_BINDING_REFINE_LIST 5   // refine list (layout below)
+#define VPL_REFINE_BINDING_REFINE_LIST 5   // refine list (gi/vpl_refine_list.h), also the dispatch's command
 #define VPL_REFINE_BINDING_INDIRECT 6      // output: the upsampled indirect radiance, refined pixels rewritten
 
-// Refine list: a uint count, 3 uints of padding, then one packed pixel (x | y << 16) per entry.
+// Refine list (layout in gi/vpl_refine_list.h): a uint count and the refine pass's indirect
+// dispatch command, then one packed pixel (x | y << 16) per entry.
 #define VPL_REFINE_LIST_HEADER_BYTES 16
 
 GI_NAMESPACE_BEGIN
