@@ -18,7 +18,9 @@
 #include "gi/reference.hpp"
 #include "gi/vpl.h"
 #include "gi/vpl.hpp"
+#include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/gpu_util.hpp"
 #include "support/test_scenes.hpp"
 
 using namespace vkgi;
@@ -28,11 +30,7 @@ namespace {
 
 constexpr uint32_t kSize = 64;
 
-Scene builtin(const char* name) {
-    auto s = makeBuiltinScene(name);
-    EXPECT_TRUE(s) << s.error().message;
-    return s ? std::move(s.value()) : Scene{};
-}
+constexpr auto& builtin = test::builtinScene;
 
 // Nearest hit distance along a ray over every triangle of the scene (Moller-Trumbore), or inf.
 float nearestHit(const Scene& scene, glm::vec3 o, glm::vec3 d) {
@@ -81,29 +79,7 @@ protected:
         if (!outputs || !vo || vo->vplCount == 0)
             return {};
         VkDeviceSize bytes = VkDeviceSize(vo->vplCount) * sizeof(gpu::VplRecord);
-        Buffer host = createBuffer(ctx(), {bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::GpuToCpu}, "host");
-        rg::BufferHandle hostH = graph.importBuffer("host", host, rg::Access::None);
-        rg::BufferHandle vpls = vo->vpls;
-        graph.addPass(
-            "readback",
-            [&](rg::PassBuilder& b) {
-                b.read(vpls, rg::Access::TransferRead);
-                hostH = b.write(hostH, rg::Access::TransferWrite);
-                b.sideEffect();
-            },
-            [=](rg::PassContext& pc) {
-                VkBufferCopy region{0, 0, bytes};
-                vkCmdCopyBuffer(pc.cmd(), pc.buffer(vpls).buffer, pc.buffer(hostH).buffer, 1, &region);
-            });
-        graph.exportBuffer(hostH, rg::Access::HostRead);
-        auto compiled = graph.compile();
-        EXPECT_TRUE(compiled) << compiled.error().message;
-        rg::TransientPool pool(ctx());
-        ctx().submitAndWait([&](VkCommandBuffer cmd) { graph.execute(cmd, ctx(), pool); });
-        std::vector<gpu::VplRecord> out(vo->vplCount);
-        std::memcpy(out.data(), host.mapped(), bytes);
-        destroyBuffer(ctx(), host);
-        return out;
+        return test::asArray<gpu::VplRecord>(test::runAndReadBuffer(ctx(), graph, vo->vpls, bytes));
     }
 
     HdrImage indirect(GiSystem& sys, const Scene& scene, double* ms = nullptr,
