@@ -510,27 +510,10 @@ TEST_F(VplScene, DISABLED_MeasureAgainstReference) {
                 rg::RenderGraph graph;
                 rg::Blackboard bb;
                 ASSERT_TRUE(sys->addPasses(graph, bb, *scene.camera, kMeasure, kMeasure, {}));
-                Buffer host = createBuffer(ctx(), {16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::GpuToCpu}, "host");
-                rg::BufferHandle hostH = graph.importBuffer("host", host, rg::Access::None);
-                rg::BufferHandle list = bb.get<VplOutputs>().refineList;
-                graph.addPass(
-                    "readback",
-                    [&](rg::PassBuilder& b) {
-                        b.read(list, rg::Access::TransferRead);
-                        hostH = b.write(hostH, rg::Access::TransferWrite);
-                        b.sideEffect();
-                    },
-                    [=](rg::PassContext& pc) {
-                        VkBufferCopy region{0, 0, 16};
-                        vkCmdCopyBuffer(pc.cmd(), pc.buffer(list).buffer, pc.buffer(hostH).buffer, 1, &region);
-                    });
-                graph.exportBuffer(hostH, rg::Access::HostRead);
-                ASSERT_TRUE(graph.compile());
-                rg::TransientPool pool(ctx());
-                ctx().submitAndWait([&](VkCommandBuffer cmd) { graph.execute(cmd, ctx(), pool); });
-                uint32_t refined = *static_cast<const uint32_t*>(host.mapped());
-                refinedPct = 100.0 * refined / double(kMeasure * kMeasure);
-                destroyBuffer(ctx(), host);
+                auto counter = test::asArray<uint32_t>(
+                    test::runAndReadBuffer(ctx(), graph, bb.get<VplOutputs>().refineList, 16));
+                ASSERT_FALSE(counter.empty());
+                refinedPct = 100.0 * counter[0] / double(kMeasure * kMeasure);
             }
             std::printf("%s %u %u %u %.2f %.2f | %.4f %.5f | %.4f %.5f | %.1f | %.2f %.2f |%s\n", name, cfg.vpls,
                         cfg.negative, cfg.factor, cfg.threshold, cfg.clampDistance, mi->relMse, mi->rmse, mf->relMse, mf->rmse,
