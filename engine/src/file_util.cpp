@@ -5,6 +5,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <ranges>
 #include <string>
 #include <system_error>
 
@@ -132,14 +133,14 @@ Result<OutputFolders> OutputFolders::create(const fs::path& file) {
     const fs::path parent = file.parent_path();
     if (parent.empty() || fs::is_directory(parent, ec))
         return folders;
-    // The missing ancestors, outermost first.
+    // The missing ancestors, innermost first; created outermost first.
     std::vector<fs::path> missing;
     for (fs::path p = parent; !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
-        missing.insert(missing.begin(), p);
+        missing.push_back(p);
         if (p == p.parent_path())
             break;
     }
-    for (const fs::path& p : missing) {
+    for (const fs::path& p : std::views::reverse(missing)) {
         if (!fs::create_directory(p, ec) && ec)
             return fileError(file, "cannot create folder " + p.string() + " (" + ec.message() + ")");
         folders.m_created.push_back(p);

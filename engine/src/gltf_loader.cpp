@@ -161,6 +161,9 @@ private:
     int loadTexture(int gltfTexture, const std::string& material);
     Result<std::vector<uint32_t>> meshPrimitives(int gltfMesh);
     Result<bool> loadPrimitive(int meshIndex, int primIndex, Mesh& out);
+    std::vector<uint32_t> validTriangles(const std::vector<float>& pos, const std::vector<uint32_t>& idx,
+                                         const std::string& where);
+    void repairNormalsAndUvs(Mesh& out, const std::string& where);
     Result<std::vector<float>> readFloats(int accessor, int components, const std::string& what);
     Result<std::vector<uint32_t>> readIndices(int accessor, const std::string& what);
     struct ElementRange {
@@ -472,6 +475,79 @@ Result<std::vector<uint32_t>> Loader::readIndices(int index, const std::string& 
     return out;
 }
 
+// The triangles of `idx` (3 indices each into `pos`, xyz per vertex) whose vertices are finite and
+// that have an area; warns about the others.
+std::vector<uint32_t> Loader::validTriangles(const std::vector<float>& pos, const std::vector<uint32_t>& idx,
+                                             const std::string& where) {
+    auto P = [&](uint32_t v) { return glm::vec3(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]); };
+    size_t nonFinite = 0, degenerate = 0;
+    std::vector<uint32_t> kept;
+    kept.reserve(idx.size());
+    for (size_t t = 0; t < idx.size(); t += 3) {
+        glm::vec3 a = P(idx[t]), b = P(idx[t + 1]), c = P(idx[t + 2]);
+        if (!finite3(a) || !finite3(b) || !finite3(c)) {
+            ++nonFinite;
+            continue;
+        }
+        float longest = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+        float area2 = glm::length(glm::cross(b - a, c - a));
+        if (!(area2 > kDegenerateRelArea * longest) || !std::isfinite(area2)) {
+            ++degenerate;
+            continue;
+        }
+        kept.insert(kept.end(), {idx[t], idx[t + 1], idx[t + 2]});
+    }
+    if (nonFinite)
+        warn(where + ": dropped " + std::to_string(nonFinite) + " triangle(s) with a NaN/Inf vertex position");
+    if (degenerate)
+        warn(where + ": dropped " + std::to_string(degenerate) + " zero-area triangle(s)");
+    return kept;
+}
+
+// Normals: computed when missing; bad ones repaired from the surrounding faces. Non-finite
+// texture coordinates become 0.
+void Loader::repairNormalsAndUvs(Mesh& out, const std::string& where) {
+    Mesh computed = out;
+    computeSmoothNormals(computed);
+    for (glm::vec3& n : computed.normals) // area-weighted normals can cancel (e.g. a two-sided sheet)
+        if (glm::dot(n, n) == 0.0f)
+            n = glm::vec3(NAN);
+    for (size_t t = 0; t < out.indices.size(); t += 3) { // fall back to a face normal of the vertex
+        glm::vec3 a = out.positions[out.indices[t]], b = out.positions[out.indices[t + 1]],
+                  c = out.positions[out.indices[t + 2]];
+        glm::vec3 fn = glm::normalize(glm::cross(b - a, c - a));
+        for (int k = 0; k < 3; ++k)
+            if (!finite3(computed.normals[out.indices[t + size_t(k)]]))
+                computed.normals[out.indices[t + size_t(k)]] = fn;
+    }
+    if (out.normals.empty()) {
+        out.normals = std::move(computed.normals);
+    } else {
+        size_t repaired = 0;
+        for (size_t v = 0; v < out.normals.size(); ++v) {
+            glm::vec3& n = out.normals[v];
+            float len = glm::length(n);
+            if (!std::isfinite(len) || len < 1e-12f) {
+                n = computed.normals[v];
+                ++repaired;
+            } else {
+                n /= len;
+            }
+        }
+        if (repaired)
+            warn(where + ": replaced " + std::to_string(repaired) +
+                 " zero-length or non-finite normal(s) by the face normal");
+    }
+    size_t badUv = 0;
+    for (glm::vec2& t : out.uvs)
+        if (!std::isfinite(t.x) || !std::isfinite(t.y)) {
+            t = glm::vec2(0.0f);
+            ++badUv;
+        }
+    if (badUv)
+        warn(where + ": replaced " + std::to_string(badUv) + " non-finite texture coordinate(s) by 0");
+}
+
 // Returns false (with a warning) when the primitive is skipped, an error when the file is bad.
 Result<bool> Loader::loadPrimitive(int meshIndex, int primIndex, Mesh& out) {
     const tinygltf::Mesh& gm = m_m.meshes[size_t(meshIndex)];
@@ -539,27 +615,7 @@ Result<bool> Loader::loadPrimitive(int meshIndex, int primIndex, Mesh& out) {
     auto P = [&](uint32_t v) { return glm::vec3(pos.value()[3 * v], pos.value()[3 * v + 1], pos.value()[3 * v + 2]); };
 
     // Drop triangles with non-finite vertices or no area, then keep only referenced vertices.
-    size_t nonFinite = 0, degenerate = 0;
-    std::vector<uint32_t> kept;
-    kept.reserve(idx.size());
-    for (size_t t = 0; t < idx.size(); t += 3) {
-        glm::vec3 a = P(idx[t]), b = P(idx[t + 1]), c = P(idx[t + 2]);
-        if (!finite3(a) || !finite3(b) || !finite3(c)) {
-            ++nonFinite;
-            continue;
-        }
-        float longest = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
-        float area2 = glm::length(glm::cross(b - a, c - a));
-        if (!(area2 > kDegenerateRelArea * longest) || !std::isfinite(area2)) {
-            ++degenerate;
-            continue;
-        }
-        kept.insert(kept.end(), {idx[t], idx[t + 1], idx[t + 2]});
-    }
-    if (nonFinite)
-        warn(where + ": dropped " + std::to_string(nonFinite) + " triangle(s) with a NaN/Inf vertex position");
-    if (degenerate)
-        warn(where + ": dropped " + std::to_string(degenerate) + " zero-area triangle(s)");
+    std::vector<uint32_t> kept = validTriangles(*pos, idx, where);
     if (kept.empty()) {
         warn(where + " has no valid triangles; primitive skipped");
         ++m_skippedPrimitives;
@@ -581,46 +637,7 @@ Result<bool> Loader::loadPrimitive(int meshIndex, int primIndex, Mesh& out) {
         }
         out.indices.push_back(it->second);
     }
-    // Normals: computed when missing; bad ones repaired from the surrounding faces.
-    Mesh computed = out;
-    computeSmoothNormals(computed);
-    for (glm::vec3& n : computed.normals) // area-weighted normals can cancel (e.g. a two-sided sheet)
-        if (glm::dot(n, n) == 0.0f)
-            n = glm::vec3(NAN);
-    for (size_t t = 0; t < out.indices.size(); t += 3) { // fall back to a face normal of the vertex
-        glm::vec3 a = out.positions[out.indices[t]], b = out.positions[out.indices[t + 1]],
-                  c = out.positions[out.indices[t + 2]];
-        glm::vec3 fn = glm::normalize(glm::cross(b - a, c - a));
-        for (int k = 0; k < 3; ++k)
-            if (!finite3(computed.normals[out.indices[t + size_t(k)]]))
-                computed.normals[out.indices[t + size_t(k)]] = fn;
-    }
-    if (out.normals.empty()) {
-        out.normals = std::move(computed.normals);
-    } else {
-        size_t repaired = 0;
-        for (size_t v = 0; v < out.normals.size(); ++v) {
-            glm::vec3& n = out.normals[v];
-            float len = glm::length(n);
-            if (!std::isfinite(len) || len < 1e-12f) {
-                n = computed.normals[v];
-                ++repaired;
-            } else {
-                n /= len;
-            }
-        }
-        if (repaired)
-            warn(where + ": replaced " + std::to_string(repaired) +
-                 " zero-length or non-finite normal(s) by the face normal");
-    }
-    size_t badUv = 0;
-    for (glm::vec2& t : out.uvs)
-        if (!std::isfinite(t.x) || !std::isfinite(t.y)) {
-            t = glm::vec2(0.0f);
-            ++badUv;
-        }
-    if (badUv)
-        warn(where + ": replaced " + std::to_string(badUv) + " non-finite texture coordinate(s) by 0");
+    repairNormalsAndUvs(out, where);
 
     if (prim.material >= 0) {
         if (size_t(prim.material) >= m_m.materials.size())

@@ -129,16 +129,8 @@ Result<GpuScene> uploadScene(Context& ctx, const Scene& scene) {
     td.width = td.height = size;
     td.arrayLayers = layers;
     td.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
+    td.arrayView = true; // shaders bind a sampler2DArray, also when there is one layer
     g.textures = createImage(ctx, td, "scene.textures");
-    if (layers == 1) { // shaders bind a sampler2DArray; createImage gives one layer a plain 2D view
-        vkDestroyImageView(ctx.device(), g.textures.view, nullptr);
-        VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-        vi.image = g.textures.image;
-        vi.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
-        vi.format = td.format;
-        vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-        VK_CHECK(vkCreateImageView(ctx.device(), &vi, nullptr, &g.textures.view));
-    }
     uploadImage(ctx, g.textures, texels.data(), texels.size(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     SamplerDesc sd;
     sd.address = VK_SAMPLER_ADDRESS_MODE_REPEAT;

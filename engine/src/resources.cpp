@@ -223,12 +223,24 @@ VkImageView makeView(Context& ctx, const Image& img, uint32_t baseMip, uint32_t 
     else if (d.cube)
         info.viewType = d.arrayLayers > 6 ? VK_IMAGE_VIEW_TYPE_CUBE_ARRAY : VK_IMAGE_VIEW_TYPE_CUBE;
     else
-        info.viewType = d.arrayLayers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+        info.viewType = d.arrayLayers > 1 || d.arrayView ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
     // Storage writes to a cube go through a 2D-array view of the same mip.
     if (d.cube && mips == 1 && baseMip != ~0u && (d.usage & VK_IMAGE_USAGE_STORAGE_BIT))
         info.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
     info.format = d.format;
     info.subresourceRange = {aspectOf(d.format), baseMip, mips, 0, d.arrayLayers};
+    VkImageView view;
+    VK_CHECK(vkCreateImageView(ctx.device(), &info, nullptr, &view));
+    return view;
+}
+
+// A 2D view of mip 0 of one layer (a render target, or one layer sampled as a plain 2D image).
+VkImageView makeLayerView(Context& ctx, const Image& img, uint32_t layer) {
+    VkImageViewCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    info.image = img.image;
+    info.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    info.format = img.desc.format;
+    info.subresourceRange = {aspectOf(img.desc.format), 0, 1, layer, 1};
     VkImageView view;
     VK_CHECK(vkCreateImageView(ctx.device(), &info, nullptr, &view));
     return view;
@@ -260,6 +272,9 @@ Image createImage(Context& ctx, const ImageDesc& desc, const char* name) {
     img.view = makeView(ctx, img, 0, desc.mipLevels);
     for (uint32_t m = 0; m < desc.mipLevels; ++m)
         img.mipViews.push_back(makeView(ctx, img, m, 1));
+    if (desc.type == VK_IMAGE_TYPE_2D)
+        for (uint32_t l = 0; l < desc.arrayLayers; ++l)
+            img.layerViews.push_back(makeLayerView(ctx, img, l));
     return img;
 }
 
@@ -272,6 +287,8 @@ void destroyBuffer(Context& ctx, Buffer& b) {
 
 void destroyImage(Context& ctx, Image& img) {
     for (VkImageView v : img.mipViews)
+        vkDestroyImageView(ctx.device(), v, nullptr);
+    for (VkImageView v : img.layerViews)
         vkDestroyImageView(ctx.device(), v, nullptr);
     if (img.view)
         vkDestroyImageView(ctx.device(), img.view, nullptr);

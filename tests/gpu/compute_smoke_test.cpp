@@ -12,6 +12,7 @@
 #include "engine/test_bindings.h"
 #include "engine/vk_check.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/gpu_util.hpp"
 
 using namespace vkgi;
 
@@ -24,21 +25,6 @@ struct SmokePush {
 
 constexpr uint32_t kW = 37, kH = 21; // not multiples of the 8x8 workgroup on purpose
 constexpr uint32_t kScale = 7, kOffset = 1000;
-
-void toGeneral(VkCommandBuffer cmd, const Image& img) {
-    VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-    b.dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-    b.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-    b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    b.newLayout = VK_IMAGE_LAYOUT_GENERAL;
-    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = img.image;
-    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dep.imageMemoryBarrierCount = 1;
-    dep.pImageMemoryBarriers = &b;
-    vkCmdPipelineBarrier2(cmd, &dep);
-}
 
 // Runs smoke.comp on `ctx` and checks every element of both outputs exactly.
 void runSmoke(Context& ctx, double* gpuMs = nullptr) {
@@ -54,7 +40,7 @@ void runSmoke(Context& ctx, double* gpuMs = nullptr) {
     TimestampPool timestamps(ctx, 1);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         timestamps.reset(cmd);
-        toGeneral(cmd, img);
+        test::toGeneral(cmd, {&img});
         uint32_t scope = timestamps.begin(cmd);
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline->pipeline);
         SmokePush push{{kW, kH, 0, 0}, {kOffset, 0, 0, 0}};

@@ -10,6 +10,7 @@
 #include "gi/frame_data.hpp"
 #include "gi/gi.hpp"
 #include "gi/reference.hpp"
+#include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/test_env.hpp"
 #include "support/test_scenes.hpp"
@@ -29,25 +30,14 @@ protected:
     }
     // Direct image of `scene` from its own camera.
     HdrImage renderDirect(const Scene& scene, uint32_t w, uint32_t h, const gi::GiSettings& s = {}) {
-        auto sys = system(s);
-        if (!sys)
-            return {};
-        auto ok = sys->setScene(scene);
-        EXPECT_TRUE(ok) << (ok ? "" : ok.error().message);
         gi::FrameRequest req;
         req.composite = false;
         req.direct = true;
-        auto frame = sys->renderFrame(scene.cameraOrDefault(), w, h, req);
+        auto frame = test::renderOnce(ctx(), s, scene, scene.cameraOrDefault(), w, h, req);
         EXPECT_TRUE(frame) << (frame ? "" : frame.error().message);
         return frame ? frame->direct : HdrImage{};
     }
 };
-
-Scene builtin(const char* name) {
-    auto s = makeBuiltinScene(name);
-    GI_ASSERT(s.ok(), "built-in scene must build");
-    return std::move(s).value();
-}
 
 using test::planeScene;
 
@@ -81,7 +71,7 @@ TEST_F(DirectLighting, PointLightOnAPlaneMatchesTheClosedForm) {
 }
 
 TEST_F(DirectLighting, SceneWithoutLightsShowsOnlyEmission) {
-    Scene scene = builtin("cornell_emissive");
+    Scene scene = test::builtinScene("cornell_emissive");
     ASSERT_TRUE(scene.lights.empty());
     glm::vec3 emission(0.0f);
     for (const Material& m : scene.materials)
@@ -104,7 +94,7 @@ TEST_F(DirectLighting, SceneWithoutLightsShowsOnlyEmission) {
 }
 
 TEST_F(DirectLighting, ExtremeIntensitiesStayFiniteAndLinear) {
-    Scene scene = builtin("cornell_point");
+    Scene scene = test::builtinScene("cornell_point");
     HdrImage base = renderDirect(scene, 32, 32);
     for (float intensity : {1e-6f, 1e9f}) {
         Scene s = scene;
@@ -123,7 +113,7 @@ TEST_F(DirectLighting, ExtremeIntensitiesStayFiniteAndLinear) {
 }
 
 TEST_F(DirectLighting, DirectOnlyFrameCreatesNoRsm) {
-    Scene scene = builtin("cornell");
+    Scene scene = test::builtinScene("cornell");
     for (bool force : {false, true}) {
         gi::GiSettings s;
         s.forceRsm = force;
@@ -228,7 +218,7 @@ TEST_F(DirectLighting, MatchesThePathTracerAwayFromEdges) {
     } cases[] = {{"cornell", 1}, {"cornell_point", 1}, {"cornell_spot", 1}, {"cornell_emissive", 0}, {"room", 1}};
     const uint32_t n = 128;
     for (const Case& c : cases) {
-        Scene scene = builtin(c.scene);
+        Scene scene = test::builtinScene(c.scene);
         HdrImage ours = renderDirect(scene, n, n);
         gi::ReferenceSettings rs;
         rs.spp = 1;
@@ -267,7 +257,7 @@ TEST_F(DirectLighting, MatchesThePathTracerAwayFromEdges) {
 // A light moved with updateScene renders exactly like a fresh upload of the moved scene, and
 // differently from before (the shadow atlas is re-rendered every frame, nothing stale).
 TEST_F(DirectLighting, UpdateSceneMatchesAFreshUpload) {
-    Scene scene = builtin("cornell_point");
+    Scene scene = test::builtinScene("cornell_point");
     auto sys = system();
     ASSERT_TRUE(sys);
     ASSERT_TRUE(sys->setScene(scene));

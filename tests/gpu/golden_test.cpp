@@ -17,6 +17,7 @@
 #include "engine/image_io.hpp"
 #include "gi/gi.hpp"
 #include "gi/knobs.hpp"
+#include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/test_env.hpp"
 
@@ -71,13 +72,9 @@ TEST_P(Golden, MatchesTheStoredImage) {
         auto ok = gi::applyKnob(settings, kv);
         ASSERT_TRUE(ok) << ok.error().message;
     }
-    auto sys = gi::GiSystem::create(ctx(), settings);
-    ASSERT_TRUE(sys) << sys.error().message;
-    auto ok = (*sys)->setScene(*scene);
-    ASSERT_TRUE(ok) << ok.error().message;
     gi::FrameRequest request;
     request.composite = true;
-    auto frame = (*sys)->renderFrame(scene->cameraOrDefault(), 64, 64, request);
+    auto frame = test::renderOnce(ctx(), settings, *scene, scene->cameraOrDefault(), 64, 64, request);
     ASSERT_TRUE(frame) << frame.error().message;
     const HdrImage& image = frame->composite;
     ASSERT_EQ(image.width, 64u);

@@ -9,6 +9,7 @@
 #include "engine/gpu_scene.hpp"
 #include "engine/scene_types.h"
 #include "engine/vk_check.hpp"
+#include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
 
 using namespace vkgi;
@@ -26,16 +27,10 @@ template <typename T> std::vector<T> readTable(Context& ctx, const Buffer& b) {
 
 bool sameBits(const void* a, const void* b, size_t n) { return std::memcmp(a, b, n) == 0; }
 
-Scene cornell() {
-    auto s = makeBuiltinScene("cornell");
-    GI_ASSERT(s.ok(), "cornell must build");
-    return std::move(s).value();
-}
-
 } // namespace
 
 TEST_F(GpuSceneTest, CornellTablesMatchTheCpuSceneExactly) {
-    Scene scene = cornell();
+    Scene scene = test::builtinScene("cornell");
     auto uploaded = uploadScene(ctx(), scene);
     ASSERT_TRUE(uploaded) << uploaded.error().message;
     GpuScene& g = *uploaded;
@@ -95,7 +90,7 @@ TEST_F(GpuSceneTest, CornellTablesMatchTheCpuSceneExactly) {
 }
 
 TEST_F(GpuSceneTest, TextureIsResampledIntoTheArray) {
-    Scene scene = cornell();
+    Scene scene = test::builtinScene("cornell");
     // A 2x2 checker: box filtering to 256^2 must keep each quadrant's exact colour.
     Texture t;
     t.name = "checker";
@@ -119,7 +114,7 @@ TEST_F(GpuSceneTest, TextureIsResampledIntoTheArray) {
 }
 
 TEST_F(GpuSceneTest, UpdateMovesLightsAndInstances) {
-    Scene scene = cornell();
+    Scene scene = test::builtinScene("cornell");
     auto uploaded = uploadScene(ctx(), scene);
     ASSERT_TRUE(uploaded) << uploaded.error().message;
     scene.lights[0].position += glm::vec3(0.01f, -0.02f, 0.03f);
@@ -139,7 +134,7 @@ TEST_F(GpuSceneTest, UpdateMovesLightsAndInstances) {
 }
 
 TEST_F(GpuSceneTest, InvalidSceneIsRejected) {
-    Scene scene = cornell();
+    Scene scene = test::builtinScene("cornell");
     scene.meshes[0].indices[0] = 1u << 30;
     auto uploaded = uploadScene(ctx(), scene);
     ASSERT_FALSE(uploaded);

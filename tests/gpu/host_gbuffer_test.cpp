@@ -14,7 +14,9 @@
 #include "engine/rg/transient_pool.hpp"
 #include "gi/frame_data.hpp"
 #include "gi/gi.hpp"
+#include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/image_stats.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi;
@@ -64,12 +66,7 @@ double maxDifference(const HdrImage& a, const HdrImage& b) {
     return d;
 }
 
-double mean(const HdrImage& a) {
-    double s = 0.0;
-    for (const glm::vec3& p : a.pixels)
-        s += double(p.r + p.g + p.b) / 3.0;
-    return s / double(a.pixels.size());
-}
+using test::meanRgb;
 
 class HostGBufferTest : public test::GpuTest {
 protected:
@@ -107,13 +104,9 @@ protected:
     std::unique_ptr<GiSystem> system(Technique t) {
         GiSettings s;
         s.technique = t;
-        auto sys = GiSystem::create(ctx(), s);
+        auto sys = test::systemWithScene(ctx(), s, scene);
         EXPECT_TRUE(sys) << sys.error().message;
-        if (!sys)
-            return nullptr;
-        auto ok = (*sys)->setScene(scene);
-        EXPECT_TRUE(ok) << ok.error().message;
-        return std::move(*sys);
+        return sys ? std::move(*sys) : nullptr;
     }
 
     // The host's G-buffer: vkgi's own G-buffer of the camera, copied by a host graph.
@@ -186,7 +179,7 @@ protected:
 TEST_F(HostGBufferTest, HostPositionsGiveTheInternalIndirectExactly) {
     HdrImage internal = internalIndirect(Technique::Vpl);
     ASSERT_FALSE(internal.empty());
-    ASSERT_GT(mean(internal), 0.01); // the Cornell box has visible indirect light
+    ASSERT_GT(meanRgb(internal), 0.01); // the Cornell box has visible indirect light
 
     auto sys = system(Technique::Vpl);
     ASSERT_TRUE(sys);
@@ -243,10 +236,10 @@ TEST_F(HostGBufferTest, DepthOnlyGBufferMatchesWithinRounding) {
     for (const rg::PassTiming& p : r->passes)
         ranPositionPass = ranPositionPass || p.name == "gi.host.position";
     EXPECT_TRUE(ranPositionPass);
-    double m = mean(internal);
-    EXPECT_NEAR(mean(r->indirect), m, 1e-4 * m);
+    double m = meanRgb(internal);
+    EXPECT_NEAR(meanRgb(r->indirect), m, 1e-4 * m);
     EXPECT_LT(maxDifference(r->indirect, internal), 3e-2 * m);
-    std::printf("depth-only host G-buffer: mean %.7f vs %.7f, max pixel difference %.3g nits\n", mean(r->indirect), m,
+    std::printf("depth-only host G-buffer: mean %.7f vs %.7f, max pixel difference %.3g nits\n", meanRgb(r->indirect), m,
                 maxDifference(r->indirect, internal));
 }
 

@@ -14,6 +14,7 @@
 #include "lpv/lpv_cpu.hpp"
 #include "lpv/lpv_inject.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/gpu_util.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi::lpv;
@@ -211,10 +212,6 @@ protected:
     std::vector<glm::vec4> geometryVolume(Image* rsmPos, Image* rsmNrm, uint32_t rsmSize, Image* camPos,
                                           Image* camNrm, uint32_t camW, uint32_t camH) {
         const int corners = kGrid + 1;
-        Buffer host = createBuffer(ctx(),
-                                   {VkDeviceSize(corners * corners * corners * 8), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                    MemoryUsage::GpuToCpu},
-                                   "lpv.test.gv.host");
         rg::RenderGraph g;
         RsmInput rsm{};
         if (rsmPos)
@@ -223,28 +220,8 @@ protected:
         GBufferInput cam{g.importImage("cam.position", *camPos, rg::Access::TransferWrite),
                          g.importImage("cam.normal", *camNrm, rg::Access::TransferWrite), {}, camW, camH};
         rg::ImageHandle gv = addGeometryVolumePasses(g, m_injector, grid(), rsm, cam);
-        rg::BufferHandle hostHandle = g.importBuffer("gv.host", host, rg::Access::None);
-        g.addPass(
-            "test.gv.readback",
-            [&](rg::PassBuilder& b) {
-                b.read(gv, rg::Access::TransferRead);
-                hostHandle = b.write(hostHandle, rg::Access::TransferWrite);
-            },
-            [=](rg::PassContext& pc) {
-                VkBufferImageCopy region{};
-                region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-                region.imageExtent = {uint32_t(corners), uint32_t(corners), uint32_t(corners)};
-                vkCmdCopyImageToBuffer(pc.cmd(), pc.image(gv).image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                       pc.buffer(hostHandle).buffer, 1, &region);
-            });
-        g.exportBuffer(hostHandle, rg::Access::HostRead);
-        auto compiled = g.compile();
-        EXPECT_TRUE(compiled) << (compiled ? "" : compiled.error().message);
-        if (compiled)
-            ctx().submitAndWait([&](VkCommandBuffer cmd) { g.execute(cmd, ctx(), *m_pool); });
-        std::vector<uint8_t> bytes(size_t(corners * corners * corners * 8));
-        std::memcpy(bytes.data(), host.mapped(), bytes.size());
-        destroyBuffer(ctx(), host);
+        std::vector<uint8_t> bytes =
+            test::runAndReadImage(ctx(), g, gv, VkDeviceSize(corners * corners * corners * 8), m_pool.get());
         return texelsOf(bytes, VK_FORMAT_R16G16B16A16_SFLOAT);
     }
 

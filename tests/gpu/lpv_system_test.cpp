@@ -13,6 +13,8 @@
 #include "gi/gi.hpp"
 #include "gi/reference.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/gi_render.hpp"
+#include "support/image_stats.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi;
@@ -26,26 +28,15 @@ protected:
         GiSettings settings;
         settings.technique = Technique::Lpv;
         settings.lpv = lpv;
-        auto system = GiSystem::create(ctx(), settings);
-        EXPECT_TRUE(system) << (system ? "" : system.error().message);
-        if (!system)
-            return {};
-        auto ok = (*system)->setScene(scene);
-        EXPECT_TRUE(ok) << (ok ? "" : ok.error().message);
         FrameRequest request;
         request.indirect = true;
-        auto frame = (*system)->renderFrame(*scene.camera, size, size, request);
+        auto frame = test::renderOnce(ctx(), settings, scene, *scene.camera, size, size, request);
         EXPECT_TRUE(frame) << (frame ? "" : frame.error().message);
         return frame ? std::move(*frame) : FrameResult{};
     }
 };
 
-double mean(const HdrImage& image) {
-    double sum = 0.0;
-    for (const glm::vec3& v : image.pixels)
-        sum += double(v.x + v.y + v.z) / 3.0;
-    return image.pixels.empty() ? 0.0 : sum / double(image.pixels.size());
-}
+using test::meanRgb;
 
 bool hasPass(const FrameResult& frame, const std::string& name) {
     for (const auto& p : frame.passes)
@@ -66,7 +57,7 @@ TEST_F(LpvSystem, CornellGivesFiniteIndirectLightThroughTheGraph) {
     ASSERT_EQ(frame.indirect.width, 64u);
     EXPECT_EQ(countNonFinite(frame.indirect), 0u);
     EXPECT_EQ(countNonFinite(frame.composite), 0u);
-    EXPECT_GT(mean(frame.indirect), 0.0);
+    EXPECT_GT(meanRgb(frame.indirect), 0.0);
     for (const char* pass : {"gi.lpv.inject", "gi.lpv.gv.resolve", "gi.lpv.propagate[0]", "gi.lpv.propagate[7]",
                              "gi.lpv.lookup"})
         EXPECT_TRUE(hasPass(frame, pass)) << pass;
@@ -114,7 +105,7 @@ TEST_F(LpvSystem, ErrorAgainstThePathTracedIndirectLight) {
             if (p.name.rfind("gi.lpv.", 0) == 0)
                 lpvMs += p.ms;
         std::printf("[lpv] cornell  %-30s relMSE %.4f  RMSE %.4g  mean %.4g (ref %.4g)  LPV passes %.1f ms\n", c.name,
-                    err->relMse, err->rmse, mean(frame.indirect), mean(ref->indirect), lpvMs);
+                    err->relMse, err->rmse, meanRgb(frame.indirect), meanRgb(ref->indirect), lpvMs);
         EXPECT_EQ(err->nonFinite, 0u);
         EXPECT_LT(err->relMse, blackErr->relMse) << c.name;
     }
@@ -148,8 +139,8 @@ TEST_F(LpvSystem, MultiBounceBeatsSingleBounceInTheRoom) {
         EXPECT_EQ(e->nonFinite, 0u);
         err[bounce] = *e;
         std::printf("[lpv] room 16^3 x16 %s: indirect relMSE %.4f RMSE %.4g nits, mean %.4g (ref %.4g)\n",
-                    bounce ? "multi-bounce " : "single bounce", e->relMse, e->rmse, mean(frame.indirect),
-                    mean(ref->indirect));
+                    bounce ? "multi-bounce " : "single bounce", e->relMse, e->rmse, meanRgb(frame.indirect),
+                    meanRgb(ref->indirect));
     }
     EXPECT_LT(err[1].relMse, 0.7 * err[0].relMse);
     EXPECT_LT(err[1].rmse, 0.9 * err[0].rmse);
@@ -174,7 +165,7 @@ TEST_F(LpvSystem, IntegratingSphereSecondBounceScale) {
         lpv.occlusion = c.occlusion;
         lpv.damping = 0.0f;
         FrameResult frame = render(*scene, lpv, 32);
-        double m = mean(frame.indirect);
+        double m = meanRgb(frame.indirect);
         std::printf("[lpv] sphere 16^3 x%u %s: mean indirect %.4f nits, closed form %.4f (%.2fx)\n", c.iterations,
                     c.occlusion ? "GV  " : "free", m, expected, m / expected);
         EXPECT_EQ(countNonFinite(frame.indirect), 0u);
@@ -198,7 +189,7 @@ TEST_F(LpvSystem, IndirectLightIsLinearInTheLightFrom1em6To1e9) {
     LpvSettings lpv;
     lpv.gridSize = 16;
     lpv.iterations = 8;
-    const double reference = mean(render(*base, lpv, 32).indirect);
+    const double reference = meanRgb(render(*base, lpv, 32).indirect);
     ASSERT_GT(reference, 0.0);
     for (float scale : {1e-6f, 1e9f}) {
         Scene scene = *base;
@@ -206,7 +197,7 @@ TEST_F(LpvSystem, IndirectLightIsLinearInTheLightFrom1em6To1e9) {
             l.intensity *= scale;
         FrameResult frame = render(scene, lpv, 32);
         EXPECT_EQ(countNonFinite(frame.indirect), 0u) << scale;
-        EXPECT_NEAR(mean(frame.indirect) / double(scale), reference, 1e-3 * reference) << scale;
+        EXPECT_NEAR(meanRgb(frame.indirect) / double(scale), reference, 1e-3 * reference) << scale;
     }
 }
 
@@ -233,12 +224,12 @@ TEST_F(LpvSystem, DirectionalLightUsesBlendedCascades) {
     lpv.cascades = 2;
     FrameResult frame = render(*scene, lpv, 32);
     std::printf("[lpv] sun into the Cornell box: mean indirect %.4f with one fitted grid, %.4f with 2 cascades\n",
-                mean(single.indirect), mean(frame.indirect));
+                meanRgb(single.indirect), meanRgb(frame.indirect));
     EXPECT_EQ(countNonFinite(frame.indirect), 0u);
-    EXPECT_GT(mean(frame.indirect), 0.0);
+    EXPECT_GT(meanRgb(frame.indirect), 0.0);
     // Same light, other sampling of space: the blended cascades stay close to the single grid
     // (6% measured; bound 30%).
-    EXPECT_NEAR(mean(frame.indirect), mean(single.indirect), 0.3 * mean(single.indirect));
+    EXPECT_NEAR(meanRgb(frame.indirect), meanRgb(single.indirect), 0.3 * meanRgb(single.indirect));
     for (const char* pass : {"gi.lpv.propagate[7]", "gi.lpv.c1.propagate[7]", "gi.lpv.lookup", "gi.lpv.c1.lookup"})
         EXPECT_TRUE(hasPass(frame, pass)) << pass;
 }
@@ -297,14 +288,14 @@ TEST_F(LpvSystem, GeometryVolumeKeepsLightOutOfTheNeighbouringRoom) {
         lpv.gridSize = grid;
         lpv.iterations = grid / 2;
         lpv.occlusion = false;
-        const double open = mean(render(scene, lpv, 64).indirect);
+        const double open = meanRgb(render(scene, lpv, 64).indirect);
         lpv.occlusion = true;
-        const double blocked = mean(render(scene, lpv, 64).indirect);
+        const double blocked = meanRgb(render(scene, lpv, 64).indirect);
         // Scale: what room A's own walls get, seen from inside room A.
         Scene lit = scene;
         lit.camera->position = {0.05f, 1.0f, 1.0f};
         lit.camera->forward = {1.0f, 0.0f, 0.0f};
-        const double litRoom = mean(render(lit, lpv, 64).indirect);
+        const double litRoom = meanRgb(render(lit, lpv, 64).indirect);
         std::printf("[lpv] two rooms %u^3 x %u: dark room %.4g nits with GV, %.4g without (%.1f%%); lit room %.4g\n",
                     grid, lpv.iterations, blocked, open, 100.0 * blocked / open, litRoom);
         EXPECT_GT(open, 0.0);
@@ -337,7 +328,7 @@ TEST_F(LpvSystem, OneAndSixtyFourStepsAtAlbedo099AreFiniteInBothFormats) {
             EXPECT_EQ(countNonFinite(indirect), 0u) << steps << (half ? " half" : " float");
             for (const glm::vec3& v : indirect.pixels)
                 EXPECT_GE(std::min({v.x, v.y, v.z}), 0.0f);
-            means[half ? 0 : 1] = mean(indirect);
+            means[half ? 0 : 1] = meanRgb(indirect);
         }
         std::printf("[lpv] cornell albedo 0.99, bounces, %u steps: mean indirect %.5g (f16) %.5g (f32)\n", steps,
                     means[0], means[1]);

@@ -12,7 +12,9 @@
 #include "engine/builtin_scenes.hpp"
 #include "gi/gi.hpp"
 #include "pass_selection.hpp"
+#include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/image_stats.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi;
@@ -78,13 +80,6 @@ bool sameImage(const HdrImage& a, const HdrImage& b) {
     return a.width == b.width && a.height == b.height && a.pixels == b.pixels;
 }
 
-double sum(const HdrImage& image) {
-    double s = 0.0;
-    for (const glm::vec3& p : image.pixels)
-        s += double(p.x) + p.y + p.z;
-    return s;
-}
-
 // One compiled (not executed) first frame: pass list, transients, persistent imports, left out.
 struct Listing {
     std::string passes, transients, persistent, leftOut;
@@ -101,13 +96,9 @@ struct Expected {
 class PassSelectionTest : public test::GpuTest {
 protected:
     std::unique_ptr<GiSystem> system(const GiSettings& settings, const Scene& scene) {
-        auto s = GiSystem::create(ctx(), settings);
+        auto s = test::systemWithScene(ctx(), settings, scene);
         EXPECT_TRUE(s) << (s ? "" : s.error().message);
-        if (!s)
-            return nullptr;
-        auto ok = (*s)->setScene(scene);
-        EXPECT_TRUE(ok) << (ok ? "" : ok.error().message);
-        return std::move(*s);
+        return s ? std::move(*s) : nullptr;
     }
 
     Listing list(GiSystem& system, const Scene& scene) {
@@ -258,7 +249,7 @@ TEST_F(PassSelectionTest, VctStaticFrameSkipsVoxelWorkAndMatchesTheRecomputedIma
               "gi.light[*].directional=not-needed gi.light[*].point=not-needed gi.light[0].spot=not-dirty "
               "gi.voxel.*=not-dirty gi.vct.light=not-dirty gi.vct.mip[*]=not-dirty gi.vct.bounce*=not-dirty "
               "gi.vct.trace:glossy-cone=not-needed gi.vct.trace:glossy-image=not-needed");
-    EXPECT_GT(sum(second.indirect), 0.0);
+    EXPECT_GT(test::sumRgb(second.indirect), 0.0);
     EXPECT_TRUE(sameImage(first.composite, second.composite));
     EXPECT_TRUE(sameImage(first.indirect, second.indirect));
     sys->invalidate();
@@ -342,7 +333,7 @@ TEST_F(PassSelectionTest, LpvStaticFrameRunsOnlyTheLookup) {
     // injection header are all the lookup needs.
     EXPECT_EQ(join(second.persistentResources), "gi.shadow.atlas gi.lpv.accumulation.r gi.lpv.accumulation.g "
                                                 "gi.lpv.accumulation.b gi.lpv.accumulation.sum gi.lpv.injection");
-    EXPECT_GT(sum(second.indirect), 0.0);
+    EXPECT_GT(test::sumRgb(second.indirect), 0.0);
     EXPECT_TRUE(sameImage(first.indirect, second.indirect));
     EXPECT_TRUE(sameImage(first.composite, second.composite));
     sys->invalidate();

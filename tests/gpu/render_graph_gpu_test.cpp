@@ -1,6 +1,6 @@
 // The render graph on lavapipe with validation + synchronization validation (any message
 // fails the test): a sum pyramid built with one pass per mip level, read back exactly;
-// culling on a real device; per-pass timings; persistent state across frames.
+// culling on a real device; per-pass timings; persistent state across frames; per-layer views.
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -13,6 +13,7 @@
 #include "engine/rg/transient_pool.hpp"
 #include "engine/test_bindings.h"
 #include "support/gpu_fixture.hpp"
+#include "support/gpu_util.hpp"
 #include "support/test_env.hpp"
 
 namespace vkgi::rg {
@@ -446,6 +447,74 @@ TEST_F(RenderGraphGpu, PersistentImageCarriesStateAcrossFrames) {
     EXPECT_EQ(pool.imageCount(), 0u) << "the pyramid was imported, not pooled";
     EXPECT_EQ(validation().count(), 0u);
     destroyImage(ctx(), persistent.image);
+}
+
+// PassContext::layerView: one pass per array layer renders into that layer alone, clearing the
+// colour layer of a transient R32_UINT array and the depth layer of an imported persistent D32
+// array to values of its own; each layer reads back exactly its value, so every view addresses
+// its own layer and no other.
+TEST_F(RenderGraphGpu, LayerViewsRenderIntoTheirOwnLayer) {
+    constexpr uint32_t kLayers = 4, kSide = 4;
+    auto colorValue = [](uint32_t layer) { return 0x01010101u * (layer + 1) + 0x1000u; };
+    auto depthValue = [](uint32_t layer) { return 0.125f * float(layer + 1); };
+    ImageDesc colorDesc;
+    colorDesc.format = VK_FORMAT_R32_UINT;
+    colorDesc.width = colorDesc.height = kSide;
+    colorDesc.arrayLayers = kLayers;
+    ImageDesc depthDesc = colorDesc;
+    depthDesc.format = VK_FORMAT_D32_SFLOAT;
+    depthDesc.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+    PersistentImage depth;
+    depth.image = createImage(ctx(), depthDesc, "layers.depth");
+    ASSERT_EQ(depth.image.layerViews.size(), kLayers);
+
+    RenderGraph g;
+    ImageHandle color = g.createImage("layers.color", colorDesc);
+    ImageHandle depthHandle = g.importImage("layers.depth", depth);
+    for (uint32_t layer = 0; layer < kLayers; ++layer)
+        g.addPass(
+            "layer[" + std::to_string(layer) + "]",
+            [&](PassBuilder& b) {
+                const SubresourceRange range{0, 1, layer, 1};
+                color = b.write(color, Access::ColorAttachmentWrite, range);
+                depthHandle = b.write(depthHandle, Access::DepthAttachmentWrite, range);
+            },
+            [=](PassContext& pc) {
+                VkRenderingAttachmentInfo c{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+                c.imageView = pc.layerView(color, layer);
+                c.imageLayout = pc.layout(color);
+                c.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+                c.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+                c.clearValue.color.uint32[0] = colorValue(layer);
+                VkRenderingAttachmentInfo d = c;
+                d.imageView = pc.layerView(depthHandle, layer);
+                d.imageLayout = pc.layout(depthHandle);
+                d.clearValue.depthStencil = {depthValue(layer), 0};
+                VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+                info.renderArea = {{0, 0}, {kSide, kSide}};
+                info.layerCount = 1;
+                info.colorAttachmentCount = 1;
+                info.pColorAttachments = &c;
+                info.pDepthAttachment = &d;
+                vkCmdBeginRendering(pc.cmd(), &info);
+                vkCmdEndRendering(pc.cmd());
+            });
+    g.exportImage(depthHandle, Access::TransferRead);
+
+    const VkDeviceSize bytes = VkDeviceSize(kSide) * kSide * kLayers * 4;
+    auto colors = test::asArray<uint32_t>(test::runAndReadImage(ctx(), g, color, bytes));
+    auto depths = test::asArray<float>(readbackImage(ctx(), depth.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL));
+    ASSERT_EQ(colors.size(), size_t(kSide) * kSide * kLayers);
+    ASSERT_EQ(depths.size(), colors.size());
+    uint32_t wrong = 0;
+    for (size_t i = 0; i < colors.size(); ++i) {
+        const uint32_t layer = uint32_t(i / (kSide * kSide));
+        wrong += colors[i] != colorValue(layer);
+        wrong += depths[i] != depthValue(layer);
+    }
+    EXPECT_EQ(wrong, 0u);
+    EXPECT_EQ(validation().count(), 0u);
+    destroyImage(ctx(), depth.image);
 }
 
 } // namespace

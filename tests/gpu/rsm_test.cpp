@@ -9,7 +9,9 @@
 #include "engine/vk_check.hpp"
 #include "gi/frame_data.hpp"
 #include "gi/gi.hpp"
+#include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/gpu_util.hpp"
 #include "support/test_scenes.hpp"
 
 using namespace vkgi;
@@ -25,12 +27,10 @@ protected:
     glm::dvec3 totalFlux(const Scene& scene, uint32_t* layers = nullptr) {
         gi::GiSettings s;
         s.forceRsm = true;
-        auto sys = gi::GiSystem::create(ctx(), s);
-        EXPECT_TRUE(sys);
+        auto sys = test::systemWithScene(ctx(), s, scene);
+        EXPECT_TRUE(sys) << (sys ? "" : sys.error().message);
         if (!sys)
             return {};
-        auto ok = (*sys)->setScene(scene);
-        EXPECT_TRUE(ok) << (ok ? "" : ok.error().message);
         rg::RenderGraph graph;
         rg::Blackboard bb;
         auto out = (*sys)->addPasses(graph, bb, scene.cameraOrDefault(), 8, 8);
@@ -39,38 +39,11 @@ protected:
         const uint32_t n = rsm.resolution, count = uint32_t(rsm.layers.size());
         if (layers)
             *layers = count;
-        Buffer host = createBuffer(ctx(), {VkDeviceSize(n) * n * count * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                           MemoryUsage::GpuToCpu}, "rsm.readback");
-        rg::BufferHandle hostHandle = graph.importBuffer("rsm.readback", host, rg::Access::HostRead);
-        struct Copy {
-            rg::ImageHandle flux;
-            rg::BufferHandle dst;
-            uint32_t n = 0, layers = 0;
-        };
-        const Copy& copy = graph.addPass<Copy>(
-            "test.rsm.readback",
-            [&](rg::PassBuilder& b, Copy& c) {
-                b.read(rsm.flux, rg::Access::TransferRead);
-                c = {rsm.flux, b.write(hostHandle, rg::Access::TransferWrite), n, count};
-                b.sideEffect();
-            },
-            [](const Copy& c, rg::PassContext& pc) {
-                VkBufferImageCopy r{};
-                r.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, c.layers};
-                r.imageExtent = {c.n, c.n, 1};
-                vkCmdCopyImageToBuffer(pc.cmd(), pc.image(c.flux).image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                       pc.buffer(c.dst).buffer, 1, &r);
-            });
-        graph.exportBuffer(copy.dst, rg::Access::HostRead);
-        auto compiled = graph.compile();
-        EXPECT_TRUE(compiled) << (compiled ? "" : compiled.error().message);
-        rg::TransientPool pool(ctx());
-        ctx().submitAndWait([&](VkCommandBuffer cmd) { graph.execute(cmd, ctx(), pool); });
+        auto texels =
+            test::asArray<glm::vec4>(test::runAndReadImage(ctx(), graph, rsm.flux, VkDeviceSize(n) * n * count * 16));
         glm::dvec3 sum(0.0);
-        const auto* texels = static_cast<const glm::vec4*>(host.mapped());
-        for (size_t i = 0; i < size_t(n) * n * count; ++i)
-            sum += glm::dvec3(texels[i]);
-        destroyBuffer(ctx(), host);
+        for (const glm::vec4& t : texels)
+            sum += glm::dvec3(t);
         return sum;
     }
 };

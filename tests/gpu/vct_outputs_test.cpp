@@ -6,6 +6,7 @@
 
 #include "engine/builtin_scenes.hpp"
 #include "gi/gi.hpp"
+#include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
 
 using namespace vkgi;
@@ -18,21 +19,14 @@ constexpr uint32_t kSize = 48;
 class VctOutputs : public test::GpuTest {
 protected:
     FrameResult render(Technique technique, const FrameRequest& request, bool ambientOcclusion = true) {
-        auto scene = makeBuiltinScene("cornell");
-        EXPECT_TRUE(scene.ok()) << scene.error().message;
         GiSettings settings;
         settings.technique = technique;
         settings.vct.gridResolution = 16;
         settings.vct.lowResFactor = 2;
         settings.vct.ambientOcclusion = ambientOcclusion;
         settings.lpv.gridSize = 8;
-        auto gi = GiSystem::create(ctx(), settings);
-        EXPECT_TRUE(gi.ok()) << gi.error().message;
-        if (!gi.ok() || !scene.ok())
-            return {};
-        auto set = (*gi)->setScene(*scene);
-        EXPECT_TRUE(set.ok()) << set.error().message;
-        auto frame = (*gi)->renderFrame(scene->cameraOrDefault(), kSize, kSize, request);
+        Scene scene = test::builtinScene("cornell");
+        auto frame = test::renderOnce(ctx(), settings, scene, scene.cameraOrDefault(), kSize, kSize, request);
         EXPECT_TRUE(frame.ok()) << frame.error().message;
         return frame.ok() ? std::move(*frame) : FrameResult{};
     }

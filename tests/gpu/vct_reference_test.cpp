@@ -11,7 +11,9 @@
 #include "engine/image_metrics.hpp"
 #include "gi/gi.hpp"
 #include "gi/reference.hpp"
+#include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/image_stats.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi;
@@ -78,14 +80,10 @@ protected:
             settings.shadowMapSize = 2048;
             settings.pcfRadius = 0;
         }
-        auto gi = GiSystem::create(ctx(), settings);
-        EXPECT_TRUE(gi.ok()) << gi.error().message;
-        auto set = (*gi)->setScene(*scene);
-        EXPECT_TRUE(set.ok()) << set.error().message;
         Camera camera = scene->cameraOrDefault();
         FrameRequest request;
         request.direct = true;
-        auto frame = (*gi)->renderFrame(camera, kSize, kSize, request);
+        auto frame = test::renderOnce(ctx(), settings, *scene, camera, kSize, kSize, request);
         EXPECT_TRUE(frame.ok()) << frame.error().message;
         if (!frame.ok())
             return {};
@@ -110,17 +108,10 @@ protected:
         Errors e{full->relMse, indirect->relMse, ambient->relMse, ambientIndirect->relMse};
         e.indirectPt = compareImages(*testIndirect, ref->indirect)->relMse;
         e.ambientIndirectPt = compareImages(bestAmbient(zero, ref->indirect, surface), ref->indirect)->relMse;
-        double meanTest = 0.0, meanRef = 0.0;
-        for (size_t i = 0; i < testIndirect->pixels.size(); ++i) {
-            meanTest += double(testIndirect->pixels[i].x + testIndirect->pixels[i].y + testIndirect->pixels[i].z);
-            meanRef += double(refIndirect->pixels[i].x + refIndirect->pixels[i].y + refIndirect->pixels[i].z);
-        }
-        m_lastMeanRatio = meanTest / meanRef;
+        const double meanTest = test::sumRgb(*testIndirect);
+        m_lastMeanRatio = meanTest / test::sumRgb(*refIndirect);
         // The same against the path tracer's own indirect (no raster/path-traced direct mixed in).
-        double meanPt = 0.0;
-        for (const glm::vec3& p : ref->indirect.pixels)
-            meanPt += double(p.x + p.y + p.z);
-        e.meanRatioPt = meanTest / meanPt;
+        e.meanRatioPt = meanTest / test::sumRgb(ref->indirect);
         EXPECT_EQ(countNonFinite(frame->composite), 0u) << sceneName;
         double ms = 0.0, lightMs = 0.0;
         for (const auto& p : frame->passes) {

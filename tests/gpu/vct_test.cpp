@@ -88,16 +88,6 @@ std::vector<glm::vec4> readHalf4(Context& ctx, const Image& img, uint32_t mip = 
     return out;
 }
 
-// A 16^3 grid of unit voxels at the origin (no radiance scale): scene coordinates are voxel
-// coordinates.
-gpu::VoxelGridParams unitGrid16() {
-    gpu::VoxelGridParams params{};
-    params.originSize = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
-    params.scales = glm::vec4(1.0f, 1.0f, 1.0f, 0.0f);
-    params.dims = glm::uvec4(16, 4, 0, 0);
-    return params;
-}
-
 class Vct : public GpuTest {
 protected:
     void TearDown() override {
@@ -113,12 +103,7 @@ protected:
         auto v = VctVolumes::create(ctx(), *m_grid);
         ASSERT_TRUE(v) << v.error().message;
         m_volumes = std::move(*v);
-        m_buf.vertices = uploaded(ctx(), scene.vertices.data(), scene.vertices.size() * sizeof(Vertex), "t.vertices");
-        m_buf.indices = uploaded(ctx(), scene.indices.data(), scene.indices.size() * 4, "t.indices");
-        m_buf.instances =
-            uploaded(ctx(), scene.instances.data(), scene.instances.size() * sizeof(InstanceRecord), "t.instances");
-        m_buf.materials =
-            uploaded(ctx(), scene.materials.data(), scene.materials.size() * sizeof(MaterialRecord), "t.materials");
+        m_buf = uploadTestScene(ctx(), scene);
         m_lights = uploaded(ctx(), lights.data(), lights.size() * sizeof(LightRecord), "t.lights");
         m_lightCount = uint32_t(lights.size());
         m_scene = {m_buf.vertices.buffer, m_buf.indices.buffer, m_buf.instances.buffer, m_buf.materials.buffer,
@@ -348,7 +333,7 @@ TEST_F(Vct, AnisotropicMipsPreIntegrateFrontToBack) {
     scene.addDraw({{{9.5f, 4.2f, 4.2f}, {9.5f, 7.8f, 4.2f}, {9.5f, 4.2f, 7.8f}},
                    {{9.5f, 7.8f, 4.2f}, {9.5f, 7.8f, 7.8f}, {9.5f, 4.2f, 7.8f}}},
                   dim);
-    const gpu::VoxelGridParams params = unitGrid16();
+    const gpu::VoxelGridParams params = unitGrid(16);
     setup(scene, {}, params);
     VctSettings s;
     s.bounces = 1;
@@ -463,7 +448,7 @@ TEST_F(Vct, ReVoxelizingClearsWhatTheOldGeometryWrote) {
                    {{9.5f, 7.8f, 4.2f}, {9.5f, 7.8f, 7.8f}, {9.5f, 4.2f, 7.8f}}},
                   glow);
     scene.addDraw({{{2.2f, 3.3f, 1.1f}, {12.7f, 3.9f, 2.4f}, {5.1f, 4.6f, 13.8f}}}, glow);
-    const gpu::VoxelGridParams params = unitGrid16();
+    const gpu::VoxelGridParams params = unitGrid(16);
     VctSettings s;
     s.bounces = 1;
     setup(scene, {}, params);
@@ -505,7 +490,7 @@ TEST_F(Vct, ReVoxelizingZeroesTheViewsOfFacesAVoxelNoLongerHas) {
     scene.addDraw({{{8.2f, 5.5f, 4.2f}, {8.2f, 5.5f, 7.8f}, {9.8f, 5.5f, 4.2f}},
                    {{9.8f, 5.5f, 4.2f}, {8.2f, 5.5f, 7.8f}, {9.8f, 5.5f, 7.8f}}},
                   glow);
-    const gpu::VoxelGridParams params = unitGrid16();
+    const gpu::VoxelGridParams params = unitGrid(16);
     VctSettings s;
     s.bounces = 1;
     const std::vector<VoxelDraw> all = scene.draws;

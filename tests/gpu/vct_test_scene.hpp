@@ -1,8 +1,9 @@
 #pragma once
 // Helpers shared by the voxel and VCT GPU tests: a tiny GPU scene in the engine/scene_types.h
-// layouts, uploads, and the barriers hand-recorded tests need (the engine gets them from the
-// render graph).
+// layouts, uploads and the unit voxel grid (support/gpu_util.hpp has the barriers that
+// hand-recorded tests need; the engine gets them from the render graph).
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <initializer_list>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "engine/rg/render_graph.hpp"
 #include "engine/rg/transient_pool.hpp"
 #include "engine/scene_types.h"
+#include "support/gpu_util.hpp"
 #include "voxel/voxel_graph.hpp"
 #include "voxel/voxel_grid.hpp"
 
@@ -91,6 +93,16 @@ inline Buffer uploaded(Context& ctx, const void* data, size_t bytes, const char*
     return b;
 }
 
+// The scene's vertex, index, instance and material tables in device buffers.
+inline GpuBuffers uploadTestScene(Context& ctx, const TestScene& scene) {
+    GpuBuffers b;
+    b.vertices = uploaded(ctx, scene.vertices.data(), scene.vertices.size() * sizeof(Vertex), "t.vertices");
+    b.indices = uploaded(ctx, scene.indices.data(), scene.indices.size() * 4, "t.indices");
+    b.instances = uploaded(ctx, scene.instances.data(), scene.instances.size() * sizeof(InstanceRecord), "t.instances");
+    b.materials = uploaded(ctx, scene.materials.data(), scene.materials.size() * sizeof(MaterialRecord), "t.materials");
+    return b;
+}
+
 // Builds, compiles and executes one render graph (submit + wait); any graph error fails the test.
 template <typename Build> void runGraph(Context& ctx, rg::TransientPool& pool, Build&& build) {
     rg::RenderGraph graph;
@@ -116,24 +128,14 @@ inline void exportGrid(rg::RenderGraph& graph, const gi::VoxelGridData& d) {
 }
 
 
-inline void toGeneral(VkCommandBuffer cmd, std::initializer_list<const Image*> images) {
-    std::vector<VkImageMemoryBarrier2> bs;
-    for (const Image* img : images) {
-        VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-        b.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-        b.dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
-        b.dstAccessMask = VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT;
-        b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-        b.newLayout = VK_IMAGE_LAYOUT_GENERAL;
-        b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        b.image = img->image;
-        b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0, 1};
-        bs.push_back(b);
-    }
-    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dep.imageMemoryBarrierCount = uint32_t(bs.size());
-    dep.pImageMemoryBarriers = bs.data();
-    vkCmdPipelineBarrier2(cmd, &dep);
+// A grid of n^3 unit voxels at the origin: scene coordinates are voxel coordinates. Voxel
+// radiance is stored times `radianceScale`.
+inline gpu::VoxelGridParams unitGrid(uint32_t n, float radianceScale = 1.0f) {
+    gpu::VoxelGridParams p{};
+    p.originSize = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    p.scales = glm::vec4(1.0f, radianceScale, 1.0f / radianceScale, 0.0f);
+    p.dims = glm::uvec4(n, uint32_t(std::log2(n)), 0, 0);
+    return p;
 }
 
 

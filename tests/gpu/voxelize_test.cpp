@@ -78,14 +78,6 @@ void referenceSets(const std::vector<Tri>& tris, uint32_t n, float eps, std::vec
             }
 }
 
-gpu::VoxelGridParams unitGrid(uint32_t n, float radianceScale = 1.0f) {
-    gpu::VoxelGridParams p{};
-    p.originSize = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
-    p.scales = glm::vec4(1.0f, radianceScale, 1.0f / radianceScale, 0.0f);
-    p.dims = glm::uvec4(n, uint32_t(std::log2(n)), 0, 0);
-    return p;
-}
-
 struct Readback {
     std::vector<uint8_t> albedo, normal, emission, accum;
 };
@@ -114,12 +106,7 @@ protected:
         for (Buffer* b : {&m_buf.vertices, &m_buf.indices, &m_buf.instances, &m_buf.materials})
             if (*b)
                 destroyBuffer(ctx(), *b);
-        m_buf.vertices = uploaded(ctx(), scene.vertices.data(), scene.vertices.size() * sizeof(Vertex), "t.vertices");
-        m_buf.indices = uploaded(ctx(), scene.indices.data(), scene.indices.size() * 4, "t.indices");
-        m_buf.instances =
-            uploaded(ctx(), scene.instances.data(), scene.instances.size() * sizeof(InstanceRecord), "t.instances");
-        m_buf.materials =
-            uploaded(ctx(), scene.materials.data(), scene.materials.size() * sizeof(MaterialRecord), "t.materials");
+        m_buf = uploadTestScene(ctx(), scene);
         m_scene = {m_buf.vertices.buffer, m_buf.indices.buffer, m_buf.instances.buffer, m_buf.materials.buffer,
                    scene.draws};
     }

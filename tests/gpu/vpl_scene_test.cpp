@@ -18,7 +18,9 @@
 #include "gi/reference.hpp"
 #include "gi/vpl.h"
 #include "gi/vpl.hpp"
+#include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/gpu_util.hpp"
 #include "support/test_scenes.hpp"
 
 using namespace vkgi;
@@ -28,11 +30,7 @@ namespace {
 
 constexpr uint32_t kSize = 64;
 
-Scene builtin(const char* name) {
-    auto s = makeBuiltinScene(name);
-    EXPECT_TRUE(s) << s.error().message;
-    return s ? std::move(s.value()) : Scene{};
-}
+constexpr auto& builtin = test::builtinScene;
 
 // Nearest hit distance along a ray over every triangle of the scene (Moller-Trumbore), or inf.
 float nearestHit(const Scene& scene, glm::vec3 o, glm::vec3 d) {
@@ -81,29 +79,7 @@ protected:
         if (!outputs || !vo || vo->vplCount == 0)
             return {};
         VkDeviceSize bytes = VkDeviceSize(vo->vplCount) * sizeof(gpu::VplRecord);
-        Buffer host = createBuffer(ctx(), {bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::GpuToCpu}, "host");
-        rg::BufferHandle hostH = graph.importBuffer("host", host, rg::Access::None);
-        rg::BufferHandle vpls = vo->vpls;
-        graph.addPass(
-            "readback",
-            [&](rg::PassBuilder& b) {
-                b.read(vpls, rg::Access::TransferRead);
-                hostH = b.write(hostH, rg::Access::TransferWrite);
-                b.sideEffect();
-            },
-            [=](rg::PassContext& pc) {
-                VkBufferCopy region{0, 0, bytes};
-                vkCmdCopyBuffer(pc.cmd(), pc.buffer(vpls).buffer, pc.buffer(hostH).buffer, 1, &region);
-            });
-        graph.exportBuffer(hostH, rg::Access::HostRead);
-        auto compiled = graph.compile();
-        EXPECT_TRUE(compiled) << compiled.error().message;
-        rg::TransientPool pool(ctx());
-        ctx().submitAndWait([&](VkCommandBuffer cmd) { graph.execute(cmd, ctx(), pool); });
-        std::vector<gpu::VplRecord> out(vo->vplCount);
-        std::memcpy(out.data(), host.mapped(), bytes);
-        destroyBuffer(ctx(), host);
-        return out;
+        return test::asArray<gpu::VplRecord>(test::runAndReadBuffer(ctx(), graph, vo->vpls, bytes));
     }
 
     HdrImage indirect(GiSystem& sys, const Scene& scene, double* ms = nullptr,
@@ -551,27 +527,10 @@ TEST_F(VplScene, DISABLED_MeasureAgainstReference) {
                 rg::RenderGraph graph;
                 rg::Blackboard bb;
                 ASSERT_TRUE(sys->addPasses(graph, bb, *scene.camera, kMeasure, kMeasure, {}));
-                Buffer host = createBuffer(ctx(), {16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::GpuToCpu}, "host");
-                rg::BufferHandle hostH = graph.importBuffer("host", host, rg::Access::None);
-                rg::BufferHandle list = bb.get<VplOutputs>().refineList;
-                graph.addPass(
-                    "readback",
-                    [&](rg::PassBuilder& b) {
-                        b.read(list, rg::Access::TransferRead);
-                        hostH = b.write(hostH, rg::Access::TransferWrite);
-                        b.sideEffect();
-                    },
-                    [=](rg::PassContext& pc) {
-                        VkBufferCopy region{0, 0, 16};
-                        vkCmdCopyBuffer(pc.cmd(), pc.buffer(list).buffer, pc.buffer(hostH).buffer, 1, &region);
-                    });
-                graph.exportBuffer(hostH, rg::Access::HostRead);
-                ASSERT_TRUE(graph.compile());
-                rg::TransientPool pool(ctx());
-                ctx().submitAndWait([&](VkCommandBuffer cmd) { graph.execute(cmd, ctx(), pool); });
-                uint32_t refined = *static_cast<const uint32_t*>(host.mapped());
-                refinedPct = 100.0 * refined / double(kMeasure * kMeasure);
-                destroyBuffer(ctx(), host);
+                auto counter = test::asArray<uint32_t>(
+                    test::runAndReadBuffer(ctx(), graph, bb.get<VplOutputs>().refineList, 16));
+                ASSERT_FALSE(counter.empty());
+                refinedPct = 100.0 * counter[0] / double(kMeasure * kMeasure);
             }
             std::printf("%s %u %u %u %.2f %.2f | %.4f %.5f | %.4f %.5f | %.1f | %.2f %.2f |%s\n", name, cfg.vpls,
                         cfg.negative, cfg.factor, cfg.threshold, cfg.clampDistance, mi->relMse, mi->rmse, mf->relMse, mf->rmse,

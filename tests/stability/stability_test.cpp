@@ -20,6 +20,8 @@
 #include "gi/gi.hpp"
 #include "gi/reference.hpp"
 #include "support/gpu_fixture.hpp"
+#include "support/gi_render.hpp"
+#include "support/image_stats.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi;
@@ -46,12 +48,7 @@ struct Frame {
     HdrImage composite, direct, indirect;
 };
 
-double meanLuminance(const HdrImage& image) {
-    double sum = 0.0;
-    for (const glm::vec3& v : image.pixels)
-        sum += double(v.x + v.y + v.z) / 3.0;
-    return image.pixels.empty() ? 0.0 : sum / double(image.pixels.size());
-}
+using test::meanRgb;
 
 double maxComponent(const HdrImage& image) {
     double m = 0.0;
@@ -126,16 +123,11 @@ class Stability : public test::GpuTest {
 protected:
     // Renders all three outputs (indirect only when the technique makes one).
     Result<Frame> render(const GiSettings& settings, const Scene& scene) {
-        auto system = GiSystem::create(ctx(), settings);
-        if (!system)
-            return system.error();
-        if (auto ok = (*system)->setScene(scene); !ok)
-            return ok.error();
         FrameRequest request;
         request.composite = true;
         request.direct = true;
         request.indirect = settings.technique != Technique::None;
-        auto frame = (*system)->renderFrame(scene.cameraOrDefault(), kSize, kSize, request);
+        auto frame = test::renderOnce(ctx(), settings, scene, scene.cameraOrDefault(), kSize, kSize, request);
         if (!frame)
             return frame.error();
         return Frame{std::move(frame->composite), std::move(frame->direct), std::move(frame->indirect)};
@@ -181,7 +173,7 @@ TEST_F(Stability, EveryOutputIsLinearInLightIntensityFrom1eMinus6To1e9) {
     for (Technique t : kTechniques) {
         GiSettings settings = smallSettings(t);
         Frame one = renderOk(settings, base);
-        double floorNits = 1e-4 * meanLuminance(one.composite);
+        double floorNits = 1e-4 * meanRgb(one.composite);
         ASSERT_GT(floorNits, 0.0);
         for (float k : {1e-6f, 1e9f}) {
             Scene lit = base;
@@ -205,12 +197,12 @@ TEST_F(Stability, MillimetreAndKilometreScenesRenderLikeTheMetreScene) {
     for (Technique t : kTechniques) {
         GiSettings settings = smallSettings(t);
         Frame metre = renderOk(settings, base);
-        double floorNits = 1e-3 * meanLuminance(metre.composite);
+        double floorNits = 1e-3 * meanRgb(metre.composite);
         for (float s : {1e-3f, 1e3f}) {
             Frame f = renderOk(settings, rescaled(base, s));
             std::string what = std::string(toString(t)) + " scale=" + std::to_string(s);
             EXPECT_LT(fractionDiffering(f.composite, metre.composite, floorNits, 0.01), 0.03) << what;
-            EXPECT_NEAR(meanLuminance(f.composite) / meanLuminance(metre.composite), 1.0, 0.005) << what;
+            EXPECT_NEAR(meanRgb(f.composite) / meanRgb(metre.composite), 1.0, 0.005) << what;
         }
     }
 }
@@ -236,7 +228,7 @@ TEST_F(Stability, FurnaceWithAlbedo099StaysFiniteAndBelowItsBounceSum) {
             std::string what = std::string(toString(t)) + " Le=" + std::to_string(le);
             EXPECT_LE(maxComponent(f.composite), bound) << what;
             // The emission itself is always seen: at least Le everywhere on average.
-            EXPECT_GE(meanLuminance(f.composite), 0.99 * le) << what;
+            EXPECT_GE(meanRgb(f.composite), 0.99 * le) << what;
         }
     }
 }
@@ -269,10 +261,10 @@ TEST_F(Stability, ZeroAreaTrianglesChangeNothingAndSliversStayFinite) {
         GiSettings settings = smallSettings(t);
         Frame clean = renderOk(settings, base);
         Frame f = renderOk(settings, zeroArea);
-        double floorNits = 1e-3 * meanLuminance(clean.composite);
+        double floorNits = 1e-3 * meanRgb(clean.composite);
         EXPECT_LT(maxRelativeDifference(f.composite, clean.composite, floorNits), 1e-5) << toString(t);
         Frame s = renderOk(settings, sliver);
-        EXPECT_NEAR(meanLuminance(s.composite) / meanLuminance(clean.composite), 1.0, 0.05) << toString(t);
+        EXPECT_NEAR(meanRgb(s.composite) / meanRgb(clean.composite), 1.0, 0.05) << toString(t);
     }
 }
 
@@ -288,7 +280,7 @@ TEST_F(Stability, HundredsOfPropagationStepsConverge) {
         Frame f500 = renderOk(settings, scene);
         settings.lpv.iterations = 1000;
         Frame f1000 = renderOk(settings, scene);
-        double m500 = meanLuminance(f500.indirect), m1000 = meanLuminance(f1000.indirect);
+        double m500 = meanRgb(f500.indirect), m1000 = meanRgb(f1000.indirect);
         EXPECT_GT(m500, 0.0) << "bounces " << bounces;
         EXPECT_LE(m1000, m500 * 1.01) << "bounces " << bounces;
     }
@@ -320,7 +312,7 @@ TEST_F(Stability, SmallestAndLargestGridsAreFiniteOrAClearError) {
             continue;
         }
         expectFinite(*f, what);
-        EXPECT_GT(meanLuminance(f->composite), 0.0) << what;
+        EXPECT_GT(meanRgb(f->composite), 0.0) << what;
     }
 }
 

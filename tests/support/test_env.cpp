@@ -29,4 +29,18 @@ std::filesystem::path sourceDir() {
     return env ? std::filesystem::path(env) : std::filesystem::current_path();
 }
 
+std::filesystem::path freshOutputDir(const std::filesystem::path& relative) {
+    std::filesystem::path dir = outputDir() / relative;
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+size_t countEntries(const std::filesystem::path& dir) {
+    size_t n = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir))
+        ++n;
+    return n;
+}
+
 } // namespace vkgi::test

@@ -7,4 +7,8 @@ namespace vkgi::test {
 std::filesystem::path outputDir();
 // The repository root (for tests/assets and golden data).
 std::filesystem::path sourceDir();
+// outputDir() / `relative`, emptied (created when missing): a test's own scratch folder.
+std::filesystem::path freshOutputDir(const std::filesystem::path& relative);
+// Number of entries in `dir` (to prove a failed write left no temporary or partial file).
+size_t countEntries(const std::filesystem::path& dir);
 } // namespace vkgi::test

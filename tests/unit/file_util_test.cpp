@@ -16,25 +16,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path freshDir(const std::string& name) {
-    fs::path dir = test::outputDir() / "file_util" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path freshDir(const std::string& name) { return test::freshOutputDir(fs::path("file_util") / name); }
 
 std::string readAll(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
     std::ostringstream text;
     text << in.rdbuf();
     return text.str();
-}
-
-size_t entries(const fs::path& dir) {
-    size_t n = 0;
-    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir))
-        ++n;
-    return n;
 }
 
 TEST(FileUtil, WritesThroughASymbolicLinkAsCpDoes) {
@@ -49,8 +37,8 @@ TEST(FileUtil, WritesThroughASymbolicLinkAsCpDoes) {
     fs::create_symlink(fs::path("real") / "later.txt", dir / "dangling.txt");
     ASSERT_TRUE(writeFileAtomic(dir / "dangling.txt", "made"));
     EXPECT_EQ(readAll(dir / "real" / "later.txt"), "made");
-    EXPECT_EQ(entries(dir / "real"), 2u) << "no temporary left beside the target";
-    EXPECT_EQ(entries(dir), 3u);
+    EXPECT_EQ(test::countEntries(dir / "real"), 2u) << "no temporary left beside the target";
+    EXPECT_EQ(test::countEntries(dir), 3u);
 }
 
 // A valid name of 255 bytes (the usual NAME_MAX) must work: the temporary's name is short.
@@ -64,7 +52,7 @@ TEST(FileUtil, NamesUpToTheLimitWork) {
         ASSERT_TRUE(ok) << len << ": " << ok.error().message;
         ASSERT_TRUE(writeFileAtomic(dir / (std::string(len - 4, 'j') + ".txt"), "x"));
     }
-    EXPECT_EQ(entries(dir), 6u);
+    EXPECT_EQ(test::countEntries(dir), 6u);
 }
 
 // A temporary of a process that no longer exists (killed during its write) is removed by the
@@ -96,7 +84,7 @@ TEST(FileUtil, FailedWriteLeavesNoFolderChain) {
             EXPECT_NE(folders.error().message.find("cannot create folder"), std::string::npos);
         }
     }
-    EXPECT_EQ(entries(dir), 0u);
+    EXPECT_EQ(test::countEntries(dir), 0u);
     {
         Result<OutputFolders> folders = OutputFolders::create(dir / "x" / "y" / "out.txt");
         ASSERT_TRUE(folders) << folders.error().message;

@@ -42,12 +42,7 @@ struct Blob {
     }
 };
 
-fs::path tempDir(const std::string& name) {
-    fs::path d = test::outputDir() / "gltf_loader" / name;
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+fs::path tempDir(const std::string& name) { return test::freshOutputDir(fs::path("gltf_loader") / name); }
 
 void writeFile(const fs::path& p, const std::string& text) {
     std::ofstream(p, std::ios::binary) << text;

@@ -20,20 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path freshDir(const std::string& name) {
-    fs::path dir = test::outputDir() / "image_io" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
-
-// Lists the files in `dir` (to prove a failed write left no temporary or partial file).
-size_t fileCount(const fs::path& dir) {
-    size_t n = 0;
-    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir))
-        ++n;
-    return n;
-}
+fs::path freshDir(const std::string& name) { return test::freshOutputDir(fs::path("image_io") / name); }
 
 HdrImage gradient(uint32_t w, uint32_t h) {
     HdrImage img(w, h);
@@ -51,7 +38,7 @@ TEST(ImageIo, ExrRoundTripIsBitExact) {
     img.at(3, 2) = {std::numeric_limits<float>::denorm_min(), 6.5e4f, 3.0e38f};
     fs::path file = dir / "a.exr";
     ASSERT_TRUE(writeExr(file, img).ok());
-    EXPECT_EQ(fileCount(dir), 1u); // no temporary left beside it
+    EXPECT_EQ(test::countEntries(dir), 1u); // no temporary left beside it
     Result<HdrImage> back = readExr(file);
     ASSERT_TRUE(back.ok()) << back.error().message;
     ASSERT_EQ(back->width, 13u);
@@ -109,7 +96,7 @@ TEST(ImageIo, WriteIntoMissingFolderFailsAndLeavesNothing) {
     ASSERT_FALSE(p.ok());
     EXPECT_NE(p.error().message.find(png.string()), std::string::npos) << p.error().message;
     EXPECT_FALSE(fs::exists(dir / "no_such_folder"));
-    EXPECT_EQ(fileCount(dir), 0u);
+    EXPECT_EQ(test::countEntries(dir), 0u);
 }
 
 TEST(ImageIo, WriteUnderAFileFailsAndLeavesNothing) {
@@ -124,7 +111,7 @@ TEST(ImageIo, WriteUnderAFileFailsAndLeavesNothing) {
         ASSERT_FALSE(r.ok()) << name;
         EXPECT_NE(r.error().message.find(target.string()), std::string::npos) << r.error().message;
     }
-    EXPECT_EQ(fileCount(dir), 1u);
+    EXPECT_EQ(test::countEntries(dir), 1u);
     EXPECT_EQ(fs::file_size(dir / "plain"), 1u);
 }
 
@@ -132,7 +119,7 @@ TEST(ImageIo, EmptyImageIsAnError) {
     fs::path dir = freshDir("empty");
     EXPECT_FALSE(writeExr(dir / "e.exr", HdrImage{}).ok());
     EXPECT_FALSE(writePng(dir / "e.png", HdrImage{}).ok());
-    EXPECT_EQ(fileCount(dir), 0u);
+    EXPECT_EQ(test::countEntries(dir), 0u);
 }
 
 TEST(ImageIo, ToneMapKnownValues) {
@@ -163,7 +150,7 @@ TEST(ImageIo, PngDecodesToToneMappedValuesAndFlagsNonFinite) {
     uint64_t bad = 99;
     ASSERT_TRUE(writePng(file, img, tm, &bad).ok());
     EXPECT_EQ(bad, 2u);
-    EXPECT_EQ(fileCount(dir), 1u);
+    EXPECT_EQ(test::countEntries(dir), 1u);
 
     int w = 0, h = 0, n = 0;
     unsigned char* data = stbi_load(file.c_str(), &w, &h, &n, 3);

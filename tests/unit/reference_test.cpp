@@ -14,6 +14,7 @@
 #include "engine/builtin_scenes.hpp"
 #include "engine/image_metrics.hpp"
 #include "gi/reference.hpp"
+#include "support/image_stats.hpp"
 #include "support/test_env.hpp"
 
 using namespace vkgi;
@@ -24,12 +25,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // Mean of all channels over all pixels (grey scenes: every channel carries the same value).
-double meanOf(const HdrImage& img) {
-    double s = 0.0;
-    for (const glm::vec3& p : img.pixels)
-        s += double(p.x) + double(p.y) + double(p.z);
-    return s / (3.0 * double(img.pixels.size()));
-}
+using test::meanRgb;
 
 ReferenceSettings quiet(uint32_t spp, int maxBounces = -1, uint64_t seed = 1) {
     ReferenceSettings s;
@@ -96,9 +92,9 @@ TEST(Reference, FurnaceUnbounded) {
         Scene s = furnace(p, 2.0f);
         ReferenceImages img = render(s, *s.camera, 16, 16, quiet(512));
         const double expected = 2.0 / (1.0 - double(p));
-        EXPECT_NEAR(meanOf(img.full), expected, 0.005 * expected) << "albedo " << p;
+        EXPECT_NEAR(meanRgb(img.full), expected, 0.005 * expected) << "albedo " << p;
         // direct = emission seen + one reflection = Le (1 + p), exactly binned by path length.
-        EXPECT_NEAR(meanOf(img.direct), 2.0 * (1.0 + p), 0.005 * 2.0 * (1.0 + p)) << "albedo " << p;
+        EXPECT_NEAR(meanRgb(img.direct), 2.0 * (1.0 + p), 0.005 * 2.0 * (1.0 + p)) << "albedo " << p;
     }
 }
 
@@ -110,9 +106,9 @@ TEST(Reference, FurnaceBoundedBounces) {
     for (int k = 0; k <= 3; ++k) {
         ReferenceImages img = render(s, *s.camera, 16, 16, quiet(64, k));
         const double expected = (1.0 - std::pow(double(p), k + 1)) / (1.0 - double(p));
-        EXPECT_NEAR(meanOf(img.full), expected, 0.005 * expected) << "k = " << k;
+        EXPECT_NEAR(meanRgb(img.full), expected, 0.005 * expected) << "k = " << k;
         if (k == 0) {
-            EXPECT_EQ(meanOf(img.full), 1.0); // emission only: no sampling at all
+            EXPECT_EQ(meanRgb(img.full), 1.0); // emission only: no sampling at all
         }
     }
 }
@@ -123,7 +119,7 @@ TEST(Reference, FurnaceNearUnitAlbedo) {
     Scene s = furnace(0.99f);
     ReferenceImages img = render(s, *s.camera, 8, 8, quiet(128));
     EXPECT_EQ(countNonFinite(img.full), 0u);
-    EXPECT_NEAR(meanOf(img.full), 100.0, 2.0);
+    EXPECT_NEAR(meanRgb(img.full), 100.0, 2.0);
 }
 
 // Integrating sphere of radius R, point light I at the centre: E = I / R^2 on the wall, direct
@@ -139,8 +135,8 @@ TEST(Reference, IntegratingSphere) {
     ASSERT_TRUE(s.ok()) << s.error().message;
     ReferenceImages img = render(*s, *s->camera, 16, 16, quiet(64));
     const double p = 0.6, e = 3.0 / (1.0 * 1.0);
-    EXPECT_NEAR(meanOf(img.direct), p * e / kPi, 0.005 * p * e / kPi);
-    EXPECT_NEAR(meanOf(img.full), p * e / (kPi * (1.0 - p)), 0.01 * p * e / (kPi * (1.0 - p)));
+    EXPECT_NEAR(meanRgb(img.direct), p * e / kPi, 0.005 * p * e / kPi);
+    EXPECT_NEAR(meanRgb(img.full), p * e / (kPi * (1.0 - p)), 0.01 * p * e / (kPi * (1.0 - p)));
 }
 
 // A point light at height h over a large plane of albedo p: L(x) = p I h / (pi (h^2 + x^2)^1.5)
@@ -232,11 +228,11 @@ TEST(Reference, ParallelSquaresFormFactor) {
     const float camH = 0.5f;
     Camera cam = downCamera({0.0f, camH, 0.0f}, 2.0f * std::atan(0.5f / camH));
     ReferenceImages img = render(s, cam, 32, 32, quiet(64, 1));
-    EXPECT_NEAR(meanOf(img.full), le * 0.199825, 0.01 * le * 0.199825);
-    EXPECT_EQ(meanOf(img.indirect), 0.0);
+    EXPECT_NEAR(meanRgb(img.full), le * 0.199825, 0.01 * le * 0.199825);
+    EXPECT_EQ(meanRgb(img.indirect), 0.0);
     // Unbounded gives the same image here: the emitter is black, so nothing bounces back.
     ReferenceImages unbounded = render(s, cam, 32, 32, quiet(64));
-    EXPECT_EQ(meanOf(unbounded.full), meanOf(img.full));
+    EXPECT_EQ(meanRgb(unbounded.full), meanRgb(img.full));
 }
 
 // Emission is one-sided unless the material is doubleSided (reference.hpp).
@@ -248,8 +244,8 @@ TEST(Reference, EmissionSidedness) {
         Camera below = downCamera({0, -1, 0}, 0.5f);
         below.forward = {0, 1, 0};
         ReferenceImages bottom = render(s, below, 4, 4, quiet(1));
-        EXPECT_EQ(meanOf(top.full), 3.0);                        // front: Le, no other light
-        EXPECT_EQ(meanOf(bottom.full), doubleSided ? 3.0 : 0.0); // back
+        EXPECT_EQ(meanRgb(top.full), 3.0);                        // front: Le, no other light
+        EXPECT_EQ(meanRgb(bottom.full), doubleSided ? 3.0 : 0.0); // back
     }
 }
 
@@ -293,8 +289,8 @@ TEST(Reference, TextureShadingNormalsAndMirroring) {
                                          glm::vec4(0, 0, 0, 1));
     Camera below = downCamera({0, -1, 0}, 0.5f);
     below.forward = {0, 1, 0};
-    EXPECT_EQ(meanOf(render(m, downCamera({0, 1, 0}, 0.5f), 4, 4, quiet(1)).full), 2.0);
-    EXPECT_EQ(meanOf(render(m, below, 4, 4, quiet(1)).full), 0.0);
+    EXPECT_EQ(meanRgb(render(m, downCamera({0, 1, 0}, 0.5f), 4, 4, quiet(1)).full), 2.0);
+    EXPECT_EQ(meanRgb(render(m, below, 4, 4, quiet(1)).full), 0.0);
 }
 
 // DESIGN.md "Numerical stability": millimetre to kilometre scenes and extreme intensities.
@@ -309,7 +305,7 @@ TEST(Reference, ScaleIntensityAndDegenerateGeometry) {
         Camera cam = *s.camera;
         cam.position *= scale;
         ReferenceImages img = render(s, cam, 16, 16, quiet(32, 2));
-        EXPECT_NEAR(meanOf(img.full), 1.75, 0.005 * 1.75) << "scale " << scale;
+        EXPECT_NEAR(meanRgb(img.full), 1.75, 0.005 * 1.75) << "scale " << scale;
     }
 
     Scene plane;
@@ -491,7 +487,7 @@ TEST(Reference, DirectMatchesOneBounceRenderAndFullIsTheSum) {
         glm::vec3 sum = all.direct.pixels[i] + all.indirect.pixels[i];
         EXPECT_NEAR(all.full.pixels[i].x, sum.x, 1e-5f * (1.0f + sum.x)); // float rounding of the split
     }
-    EXPECT_GT(meanOf(all.indirect), 0.0);
+    EXPECT_GT(meanRgb(all.indirect), 0.0);
     EXPECT_GT(all.rays, 16u * 16u * 4u);
 }
 

@@ -43,6 +43,21 @@ BufferHandle writer(RenderGraph& g, const std::string& name, BufferHandle h) {
     return out;
 }
 
+// Pass that reads `h` (the mips/layers of `range`) and is kept for its side effect.
+template <typename Handle>
+void reader(RenderGraph& g, const std::string& name, Handle h, Access access, SubresourceRange range = {}) {
+    g.addPass(
+        name,
+        [&](PassBuilder& b) {
+            if constexpr (std::is_same_v<Handle, ImageHandle>)
+                b.read(h, access, range);
+            else
+                b.read(h, access);
+            b.sideEffect();
+        },
+        [](PassContext&) {});
+}
+
 // Barriers before `pass` without the first-use placeholders of transients (those only carry
 // the previous frame's pool state at execute time).
 std::vector<BarrierInfo> barriers(const RenderGraph& g, const std::string& pass) {
@@ -175,13 +190,7 @@ TEST(RenderGraphVersions, TwoWritersOfOneVersionNameBothPasses) {
 TEST(RenderGraphValidation, ReadOfNeverWrittenResourceNamesPassAndResource) {
     RenderGraph g;
     ImageHandle h = g.createImage("radiance", image2d(8));
-    g.addPass(
-        "consumer",
-        [&](PassBuilder& b) {
-            b.read(h, Access::ComputeSampledRead);
-            b.sideEffect();
-        },
-        [](PassContext&) {});
+    reader(g, "consumer", h, Access::ComputeSampledRead);
     std::string error = compileError(g);
     EXPECT_NE(error.find("'consumer'"), std::string::npos) << error;
     EXPECT_NE(error.find("'radiance'"), std::string::npos) << error;
@@ -195,13 +204,7 @@ TEST(RenderGraphValidation, ReadOfUnwrittenMipIsAnError) {
     g.addPass(
         "mip0", [&](PassBuilder& b) { v1 = b.write(h, Access::ComputeStorageWrite, SubresourceRange::mip(0)); },
         [](PassContext&) {});
-    g.addPass(
-        "reads_mip1",
-        [&](PassBuilder& b) {
-            b.read(v1, Access::ComputeStorageRead, SubresourceRange::mip(1));
-            b.sideEffect();
-        },
-        [](PassContext&) {});
+    reader(g, "reads_mip1", v1, Access::ComputeStorageRead, SubresourceRange::mip(1));
     std::string error = compileError(g);
     EXPECT_NE(error.find("'reads_mip1' reads mip 1 layer 0 of 'pyramid'"), std::string::npos) << error;
 }
@@ -212,25 +215,13 @@ TEST(RenderGraphValidation, StaleAndFutureVersionsAreErrors) {
     ImageHandle h1 = writer(g, "w1", h0);
     ImageHandle h2 = writer(g, "w2", h1);
     g.markOutput(h2);
-    g.addPass(
-        "late_reader",
-        [&](PassBuilder& b) {
-            b.read(h1, Access::ComputeStorageRead);
-            b.sideEffect();
-        },
-        [](PassContext&) {});
+    reader(g, "late_reader", h1, Access::ComputeStorageRead);
     std::string error = compileError(g);
     EXPECT_NE(error.find("'late_reader' reads 'img' v1, but pass 'w2' already wrote v2"), std::string::npos) << error;
 
     RenderGraph g2;
     ImageHandle future{g2.createImage("img", image2d(8)).index, 5};
-    g2.addPass(
-        "time_traveller",
-        [&](PassBuilder& b) {
-            b.read(future, Access::ComputeStorageRead);
-            b.sideEffect();
-        },
-        [](PassContext&) {});
+    reader(g2, "time_traveller", future, Access::ComputeStorageRead);
     error = compileError(g2);
     EXPECT_NE(error.find("'time_traveller' reads 'img' v5, a version that is only written later"), std::string::npos)
         << error;
@@ -282,13 +273,7 @@ TEST(RenderGraphValidation, ImportedImageMissingUsage) {
 TEST(RenderGraphUsage, TransientUsageAccumulatesFromLiveAccesses) {
     RenderGraph g;
     ImageHandle h = writer(g, "w", g.createImage("img", image2d(8)));
-    g.addPass(
-        "r",
-        [&](PassBuilder& b) {
-            b.read(h, Access::FragmentSampledRead);
-            b.sideEffect();
-        },
-        [](PassContext&) {});
+    reader(g, "r", h, Access::FragmentSampledRead);
     ImageHandle unusedCopy = g.createImage("other", image2d(8));
     writer(g, "culled", unusedCopy, Access::TransferWrite);
     ASSERT_TRUE(g.compile());
@@ -300,13 +285,7 @@ TEST(RenderGraphUsage, TransientUsageAccumulatesFromLiveAccesses) {
 TEST(RenderGraphBarriers, ComputeWriteThenComputeReadStorageBuffer) {
     RenderGraph g;
     BufferHandle b1 = writer(g, "producer", g.createBuffer("ssbo", buffer(256)));
-    g.addPass(
-        "consumer",
-        [&](PassBuilder& b) {
-            b.read(b1, Access::ComputeStorageRead);
-            b.sideEffect();
-        },
-        [](PassContext&) {});
+    reader(g, "consumer", b1, Access::ComputeStorageRead);
     ASSERT_TRUE(g.compile());
     EXPECT_TRUE(barriers(g, "producer").empty()) << "a transient's first write waits on nothing in this graph";
     auto list = barriers(g, "consumer");
@@ -325,20 +304,8 @@ TEST(RenderGraphBarriers, StorageImageToFragmentSampledAndReadAfterRead) {
     RenderGraph g;
     ImageHandle h = writer(g, "write", g.createImage("img", image2d(8)));
     for (const char* name : {"frag1", "frag2"})
-        g.addPass(
-            name,
-            [&](PassBuilder& b) {
-                b.read(h, Access::FragmentSampledRead);
-                b.sideEffect();
-            },
-            [](PassContext&) {});
-    g.addPass(
-        "compute",
-        [&](PassBuilder& b) {
-            b.read(h, Access::ComputeSampledRead);
-            b.sideEffect();
-        },
-        [](PassContext&) {});
+        reader(g, name, h, Access::FragmentSampledRead);
+    reader(g, "compute", h, Access::ComputeSampledRead);
     ASSERT_TRUE(g.compile());
     auto first = barriers(g, "frag1");
     ASSERT_EQ(first.size(), 1u);
@@ -360,13 +327,7 @@ TEST(RenderGraphBarriers, ColorAttachmentToComputeSampled) {
     RenderGraph g;
     ImageHandle h = g.createImage("colour", image2d(8, 1, VK_FORMAT_R8G8B8A8_UNORM));
     h = writer(g, "raster", h, Access::ColorAttachmentWrite);
-    g.addPass(
-        "post",
-        [&](PassBuilder& b) {
-            b.read(h, Access::ComputeSampledRead);
-            b.sideEffect();
-        },
-        [](PassContext&) {});
+    reader(g, "post", h, Access::ComputeSampledRead);
     ASSERT_TRUE(g.compile());
     auto list = barriers(g, "post");
     ASSERT_EQ(list.size(), 1u);
@@ -382,13 +343,7 @@ TEST(RenderGraphBarriers, ColorAttachmentToComputeSampled) {
 TEST(RenderGraphBarriers, WriteAfterReadIsExecutionDependency) {
     RenderGraph g;
     BufferHandle b1 = writer(g, "w1", g.createBuffer("buf", buffer(64)));
-    g.addPass(
-        "read",
-        [&](PassBuilder& b) {
-            b.read(b1, Access::ComputeStorageRead);
-            b.sideEffect();
-        },
-        [](PassContext&) {});
+    reader(g, "read", b1, Access::ComputeStorageRead);
     g.markOutput(writer(g, "w2", b1));
     ASSERT_TRUE(g.compile());
     auto list = barriers(g, "w2");
@@ -415,13 +370,7 @@ TEST(RenderGraphBarriers, MipChainTouchesOnlyItsMips) {
                 h = b.write(h, Access::ComputeStorageWrite, SubresourceRange::mip(k));
             },
             [](PassContext&) {});
-    g.addPass(
-        "consume",
-        [&](PassBuilder& b) {
-            b.read(h, Access::ComputeSampledRead);
-            b.sideEffect();
-        },
-        [](PassContext&) {});
+    reader(g, "consume", h, Access::ComputeSampledRead);
     ASSERT_TRUE(g.compile());
     EXPECT_EQ(h.version, kMips);
     for (uint32_t k = 1; k < kMips; ++k) {
@@ -477,13 +426,7 @@ TEST(RenderGraphImport, PersistentStateRoundTripsAcrossFrames) {
     {
         RenderGraph frame2;
         ImageHandle h = frame2.importImage("lpv", volume);
-        frame2.addPass(
-            "shade",
-            [&](PassBuilder& b) {
-                b.read(h, Access::FragmentSampledRead);
-                b.sideEffect();
-            },
-            [](PassContext&) {});
+        reader(frame2, "shade", h, Access::FragmentSampledRead);
         ASSERT_TRUE(frame2.compile());
         auto list = barriers(frame2, "shade");
         ASSERT_EQ(list.size(), 1u) << "the previous frame's write is waited on";

@@ -86,6 +86,8 @@ struct ImageDesc {
     uint32_t arrayLayers = 1;
     bool cube = false; // 2D with 6*n layers, viewed as a cube (array)
     VkImageUsageFlags usage = 0;
+    // 2D: the default view is a 2D array even with one layer (for sampler2DArray bindings).
+    bool arrayView = false;
     bool operator==(const ImageDesc&) const = default;
 };
 
@@ -93,6 +95,7 @@ struct Image {
     VkImage image = VK_NULL_HANDLE;
     VkImageView view = VK_NULL_HANDLE;         // all mips and layers
     std::vector<VkImageView> mipViews;         // one per mip level (all layers), for storage writes
+    std::vector<VkImageView> layerViews;       // 2D images: one 2D view of mip 0 per layer, for render targets
     Allocation alloc;
     ImageDesc desc;
     explicit operator bool() const { return image != VK_NULL_HANDLE; }

@@ -9,15 +9,18 @@
 
 namespace vkgi::rg {
 
-// The pass's declared use of `resource` covering `mip` (layer 0); kAll accepts any use.
-const detail::Use* PassContext::findUse(uint32_t resource, uint32_t mip) const {
-    for (const detail::Use& u : m_graph.m_passes[m_pass].uses) {
-        if (u.resource != resource)
-            continue;
-        uint32_t end = u.range.mipCount == kAll ? kAll : u.range.baseMip + u.range.mipCount;
-        if (mip == kAll || (mip >= u.range.baseMip && mip < end))
+namespace {
+bool covers(uint32_t base, uint32_t count, uint32_t index) {
+    return index == kAll || (index >= base && (count == kAll || index < base + count));
+}
+} // namespace
+
+// The pass's declared use of `resource` covering `mip` and `layer`; kAll accepts any mip or layer.
+const detail::Use* PassContext::findUse(uint32_t resource, uint32_t mip, uint32_t layer) const {
+    for (const detail::Use& u : m_graph.m_passes[m_pass].uses)
+        if (u.resource == resource && covers(u.range.baseMip, u.range.mipCount, mip) &&
+            covers(u.range.baseLayer, u.range.layerCount, layer))
             return &u;
-    }
     return nullptr;
 }
 
@@ -37,6 +40,13 @@ VkImageView PassContext::mipView(ImageHandle h, uint32_t mip) const {
     const Image& img = image(h);
     GI_ASSERT(mip < img.mipViews.size(), "PassContext::mipView: mip level out of range");
     return img.mipViews[mip];
+}
+
+VkImageView PassContext::layerView(ImageHandle h, uint32_t layer) const {
+    GI_ASSERT(findUse(h.index, 0, layer) != nullptr, "PassContext::layerView: the pass did not declare this layer");
+    const Image& img = image(h);
+    GI_ASSERT(layer < img.layerViews.size(), "PassContext::layerView: layer out of range (or not a 2D image)");
+    return img.layerViews[layer];
 }
 
 VkImageLayout PassContext::layout(ImageHandle h, uint32_t mip) const {

@@ -54,15 +54,13 @@ struct ShadowLayout {
 };
 ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers);
 
-// Persistent shadow atlas and RSM arrays (recreated when the layer count or size changes), with
-// one 2D view per layer for rendering and 2D-array views for sampling.
+// Persistent shadow atlas and RSM arrays (recreated when the layer count or size changes),
+// sampled through 2D-array views and rendered one layer at a time (PassContext::layerView).
 struct ShadowTargets {
     rg::PersistentImage atlas;
     rg::PersistentImage rsmPosition;
     rg::PersistentImage rsmNormal;
     rg::PersistentImage rsmFlux;
-    std::vector<VkImageView> atlasLayers;
-    std::vector<VkImageView> rsmLayers[3]; // position, normal, flux
     uint32_t layers = 0;
     uint32_t resolution = 0;
     bool rsm = false;

@@ -50,6 +50,7 @@ Image asImage(const HostImage& h) {
     img.image = h.image;
     img.view = h.view;
     img.mipViews = {h.view};
+    img.layerViews = {h.view};
     img.desc.format = h.format;
     img.desc.width = h.width;
     img.desc.height = h.height;

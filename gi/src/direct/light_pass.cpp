@@ -102,9 +102,9 @@ struct LightPassInfo {
     const GpuScene* scene = nullptr;
     VkSampler textureSampler = VK_NULL_HANDLE;
     SceneHandles sceneHandles;
-    std::vector<gpu::RasterPush> faces; // one per layer
-    std::vector<std::vector<VkImageView>> colors;
-    std::vector<VkImageView> depths;
+    std::vector<gpu::RasterPush> faces; // one per layer, from firstLayer on
+    AtlasHandles targets;               // rendered one layer at a time through PassContext::layerView
+    uint32_t firstLayer = 0;
     uint32_t faceMask = 0;
     uint32_t resolution = 0;
     bool rsm = false;
@@ -114,7 +114,12 @@ void recordLightPass(const LightPassInfo& info, rg::PassContext& pc) {
     VkCommandBuffer cmd = pc.cmd();
     VkExtent2D extent{info.resolution, info.resolution};
     for (size_t f = 0; f < info.faces.size(); ++f) {
-        beginRendering(cmd, extent, info.colors[f], info.depths[f]);
+        const uint32_t layer = info.firstLayer + uint32_t(f);
+        const AtlasHandles& t = info.targets;
+        std::vector<VkImageView> colors;
+        if (info.rsm)
+            colors = {pc.layerView(t.position, layer), pc.layerView(t.normal, layer), pc.layerView(t.flux, layer)};
+        beginRendering(cmd, extent, colors, pc.layerView(t.atlas, layer));
         if (info.faceMask & (1u << f)) { // faces that cannot see the cone are only cleared
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, info.pipeline->pipeline);
             const SceneHandles& s = info.sceneHandles;
@@ -138,8 +143,7 @@ void recordLightPass(const LightPassInfo& info, rg::PassContext& pc) {
 }
 
 void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame, const SceneHandles& scene,
-                  const ShadowLayout& layout, const LightShadowPlan& plan, const ShadowTargets& targets, bool rsm,
-                  AtlasHandles& h) {
+                  const ShadowLayout& layout, const LightShadowPlan& plan, bool rsm, AtlasHandles& h) {
     auto info = std::make_shared<LightPassInfo>();
     bool textured = !frame.scene->textures.empty();
     info->pipeline = !rsm ? &p.shadow : textured ? &p.rsm : &p.rsmUntextured;
@@ -149,14 +153,11 @@ void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameD
     info->faceMask = plan.faceMask;
     info->resolution = layout.resolution;
     info->rsm = rsm;
+    info->firstLayer = plan.firstLayer;
     for (uint32_t f = 0; f < plan.layerCount; ++f) {
         uint32_t layer = plan.firstLayer + f;
         const gpu::GpuShadowView& v = layout.views[layer];
         info->faces.push_back({v.viewProj, v.eye, v.axisArea, glm::uvec4(0u, plan.light, layer, 0u)});
-        info->depths.push_back(targets.atlasLayers[layer]);
-        info->colors.push_back(rsm ? std::vector<VkImageView>{targets.rsmLayers[0][layer], targets.rsmLayers[1][layer],
-                                                              targets.rsmLayers[2][layer]}
-                                   : std::vector<VkImageView>{});
     }
     const Light& light = frame.scene->lights[plan.light];
     std::string name = lightPassName(plan.light, light.type);
@@ -176,6 +177,7 @@ void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameD
             b.read(scene.instances, Access::VertexShaderStorageRead);
             b.read(scene.materials, Access::VertexShaderStorageRead);
             b.read(scene.indices, Access::IndexBufferRead);
+            info->targets = h;
         },
         [info](rg::PassContext& pc) { recordLightPass(*info, pc); });
 }
@@ -196,7 +198,7 @@ void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Di
     addSetupPass(graph, layout, uint32_t(frame.scene->lights.size()), rsm, h, shadow.views, shadow.lightShadows);
     for (const LightShadowPlan& plan : layout.lights)
         if (plan.kind != GI_SHADOW_NONE && !(plan.light < keep.size() && keep[plan.light]))
-            addLightPass(graph, p, frame, scene, layout, plan, targets, rsm, h);
+            addLightPass(graph, p, frame, scene, layout, plan, rsm, h);
     shadow.atlas = h.atlas;
     shadow.resolution = layout.resolution;
     shadow.layers = layout.layers;

@@ -93,7 +93,21 @@ RtScene::~RtScene() {
 Result<std::unique_ptr<RtScene>> RtScene::build(const Scene& scene) {
     const std::string sceneName = "scene '" + scene.name + "'";
     std::unique_ptr<RtScene> rt(new RtScene());
+    if (auto ok = rt->addMaterials(scene, sceneName); !ok)
+        return ok.error();
+    if (auto ok = rt->addTextures(scene, sceneName); !ok)
+        return ok.error();
+    if (auto ok = rt->addInstances(scene, sceneName); !ok)
+        return ok.error();
+    if (rt->m_geoms.empty())
+        return makeError(sceneName + ": no geometry to trace (no instance with triangles)");
+    rt->buildLightTable();
+    if (auto ok = rt->buildBvh(sceneName); !ok)
+        return ok.error();
+    return rt;
+}
 
+Result<void> RtScene::addMaterials(const Scene& scene, const std::string& sceneName) {
     for (size_t i = 0; i < scene.materials.size(); ++i) {
         const Material& m = scene.materials[i];
         if (!finite(glm::vec3(m.baseColor)) || !finite(m.emission))
@@ -107,9 +121,12 @@ Result<std::unique_ptr<RtScene>> RtScene::build(const Scene& scene) {
         rm.texture = m.baseColorTexture;
         rm.emission = m.emission;
         rm.doubleSided = m.doubleSided;
-        rt->m_materials.push_back(rm);
+        m_materials.push_back(rm);
     }
+    return {};
+}
 
+Result<void> RtScene::addTextures(const Scene& scene, const std::string& sceneName) {
     float srgbLut[256], linearLut[256];
     for (int i = 0; i < 256; ++i) {
         srgbLut[i] = srgbToLinear(float(i) / 255.0f);
@@ -119,16 +136,20 @@ Result<std::unique_ptr<RtScene>> RtScene::build(const Scene& scene) {
         const Texture& t = scene.textures[i];
         if (t.width == 0 || t.height == 0 || t.rgba8.size() != size_t(t.width) * t.height * 4)
             return makeError(sceneName + ": texture " + quoted(t.name, i) + " has inconsistent size and data");
-        RtTexture rt2;
-        rt2.width = t.width;
-        rt2.height = t.height;
-        rt2.texels.resize(size_t(t.width) * t.height);
+        RtTexture texture;
+        texture.width = t.width;
+        texture.height = t.height;
+        texture.texels.resize(size_t(t.width) * t.height);
         const float* lut = t.srgb ? srgbLut : linearLut;
-        for (size_t p = 0; p < rt2.texels.size(); ++p)
-            rt2.texels[p] = {lut[t.rgba8[4 * p]], lut[t.rgba8[4 * p + 1]], lut[t.rgba8[4 * p + 2]]};
-        rt->m_textures.push_back(std::move(rt2));
+        for (size_t p = 0; p < texture.texels.size(); ++p)
+            texture.texels[p] = {lut[t.rgba8[4 * p]], lut[t.rgba8[4 * p + 1]], lut[t.rgba8[4 * p + 2]]};
+        m_textures.push_back(std::move(texture));
     }
+    return {};
+}
 
+// World-space copies of every instance with triangles.
+Result<void> RtScene::addInstances(const Scene& scene, const std::string& sceneName) {
     for (size_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& inst = scene.instances[i];
         const std::string what = sceneName + ": instance #" + std::to_string(i);
@@ -170,17 +191,18 @@ Result<std::unique_ptr<RtScene>> RtScene::build(const Scene& scene) {
             for (const glm::vec3& n : mesh.normals)
                 g.normals.push_back(nm * n); // bad ones fall back to the geometric normal per hit
         }
-        rt->m_geoms.push_back(std::move(g));
+        m_geoms.push_back(std::move(g));
     }
-    if (rt->m_geoms.empty())
-        return makeError(sceneName + ": no geometry to trace (no instance with triangles)");
+    return {};
+}
 
+void RtScene::buildLightTable() {
     // Emissive triangles, chosen by power: area x luminance x sides that emit.
     double total = 0.0;
-    std::vector<float> geomLum(rt->m_geoms.size(), 0.0f);
-    for (size_t gi = 0; gi < rt->m_geoms.size(); ++gi) {
-        const RtGeometry& g = rt->m_geoms[gi];
-        const RtMaterial& m = rt->m_materials[g.material];
+    std::vector<float> geomLum(m_geoms.size(), 0.0f);
+    for (size_t gi = 0; gi < m_geoms.size(); ++gi) {
+        const RtGeometry& g = m_geoms[gi];
+        const RtMaterial& m = m_materials[g.material];
         float lum = luminance(m.emission) * (m.doubleSided ? 2.0f : 1.0f);
         if (!(lum > 0.0f))
             continue;
@@ -192,31 +214,33 @@ Result<std::unique_ptr<RtScene>> RtScene::build(const Scene& scene) {
             if (!(area > 0.0))
                 continue;
             total += area * double(lum);
-            rt->m_lightTris.push_back({uint32_t(gi), t});
-            rt->m_lightCdf.push_back(total);
+            m_lightTris.push_back({uint32_t(gi), t});
+            m_lightCdf.push_back(total);
         }
     }
     if (total > 0.0) {
-        for (double& c : rt->m_lightCdf)
+        for (double& c : m_lightCdf)
             c /= total;
-        rt->m_lightCdf.back() = 1.0;
-        for (size_t gi = 0; gi < rt->m_geoms.size(); ++gi)
-            rt->m_geoms[gi].lightPdfPerArea = float(double(geomLum[gi]) / total);
+        m_lightCdf.back() = 1.0;
+        for (size_t gi = 0; gi < m_geoms.size(); ++gi)
+            m_geoms[gi].lightPdfPerArea = float(double(geomLum[gi]) / total);
     }
+}
 
+Result<void> RtScene::buildBvh(const std::string& sceneName) {
     std::string embreeError;
-    rt->m_device = rtcNewDevice(nullptr);
-    if (!rt->m_device)
+    m_device = rtcNewDevice(nullptr);
+    if (!m_device)
         return makeError(sceneName + ": Embree device creation failed (error " +
                          std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
-    rtcSetDeviceErrorFunction(rt->m_device, embreeErrorCallback, &embreeError);
-    rt->m_scene = rtcNewScene(rt->m_device);
+    rtcSetDeviceErrorFunction(m_device, embreeErrorCallback, &embreeError);
+    m_scene = rtcNewScene(m_device);
     // Robust mode: watertight traversal, so closed boxes (furnace) cannot leak at edges.
-    rtcSetSceneFlags(rt->m_scene, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(rt->m_scene, RTC_BUILD_QUALITY_HIGH);
-    for (size_t gi = 0; gi < rt->m_geoms.size(); ++gi) {
-        const RtGeometry& g = rt->m_geoms[gi];
-        RTCGeometry geom = rtcNewGeometry(rt->m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetSceneFlags(m_scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(m_scene, RTC_BUILD_QUALITY_HIGH);
+    for (size_t gi = 0; gi < m_geoms.size(); ++gi) {
+        const RtGeometry& g = m_geoms[gi];
+        RTCGeometry geom = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
         auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                                3 * sizeof(float), g.positions.size()));
         auto* ib = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
@@ -230,14 +254,14 @@ Result<std::unique_ptr<RtScene>> RtScene::build(const Scene& scene) {
                 vb[3 * v + c] = g.positions[v][c];
         std::copy(g.indices.begin(), g.indices.end(), ib);
         rtcCommitGeometry(geom);
-        rtcAttachGeometryByID(rt->m_scene, geom, unsigned(gi));
+        rtcAttachGeometryByID(m_scene, geom, unsigned(gi));
         rtcReleaseGeometry(geom);
     }
-    rtcCommitScene(rt->m_scene);
-    if (rtcGetDeviceError(rt->m_device) != RTC_ERROR_NONE || !embreeError.empty())
+    rtcCommitScene(m_scene);
+    if (rtcGetDeviceError(m_device) != RTC_ERROR_NONE || !embreeError.empty())
         return makeError(sceneName + ": Embree BVH build failed: " + embreeError);
-    rtcSetDeviceErrorFunction(rt->m_device, nullptr, nullptr); // embreeError goes out of scope
-    return rt;
+    rtcSetDeviceErrorFunction(m_device, nullptr, nullptr); // embreeError goes out of scope
+    return {};
 }
 
 SurfaceHit RtScene::surface(uint32_t geomId, uint32_t primId, float u, float v) const {

@@ -80,6 +80,12 @@ public:
 
 private:
     RtScene() = default;
+    // The steps of build(); `sceneName` names the scene in errors.
+    Result<void> addMaterials(const Scene& scene, const std::string& sceneName);
+    Result<void> addTextures(const Scene& scene, const std::string& sceneName);
+    Result<void> addInstances(const Scene& scene, const std::string& sceneName);
+    void buildLightTable();
+    Result<void> buildBvh(const std::string& sceneName);
     RTCDevice m_device = nullptr;
     RTCScene m_scene = nullptr;
     std::vector<RtGeometry> m_geoms;

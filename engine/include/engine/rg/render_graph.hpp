@@ -220,6 +220,9 @@ public:
     const Buffer& buffer(BufferHandle h) const;
     VkImageView view(ImageHandle h) const { return image(h).view; }
     VkImageView mipView(ImageHandle h, uint32_t mip) const;
+    // A 2D view of mip 0 of array layer `layer` of a 2D (or cube) image: a render target for one
+    // layer. The image owns the view; the pass must have declared a use covering that layer.
+    VkImageView layerView(ImageHandle h, uint32_t layer) const;
     // Layout this pass declared for mip `mip` (layer 0) of `h`.
     VkImageLayout layout(ImageHandle h, uint32_t mip = 0) const;
 
@@ -261,7 +264,7 @@ private:
                      std::initializer_list<DescriptorItem> items) const;
     void bindForDispatch(const Pipeline& pipeline, const void* push, uint32_t pushSize,
                          std::span<const DescriptorItem> items) const;
-    const detail::Use* findUse(uint32_t resource, uint32_t mip) const;
+    const detail::Use* findUse(uint32_t resource, uint32_t mip, uint32_t layer = kAll) const;
     const RenderGraph& m_graph;
     uint32_t m_pass;
     VkCommandBuffer m_cmd;

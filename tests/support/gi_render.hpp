@@ -1,0 +1,24 @@
+#pragma once
+// GiSystem in one call for tests that render whole frames through the public API.
+#include <memory>
+#include <string>
+
+#include "engine/context.hpp"
+#include "engine/scene.hpp"
+#include "gi/gi.hpp"
+
+namespace vkgi::test {
+
+// A built-in scene (engine/builtin_scenes.hpp); a scene that does not build fails the test here
+// and gives an empty scene.
+Scene builtinScene(const std::string& name);
+
+// A GiSystem with `settings` and `scene` set.
+Result<std::unique_ptr<gi::GiSystem>> systemWithScene(Context& ctx, const gi::GiSettings& settings, const Scene& scene);
+
+// One frame of `scene` seen from `camera` by a new GiSystem with `settings`.
+Result<gi::FrameResult> renderOnce(Context& ctx, const gi::GiSettings& settings, const Scene& scene,
+                                   const Camera& camera, uint32_t width, uint32_t height,
+                                   const gi::FrameRequest& request);
+
+} // namespace vkgi::test
