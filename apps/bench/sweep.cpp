@@ -46,10 +46,11 @@ std::vector<std::string> sweepFor(const std::string& technique, bool quick) {
         for (const char* t : {"vct.step=0.5", "vct.step=2", "vct.bounces=1", "vct.lowres=1", "vct.lowres=2"})
             s.push_back(std::string("vct.grid=64 vct.cones=6 ") + t);
     } else if (technique == "vpl") {
-        for (const char* n : {"50", "100", "200", "400"})
-            s.push_back(std::string("vpl.count=") + n);
-        for (const char* t : {"vpl.negative=100", "vpl.negative=200", "vpl.lowres=2", "vpl.lowres=4",
-                              "vpl.lowres=2 vpl.threshold=0.05", "vpl.lowres=2 vpl.threshold=0.3"})
+        // The count at every interleave tile side, then the other knobs beside the defaults.
+        s = product("vpl.interleave", {"1", "2", "4"}, "vpl.count", {"100", "200", "400"});
+        for (const char* t : {"vpl.interleave=3", "vpl.negative=100", "vpl.negative=200", "vpl.lowres=2",
+                              "vpl.lowres=2 vpl.interleave=1", "vpl.lowres=4 vpl.interleave=1",
+                              "vpl.lowres=2 vpl.interleave=1 vpl.threshold=0.05", "vpl.interleave_tolerance=0.05"})
             s.push_back(std::string("vpl.count=200 ") + t);
     }
     if (quick && s.size() > 1)
