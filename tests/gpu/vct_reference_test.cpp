@@ -17,43 +17,12 @@
 
 using namespace vkgi;
 using namespace vkgi::gi;
+using vkgi::test::bestAmbient;
+using vkgi::test::surfacePixels;
 
 namespace {
 
 constexpr uint32_t kSize = 64;
-
-// direct + c with the per-channel constant c that minimises relMSE against `ref`:
-// d/dc sum w (d + c - r)^2 = 0 with w = 1 / (r^2 + eps) gives c = sum w (r - d) / sum w.
-// An ambient term lights surfaces: pixels without one (`surface` false: the sky of the atrium,
-// black in both renderers) keep `direct`. Adding c there too made the sky pixels (weight
-// 1 / eps = 100 against ~1e-4 on a 100-nit surface) pull c to ~0, so the "best constant" was
-// no light at all and its relMSE just the fraction of surface pixels (atrium 0.868).
-HdrImage bestAmbient(const HdrImage& direct, const HdrImage& ref, const std::vector<bool>& surface,
-                     float eps = 0.01f) {
-    glm::dvec3 num(0.0), den(0.0);
-    for (size_t i = 0; i < ref.pixels.size(); ++i)
-        for (int k = 0; k < 3 && surface[i]; ++k) {
-            double r = ref.pixels[i][k];
-            double w = 1.0 / (r * r + eps);
-            num[k] += w * (r - direct.pixels[i][k]);
-            den[k] += w;
-        }
-    HdrImage out = direct;
-    for (size_t i = 0; i < out.pixels.size(); ++i)
-        if (surface[i])
-            out.pixels[i] += glm::vec3(num / den);
-    return out;
-}
-
-// Pixels that show a surface: light in the path-traced or the rendered image (the scenes have
-// no sky light, so a pixel black in both is background; a surface black in both contributes
-// nothing to either error wherever the constant goes).
-std::vector<bool> surfacePixels(const HdrImage& a, const HdrImage& b) {
-    std::vector<bool> surface(a.pixels.size());
-    for (size_t i = 0; i < a.pixels.size(); ++i)
-        surface[i] = a.pixels[i] != glm::vec3(0.0f) || b.pixels[i] != glm::vec3(0.0f);
-    return surface;
-}
 
 struct Errors {
     double full, indirect, ambientFull, ambientIndirect;

@@ -1,6 +1,7 @@
 // VPL placement math (gi/vpl.h, gi/vpl.hpp): Halton values, uniformity on the sphere, the
 // paper's "first N inside the cone" rule, determinism, the spot frame and its smoothness.
 #include <cmath>
+#include <limits>
 #include <cstring>
 
 #include <gtest/gtest.h>
@@ -135,9 +136,29 @@ TEST(VplSampling, SettingsValidation) {
     s.refineThreshold = std::nanf("");
     EXPECT_FALSE(validateVplSettings(s));
     s = {};
+    s.interleave = 0;
+    EXPECT_FALSE(validateVplSettings(s));
+    s.interleave = kMaxVplInterleave + 1;
+    r = validateVplSettings(s);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("interleave 5"), std::string::npos) << r.error().message;
+    s = {};
+    s.interleaveTolerance = std::numeric_limits<float>::infinity();
+    EXPECT_FALSE(validateVplSettings(s));
+    s = {};
+    s.visibilityGrid = 100; // not a power of two
+    r = validateVplSettings(s);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("visibilityGrid 100"), std::string::npos) << r.error().message;
+    s.visibilityGrid = 512;
+    EXPECT_FALSE(validateVplSettings(s));
+    s = {};
     s.vplCount = kMaxVplsPerLight;
     s.negativeVplCount = kMaxNegativeVpls;
     s.lowResFactor = 4;
+    s.interleave = kMaxVplInterleave;
+    s.visibility = true;
+    s.visibilityGrid = 256;
     EXPECT_TRUE(validateVplSettings(s));
 }
 

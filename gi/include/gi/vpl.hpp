@@ -48,6 +48,12 @@ struct VplSettings {
     // The interleave filter's plane test: a neighbour further than this fraction of the
     // pixel's distance to the camera off the pixel's tangent plane is another surface.
     float interleaveTolerance = 0.02f;
+    // Visibility between VPLs and receivers: each VPL's light is marched through the occupancy
+    // of a voxel grid of visibilityGrid^3 fitted to the scene (the grid VCT and LPV share,
+    // built only when this is on), so light does not pass through walls (docs/vpl.md). Off as
+    // in the paper.
+    bool visibility = false;
+    uint32_t visibilityGrid = 64; // voxels per axis, a power of two 16..256
 };
 
 // Checks every knob; the error names the knob, its value and the allowed range.
@@ -99,6 +105,11 @@ struct VplInputs {
     rg::BufferHandle shadowViews; // GpuShadowView per layer (gi/direct_types.h)
     std::vector<VplSpot> spots;   // at most kMaxVplLights
     float sceneDiagonal = 1.0f;   // metres; scales VplSettings::clampDistance
+    // With VplSettings::visibility: the voxel grid's albedo volume (RGBA8 3D, a = occupancy,
+    // gi/voxel_grid.h), its min corner and voxel edge, and its voxels per axis.
+    rg::ImageHandle occupancy;
+    glm::vec4 occupancyOriginSize{0.0f};
+    uint32_t occupancyResolution = 0;
 };
 
 struct VplOutputs {

@@ -26,6 +26,8 @@ Result<void> validateVplSettings(const VplSettings& s) {
     if (s.interleave < 1 || s.interleave > kMaxVplInterleave)
         return bad("interleave " + std::to_string(s.interleave) + " is outside 1.." +
                    std::to_string(kMaxVplInterleave));
+    if (s.visibilityGrid < 16 || s.visibilityGrid > 256 || (s.visibilityGrid & (s.visibilityGrid - 1)) != 0)
+        return bad("visibilityGrid " + std::to_string(s.visibilityGrid) + " must be a power of two in 16..256");
     if (!std::isfinite(s.interleaveTolerance) || s.interleaveTolerance <= 0.0f || s.interleaveTolerance > 1.0f)
         return bad("interleaveTolerance " + std::to_string(s.interleaveTolerance) + " must be in (0, 1]");
     return {};

@@ -70,6 +70,8 @@ Result<void> checkInputs(const VplInputs& in, const VplSettings& settings) {
     if (in.spots.size() > kMaxVplLights)
         return makeError("VplTechnique: " + std::to_string(in.spots.size()) + " lights exceed the maximum " +
                          std::to_string(kMaxVplLights));
+    if (settings.visibility && (!in.occupancy.valid() || in.occupancyResolution == 0 || !(in.occupancyOriginSize.w > 0.0f)))
+        return makeError("VplTechnique: visibility is on but the inputs carry no occupancy volume");
     for (const VplSpot& spot : in.spots) {
         if (spot.layerCount != 1 && spot.layerCount != 6)
             return makeError("VplTechnique: a light's RSM layer count must be 1 or 6, got " +
@@ -161,7 +163,9 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
     push.camera = glm::vec4(in.camera.position, 0.0f);
     push.params = glm::vec4(clampDistance * clampDistance, settings.refineThreshold, settings.interleaveTolerance,
                             settings.negativeVplCount > 0 ? 1.0f : 0.0f);
-    push.interleave = glm::uvec4(settings.interleave, lightCount, settings.vplCount, 0);
+    push.interleave = glm::uvec4(settings.interleave, lightCount, settings.vplCount,
+                                 settings.visibility ? in.occupancyResolution : 0u);
+    push.grid = settings.visibility ? in.occupancyOriginSize : glm::vec4(0.0f);
     return push;
 }
 
@@ -169,7 +173,8 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
 
 struct VplTechnique::Impl {
     Context& ctx;
-    Pipeline generate, gather, interleaveRows, interleaveColumns, negativeGenerate, negativeGather, upsample, refine;
+    Pipeline generate, gather, gatherVisible, interleaveRows, interleaveColumns, negativeGenerate, negativeGather, upsample, refine,
+        refineVisible;
     VkSampler pointSampler = VK_NULL_HANDLE; // texelFetch-only, but sampled bindings need one
     // Halton directions per (count, cosOuter bits): the CPU search is the only costly CPU step.
     std::map<std::pair<uint32_t, uint32_t>, std::vector<glm::vec3>> directionCache;
@@ -272,20 +277,23 @@ rg::BufferHandle VplTechnique::Impl::addGeneratePass(rg::RenderGraph& graph, con
 GatherImages VplTechnique::Impl::addGatherPass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
                                                const gpu::VplPixelPush& push, const char* indirectName) {
     const uint32_t width = push.size.x, height = push.size.y;
+    const bool visible = push.interleave.w > 0;
     GatherImages out;
     out.indirect = graph.createImage(indirectName, radianceImage(width, height));
     out.incident = graph.createImage("vpl.incident", radianceImage(width, height));
     out.travel = graph.createImage("vpl.travel", radianceImage(width, height));
-    rg::ComputePass(graph, "vpl.gather", gather)
-        .push(push)
+    rg::ComputePass pass(graph, "vpl.gather", visible ? gatherVisible : gather);
+    pass.push(push)
         .sample(VPL_GATHER_BINDING_POSITION, in.gPosition, pointSampler)
         .sample(VPL_GATHER_BINDING_NORMAL, in.gNormal, pointSampler)
         .sample(VPL_GATHER_BINDING_ALBEDO, in.gAlbedo, pointSampler)
         .read(VPL_GATHER_BINDING_VPLS, vpls)
         .overwrite(VPL_GATHER_BINDING_INDIRECT, out.indirect)
         .overwrite(VPL_GATHER_BINDING_INCIDENT, out.incident)
-        .overwrite(VPL_GATHER_BINDING_TRAVEL, out.travel)
-        .dispatch(interleavedGrid(width, height, push.interleave.x));
+        .overwrite(VPL_GATHER_BINDING_TRAVEL, out.travel);
+    if (visible)
+        pass.sample(VPL_GATHER_BINDING_OCCUPANCY, in.occupancy, pointSampler);
+    pass.dispatch(interleavedGrid(width, height, push.interleave.x));
     return out;
 }
 
@@ -380,16 +388,19 @@ rg::ImageHandle VplTechnique::Impl::addUpsamplePass(rg::RenderGraph& graph, cons
 void VplTechnique::Impl::addRefinePass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
                                        rg::BufferHandle negativeVpls, rg::BufferHandle refineList,
                                        rg::ImageHandle& indirect, const gpu::VplPixelPush& push) {
-    rg::ComputePass(graph, "vpl.refine", refine)
-        .push(push)
+    const bool visible = push.interleave.w > 0;
+    rg::ComputePass pass(graph, "vpl.refine", visible ? refineVisible : refine);
+    pass.push(push)
         .sample(VPL_REFINE_BINDING_POSITION, in.gPosition, pointSampler)
         .sample(VPL_REFINE_BINDING_NORMAL, in.gNormal, pointSampler)
         .sample(VPL_REFINE_BINDING_ALBEDO, in.gAlbedo, pointSampler)
         .read(VPL_REFINE_BINDING_VPLS, vpls)
         .read(VPL_REFINE_BINDING_NEGATIVE_VPLS, negativeVpls)
         .read(VPL_REFINE_BINDING_REFINE_LIST, refineList)
-        .write(VPL_REFINE_BINDING_INDIRECT, indirect)
-        .dispatchIndirect(refineList, sizeof(uint32_t)); // one thread per entry (the header's command)
+        .write(VPL_REFINE_BINDING_INDIRECT, indirect);
+    if (visible)
+        pass.sample(VPL_REFINE_BINDING_OCCUPANCY, in.occupancy, pointSampler);
+    pass.dispatchIndirect(refineList, sizeof(uint32_t)); // one thread per entry (the header's command)
 }
 
 VplTechnique::VplTechnique(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
@@ -397,7 +408,7 @@ VplTechnique::VplTechnique(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
 VplTechnique::~VplTechnique() {
     Context& ctx = m->ctx;
     for (Pipeline* p : {&m->generate, &m->gather, &m->interleaveRows, &m->interleaveColumns, &m->negativeGenerate,
-                        &m->negativeGather, &m->upsample, &m->refine})
+                        &m->negativeGather, &m->upsample, &m->refine, &m->gatherVisible, &m->refineVisible})
         destroyPipeline(ctx, *p);
     if (m->pointSampler)
         vkDestroySampler(ctx.device(), m->pointSampler, nullptr);
@@ -416,6 +427,8 @@ Result<std::unique_ptr<VplTechnique>> VplTechnique::create(Context& ctx) {
         {&m.negativeGather, "gi/vpl/vpl_negative_gather.comp"},
         {&m.upsample, "gi/vpl/vpl_upsample.comp"},
         {&m.refine, "gi/vpl/vpl_refine.comp"},
+        {&m.gatherVisible, "gi/vpl/vpl_gather_visible.comp"},
+        {&m.refineVisible, "gi/vpl/vpl_refine_visible.comp"},
     };
     for (const auto& [pipeline, name] : shaders) {
         auto p = createComputePipeline(ctx, {name, {}});

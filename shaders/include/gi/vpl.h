@@ -42,6 +42,7 @@
 #define VPL_GATHER_BINDING_INDIRECT 4 // output: indirect radiance (RGBA32F)
 #define VPL_GATHER_BINDING_INCIDENT 5 // output: VPL irradiance E (the negative VPLs' flux)
 #define VPL_GATHER_BINDING_TRAVEL 6   // output: luminance-weighted sum of the light's travel directions
+#define VPL_GATHER_BINDING_OCCUPANCY 7 // vpl_gather_visible.comp only: the voxel grid's albedo volume (a = occupancy)
 // vpl_interleave_rows.comp and vpl_interleave_columns.comp: the interleaved gather's subsets
 // summed back over each tile (gi/vpl_interleave_filter.h), along rows, then along columns.
 #define VPL_INTERLEAVE_ROWS_BINDING_POSITION 0        // G-buffer world position
@@ -86,6 +87,7 @@
 #define VPL_REFINE_BINDING_NEGATIVE_VPLS 4 // VplRecord per negative VPL (the positive ones when off: count 0)
 #define VPL_REFINE_BINDING_REFINE_LIST 5   // refine list (gi/vpl_refine_list.h), also the dispatch's command
 #define VPL_REFINE_BINDING_INDIRECT 6      // output: the upsampled indirect radiance, refined pixels rewritten
+#define VPL_REFINE_BINDING_OCCUPANCY 7     // vpl_refine_visible.comp only: the voxel grid's albedo volume
 
 // Refine list (layout in gi/vpl_refine_list.h): a uint count and the refine pass's indirect
 // dispatch command, then one packed pixel (x | y << 16) per entry.
@@ -134,9 +136,11 @@ GI_GPU_STRUCT(VplPixelPush) {
     vec4 params;      // x clamp distance^2, y refine threshold, z interleave filter's plane tolerance
                       // (fraction of the distance to the camera), w 1 when the filter passes must
                       // also filter the travel directions (negative VPLs read them), else 0
-    uvec4 interleave; // x tile side n (1 = every pixel gathers every VPL), y lights, z VPLs per light, w 0
+    uvec4 interleave; // x tile side n (1 = every pixel gathers every VPL), y lights, z VPLs per light,
+                      // w voxels per axis of the visibility grid (0 without visibility)
+    vec4 grid;        // visibility: xyz the voxel grid's min corner (world), w voxel edge (m)
 };
-GI_CHECK_SIZE(VplPixelPush, 80);
+GI_CHECK_SIZE(VplPixelPush, 96);
 
 // Interleaved sampling (Keller & Heidrich; Segovia et al.): pixel (x, y) of the gather image
 // gathers subset s = (y mod n) n + (x mod n) of the n^2 subsets. The VPL buffer is laid out

@@ -1,10 +1,14 @@
 // GLSL only: the VPL gathers shared by the gather, negative and refine passes. The includer
 // declares `VplRecord vpls[]` and `VplRecord negativeVpls[]` storage buffers before including this.
-// No visibility term (as in the paper); the loops have run-time trip counts so lavapipe's JIT
-// never unrolls them.
+// No visibility term (as in the paper) unless the includer defines VPL_VISIBILITY (the
+// positive VPLs' light is then marched through the voxel occupancy, gi/vpl_visibility.h); the
+// loops have run-time trip counts so lavapipe's JIT never unrolls them.
 #ifndef VKGI_GI_VPL_GATHER_H
 #define VKGI_GI_VPL_GATHER_H
 #include "vpl.h"
+#ifdef VPL_VISIBILITY
+#include "vpl_visibility.h"
+#endif
 
 float vplLuminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
@@ -20,6 +24,10 @@ vec3 vplGatherPositive(vec3 x, vec3 n, uint first, uint end, float clamp2, out v
         float d2 = dot(d, d);
         vec3 w = d * inversesqrt(max(d2, 1e-30));
         float g = max(dot(n, w), 0.0) * max(-dot(v.direction.xyz, w), 0.0) / max(d2, clamp2);
+#ifdef VPL_VISIBILITY
+        if (g > 0.0)
+            g *= vplVisibility(x, n, v.position.xyz, v.direction.xyz);
+#endif
         vec3 c = v.flux.rgb * (g * v.position.w);
         e += c;
         travel -= w * vplLuminance(c);

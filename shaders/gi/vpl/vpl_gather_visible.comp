@@ -1,0 +1,6 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// The VPL gather with each VPL's light stopped by the voxel grid's occupancy
+// (gi/vpl_visibility.h, gi/vpl_gather_pass.h).
+#define VPL_VISIBILITY
+#include "gi/vpl_gather_pass.h"
