@@ -59,6 +59,7 @@ struct GatherImages {
     rg::ImageHandle indirect; // indirect radiance albedo/pi * E
     rg::ImageHandle incident; // VPL irradiance E
     rg::ImageHandle travel;   // luminance-weighted sum of the directions the light travels in
+    rg::ImageHandle surface;  // interleaved: each pixel's packed surface (gi/vpl_surface.h)
 };
 
 Result<void> checkInputs(const VplInputs& in, const VplSettings& settings) {
@@ -282,6 +283,9 @@ GatherImages VplTechnique::Impl::addGatherPass(rg::RenderGraph& graph, const Vpl
     out.indirect = graph.createImage(indirectName, radianceImage(width, height));
     out.incident = graph.createImage("vpl.incident", radianceImage(width, height));
     out.travel = graph.createImage("vpl.travel", radianceImage(width, height));
+    ImageDesc surface = radianceImage(width, height);
+    surface.format = VK_FORMAT_R32G32B32A32_UINT;
+    out.surface = graph.createImage("vpl.surface", surface);
     rg::ComputePass pass(graph, "vpl.gather", visible ? gatherVisible : gather);
     pass.push(push)
         .sample(VPL_GATHER_BINDING_POSITION, in.gPosition, pointSampler)
@@ -290,7 +294,8 @@ GatherImages VplTechnique::Impl::addGatherPass(rg::RenderGraph& graph, const Vpl
         .read(VPL_GATHER_BINDING_VPLS, vpls)
         .overwrite(VPL_GATHER_BINDING_INDIRECT, out.indirect)
         .overwrite(VPL_GATHER_BINDING_INCIDENT, out.incident)
-        .overwrite(VPL_GATHER_BINDING_TRAVEL, out.travel);
+        .overwrite(VPL_GATHER_BINDING_TRAVEL, out.travel)
+        .overwrite(VPL_GATHER_BINDING_SURFACE, out.surface);
     if (visible)
         pass.sample(VPL_GATHER_BINDING_OCCUPANCY, in.occupancy, pointSampler);
     pass.dispatch(interleavedGrid(width, height, push.interleave.x));
@@ -305,8 +310,7 @@ GatherImages VplTechnique::Impl::addInterleaveFilterPasses(rg::RenderGraph& grap
     rg::ImageHandle rowsTravel = graph.createImage("vpl.rows_travel", radianceImage(width, height));
     rg::ComputePass(graph, "vpl.interleave_rows", interleaveRows)
         .push(push)
-        .sample(VPL_INTERLEAVE_ROWS_BINDING_POSITION, in.gPosition, pointSampler)
-        .sample(VPL_INTERLEAVE_ROWS_BINDING_NORMAL, in.gNormal, pointSampler)
+        .sample(VPL_INTERLEAVE_ROWS_BINDING_SURFACE, gathered.surface, pointSampler)
         .sample(VPL_INTERLEAVE_ROWS_BINDING_GATHER_INCIDENT, gathered.incident, pointSampler)
         .sample(VPL_INTERLEAVE_ROWS_BINDING_GATHER_TRAVEL, gathered.travel, pointSampler)
         .overwrite(VPL_INTERLEAVE_ROWS_BINDING_INCIDENT, rowsIncident)
@@ -318,8 +322,7 @@ GatherImages VplTechnique::Impl::addInterleaveFilterPasses(rg::RenderGraph& grap
     out.travel = graph.createImage("vpl.filtered_travel", radianceImage(width, height));
     rg::ComputePass(graph, "vpl.interleave_columns", interleaveColumns)
         .push(push)
-        .sample(VPL_INTERLEAVE_COLUMNS_BINDING_POSITION, in.gPosition, pointSampler)
-        .sample(VPL_INTERLEAVE_COLUMNS_BINDING_NORMAL, in.gNormal, pointSampler)
+        .sample(VPL_INTERLEAVE_COLUMNS_BINDING_SURFACE, gathered.surface, pointSampler)
         .sample(VPL_INTERLEAVE_COLUMNS_BINDING_ALBEDO, in.gAlbedo, pointSampler)
         .sample(VPL_INTERLEAVE_COLUMNS_BINDING_ROWS_INCIDENT, rowsIncident, pointSampler)
         .sample(VPL_INTERLEAVE_COLUMNS_BINDING_ROWS_TRAVEL, rowsTravel, pointSampler)

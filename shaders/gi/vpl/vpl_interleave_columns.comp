@@ -9,8 +9,7 @@
 layout(local_size_x = GI_VPL_LOCAL_SIZE_2D, local_size_y = GI_VPL_LOCAL_SIZE_2D) in;
 layout(push_constant) uniform PushBlock { VplPixelPush pc; };
 
-layout(set = 1, binding = VPL_INTERLEAVE_COLUMNS_BINDING_POSITION) uniform sampler2D gPosition;
-layout(set = 1, binding = VPL_INTERLEAVE_COLUMNS_BINDING_NORMAL) uniform sampler2D gNormal;
+layout(set = 1, binding = VPL_INTERLEAVE_COLUMNS_BINDING_SURFACE) uniform usampler2D filterSurface;
 layout(set = 1, binding = VPL_INTERLEAVE_COLUMNS_BINDING_ALBEDO) uniform sampler2D gAlbedo;
 layout(set = 1, binding = VPL_INTERLEAVE_COLUMNS_BINDING_ROWS_INCIDENT) uniform sampler2D filterIncident;
 layout(set = 1, binding = VPL_INTERLEAVE_COLUMNS_BINDING_ROWS_TRAVEL) uniform sampler2D filterTravel;
@@ -29,18 +28,20 @@ void main() {
     vec3 e, travel;
     float classes;
     vec4 position = vplInterleaveFilter(px, ivec2(0, 1), withTravel, e, travel, classes);
-    // A window that could not leave the pixel in x or in y (an edge on both sides, or a one-pixel
-    // sliver) holds one subset class on that axis, 1/n of the VPLs at most: at full resolution
-    // the pixel is gathered again with every VPL; at low resolution the upsample's own
-    // discontinuity test refines the full-resolution pixels around it. Windows cut to 3 of 4
-    // classes are kept: the refine would cost more than the error it removes.
+    // A pixel whose windows leave it at most 3 of the n^2 subsets (a window that could not leave
+    // the pixel on one axis and at most 3 classes on the other: a corner, a one-pixel sliver) is
+    // gathered again with every VPL at full resolution; at low resolution the upsample's own
+    // discontinuity test refines the full-resolution pixels around it. Pixels left with 4 or
+    // more subsets are kept: refining them too (at n = 4, every pixel next to an edge) cost more
+    // than the rest of the gather for a small gain on the built-in scenes (docs/vpl.md).
     float rowClasses = texelFetch(filterIncident, px, 0).w;
-    if (position.w > 0.0 && pc.size.z == 1u && min(rowClasses, classes) < 1.5) {
+    if (position.w > 0.0 && pc.size.z == 1u && rowClasses * classes < 3.5) {
         VPL_REFINE_LIST_APPEND(px, pc.size.w)
     }
     vec3 radiance = texelFetch(gAlbedo, vplGbufferSample(px), 0).rgb * e * (1.0 / GI_VPL_PI);
     imageStore(outIndirect, px, vec4(radiance, 1.0));
-    imageStore(outIncident, px, vec4(e, 0.0));
-    if (withTravel)
+    if (withTravel) { // the negative VPLs read both
+        imageStore(outIncident, px, vec4(e, 0.0));
         imageStore(outTravel, px, vec4(travel, 0.0));
+    }
 }

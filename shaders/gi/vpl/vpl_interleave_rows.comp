@@ -7,8 +7,7 @@
 layout(local_size_x = GI_VPL_LOCAL_SIZE_2D, local_size_y = GI_VPL_LOCAL_SIZE_2D) in;
 layout(push_constant) uniform PushBlock { VplPixelPush pc; };
 
-layout(set = 1, binding = VPL_INTERLEAVE_ROWS_BINDING_POSITION) uniform sampler2D gPosition;
-layout(set = 1, binding = VPL_INTERLEAVE_ROWS_BINDING_NORMAL) uniform sampler2D gNormal;
+layout(set = 1, binding = VPL_INTERLEAVE_ROWS_BINDING_SURFACE) uniform usampler2D filterSurface;
 layout(set = 1, binding = VPL_INTERLEAVE_ROWS_BINDING_GATHER_INCIDENT) uniform sampler2D filterIncident;
 layout(set = 1, binding = VPL_INTERLEAVE_ROWS_BINDING_GATHER_TRAVEL) uniform sampler2D filterTravel;
 layout(set = 1, binding = VPL_INTERLEAVE_ROWS_BINDING_INCIDENT, rgba32f) uniform writeonly image2D outIncident;

@@ -43,21 +43,20 @@
 #define VPL_GATHER_BINDING_INCIDENT 5 // output: VPL irradiance E (the negative VPLs' flux)
 #define VPL_GATHER_BINDING_TRAVEL 6   // output: luminance-weighted sum of the light's travel directions
 #define VPL_GATHER_BINDING_OCCUPANCY 7 // vpl_gather_visible.comp only: the voxel grid's albedo volume (a = occupancy)
+#define VPL_GATHER_BINDING_SURFACE 8   // output (interleaved): each pixel's packed surface (RGBA32UI, gi/vpl_surface.h)
 // vpl_interleave_rows.comp and vpl_interleave_columns.comp: the interleaved gather's subsets
 // summed back over each tile (gi/vpl_interleave_filter.h), along rows, then along columns.
-#define VPL_INTERLEAVE_ROWS_BINDING_POSITION 0        // G-buffer world position
-#define VPL_INTERLEAVE_ROWS_BINDING_NORMAL 1          // G-buffer normal
+#define VPL_INTERLEAVE_ROWS_BINDING_SURFACE 0         // the gather's packed surfaces (gi/vpl_surface.h)
 #define VPL_INTERLEAVE_ROWS_BINDING_GATHER_INCIDENT 2 // the interleaved gather's VPL irradiance (one subset, scaled)
 #define VPL_INTERLEAVE_ROWS_BINDING_GATHER_TRAVEL 3   // the interleaved gather's travel directions
 #define VPL_INTERLEAVE_ROWS_BINDING_INCIDENT 4        // output: irradiance filtered along rows, w subset classes
 #define VPL_INTERLEAVE_ROWS_BINDING_TRAVEL 5          // output: travel directions filtered along rows
-#define VPL_INTERLEAVE_COLUMNS_BINDING_POSITION 0      // G-buffer world position
-#define VPL_INTERLEAVE_COLUMNS_BINDING_NORMAL 1        // G-buffer normal
+#define VPL_INTERLEAVE_COLUMNS_BINDING_SURFACE 0       // the gather's packed surfaces
 #define VPL_INTERLEAVE_COLUMNS_BINDING_ALBEDO 2        // G-buffer albedo
 #define VPL_INTERLEAVE_COLUMNS_BINDING_ROWS_INCIDENT 3 // the row pass's irradiance
 #define VPL_INTERLEAVE_COLUMNS_BINDING_ROWS_TRAVEL 4   // the row pass's travel directions
 #define VPL_INTERLEAVE_COLUMNS_BINDING_INDIRECT 5      // output: indirect radiance albedo/pi * E (RGBA32F)
-#define VPL_INTERLEAVE_COLUMNS_BINDING_INCIDENT 6      // output: filtered VPL irradiance E
+#define VPL_INTERLEAVE_COLUMNS_BINDING_INCIDENT 6      // output: filtered VPL irradiance E (with negative VPLs)
 #define VPL_INTERLEAVE_COLUMNS_BINDING_TRAVEL 7        // output: filtered travel directions (with negative VPLs)
 #define VPL_INTERLEAVE_COLUMNS_BINDING_REFINE_LIST 8   // refine list (gi/vpl_refine_list.h), appended to at full resolution
 // vpl_negative_generate.comp: negative VPLs at Halton-picked pixels of the gather image.

@@ -12,6 +12,7 @@
 #ifndef VKGI_GI_VPL_GATHER_PASS_H
 #define VKGI_GI_VPL_GATHER_PASS_H
 #include "vpl.h"
+#include "vpl_surface.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_2D, local_size_y = GI_VPL_LOCAL_SIZE_2D) in;
 layout(push_constant) uniform PushBlock { VplPixelPush pc; };
@@ -24,6 +25,7 @@ layout(set = 1, binding = VPL_GATHER_BINDING_INDIRECT, rgba32f) uniform writeonl
 layout(set = 1, binding = VPL_GATHER_BINDING_INCIDENT, rgba32f) uniform writeonly image2D outIncident;
 layout(set = 1, binding = VPL_GATHER_BINDING_TRAVEL, rgba32f) uniform writeonly image2D outTravel;
 
+layout(set = 1, binding = VPL_GATHER_BINDING_SURFACE, rgba32ui) uniform writeonly uimage2D outSurface;
 #ifdef VPL_VISIBILITY
 layout(set = 1, binding = VPL_GATHER_BINDING_OCCUPANCY) uniform sampler3D vplOccupancy;
 #endif
@@ -50,8 +52,9 @@ void main() {
     vec3 e = vec3(0.0);
     vec3 travel = vec3(0.0);
     vec3 radiance = vec3(0.0);
+    vec3 n = vec3(0.0);
     if (position.w > 0.0) {
-        vec3 n = texelFetch(gNormal, sample_, 0).xyz;
+        n = texelFetch(gNormal, sample_, 0).xyz;
         e = vplGatherPositive(position.xyz, n, first, end, pc.params.x, travel);
         if (side > 1u) {
             // The subset's share of the VPLs is about 1/n^2 but not exactly (N / n^2 blocks are
@@ -64,10 +67,12 @@ void main() {
             radiance = texelFetch(gAlbedo, sample_, 0).rgb * e * (1.0 / GI_VPL_PI);
         }
     }
-    // Interleaved, the filter passes make the radiance, and only the negative VPLs read the
-    // travel directions: the writes nobody reads are left out.
+    // Interleaved, the filter passes make the radiance from the irradiance and the surfaces,
+    // and only the negative VPLs read the travel directions: the writes nobody reads are left out.
     if (side == 1u)
         imageStore(outIndirect, px, vec4(radiance, 1.0));
+    else
+        imageStore(outSurface, px, vplSurfacePack(position, n));
     imageStore(outIncident, px, vec4(e, 0.0));
     if (side == 1u || pc.params.w > 0.0)
         imageStore(outTravel, px, vec4(travel, 0.0));
