@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <memory>
 
 #include "engine/image_metrics.hpp"
 
@@ -47,11 +48,12 @@ std::vector<std::string> sweepFor(const std::string& technique, bool quick) {
             s.push_back(std::string("vct.grid=64 vct.cones=6 ") + t);
     } else if (technique == "vpl") {
         // The count at every interleave tile side, then the other knobs beside the defaults.
-        s = product("vpl.interleave", {"1", "2", "4"}, "vpl.count", {"100", "200", "400"});
+        s = product("vpl.interleave", {"1", "2", "4"}, "vpl.count", {"128", "256", "512"});
         for (const char* t : {"vpl.interleave=3", "vpl.negative=100", "vpl.negative=200", "vpl.lowres=2",
                               "vpl.lowres=2 vpl.interleave=1", "vpl.lowres=4 vpl.interleave=1",
-                              "vpl.lowres=2 vpl.interleave=1 vpl.threshold=0.05", "vpl.interleave_tolerance=0.05"})
-            s.push_back(std::string("vpl.count=200 ") + t);
+                              "vpl.lowres=2 vpl.interleave=1 vpl.threshold=0.05", "vpl.interleave_tolerance=0.05",
+                              "vpl.visibility=on", "vpl.visibility=on vpl.visibility_grid=32"})
+            s.push_back(std::string("vpl.count=256 ") + t);
     }
     if (quick && s.size() > 1)
         s.resize(1);
@@ -60,7 +62,8 @@ std::vector<std::string> sweepFor(const std::string& technique, bool quick) {
 
 Result<Timing> measureTiming(Context& ctx, const Scene& scene, const gi::GiSettings& settings, uint32_t width,
                              uint32_t height, uint32_t repeat, const gi::FrameRequest& request,
-                             const std::function<Result<void>(gi::GiSystem&)>& beforeFrame, uint32_t warmup) {
+                             const std::function<Result<void>(gi::GiSystem&)>& beforeFrame, uint32_t warmup,
+                             bool alternateDirect) {
     auto sys = gi::GiSystem::create(ctx, settings);
     if (!sys)
         return sys.error();
@@ -70,6 +73,7 @@ Result<Timing> measureTiming(Context& ctx, const Scene& scene, const gi::GiSetti
     std::map<std::string, std::vector<double>> passMs;
     std::vector<std::string> order;
     std::vector<double> totals, profiledTotals, readbacks, walls;
+    std::vector<double> directTotals, directReadbacks; // the alternating direct-only frames
     Timing out;
     // Each measured frame is rendered twice: with a timestamp scope per pass (the per-pass split)
     // and with the frame's scope only (the frame time: pass scopes cost ~0.06 ms each on lavapipe,
@@ -77,20 +81,49 @@ Result<Timing> measureTiming(Context& ctx, const Scene& scene, const gi::GiSetti
     gi::FrameRequest profiled = request, unprofiled = request;
     profiled.passTimings = true;
     unprofiled.passTimings = false;
+    // The direct-only frame: a second system with technique none (what its rows render).
+    std::unique_ptr<gi::GiSystem> directSys;
+    if (alternateDirect) {
+        gi::GiSettings none = settings;
+        none.technique = gi::Technique::None;
+        auto created = gi::GiSystem::create(ctx, none);
+        if (!created)
+            return created.error();
+        directSys = std::move(*created);
+        if (auto ok = directSys->setScene(scene); !ok)
+            return ok.error();
+    }
+    gi::FrameRequest directProfiled = profiled, directUnprofiled = unprofiled;
+    for (gi::FrameRequest* d : {&directProfiled, &directUnprofiled})
+        d->indirect = d->glossy = d->ao = false;
+    std::vector<const gi::FrameRequest*> requests = {&profiled, &unprofiled};
+    if (alternateDirect)
+        requests.insert(requests.end(), {&directProfiled, &directUnprofiled});
     for (uint32_t frame = 0; frame < warmup + repeat; ++frame) {
-        for (const gi::FrameRequest* req : {&profiled, &unprofiled}) {
-            if (frame < warmup && req == &unprofiled)
+        for (const gi::FrameRequest* req : requests) {
+            if (frame < warmup && (req == &unprofiled || req == &directUnprofiled))
                 continue;
+            const bool direct = req == &directProfiled || req == &directUnprofiled;
+            gi::GiSystem& system = direct ? *directSys : **sys;
             if (beforeFrame)
-                if (auto ok = beforeFrame(**sys); !ok)
+                if (auto ok = beforeFrame(system); !ok)
                     return ok.error();
             auto t0 = std::chrono::steady_clock::now();
-            auto r = (*sys)->renderFrame(cam, width, height, *req);
+            auto r = system.renderFrame(cam, width, height, *req);
             if (!r)
                 return r.error();
             double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             if (frame < warmup)
                 continue;
+            if (direct) {
+                double readback = 0.0;
+                for (const auto& p : r->passes)
+                    if (p.name.find(".readback") != std::string::npos)
+                        readback += p.ms;
+                (req == &directUnprofiled ? directTotals : directReadbacks)
+                    .push_back(req == &directUnprofiled ? r->totalMs : readback);
+                continue;
+            }
             if (req == &unprofiled) {
                 totals.push_back(r->totalMs);
                 walls.push_back(wall);
@@ -118,6 +151,8 @@ Result<Timing> measureTiming(Context& ctx, const Scene& scene, const gi::GiSetti
     out.totalMs = median(totals) - median(readbacks);
     out.profiledMs = median(profiledTotals);
     out.wallMs = median(walls);
+    if (alternateDirect)
+        out.directMs = median(directTotals) - median(directReadbacks);
     return out;
 }
 
@@ -131,7 +166,7 @@ Result<Measured> measure(Context& ctx, const Scene& scene, const std::string& sc
         sys.invalidate();
         return {};
     };
-    auto timing = measureTiming(ctx, scene, settings, opt.width, opt.height, opt.repeat, request, invalidate);
+    auto timing = measureTiming(ctx, scene, settings, opt.width, opt.height, opt.repeat, request, invalidate, 1, true);
     if (!timing)
         return timing.error();
     const gi::FrameResult& last = timing->last;
@@ -142,6 +177,7 @@ Result<Measured> measure(Context& ctx, const Scene& scene, const std::string& sc
     rec.passMs = timing->passMs;
     rec.totalMs = timing->totalMs;
     rec.profiledMs = timing->profiledMs;
+    rec.directMs = timing->directMs;
     rec.deviceMiB = double(last.persistentBytes + last.transientBytes) / (1024.0 * 1024.0);
     rec.triangles = scene.triangleCount();
     for (const auto& pass : rec.passMs)

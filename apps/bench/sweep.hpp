@@ -45,14 +45,19 @@ struct Timing {
     double totalMs = 0.0;
     double profiledMs = 0.0;
     double wallMs = 0.0; // median host time of renderFrame without pass timestamps (record, submit, wait, readback)
+    // Median GPU ms of the direct-only frame (a GiSystem with technique none, same settings
+    // otherwise), readbacks excluded, rendered right after each measured frame (0 = not asked
+    // for): totalMs / directMs is a ratio whose two halves saw the same machine load.
+    double directMs = 0.0;
     gi::FrameResult last;
 };
 // Renders `scene` with `settings` 1 + repeat times. `beforeFrame`, when given, runs before every
-// frame (vkgi-bench --scaling re-voxelizes a dynamic instance through updateScene).
+// frame (vkgi-bench --scaling re-voxelizes a dynamic instance through updateScene). With
+// `alternateDirect`, each measured frame is followed by a direct-only frame (Timing::directMs).
 Result<Timing> measureTiming(Context& ctx, const Scene& scene, const gi::GiSettings& settings, uint32_t width,
                              uint32_t height, uint32_t repeat, const gi::FrameRequest& request,
                              const std::function<Result<void>(gi::GiSystem&)>& beforeFrame = {},
-                             uint32_t warmup = 1);
+                             uint32_t warmup = 1, bool alternateDirect = false);
 
 // The path-traced images a configuration is compared with: the bounce count it models and all
 // bounces (the same images when the technique models unbounded light paths).

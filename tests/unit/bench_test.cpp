@@ -65,8 +65,8 @@ TEST(Bench, CsvHasOneRowPerRecordAndOneColumnPerPass) {
     std::getline(in, row2);
     EXPECT_EQ(header,
               "scene,technique,knobs,total_ms,profiled_ms,relmse,rmse,relmse_indirect,rmse_indirect,reference_bounces,"
-              "relmse_all,rmse_all,relmse_indirect_all,rmse_indirect_all,relmse_dark,relmse_all_dark,device_mib,gi.a ms,"
-              "gi.b ms,gi.c ms");
+              "relmse_all,rmse_all,relmse_indirect_all,rmse_indirect_all,relmse_dark,relmse_all_dark,device_mib,"
+              "direct_ms,gi.a ms,gi.b ms,gi.c ms");
     EXPECT_EQ(row1.substr(0, 22), "cornell,vct,k=10.00000");
     EXPECT_NE(row2.find("\"grid=32,steps=8\""), std::string::npos);
     EXPECT_EQ(row1.back(), ','); // record 0 has no gi.c pass: empty last field
@@ -79,9 +79,11 @@ TEST(Bench, JsonRoundTripsTheNumbers) {
     r[0].rmseIndirectAll = 0.25;
     r[0].relMseDark = 0.5;
     r[0].relMseAllDark = 0.75;
+    r[0].directMs = 2.5;
     auto j = nlohmann::json::parse(toJson(r));
     ASSERT_EQ(j.size(), 1u);
     EXPECT_EQ(j[0]["total_ms"].get<double>(), 12.5);
+    EXPECT_EQ(j[0]["direct_ms"].get<double>(), 2.5);
     EXPECT_EQ(j[0]["error"]["relmse"].get<double>(), 0.125);
     EXPECT_EQ(j[0]["error"]["rmse_indirect"].get<double>(), 0.0625);
     EXPECT_EQ(j[0]["error"]["reference_bounces"].get<int>(), 3);
@@ -96,14 +98,15 @@ TEST(Bench, MarkdownHasOneTablePerSceneAndMarksTheFront) {
                                   rec("cornell", "lpv", 15, 0.6)};
     r[1].referenceBounces = -1;
     r[1].knobs = "a|b";
+    r[0].directMs = 4.0; // the others were not measured against their direct-only frame
     std::string md = toMarkdown(r);
     auto cornell = md.find("### cornell"), room = md.find("### room");
     ASSERT_NE(cornell, std::string::npos);
     ASSERT_NE(room, std::string::npos);
     EXPECT_LT(cornell, room);
-    EXPECT_NE(md.find("| vct * | k=10.000000 | 10 |"), std::string::npos) << md; // on cornell's front
-    EXPECT_NE(md.find("| lpv | k=15.000000 | 15 |"), std::string::npos) << md;    // dominated by vct
-    EXPECT_NE(md.find("| lpv * | a/b | 8 | 0 | all | 0.25 | 0 |"), std::string::npos) << md; // '|' kept out of cells
+    EXPECT_NE(md.find("| vct * | k=10.000000 | 10 | 2.5 |"), std::string::npos) << md; // on cornell's front; 10 / 4
+    EXPECT_NE(md.find("| lpv | k=15.000000 | 15 | – |"), std::string::npos) << md;      // dominated by vct
+    EXPECT_NE(md.find("| lpv * | a/b | 8 | – | 0 | all | 0.25 | 0 |"), std::string::npos) << md; // '|' kept out of cells
     size_t rows = 0;
     for (size_t p = md.find("\n| "); p != std::string::npos; p = md.find("\n| ", p + 1))
         ++rows;

@@ -18,6 +18,10 @@ struct BenchRecord {
     std::vector<std::pair<std::string, double>> passMs; // median GPU ms per pass
     double totalMs = 0.0;                               // median GPU ms of the whole frame
     double profiledMs = 0.0;         // the same with a timestamp scope per pass (what passMs splits; 0 = not measured)
+    // Median GPU ms of the direct-only frame (technique none, same scene and size), rendered
+    // right after each measured frame (0 = not measured): totalMs / directMs compares two
+    // frames that saw the same load.
+    double directMs = 0.0;
     double relMse = 0.0, rmse = 0.0; // full image vs reference
     double relMseIndirect = 0.0, rmseIndirect = 0.0; // indirect-only vs reference indirect
     // The reference above has the bounce count the technique models (at least 2, -1 = unbounded).

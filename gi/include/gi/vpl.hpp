@@ -1,8 +1,10 @@
 #pragma once
 // Image-space instant radiosity after Cochran & Steele, "Second-Order Illumination in
 // Real-Time": VPLs placed by Halton points inside each spot cone and projected into the
-// shared RSM, deferred VPL shading over the G-buffer without visibility, negative VPLs for the
-// missing occlusion, and a low-resolution gather refined at discontinuities. See docs/vpl.md.
+// shared RSM, deferred VPL shading over the G-buffer (interleaved: each pixel of a tile gathers a
+// subset, filtered back), without visibility as in the paper or marched through a voxel grid,
+// negative VPLs for the missing occlusion, and a low-resolution gather refined at
+// discontinuities. See docs/vpl.md.
 #include <cstdint>
 #include <memory>
 #include <vector>
