@@ -21,8 +21,7 @@
 #include "lpv/lpv_inject.hpp"
 #include "lpv/lpv_passes.hpp"
 #include "lpv/lpv_volume.hpp"
-#include "voxel/voxel_graph.hpp"
-#include "voxel/voxel_grid.hpp"
+#include "voxel/scene_voxel_grid.hpp"
 
 namespace vkgi::gi {
 
@@ -71,18 +70,14 @@ public:
     Result<void> sceneChanged(Context& ctx, const Scene& scene, const GpuScene& gpu, bool uploaded) override {
         if (auto fitted = fitGrid(scene, gpu); !fitted)
             return fitted.error();
-        m_draws.clear();
-        for (const GpuDraw& d : gpu.draws)
-            m_draws.push_back({d.instance, d.firstIndex, d.indexCount / 3, d.vertexOffset, d.dynamic});
-        if (m_settings.bounces && gpu.bounds.valid() && (uploaded || !m_voxels))
-            return createVoxelGrid(ctx, gpu.bounds);
-        return {}; // moved objects arrive as PassSelection::changes with the next frame
+        if (m_settings.bounces) // the grid of the bounce
+            return m_voxels.sceneChanged(ctx, gpu, uploaded, voxelResolutionFor(m_settings.gridSize));
+        return {};
     }
 
     IndirectOutputs addPasses(rg::RenderGraph& graph, const TechniqueInputs& in) override {
         if (!m_grid || !in.rsm || in.rsm->layers.empty())
             return {addUnlitPasses(graph, in), {}, {}, {}};
-        noteMovedGeometry(in.selection.changes);
         const FrameData& frame = in.frame;
         const RsmData& rsm = *in.rsm;
         FrameSources sources;
@@ -96,7 +91,7 @@ public:
     }
 
     uint64_t persistentBytes() const override {
-        uint64_t n = m_voxels ? uint64_t(m_voxels->bytes()) : 0;
+        uint64_t n = m_voxels.bytes();
         for (const rg::PersistentImage& image : m_cache.accumulation)
             n += image.image.alloc.size;
         if (m_cache.channelSum.image.image)
@@ -119,28 +114,6 @@ private:
             return grid.error();
         m_grid = *grid;
         return {};
-    }
-
-    // A new voxel grid of the bounce around `bounds`, voxelized in full with the next frame.
-    Result<void> createVoxelGrid(Context& ctx, const Aabb& bounds) {
-        auto params = fitVoxelGrid(bounds, voxelResolutionFor(m_settings.gridSize), 1.0f);
-        if (!params)
-            return params.error();
-        auto voxels = VoxelGrid::create(ctx, *params);
-        if (!voxels)
-            return voxels.error();
-        m_voxels = std::move(*voxels);
-        m_voxelUpdate = VoxelUpdate::Full;
-        return {};
-    }
-
-    // Pending re-voxelization: a moved static object invalidates the static bake.
-    void noteMovedGeometry(const SceneChanges& changes) {
-        VoxelUpdate moved = changes.all || changes.staticGeometry ? VoxelUpdate::Full
-                            : changes.dynamicGeometry             ? VoxelUpdate::Dynamic
-                                                                  : VoxelUpdate::None;
-        if (m_voxels)
-            m_voxelUpdate = std::max(m_voxelUpdate, moved);
     }
 
     // One grid fitted to the lit region, or (directional light, cascades > 1) nested grids
@@ -182,7 +155,7 @@ private:
     bool needsPropagation(const gpu::LpvGrid& grid, const SceneChanges& changes) const {
         const bool sameGrid = std::memcmp(&grid, &m_cache.grid, sizeof(grid)) == 0;
         const bool viewChanged = m_settings.occlusion && changes.camera;
-        return !m_cache.valid || !sameGrid || changes.any() || viewChanged || m_voxelUpdate != VoxelUpdate::None;
+        return !m_cache.valid || !sameGrid || changes.any() || viewChanged || m_voxels.updatePending();
     }
 
     // The passes that only refresh the kept volume, left out while it holds this frame's light.
@@ -195,7 +168,7 @@ private:
         selection.leaveOut("gi.lpv.propagate*", LeftOutReason::NotDirty, why);
         if (channelSum)
             selection.leaveOut("gi.lpv.lookup.sum", LeftOutReason::NotDirty, why);
-        if (m_voxels)
+        if (m_voxels.exists())
             selection.leaveOut("gi.voxel.*", LeftOutReason::NotDirty, why);
     }
 
@@ -246,15 +219,11 @@ private:
         return {volumes.wavefront, volumes.accumulation, injected.buffer};
     }
 
-    // The voxel grid of the bounce (when on), re-voxelized for the pending m_voxelUpdate.
+    // The voxel grid of the bounce (when on), re-voxelized for what moved and a pending bake.
     lpv::VoxelInput addVoxelPasses(rg::RenderGraph& graph, const TechniqueInputs& in) {
-        if (!m_voxels)
+        if (!m_voxels.exists())
             return {};
-        const SceneHandles& scene = in.scene;
-        VoxelGridData grid = addVoxelGridPasses(
-            graph, *m_voxels, {scene.vertices, scene.indices, scene.instances, scene.materials, m_draws},
-            m_voxelUpdate);
-        m_voxelUpdate = VoxelUpdate::None;
+        VoxelGridData grid = m_voxels.addPasses(graph, in.scene, in.selection.changes);
         return {grid.albedo, grid.normal, grid.params.originSize, grid.params.dims.x};
     }
 
@@ -343,9 +312,7 @@ private:
     lpv::Injector m_injector;
     std::optional<gpu::LpvGrid> m_grid;
     bool m_directional = false;
-    std::unique_ptr<VoxelGrid> m_voxels;
-    std::vector<VoxelDraw> m_draws;
-    VoxelUpdate m_voxelUpdate = VoxelUpdate::None;
+    SceneVoxelGrid m_voxels; // the bounce's grid (multi-bounce on)
     // The accumulated SH volume and injection buffer (its header holds the flux unit M) of the
     // single-grid case, kept across frames.
     struct Cache {

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "vct/vct_passes.hpp"
+#include "voxel/scene_voxel_grid.hpp"
 
 namespace vkgi::gi {
 
@@ -21,9 +22,7 @@ public:
     }
 
     Result<void> sceneChanged(Context& ctx, const Scene& scene, const GpuScene& gpu, bool uploaded) override {
-        m_draws.clear();
-        for (const GpuDraw& d : gpu.draws)
-            m_draws.push_back({d.instance, d.firstIndex, d.indexCount / 3, d.vertexOffset, d.dynamic});
+        m_draws = voxelDraws(gpu);
         m_lightCount = gpu.lightCount;
         if (!uploaded)
             return {}; // what moved arrives as PassSelection::changes with the next frame
@@ -65,9 +64,7 @@ public:
         PassSelection& selection = in.selection;
         const SceneChanges& changes = selection.changes;
         // A moved static object invalidates the static bake; a moved dynamic one only itself.
-        VoxelUpdate update = std::max(m_update, changes.all || changes.staticGeometry ? VoxelUpdate::Full
-                                                : changes.dynamicGeometry             ? VoxelUpdate::Dynamic
-                                                                                      : VoxelUpdate::None);
+        VoxelUpdate update = std::max(m_update, voxelUpdateFor(changes));
         if (update == VoxelUpdate::None)
             selection.leaveOut("gi.voxel.*", LeftOutReason::NotDirty, "no object moved since the grid was voxelized");
         else if (update == VoxelUpdate::Dynamic)

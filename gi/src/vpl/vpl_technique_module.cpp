@@ -10,8 +10,7 @@
 
 #include "engine/vk_check.hpp"
 #include "gi/vpl.hpp"
-#include "voxel/voxel_graph.hpp"
-#include "voxel/voxel_grid.hpp"
+#include "voxel/scene_voxel_grid.hpp"
 
 namespace vkgi::gi {
 
@@ -95,15 +94,12 @@ public:
             return makeError("scene '" + scene.name + "': " + std::to_string(lights) +
                              " lights exceed the VPL technique's maximum of " + std::to_string(kMaxVplLights));
         m_lights = lights;
-        m_draws.clear();
-        for (const GpuDraw& d : gpu.draws)
-            m_draws.push_back({d.instance, d.firstIndex, d.indexCount / 3, d.vertexOffset, d.dynamic});
-        if (m_settings.visibility && gpu.bounds.valid() && (uploaded || !m_voxels))
-            return createVoxelGrid(ctx, gpu.bounds);
-        return {}; // moved objects arrive as PassSelection::changes with the next frame
+        if (m_settings.visibility)
+            return m_voxels.sceneChanged(ctx, gpu, uploaded, m_settings.visibilityGrid);
+        return {};
     }
 
-    uint64_t persistentBytes() const override { return m_voxels ? uint64_t(m_voxels->bytes()) : 0; }
+    uint64_t persistentBytes() const override { return m_voxels.bytes(); }
 
     IndirectOutputs addPasses(rg::RenderGraph& graph, const TechniqueInputs& inputs) override {
         if (!inputs.rsm) {
@@ -111,8 +107,12 @@ public:
             return {};
         }
         VplInputs in = vplInputs(inputs, *inputs.rsm);
-        if (m_settings.visibility)
-            addOccupancy(graph, inputs, in);
+        if (m_voxels.exists()) {
+            VoxelGridData grid = m_voxels.addPasses(graph, inputs.scene, inputs.selection.changes);
+            in.occupancy = grid.albedo;
+            in.occupancyOriginSize = grid.params.originSize;
+            in.occupancyResolution = grid.params.dims.x;
+        }
         if (in.spots.empty()) {
             // No light with an RSM: nothing to bounce, so the technique adds no pass and no
             // indirect image; GiSystem then composites nothing (the frame is the direct image).
@@ -127,42 +127,10 @@ public:
     }
 
 private:
-    // The visibility grid around `bounds` (the shared voxel grid's passes, gi/src/voxel),
-    // voxelized in full with the next frame.
-    Result<void> createVoxelGrid(Context& ctx, const Aabb& bounds) {
-        auto params = fitVoxelGrid(bounds, m_settings.visibilityGrid, 1.0f);
-        if (!params)
-            return params.error();
-        auto voxels = VoxelGrid::create(ctx, *params);
-        if (!voxels)
-            return voxels.error();
-        m_voxels = std::move(*voxels);
-        m_voxelUpdate = VoxelUpdate::Full;
-        return {};
-    }
-
-    // The grid's passes for what moved since the last frame, and its occupancy as VPL inputs.
-    void addOccupancy(rg::RenderGraph& graph, const TechniqueInputs& inputs, VplInputs& in) {
-        const SceneChanges& changes = inputs.selection.changes;
-        const VoxelUpdate moved = changes.all || changes.staticGeometry ? VoxelUpdate::Full
-                                  : changes.dynamicGeometry             ? VoxelUpdate::Dynamic
-                                                                        : VoxelUpdate::None;
-        m_voxelUpdate = std::max(m_voxelUpdate, moved);
-        const SceneHandles& scene = inputs.scene;
-        VoxelGridData grid = addVoxelGridPasses(
-            graph, *m_voxels, {scene.vertices, scene.indices, scene.instances, scene.materials, m_draws}, m_voxelUpdate);
-        m_voxelUpdate = VoxelUpdate::None;
-        in.occupancy = grid.albedo;
-        in.occupancyOriginSize = grid.params.originSize;
-        in.occupancyResolution = grid.params.dims.x;
-    }
-
     std::unique_ptr<VplTechnique> m_technique;
     VplSettings m_settings;
     uint32_t m_lights = 0; // lights of the current scene
-    std::vector<VoxelDraw> m_draws;
-    std::unique_ptr<VoxelGrid> m_voxels; // with visibility
-    VoxelUpdate m_voxelUpdate = VoxelUpdate::None;
+    SceneVoxelGrid m_voxels; // the visibility grid (vpl.visibility on)
 };
 
 } // namespace
