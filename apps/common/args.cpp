@@ -108,7 +108,9 @@ Result<void> applyKnobs(gi::GiSettings& settings, const KnobList& knobs) {
     for (const auto& [name, value] : knobs)
         if (auto ok = gi::setKnob(settings, name, value); !ok)
             return makeError("--" + ok.error().message);
-    return {};
+    // Values each inside its knob's range can still be wrong (a grid that is not a power of
+    // two): the settings as a whole are checked here, before any work, as a bad argument.
+    return gi::validateSettings(settings);
 }
 
 } // namespace vkgi::apps

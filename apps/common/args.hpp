@@ -55,7 +55,8 @@ Result<std::filesystem::path> parseFileName(const std::string& flag, const std::
 // Space-separated "name=value" knob assignments (vkgi-bench --set), checked against the knob
 // table; the error names the flag and the knob.
 Result<void> checkKnobAssignments(const std::string& flag, const std::string& text);
-// Applies --<knob> values gathered by parseCommandLine; the error names the knob as its flag.
+// Applies --<knob> values gathered by parseCommandLine, then checks the settings as a whole
+// (gi::validateSettings); the error names the knob as its flag, or the setting.
 Result<void> applyKnobs(gi::GiSettings& settings, const KnobList& knobs);
 
 } // namespace vkgi::apps

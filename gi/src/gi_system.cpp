@@ -24,19 +24,6 @@ constexpr uint32_t kMaxFrameSide = 16384;
 // Frames of FrameConstants in flight: renderFrame waits, hosts may pipeline one frame.
 constexpr uint32_t kFrameRing = 2;
 
-Result<void> checkSettings(const GiSettings& s) {
-    if (s.shadowMapSize < 16 || s.shadowMapSize > 8192)
-        return makeError("GiSettings.shadowMapSize " + std::to_string(s.shadowMapSize) + " is outside 16..8192");
-    if (s.maxShadowLayers < 1 || s.maxShadowLayers > 2048)
-        return makeError("GiSettings.maxShadowLayers " + std::to_string(s.maxShadowLayers) + " is outside 1..2048");
-    if (s.pcfRadius > 8)
-        return makeError("GiSettings.pcfRadius " + std::to_string(s.pcfRadius) + " is above 8");
-    for (float b : {s.shadowNormalOffset, s.shadowConstantBias})
-        if (!std::isfinite(b) || b < 0.0f || b > 100.0f)
-            return makeError("GiSettings shadow biases must be finite and in 0..100 texels");
-    return {};
-}
-
 Result<void> checkCamera(const Camera& c, uint32_t width, uint32_t height) {
     if (width == 0 || height == 0 || width > kMaxFrameSide || height > kMaxFrameSide)
         return makeError("frame size " + std::to_string(width) + "x" + std::to_string(height) + " is outside 1..16384");
@@ -295,7 +282,7 @@ GiSystem::GiSystem(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
 GiSystem::~GiSystem() = default;
 
 Result<std::unique_ptr<GiSystem>> GiSystem::create(Context& ctx, const GiSettings& settings) {
-    if (auto ok = checkSettings(settings); !ok)
+    if (auto ok = validateSettings(settings); !ok)
         return ok.error();
     auto impl = std::make_unique<Impl>();
     impl->ctx = &ctx;

@@ -1,5 +1,7 @@
 // Technique names and module construction: the one place a new technique registers itself.
 #include <array>
+#include <cmath>
+#include <string>
 
 #include "lpv/lpv_technique.hpp"
 #include "technique.hpp"
@@ -55,6 +57,35 @@ Result<Technique> parseTechnique(std::string_view name) {
         valid += (valid.empty() ? "" : ", ") + std::string(t.name);
     }
     return makeError("unknown technique '" + std::string(name) + "' (valid: " + valid + ")");
+}
+
+namespace {
+
+Result<void> checkSharedSettings(const GiSettings& s) {
+    if (s.shadowMapSize < 16 || s.shadowMapSize > 8192)
+        return makeError("GiSettings.shadowMapSize " + std::to_string(s.shadowMapSize) + " is outside 16..8192");
+    if (s.maxShadowLayers < 1 || s.maxShadowLayers > 2048)
+        return makeError("GiSettings.maxShadowLayers " + std::to_string(s.maxShadowLayers) + " is outside 1..2048");
+    if (s.pcfRadius > 8)
+        return makeError("GiSettings.pcfRadius " + std::to_string(s.pcfRadius) + " is above 8");
+    for (float b : {s.shadowNormalOffset, s.shadowConstantBias})
+        if (!std::isfinite(b) || b < 0.0f || b > 100.0f)
+            return makeError("GiSettings shadow biases must be finite and in 0..100 texels");
+    return {};
+}
+
+} // namespace
+
+Result<void> validateSettings(const GiSettings& settings) {
+    if (auto ok = checkSharedSettings(settings); !ok)
+        return ok;
+    switch (settings.technique) {
+    case Technique::None: return {};
+    case Technique::Lpv: return validate(settings.lpv);
+    case Technique::Vpl: return validateVplSettings(settings.vpl);
+    case Technique::Vct: return validateVctSettings(settings.vct);
+    }
+    return makeError("GiSettings.technique " + std::to_string(uint32_t(settings.technique)) + " is unknown");
 }
 
 Result<std::unique_ptr<TechniqueModule>> createTechnique(Context& ctx, const GiSettings& settings) {

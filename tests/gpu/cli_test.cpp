@@ -64,7 +64,10 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLine) {
                  {"--spp -3", "--spp"},           {"--bounces 1.5", "--bounces"}, {"--technique magic", "magic"},
                  {"--out image.jpg", "image.jpg"}, {"--json", "needs a value"},
                  {"--out-indirect x.tif", "--out-indirect"},
-                 {"--technique reference --size 8x8 --out-glossy g.png", "--out-glossy"}};
+                 {"--technique reference --size 8x8 --out-glossy g.png", "--out-glossy"},
+                 // Each knob in its own range, the settings still wrong as a whole: a bad argument too.
+                 {"--technique vct --vct.grid 100", "gridResolution 100"},
+                 {"--technique vpl --vpl.visibility_grid 100", "visibilityGrid 100"}};
     for (const Case& c : cases) {
         CliRun r = run(c.args);
         EXPECT_EQ(r.exitCode, 2) << c.args;

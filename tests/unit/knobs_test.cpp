@@ -79,3 +79,28 @@ TEST(Knobs, HelpListsEveryKnobWithItsDefault) {
     EXPECT_NE(help.find("hard|soft|shadowmap"), std::string::npos);
     EXPECT_NE(help.find("(default hard)"), std::string::npos);
 }
+
+// The settings as a whole: the shared ones and the chosen technique's only.
+TEST(Knobs, ValidateSettingsChecksTheSharedAndTheTechniquesSettings) {
+    GiSettings s;
+    EXPECT_TRUE(validateSettings(s));
+    s.shadowMapSize = 8;
+    auto r = validateSettings(s);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("shadowMapSize 8"), std::string::npos) << r.error().message;
+    s = {};
+    s.vct.gridResolution = 100; // another technique's bad value does not matter...
+    EXPECT_TRUE(validateSettings(s));
+    s.technique = Technique::Vct; // ...until that technique is chosen
+    r = validateSettings(s);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("gridResolution 100"), std::string::npos) << r.error().message;
+    s = {};
+    s.technique = Technique::Vpl;
+    s.vpl.interleave = 9;
+    EXPECT_FALSE(validateSettings(s));
+    s = {};
+    s.technique = Technique::Lpv;
+    s.lpv.gridSize = 1000;
+    EXPECT_FALSE(validateSettings(s));
+}

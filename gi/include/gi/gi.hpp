@@ -60,6 +60,11 @@ struct GiSettings {
     VctSettings vct; // Technique::Vct knobs (gi/vct.hpp), validated when the technique is created
 };
 
+// Checks every setting GiSystem::create checks: the shared ones and those of
+// `settings.technique`; the error names the setting, its value and the allowed range. Apps call
+// it on the command line's values before any work starts.
+Result<void> validateSettings(const GiSettings& settings);
+
 // Which images a frame must produce; everything else is culled by the graph.
 struct FrameRequest {
     bool composite = true; // direct + indirect
