@@ -75,10 +75,21 @@ apps::OptionTable optionTable(Options& o) {
                      "print relMSE and RMSE (full image and indirect only) against the path-traced\n"
                      "reference (cached by scene hash in $VKGI_CACHE_DIR or ~/.cache/vkgi)",
                      o.compare),
-        positiveOption("--exposure", "E",
-                       "PNG only: linear radiance is multiplied by E before the tone map (default 1;\n"
-                       "sun-lit scenes of ~1e3 nits want ~1e-3)",
-                       o.exposure, 1e12),
+        {"--exposure", "E|auto",
+         "PNG only: linear radiance is multiplied by E before the tone map. Default auto:\n"
+         "0.18 over the log-average luminance of the image's lit pixels (printed), one value\n"
+         "for every part of the frame",
+         [&o](const std::string& v) -> Result<void> {
+             if (v == "auto") {
+                 o.exposure.reset();
+                 return {};
+             }
+             auto e = apps::parsePositive("--exposure", v, 1e12);
+             if (!e)
+                 return e.error();
+             o.exposure = float(*e);
+             return {};
+         }},
         {"--json", "FILE",
          "write {scene, technique, width, height, passes[{name, ms}], total_ms,\n"
          "unprofiled_ms (GPU techniques: the frame without pass timestamps) or null,\n"

@@ -28,7 +28,7 @@ struct Options {
     uint32_t spp = 64;                          // path-tracer samples per pixel (reference, --compare)
     std::optional<int> bounces;                 // reflections; default: the technique's own count
     bool compare = false;
-    float exposure = 1.0f; // PNG tone-map exposure (ToneMap::exposure)
+    std::optional<float> exposure; // PNG tone-map exposure (ToneMap::exposure); none = autoExposure
     std::optional<std::filesystem::path> json;
     bool help = false;
     // glTF buffer and image URIs may resolve outside the scene file's folder (GltfLoadOptions).

@@ -1,6 +1,7 @@
 // vkgi-render: renders one frame of a scene headless with a GI technique (or the CPU path
 // tracer), prints per-pass GPU times, optionally compares against the cached path-traced
 // reference, and writes EXR/PNG images and a JSON report. `vkgi-render --help` lists options.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -161,6 +162,8 @@ Result<std::vector<OutputFolders>> prepareOutputs(const render::Options& o) {
 Result<void> writeOutputs(const render::Options& o, const Rendered& r, const std::optional<render::Errors>& errors) {
     std::vector<AtomicFile> staged;
     std::vector<std::string> names;
+    // One exposure for every radiance part, so that they compare: given, or the frame's own.
+    const float exposure = o.exposure ? *o.exposure : autoExposure(r.image);
     const std::pair<const std::vector<std::filesystem::path>*, const HdrImage*> parts[] = {
         {&o.outputs, &r.image},         {&o.directOutputs, &r.direct}, {&o.indirectOutputs, &r.indirect},
         {&o.glossyOutputs, &r.glossy}, {&o.aoOutputs, &r.ao}};
@@ -170,7 +173,7 @@ Result<void> writeOutputs(const render::Options& o, const Rendered& r, const std
             if (!file)
                 return file.error();
             // AO is a visibility in [0, 1], not radiance: PNG stores it as is (no exposure, no curve).
-            ToneMap toneMap = image == &r.ao ? ToneMap{1.0f, ToneMap::Curve::Clamp} : ToneMap{o.exposure, ToneMap::Curve::Aces};
+            ToneMap toneMap = image == &r.ao ? ToneMap{1.0f, ToneMap::Curve::Clamp} : ToneMap{exposure, ToneMap::Curve::Aces};
             if (auto ok = writeImage(out, file->temporary(), *image, toneMap); !ok)
                 return makeError(out.string() + ": " + ok.error().message);
             staged.push_back(std::move(*file));
@@ -192,6 +195,11 @@ Result<void> writeOutputs(const render::Options& o, const Rendered& r, const std
             return ok;
         std::printf("wrote %s\n", names[i].c_str());
     }
+    const bool png = std::any_of(names.begin(), names.end(), [](const std::string& name) {
+        return std::filesystem::path(name).extension() == ".png";
+    });
+    if (png)
+        std::printf("PNG exposure %.4g%s\n", exposure, o.exposure ? "" : " (auto: --exposure E sets it)");
     return {};
 }
 

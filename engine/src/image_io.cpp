@@ -135,6 +135,22 @@ Result<HdrImage> readExr(const fs::path& path) {
     }
 }
 
+float autoExposure(const HdrImage& image) {
+    double logSum = 0.0;
+    uint64_t lit = 0;
+    for (const glm::vec3& p : image.pixels) {
+        const double l = 0.2126 * p.x + 0.7152 * p.y + 0.0722 * p.z;
+        if (!std::isfinite(l) || !(l > 1e-6))
+            continue;
+        logSum += std::log(l);
+        ++lit;
+    }
+    if (lit == 0)
+        return 1.0f;
+    const double exposure = 0.18 / std::exp(logSum / double(lit));
+    return float(std::clamp(exposure, 1e-9, 1e9));
+}
+
 Result<void> writePng(const fs::path& path, const HdrImage& image, const ToneMap& toneMap, uint64_t* nonFinite) {
     if (auto ok = checkWritable(path, image); !ok)
         return ok;

@@ -170,3 +170,17 @@ TEST(ImageIo, PngDecodesToToneMappedValuesAndFlagsNonFinite) {
     EXPECT_EQ(data[3 * (1 * 5 + 1) + 2], 255);
     stbi_image_free(data);
 }
+
+// Middle grey for the log-average of the lit pixels: background, NaN/Inf and an all-black image
+// do not pull it.
+TEST(ImageIo, AutoExposurePutsTheLogAverageAtMiddleGrey) {
+    HdrImage img(4, 1);
+    img.pixels = {glm::vec3(2.0f), glm::vec3(8.0f), glm::vec3(0.0f), glm::vec3(std::nanf(""))};
+    // log-average of 2 and 8 is 4 (luminance of grey is the grey value): 0.18 / 4.
+    EXPECT_NEAR(autoExposure(img), 0.045f, 1e-6f);
+    HdrImage black(2, 2);
+    EXPECT_EQ(autoExposure(black), 1.0f);
+    HdrImage sun(1, 1);
+    sun.pixels[0] = glm::vec3(1e30f); // clamped, not 0
+    EXPECT_EQ(autoExposure(sun), 1e-9f);
+}

@@ -29,6 +29,11 @@ struct ToneMap {
     Curve curve = Curve::Aces;
 };
 
+// The exposure that puts `image` at middle grey: 0.18 over the log-average luminance of its lit
+// pixels (Reinhard's key; pixels darker than 1e-6 nits, the background, and non-finite ones are
+// left out), clamped to 1e-9..1e9; 1 for an image with no lit pixel.
+float autoExposure(const HdrImage& image);
+
 // The 8-bit sRGB value that writePng stores for one linear pixel (see ToneMap).
 glm::u8vec3 toneMapPixel(const glm::vec3& linear, const ToneMap& toneMap = {});
 
