@@ -11,6 +11,7 @@
 #include "engine/result.hpp"
 #include "engine/rg/render_graph.hpp"
 #include "gi/gi.hpp"
+#include "../common/scene_overrides.hpp"
 
 namespace vkgi::render {
 
@@ -33,6 +34,8 @@ struct Options {
     bool help = false;
     // glTF buffer and image URIs may resolve outside the scene file's folder (GltfLoadOptions).
     bool allowOutsideFolder = false;
+    std::optional<apps::CameraSpec> camera; // --camera: replaces the scene's
+    std::vector<Light> lights;              // --light: added to the scene's
     // Technique knobs in command-line order ("lpv.grid", "64"); names and values from gi/knobs.hpp.
     std::vector<std::pair<std::string, std::string>> knobs;
 };

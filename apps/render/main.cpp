@@ -224,11 +224,20 @@ int main(int argc, char** argv) {
     GltfLoadOptions loadOptions;
     loadOptions.allowOutsideFolder = o.allowOutsideFolder;
     auto scene = loadScene(o.scene, {}, &warnings, loadOptions);
-    for (const std::string& w : warnings)
-        std::fprintf(stderr, "vkgi-render: warning: %s\n", w.c_str());
+    for (const std::string& w : warnings) {
+        // The loader's warning about a scene without light names what this app can do about it.
+        const bool unlit = w.find("no punctual lights") != std::string::npos;
+        std::fprintf(stderr, "vkgi-render: warning: %s%s\n", w.c_str(),
+                     !unlit              ? ""
+                     : o.lights.empty() ? " (add one with --light)"
+                                         : " (--light adds one)");
+    }
     if (!scene)
         return fail(1, scene.error().message);
-    Camera camera = scene->cameraOrDefault();
+    scene->lights.insert(scene->lights.end(), o.lights.begin(), o.lights.end());
+    if (auto ok = validateScene(*scene); !ok) // e.g. more lights than a scene may have
+        return fail(1, ok.error().message);
+    Camera camera = o.camera ? apps::makeCamera(*o.camera, scene->bounds()) : scene->cameraOrDefault();
     auto settings = giSettings(o, *technique);
     if (!settings)
         return fail(2, settings.error().message);

@@ -67,7 +67,11 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLine) {
                  {"--technique reference --size 8x8 --out-glossy g.png", "--out-glossy"},
                  // Each knob in its own range, the settings still wrong as a whole: a bad argument too.
                  {"--technique vct --vct.grid 100", "gridResolution 100"},
-                 {"--technique vpl --vpl.visibility_grid 100", "visibilityGrid 100"}};
+                 {"--technique vpl --vpl.visibility_grid 100", "visibilityGrid 100"},
+                 {"--camera 1,2,3", "--camera"},              {"--camera 1,2,3:1,2,3", "apart"},
+                 {"--camera 0,0,0:0,0,1:180", "field of view"}, {"--light lamp:0,0,0:1", "--light"},
+                 {"--light point:0,0,0:-1", "above 0"},      {"--light sun:0,0,0:100", "not zero"},
+                 {"--light spot:0,1,0:0,-1,0:5:95", "DEG"},   {"--light point:0,nan,0:1", "--light"}};
     for (const Case& c : cases) {
         CliRun r = run(c.args);
         EXPECT_EQ(r.exitCode, 2) << c.args;
@@ -98,6 +102,32 @@ TEST_F(Cli, UnreadableSceneExitsOneAndWritesNothing) {
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find("box.gltf"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir / "x.png"));
+}
+
+// A light and a camera from the command line (asset packs ship neither): the light adds to the
+// scene's (direct light only here, so exactly: the two runs differ by the added point light),
+// and the camera replaces the scene's (the image differs from the default view's).
+TEST_F(Cli, CameraAndLightsFromTheCommandLine) {
+    fs::path dir = vkgi::test::outputDir() / "cli_overrides";
+    fs::remove_all(dir);
+    const std::string base = "--scene cornell --size 16x16 --out ";
+    CliRun plain = run(base + (dir / "plain.exr").string());
+    CliRun lit = run(base + (dir / "lit.exr").string() + " --light point:0.278,0.3,0.28:2");
+    CliRun moved = run(base + (dir / "moved.exr").string() + " --camera 0.278,0.27,-0.6:0.278,0.2,0.3:45");
+    ASSERT_EQ(plain.exitCode, 0) << plain.err;
+    ASSERT_EQ(lit.exitCode, 0) << lit.err;
+    ASSERT_EQ(moved.exitCode, 0) << moved.err;
+    auto a = vkgi::readExr(dir / "plain.exr"), b = vkgi::readExr(dir / "lit.exr"), c = vkgi::readExr(dir / "moved.exr");
+    ASSERT_TRUE(a && b && c);
+    uint32_t brighter = 0, darker = 0, differ = 0;
+    for (size_t i = 0; i < a->pixels.size(); ++i) {
+        brighter += b->pixels[i].y > a->pixels[i].y * 1.01f;
+        darker += b->pixels[i].y < a->pixels[i].y * (1.0f - 1e-5f);
+        differ += c->pixels[i] != a->pixels[i];
+    }
+    EXPECT_GT(brighter, a->pixels.size() / 2) << "a 2 cd lamp in the box lights most of what the camera sees";
+    EXPECT_EQ(darker, 0u) << "an added light takes nothing away";
+    EXPECT_GT(differ, a->pixels.size() / 2);
 }
 
 TEST_F(Cli, SmallRenderWritesImageAndJson) {
