@@ -43,6 +43,11 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "vkgi-view: warning: %s\n", w.c_str());
     if (!scene)
         return fail(1, scene.error().message);
+    scene->lights.insert(scene->lights.end(), o.lights.begin(), o.lights.end());
+    if (o.camera)
+        scene->camera = apps::makeCamera(*o.camera, scene->bounds());
+    if (auto ok = validateScene(*scene); !ok)
+        return fail(1, ok.error().message);
 
     auto window = view::Window::create("vkgi-view: " + o.scene, o.width, o.height);
     if (!window)

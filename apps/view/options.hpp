@@ -10,6 +10,8 @@
 #include "engine/result.hpp"
 #include "window.hpp"
 
+#include "../common/scene_overrides.hpp"
+
 namespace vkgi::view {
 
 struct Options {
@@ -36,6 +38,8 @@ struct Options {
     std::string switchTechnique;
     bool exitAfterFrames = false;
     bool help = false;
+    std::optional<apps::CameraSpec> camera; // --camera: the start camera, replacing the scene's
+    std::vector<Light> lights;              // --light: added to the scene's
 };
 
 Result<Options> parseArgs(int argc, const char* const* argv);

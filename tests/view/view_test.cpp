@@ -167,7 +167,7 @@ TEST(View, CameraScriptFileErrorsNameTheLine) {
 TEST(View, BadArgumentsExit2BeforeOpeningAWindow) {
     for (const char* args :
          {"--exit", "--screenshot out.png --frames 1", "--frames 0", "--technique nope", "--lpv.grid 0",
-          "--technique vct --vct.grid 100",
+          "--technique vct --vct.grid 100", "--light lamp:0,0,0:1", "--camera 1,1,1:1,1,1",
           "--present vsync", "--frames 3 --resize-at 3:64x64", "--frames 3 --switch-at 1:nope"}) {
         RunResult r = run(VKGI_VIEW_EXE, args, "bad-args");
         EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
