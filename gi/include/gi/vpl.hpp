@@ -46,8 +46,8 @@ struct VplSettings {
     float clampDistance = 0.02f;
     // Interleaved sampling: each pixel of an n x n tile gathers 1/n^2 of the VPLs and a
     // geometry-aware tent filter over the tile sums the subsets back (docs/vpl.md). 1 = off
-    // (every pixel gathers every VPL); 2, 3 or 4. 4 (from the bench: the cornell frame at about
-    // a sixth of the full gather's cost at the same error).
+    // (every pixel gathers every VPL); 2, 3 or 4. 4 (from the bench: on cornell the VPL passes
+    // cost about a quarter of the full gather at the same error).
     uint32_t interleave = 4;
     // The interleave filter's plane test: a neighbour further than this fraction of the
     // pixel's distance to the camera off the pixel's tangent plane is another surface.
