@@ -5,7 +5,6 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
-#include <ranges>
 #include <string>
 #include <system_error>
 
@@ -140,7 +139,10 @@ Result<OutputFolders> OutputFolders::create(const fs::path& file) {
         if (p == p.parent_path())
             break;
     }
-    for (const fs::path& p : std::views::reverse(missing)) {
+    // Reverse iterators, not std::views::reverse: clang 14 cannot compile libstdc++ 12's ranges
+    // (the sanitizer build).
+    for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+        const fs::path& p = *it;
         if (!fs::create_directory(p, ec) && ec)
             return fileError(file, "cannot create folder " + p.string() + " (" + ec.message() + ")");
         folders.m_created.push_back(p);
