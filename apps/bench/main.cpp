@@ -181,6 +181,8 @@ int main(int argc, char** argv) {
             }
             m->record.streamGBs = *streamGBs;
             records.push_back(std::move(m->record));
+            if (m->ambient) // the baseline row, beside the direct image's
+                records.push_back(std::move(*m->ambient));
         }
     }
     progress.finish();

@@ -156,6 +156,38 @@ Result<Timing> measureTiming(Context& ctx, const Scene& scene, const gi::GiSetti
     return out;
 }
 
+namespace {
+
+// The record's errors: `full` and `indirect` against the reference with the technique's bounce
+// count, `fullAll` and `indirectAll` against the unbounded one (the same images for a
+// technique; the ambient baseline fits one constant to each reference).
+Result<void> fillErrors(gi::BenchRecord& rec, const HdrImage& full, const HdrImage& fullAll, const HdrImage& indirect,
+                        const HdrImage& indirectAll, const References& refs) {
+    auto f = compareImages(full, *refs.full);
+    auto ind = compareImages(indirect, *refs.indirect);
+    auto fAll = compareImages(fullAll, *refs.fullAll);
+    auto indAll = compareImages(indirectAll, *refs.indirectAll);
+    auto fDark = compareImages(full, *refs.full, kDarkEpsilon);
+    auto fAllDark = compareImages(fullAll, *refs.fullAll, kDarkEpsilon);
+    for (const auto* e : {&f, &ind, &fAll, &indAll, &fDark, &fAllDark})
+        if (!*e)
+            return e->error();
+    rec.relMse = f->relMse;
+    rec.rmse = f->rmse;
+    rec.relMseIndirect = ind->relMse;
+    rec.rmseIndirect = ind->rmse;
+    rec.referenceBounces = refs.bounces;
+    rec.relMseAll = fAll->relMse;
+    rec.rmseAll = fAll->rmse;
+    rec.relMseIndirectAll = indAll->relMse;
+    rec.rmseIndirectAll = indAll->rmse;
+    rec.relMseDark = fDark->relMse;
+    rec.relMseAllDark = fAllDark->relMse;
+    return {};
+}
+
+} // namespace
+
 Result<Measured> measure(Context& ctx, const Scene& scene, const std::string& sceneName, const gi::GiSettings& settings,
                          const std::string& knobs, const Options& opt, const References& refs) {
     gi::FrameRequest request;
@@ -188,27 +220,25 @@ Result<Measured> measure(Context& ctx, const Scene& scene, const std::string& sc
             }
     // Without a technique the indirect estimate is zero: its error is that of "no GI".
     HdrImage indirect = last.indirect.empty() ? HdrImage(opt.width, opt.height) : last.indirect;
-    auto full = compareImages(last.composite, *refs.full);
-    auto ind = compareImages(indirect, *refs.indirect);
-    auto fullAll = compareImages(last.composite, *refs.fullAll);
-    auto indAll = compareImages(indirect, *refs.indirectAll);
-    auto fullDark = compareImages(last.composite, *refs.full, kDarkEpsilon);
-    auto fullAllDark = compareImages(last.composite, *refs.fullAll, kDarkEpsilon);
-    for (const auto* e : {&full, &ind, &fullAll, &indAll, &fullDark, &fullAllDark})
-        if (!*e)
-            return e->error();
-    rec.relMse = full->relMse;
-    rec.rmse = full->rmse;
-    rec.relMseIndirect = ind->relMse;
-    rec.rmseIndirect = ind->rmse;
-    rec.referenceBounces = refs.bounces;
-    rec.relMseAll = fullAll->relMse;
-    rec.rmseAll = fullAll->rmse;
-    rec.relMseIndirectAll = indAll->relMse;
-    rec.rmseIndirectAll = indAll->rmse;
-    rec.relMseDark = fullDark->relMse;
-    rec.relMseAllDark = fullAllDark->relMse;
-    Measured out{std::move(rec), {}};
+    if (auto ok = fillErrors(rec, last.composite, last.composite, indirect, indirect, refs); !ok)
+        return ok.error();
+    Measured out{std::move(rec), {}, {}};
+    if (settings.technique == gi::Technique::None) {
+        // The best constant for each reference, on the pixels that show a surface.
+        gi::BenchRecord ambient = out.record;
+        ambient.technique = "ambient";
+        ambient.knobs = "(best constant)";
+        const std::vector<bool> surface = surfacePixels(last.composite, *refs.full);
+        const HdrImage matched = bestAmbient(last.composite, *refs.full, surface);
+        const HdrImage all = bestAmbient(last.composite, *refs.fullAll, surface);
+        auto matchedIndirect = subtract(matched, last.composite), allIndirect = subtract(all, last.composite);
+        if (!matchedIndirect || !allIndirect)
+            return (matchedIndirect ? allIndirect : matchedIndirect).error();
+        if (auto ok = fillErrors(ambient, matched, all, *matchedIndirect, *allIndirect, refs); !ok)
+            return ok.error();
+        out.ambient = std::move(ambient);
+    }
+
     // A technique whose passes were all left out as not needed names itself "gi.<t>.*" or "<t>.*".
     const std::string t = out.record.technique;
     for (const gi::LeftOutPass& p : last.leftOut)

@@ -71,6 +71,9 @@ struct References {
 
 struct Measured {
     gi::BenchRecord record;
+    // With technique none: the baseline "ambient" row, the direct image plus the constant that
+    // minimises relMSE against each reference (engine bestAmbient), at the direct frame's cost.
+    std::optional<gi::BenchRecord> ambient;
     // Non-empty when the scene does not need the technique at all (its passes were left out as
     // not needed, e.g. VPL without a spotlight): the record is then the direct image's.
     std::string notApplicable;

@@ -17,8 +17,6 @@
 
 using namespace vkgi;
 using namespace vkgi::gi;
-using vkgi::test::bestAmbient;
-using vkgi::test::surfacePixels;
 
 namespace {
 

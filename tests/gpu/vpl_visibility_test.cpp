@@ -135,7 +135,7 @@ protected:
                 HdrImage zero = *indirect;
                 for (glm::vec3& p : zero.pixels)
                     p = glm::vec3(0.0f);
-                e.ambient = compareImages(test::bestAmbient(zero, ref->indirect, test::surfacePixels(frame->composite, ref->full)),
+                e.ambient = compareImages(bestAmbient(zero, ref->indirect, surfacePixels(frame->composite, ref->full)),
                                           ref->indirect)
                                 ->relMse;
             }

@@ -87,3 +87,28 @@ TEST(ImageMetrics, SubtractIsPerPixel) {
     EXPECT_EQ(d->at(0, 0), glm::vec3(4, 4, 4));
     EXPECT_EQ(d->at(1, 0), glm::vec3(0.25f, -1, 0));
 }
+
+// The constant-ambient baseline: on the surface pixels the relMSE-optimal constant, per channel,
+// in closed form; background pixels keep the direct image and do not pull the constant.
+TEST(ImageMetrics, BestAmbientIsTheRelMseOptimalConstant) {
+    HdrImage direct(3, 1), ref(3, 1);
+    direct.pixels = {glm::vec3(1.0f), glm::vec3(1.0f), glm::vec3(0.0f)};
+    ref.pixels = {glm::vec3(2.0f), glm::vec3(4.0f), glm::vec3(0.0f)};
+    std::vector<bool> surface = surfacePixels(direct, ref);
+    ASSERT_EQ(surface, (std::vector<bool>{true, true, false}));
+    HdrImage a = bestAmbient(direct, ref, surface, 0.01f);
+    // c = sum w (r - d) / sum w, w = 1 / (r^2 + eps): (1/4.01 * 1 + 1/16.01 * 3) / (1/4.01 + 1/16.01).
+    const double w1 = 1.0 / 4.01, w2 = 1.0 / 16.01, c = (w1 * 1.0 + w2 * 3.0) / (w1 + w2);
+    EXPECT_NEAR(a.pixels[0].x, 1.0 + c, 1e-5);
+    EXPECT_NEAR(a.pixels[1].y, 1.0 + c, 1e-5);
+    EXPECT_EQ(a.pixels[2], glm::vec3(0.0f));
+    // Optimal: a nudge either way raises relMSE.
+    auto at = [&](double shift) {
+        HdrImage t = a;
+        for (int i = 0; i < 2; ++i)
+            t.pixels[i] += glm::vec3(float(shift));
+        return compareImages(t, ref)->relMse;
+    };
+    EXPECT_LT(at(0.0), at(0.01));
+    EXPECT_LT(at(0.0), at(-0.01));
+}

@@ -2,6 +2,7 @@
 // Error of a rendered image against a reference, on linear HDR radiance (no tone mapping):
 // the figures vkgi-bench plots against run time.
 #include <cstdint>
+#include <vector>
 
 #include "engine/hdr_image.hpp"
 #include "engine/result.hpp"
@@ -29,5 +30,17 @@ Result<HdrImage> subtract(const HdrImage& a, const HdrImage& b);
 
 // Number of pixels with a NaN/Inf channel.
 uint64_t countNonFinite(const HdrImage& image);
+
+// The baseline every GI technique must beat, a constant ambient term: direct + c with the
+// per-channel constant c that minimises relMSE (epsilon `eps`) against `ref` over the `surface`
+// pixels: d/dc sum w (d + c - r)^2 = 0 with w = 1 / (r^2 + eps) gives
+// c = sum w (r - d) / sum w. Pixels without a surface keep `direct` (an ambient term lights
+// surfaces; adding c to a black sky, weight 1 / eps, would pull c to ~0).
+HdrImage bestAmbient(const HdrImage& direct, const HdrImage& ref, const std::vector<bool>& surface,
+                     float eps = 0.01f);
+
+// Pixels that show a surface: light in either image (the scenes have no sky light, so a pixel
+// black in both is background, and a surface black in both adds nothing to either error).
+std::vector<bool> surfacePixels(const HdrImage& a, const HdrImage& b);
 
 } // namespace vkgi
