@@ -8,11 +8,6 @@
 
 namespace vkgi::apps {
 
-const char* const kCameraHelp = "EX,EY,EZ:TX,TY,TZ[:FOV]: view from the eye towards the target, vertical field of\n"
-                                "view in degrees (default 60); replaces the scene's camera";
-const char* const kLightHelp = "add a light (repeatable): point:X,Y,Z:CD, spot:X,Y,Z:DX,DY,DZ:CD:DEG (outer cone\n"
-                               "half-angle), or sun:DX,DY,DZ:LUX";
-
 namespace {
 
 std::vector<std::string> split(const std::string& text, char by) {
@@ -98,6 +93,32 @@ Result<Light> parseLightSpec(const std::string& flag, const std::string& text) {
         return badValue(flag, "an intensity above 0", text);
     light.name = "--light " + text;
     return light;
+}
+
+Option cameraOption(std::optional<CameraSpec>& to) {
+    return {"--camera", "SPEC",
+            "EX,EY,EZ:TX,TY,TZ[:FOV]: view from the eye towards the target, vertical field of\n"
+            "view in degrees (default 60); replaces the scene's camera",
+            [&to](const std::string& v) -> Result<void> {
+                auto spec = parseCameraSpec("--camera", v);
+                if (!spec)
+                    return spec.error();
+                to = *spec;
+                return {};
+            }};
+}
+
+Option lightOption(std::vector<Light>& to) {
+    return {"--light", "SPEC",
+            "add a light (repeatable): point:X,Y,Z:CD, spot:X,Y,Z:DX,DY,DZ:CD:DEG (outer cone\n"
+            "half-angle), or sun:DX,DY,DZ:LUX",
+            [&to](const std::string& v) -> Result<void> {
+                auto light = parseLightSpec("--light", v);
+                if (!light)
+                    return light.error();
+                to.push_back(*light);
+                return {};
+            }};
 }
 
 } // namespace vkgi::apps

@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "cli.hpp"
 #include "engine/result.hpp"
 #include "engine/scene.hpp"
 
@@ -32,8 +33,8 @@ Camera makeCamera(const CameraSpec& spec, const Aabb& bounds);
 // White, unbounded range. Positions and directions finite, directions not zero, intensities > 0.
 Result<Light> parseLightSpec(const std::string& flag, const std::string& text);
 
-// The help lines of --camera and --light.
-extern const char* const kCameraHelp;
-extern const char* const kLightHelp;
+// The --camera option (sets `to`) and the repeatable --light option (appends to `to`).
+Option cameraOption(std::optional<CameraSpec>& to);
+Option lightOption(std::vector<Light>& to);
 
 } // namespace vkgi::apps

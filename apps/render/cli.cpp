@@ -67,22 +67,8 @@ apps::OptionTable optionTable(Options& o) {
          "models (none: 1, one indirect bounce: 2), or -1 for --technique reference.\n"
          "--compare uses the same K.",
          [&o](const std::string& v) { return parseBounces(v, o); }},
-        {"--camera", "SPEC", apps::kCameraHelp,
-         [&o](const std::string& v) -> Result<void> {
-             auto spec = apps::parseCameraSpec("--camera", v);
-             if (!spec)
-                 return spec.error();
-             o.camera = *spec;
-             return {};
-         }},
-        {"--light", "SPEC", apps::kLightHelp,
-         [&o](const std::string& v) -> Result<void> {
-             auto light = apps::parseLightSpec("--light", v);
-             if (!light)
-                 return light.error();
-             o.lights.push_back(*light);
-             return {};
-         }},
+        apps::cameraOption(o.camera),
+        apps::lightOption(o.lights),
         switchOption("--allow-outside-folder",
                      "glTF buffer and image URIs may name files outside the scene file's folder\n"
                      "(by default such an image is dropped with a warning, such a buffer is an error)",

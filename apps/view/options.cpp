@@ -104,22 +104,8 @@ apps::OptionTable scriptOptions(Options& o) {
              o.cameraScript = v;
              return {};
          }},
-        {"--camera", "SPEC", apps::kCameraHelp,
-         [&o](const std::string& v) -> Result<void> {
-             auto spec = apps::parseCameraSpec("--camera", v);
-             if (!spec)
-                 return spec.error();
-             o.camera = *spec;
-             return {};
-         }},
-        {"--light", "SPEC", apps::kLightHelp,
-         [&o](const std::string& v) -> Result<void> {
-             auto light = apps::parseLightSpec("--light", v);
-             if (!light)
-                 return light.error();
-             o.lights.push_back(*light);
-             return {};
-         }},
+        apps::cameraOption(o.camera),
+        apps::lightOption(o.lights),
         switchOption("--animate",
                      "move the first light and the dynamic object (GiSystem::updateScene) along\n"
                      "loops that return to their start at the last frame",
