@@ -2,9 +2,10 @@
 // diffuse cones over the normal hemisphere, a glossy cone along the mirror direction whose
 // aperture follows the roughness, and cone-traced AO. Output radiance is in nits
 // (radianceScale undone). With a low-res factor f > 1 the plain variant fills the low-res
-// images from every f-th pixel (gi/lowres_upsample.h); vct_upsample.comp interpolates them
-// and lists the pixels across discontinuities, which the refine variant (GI_VCT_REFINE)
-// traces at full resolution.
+// images from every f-th pixel (gi/lowres_upsample.h) with the incoming light (diffuse and
+// glossy cones, no albedo); vct_upsample.comp interpolates them, applies each pixel's own albedo
+// and metallic, and lists the pixels across discontinuities, which the refine variant
+// (GI_VCT_REFINE) traces at full resolution.
 #include "gi/vct_passes.h"
 #ifndef GI_VCT_REFINE
 #define GI_LOWRES_SOURCE_ONLY
@@ -83,6 +84,15 @@ void main() {
     float metallic = clamp(am.w, 0.0, 1.0);
     vec3 indirect = am.rgb * mix(diffuse, glossy, metallic) * pc.grid.scales.z;
     float ao = (pc.cones.info.y & GI_VCT_FLAG_AO) != 0u ? 1.0 - occlusion : 1.0;
+#ifndef GI_VCT_REFINE
+    if (pc.lowRes.x > 1u) {
+        // Low resolution: the incoming light without the sample's albedo and metallic, which the
+        // upsample applies per full-resolution pixel (a checkered floor stays sharp).
+        imageStore(outIndirect, dst, vec4(diffuse * pc.grid.scales.z, ao));
+        imageStore(outGlossy, dst, vec4(glossy * pc.grid.scales.z, 1.0));
+        return;
+    }
+#endif
     imageStore(outIndirect, dst, vec4(indirect, ao));
     if (glossyImage)
         imageStore(outGlossy, dst, vec4(glossy * pc.grid.scales.z, 1.0));

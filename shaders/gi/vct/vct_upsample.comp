@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Low-res VCT trace -> full resolution, one invocation per 4x4 block of pixels (vctRefineBlock):
-// bilinear from the low-res indirect (a = AO) and glossy images, next to edges from the taps on
+// bilinear from the low-res incoming diffuse (a = AO) and glossy light, each pixel's own albedo
+// and metallic applied after (a checkered floor keeps its tiles), next to edges from the taps on
 // the pixel's own surface only; the pixels near edges that no tap can stand in for are refined
 // (lowResFitTapsAt in gi/lowres_upsample.h), and a refined pixel takes the trace of an earlier
 // refined pixel of its block on the same spot (vctSameSpot). Each block appends its traced
@@ -40,6 +41,13 @@ layout(set = 1, binding = VCT_UPSAMPLE_BINDING_REFINE_LIST, std430) buffer Refin
 // 1845 traced pixels against 1818 with all 16 kept, 1943 with 4).
 const int kSlots = 6;
 
+// The indirect radiance (a = AO) of pixel px from the incoming diffuse light `d` (a = AO) and
+// glossy light `g` the low-res trace stored: the pixel's own albedo and metallic applied.
+vec4 radianceAt(ivec2 px, vec4 d, vec4 g) {
+    vec4 albedo = imageLoad(gAlbedo, px);
+    return vec4(albedo.rgb * mix(d.rgb, g.rgb, clamp(albedo.w, 0.0, 1.0)), d.a);
+}
+
 // Writes entry `slot` of the refine list (up to its capacity) and counts the refine trace's groups.
 void listEntry(uint slot, uvec2 entry) {
     if (slot >= pc.lowRes.w)
@@ -50,8 +58,8 @@ void listEntry(uint slot, uvec2 entry) {
 }
 
 // The G-buffer samples (q, nq, qa) and low-res indirect and glossy values (li, lg) of pixel px's taps.
-void loadTaps(ivec2 px, int f, ivec2 low, ivec2 full, bool glossyImage, out vec4 q[4], out vec3 nq[4], out vec4 qa[4],
-              out vec4 li[4], out vec4 lg[4]) {
+void loadTaps(ivec2 px, int f, ivec2 low, ivec2 full, out vec4 q[4], out vec3 nq[4], out vec4 qa[4], out vec4 li[4],
+              out vec4 lg[4]) {
     ivec2 taps[4];
     vec4 unused;
     lowResTapCell(px, f, low, taps, unused);
@@ -61,7 +69,7 @@ void loadTaps(ivec2 px, int f, ivec2 low, ivec2 full, bool glossyImage, out vec4
         nq[j] = imageLoad(gNormal, src).xyz;
         qa[j] = imageLoad(gAlbedo, src);
         li[j] = imageLoad(lowIndirect, taps[j]);
-        lg[j] = glossyImage ? imageLoad(lowGlossy, taps[j]) : vec4(0.0);
+        lg[j] = imageLoad(lowGlossy, taps[j]);
     }
 }
 
@@ -111,8 +119,7 @@ void main() {
         vec3 nq[4];
         vec4 qa[4];
         vec4 li[4], lg[4];
-        loadTaps(base + ivec2(blockPixel(f, c, 0) & 3u, blockPixel(f, c, 0) >> 2), f, low, full, glossyImage, q, nq,
-                 qa, li, lg);
+        loadTaps(base + ivec2(blockPixel(f, c, 0) & 3u, blockPixel(f, c, 0) >> 2), f, low, full, q, nq, qa, li, lg);
         uint edges = 0u, background = 0u;
         for (int s = 0; s < f * f; ++s) {
             uint k = blockPixel(f, c, s);
@@ -134,7 +141,8 @@ void main() {
                 edges |= 1u << uint(s);
                 continue;
             }
-            imageStore(outIndirect, px, w[0] * li[0] + w[1] * li[1] + w[2] * li[2] + w[3] * li[3]);
+            imageStore(outIndirect, px, radianceAt(px, w[0] * li[0] + w[1] * li[1] + w[2] * li[2] + w[3] * li[3],
+                                                   w[0] * lg[0] + w[1] * lg[1] + w[2] * lg[2] + w[3] * lg[3]));
         }
         // The background, and the glossy image where requested, in loops of their own (a masked
         // store in the loop above cost every pixel).
@@ -165,7 +173,8 @@ void main() {
             bool refined =
                 lowResFitTapsAt(pos.xyz, n, depth, pc.eye.w, pc.grid.originSize.w, kUpsampleReach, q, nq, w);
             // Refined pixels get these too, overwritten by the refine trace.
-            imageStore(outIndirect, px, w[0] * li[0] + w[1] * li[1] + w[2] * li[2] + w[3] * li[3]);
+            imageStore(outIndirect, px, radianceAt(px, w[0] * li[0] + w[1] * li[1] + w[2] * li[2] + w[3] * li[3],
+                                                   w[0] * lg[0] + w[1] * lg[1] + w[2] * lg[2] + w[3] * lg[3]));
             if (glossyImage)
                 imageStore(outGlossy, px, w[0] * lg[0] + w[1] * lg[1] + w[2] * lg[2] + w[3] * lg[3]);
             if (!refined)
@@ -184,7 +193,7 @@ void main() {
                     ti = tap == j ? li[j] : ti;
                     tg = tap == j ? lg[j] : tg;
                 }
-                imageStore(outIndirect, px, ti);
+                imageStore(outIndirect, px, radianceAt(px, ti, tg));
                 if (glossyImage)
                     imageStore(outGlossy, px, tg);
                 continue;
