@@ -330,6 +330,31 @@ TEST_F(Stability, EmptySceneRendersBlack) {
     }
 }
 
+// A light but no geometry: nothing to bounce and nothing to occlude, for every technique and
+// for VPL with visibility (whose voxel grid has no scene to fit: it renders without it).
+TEST_F(Stability, LightWithoutGeometryRendersBlack) {
+    Scene lit;
+    lit.name = "light only";
+    lit.camera = Camera{};
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.position = {0.0f, 1.0f, 0.0f};
+    spot.intensity = 10.0f;
+    lit.lights.push_back(spot);
+    for (Technique t : kTechniques)
+        for (bool visibility : {false, true}) {
+            if (visibility && t != Technique::Vpl)
+                continue;
+            GiSettings s = smallSettings(t);
+            s.vpl.visibility = visibility;
+            const std::string what = std::string(toString(t)) + (visibility ? " + visibility" : "");
+            auto f = render(s, lit);
+            ASSERT_TRUE(f) << what << ": " << f.error().message;
+            expectFinite(*f, what);
+            EXPECT_EQ(maxComponent(f->composite), 0.0) << what;
+        }
+}
+
 // NaN/Inf anywhere in the inputs and zero-length normals are rejected with an error that names
 // the problem, before anything reaches the GPU; nothing is rendered.
 TEST_F(Stability, NonFiniteInputsAndZeroNormalsAreClearErrors) {

@@ -107,12 +107,6 @@ public:
             return {};
         }
         VplInputs in = vplInputs(inputs, *inputs.rsm);
-        if (m_voxels.exists()) {
-            VoxelGridData grid = m_voxels.addPasses(graph, inputs.scene, inputs.selection.changes);
-            in.occupancy = grid.albedo;
-            in.occupancyOriginSize = grid.params.originSize;
-            in.occupancyResolution = grid.params.dims.x;
-        }
         if (in.spots.empty()) {
             // No light with an RSM: nothing to bounce, so the technique adds no pass and no
             // indirect image; GiSystem then composites nothing (the frame is the direct image).
@@ -120,7 +114,16 @@ public:
                                       "no light has shadow-atlas layers (past maxShadowLayers)");
             return {};
         }
-        auto out = m_technique->addPasses(graph, in, m_settings);
+        VplSettings settings = m_settings;
+        if (m_voxels.exists()) {
+            VoxelGridData grid = m_voxels.addPasses(graph, inputs.scene, inputs.selection.changes);
+            in.occupancy = grid.albedo;
+            in.occupancyOriginSize = grid.params.originSize;
+            in.occupancyResolution = grid.params.dims.x;
+        } else {
+            settings.visibility = false; // no geometry, no grid: nothing can occlude
+        }
+        auto out = m_technique->addPasses(graph, in, settings);
         GI_ASSERT(out.ok(), "VplTechniqueModule::addPasses: inputs were validated in sceneChanged");
         inputs.blackboard.add(*out);
         return {out->indirect, {}, {}, {}};
