@@ -34,7 +34,7 @@ constexpr uint32_t kMaxHaltonSearch = 1u << 22;
 // The knobs of the VPL technique (what vkgi-bench sweeps).
 struct VplSettings {
     // Positive VPLs per light, 1..kMaxVplsPerLight. 256 = 16 per subset of the default 4 x 4
-    // interleave tile (vkgi-bench on cornell: the error of 200 VPLs gathered in full).
+    // interleave tile, so all subsets are equal (the choice and its measurement: docs/vpl.md).
     uint32_t vplCount = 256;
     uint32_t negativeVplCount = 0;   // negative VPLs (0 = off), 0..kMaxNegativeVpls
     uint32_t lowResFactor = 1;       // indirect light at 1/factor resolution per axis: 1 (off), 2 or 4
@@ -46,8 +46,8 @@ struct VplSettings {
     float clampDistance = 0.02f;
     // Interleaved sampling: each pixel of an n x n tile gathers 1/n^2 of the VPLs and a
     // geometry-aware tent filter over the tile sums the subsets back (docs/vpl.md). 1 = off
-    // (every pixel gathers every VPL); 2, 3 or 4. 4 (from the bench: on cornell the VPL passes
-    // cost about a quarter of the full gather at the same error).
+    // (every pixel gathers every VPL); 2, 3 or 4. 4 by default: the bench's choice for the
+    // frame's cost at the full gather's error (docs/vpl.md, "Defaults").
     uint32_t interleave = 4;
     // The interleave filter's plane test: a neighbour further than this fraction of the
     // pixel's distance to the camera off the pixel's tangent plane is another surface.

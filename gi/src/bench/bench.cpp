@@ -146,8 +146,8 @@ double median(std::vector<double> v) {
     return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// "VCT voxelization (8604 triangles, every frame): grid 64: voxelize 3.2 ms = 2.7 M triangles/s,
-// all voxel-grid passes 7.1 ms; ..." over the scene's VCT records, or "" without any.
+// "VCT voxelization (<T> triangles, ...): grid <G>: voxelize <ms> ms = <rate> M triangles/s,
+// all voxel-grid passes <ms> ms; ..." (medians over the scene's VCT records), or "" without any.
 std::string voxelizationLine(const std::vector<BenchRecord>& records, const std::string& scene) {
     std::map<uint32_t, std::vector<double>> voxelize, grid;
     uint64_t triangles = 0;

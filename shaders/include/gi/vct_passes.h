@@ -132,7 +132,7 @@ GI_GPU_STRUCT(ConeParams) {
 // Only the header is cleared; the masks and misfit bits of all blocks are written, the rest
 // before it is read.
 // The gathers' results go to a second buffer (one storage buffer of both would exceed
-// lavapipe's 128 MiB range at 256^3): 2 words per (block b, class k) at 2 (26 b + k),
+// lavapipe's maxStorageBufferRange at 256^3): 2 words per (block b, class k) at 2 (26 b + k),
 // packHalf2x16 of r, g and of b, 0: (1/n) sum L_i.
 #define GI_BOUNCE_CLASSES 26u
 #define GI_BOUNCE_COUNTS 8u // header offset (words) of the per-class job counts
