@@ -1,6 +1,6 @@
 # `cmake --install` layout (relocatable: nothing below holds a build or install path):
 #   lib/libvkgi_{gi,engine,stb,spirv_location}.a   static libraries, exported as vkgi::gi, vkgi::engine
-#   include/vkgi/{engine,gi}/...                   the public headers (only those the API needs)
+#   include/vkgi/..., include/vkgi/rg/...          the public headers (only those the API needs)
 #   share/vkgi/spirv/**.spv                        SPIR-V the library loads at run time
 #   lib/cmake/vkgi/vkgiConfig.cmake, vkgiConfigVersion.cmake, vkgiTargets*.cmake
 # docs/embedding.md describes how a consumer finds the SPIR-V.
@@ -19,15 +19,15 @@ install(EXPORT vkgiTargets NAMESPACE vkgi:: DESTINATION "${VKGI_INSTALL_CMAKEDIR
 # which compiles against the installed tree only.
 set(VKGI_PUBLIC_ENGINE_HEADERS
     builtin_scenes.hpp camera.hpp context.hpp gltf_loader.hpp hdr_image.hpp image_io.hpp pipeline.hpp
-    resources.hpp result.hpp scene.hpp vk_check.hpp)
+    resources.hpp result.hpp scene.hpp)
 set(VKGI_PUBLIC_RG_HEADERS access.hpp blackboard.hpp render_graph.hpp transient_pool.hpp)
 set(VKGI_PUBLIC_GI_HEADERS frame_data.hpp gi.hpp lpv.hpp vct.hpp version.hpp vpl.hpp)
-list(TRANSFORM VKGI_PUBLIC_ENGINE_HEADERS PREPEND "${PROJECT_SOURCE_DIR}/engine/include/engine/")
-list(TRANSFORM VKGI_PUBLIC_RG_HEADERS PREPEND "${PROJECT_SOURCE_DIR}/engine/include/engine/rg/")
-list(TRANSFORM VKGI_PUBLIC_GI_HEADERS PREPEND "${PROJECT_SOURCE_DIR}/gi/include/gi/")
-install(FILES ${VKGI_PUBLIC_ENGINE_HEADERS} DESTINATION "${VKGI_INSTALL_INCLUDEDIR}/engine")
-install(FILES ${VKGI_PUBLIC_RG_HEADERS} DESTINATION "${VKGI_INSTALL_INCLUDEDIR}/engine/rg")
-install(FILES ${VKGI_PUBLIC_GI_HEADERS} DESTINATION "${VKGI_INSTALL_INCLUDEDIR}/gi")
+list(TRANSFORM VKGI_PUBLIC_ENGINE_HEADERS PREPEND "${PROJECT_SOURCE_DIR}/engine/include/vkgi/")
+list(TRANSFORM VKGI_PUBLIC_RG_HEADERS PREPEND "${PROJECT_SOURCE_DIR}/engine/include/vkgi/rg/")
+list(TRANSFORM VKGI_PUBLIC_GI_HEADERS PREPEND "${PROJECT_SOURCE_DIR}/gi/include/vkgi/")
+install(FILES ${VKGI_PUBLIC_ENGINE_HEADERS} DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/vkgi")
+install(FILES ${VKGI_PUBLIC_RG_HEADERS} DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/vkgi/rg")
+install(FILES ${VKGI_PUBLIC_GI_HEADERS} DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/vkgi")
 
 install(DIRECTORY "${GI_SPIRV_DIR}/" DESTINATION "${CMAKE_INSTALL_DATADIR}/vkgi/spirv"
     FILES_MATCHING PATTERN "*.spv")

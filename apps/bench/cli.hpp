@@ -3,7 +3,7 @@
 // options, and the help text. Errors are one line naming the option (exit code 2).
 #include <string>
 
-#include "engine/result.hpp"
+#include "vkgi/result.hpp"
 #include "sweep.hpp"
 
 namespace vkgi::bench {

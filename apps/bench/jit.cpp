@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <sstream>
 
-#include "engine/builtin_scenes.hpp"
-#include "engine/file_util.hpp"
-#include "engine/progress.hpp"
-#include "gi/knobs.hpp"
+#include "vkgi/builtin_scenes.hpp"
+#include "vkgi/file_util.hpp"
+#include "vkgi/progress.hpp"
+#include "vkgi/knobs.hpp"
 
 namespace vkgi::bench {
 

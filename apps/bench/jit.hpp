@@ -2,7 +2,7 @@
 // vkgi-bench --jit: what lavapipe's first-dispatch shader compilation costs per pass. Issue #4
 // asks that no shader's JIT exceed ~1 s (../shared/LAVAPIPE.md: the cost grows much faster than
 // the shader); this measures it instead of assuming it.
-#include "engine/context.hpp"
+#include "vkgi/context.hpp"
 #include "sweep.hpp"
 
 namespace vkgi::bench {

@@ -11,11 +11,11 @@
 #include <sstream>
 
 #include "cli.hpp"
-#include "engine/file_util.hpp"
-#include "engine/gltf_loader.hpp"
-#include "engine/progress.hpp"
-#include "gi/knobs.hpp"
-#include "gi/reference.hpp"
+#include "vkgi/file_util.hpp"
+#include "vkgi/gltf_loader.hpp"
+#include "vkgi/progress.hpp"
+#include "vkgi/knobs.hpp"
+#include "vkgi/reference.hpp"
 #include "jit.hpp"
 #include "scaling.hpp"
 #include "stream.hpp"

@@ -1,7 +1,7 @@
 #pragma once
 // vkgi-bench --scaling: GPU time of each technique against one axis at a time (pixels, voxels,
 // triangles), the fitted log-log slopes, and the voxelization throughput (DESIGN.md, Budgets).
-#include "engine/context.hpp"
+#include "vkgi/context.hpp"
 #include "sweep.hpp"
 
 namespace vkgi::bench {

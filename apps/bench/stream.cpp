@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <vector>
 
-#include "engine/pipeline.hpp"
-#include "engine/rg/compute_pass.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "engine/rg/transient_pool.hpp"
+#include "vkgi/pipeline.hpp"
+#include "vkgi/rg/compute_pass.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/rg/transient_pool.hpp"
 #include "engine/test_bindings.h"
 
 namespace vkgi::bench {

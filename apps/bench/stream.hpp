@@ -1,8 +1,8 @@
 #pragma once
 // The memory-streaming rate the bench compares every pass with (DESIGN.md budgets): a compute
 // shader copying `mib` MiB, median GPU time over `repeats` runs after a warm-up.
-#include "engine/context.hpp"
-#include "engine/result.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/result.hpp"
 
 namespace vkgi::bench {
 

@@ -5,7 +5,7 @@
 #include <map>
 #include <memory>
 
-#include "engine/image_metrics.hpp"
+#include "vkgi/image_metrics.hpp"
 
 namespace vkgi::bench {
 

@@ -7,11 +7,11 @@
 #include <utility>
 #include <vector>
 
-#include "engine/context.hpp"
-#include "engine/result.hpp"
-#include "engine/scene.hpp"
-#include "gi/bench.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/scene.hpp"
+#include "vkgi/bench.hpp"
+#include "vkgi/gi.hpp"
 
 namespace vkgi::bench {
 

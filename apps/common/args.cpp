@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "gi/knobs.hpp"
+#include "vkgi/knobs.hpp"
 
 namespace vkgi::apps {
 

@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "engine/result.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/gi.hpp"
 
 namespace vkgi::apps {
 
@@ -22,7 +22,7 @@ struct Extent {
     uint32_t height = 0;
 };
 
-// Technique knobs in command-line order ("lpv.grid", "64"); names and values from gi/knobs.hpp.
+// Technique knobs in command-line order ("lpv.grid", "64"); names and values from vkgi/knobs.hpp.
 using KnobList = std::vector<std::pair<std::string, std::string>>;
 
 // "<flag>: expected <what>, got '<text>'": the one shape of every bad-value error.

@@ -1,6 +1,6 @@
 #include "cli.hpp"
 
-#include "gi/knobs.hpp"
+#include "vkgi/knobs.hpp"
 
 namespace vkgi::apps {
 

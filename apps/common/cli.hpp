@@ -3,7 +3,7 @@
 // vkgi-bench): an app lists its options once in an OptionTable (flag, value name, help text,
 // what to do with the value), and the same table drives parsing and the --help listing.
 // Grammar: "--flag value" and "--flag=value", valueless switches, "-h" for "--help", and, where
-// the app takes them, each technique knob of gi/knobs.hpp as "--<knob> value". Errors are one
+// the app takes them, each technique knob of vkgi/knobs.hpp as "--<knob> value". Errors are one
 // line naming the option and the problem (the apps exit with code 2).
 #include <cstddef>
 #include <functional>

@@ -9,8 +9,8 @@
 #include <glm/glm.hpp>
 
 #include "cli.hpp"
-#include "engine/result.hpp"
-#include "engine/scene.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/scene.hpp"
 
 namespace vkgi::apps {
 

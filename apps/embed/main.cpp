@@ -20,13 +20,13 @@
 
 #include <vulkan/vulkan.h>
 
-#include "engine/context.hpp"
-#include "engine/gltf_loader.hpp"
-#include "engine/image_io.hpp"
-#include "engine/resources.hpp"
-#include "engine/rg/blackboard.hpp"
-#include "engine/rg/transient_pool.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/gltf_loader.hpp"
+#include "vkgi/image_io.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/rg/blackboard.hpp"
+#include "vkgi/rg/transient_pool.hpp"
+#include "vkgi/gi.hpp"
 
 namespace {
 

@@ -13,11 +13,11 @@
 #include <vector>
 
 #include "../common/args.hpp"
-#include "engine/context.hpp"
-#include "engine/pipeline.hpp"
-#include "engine/rg/compute_pass.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "engine/rg/transient_pool.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/pipeline.hpp"
+#include "vkgi/rg/compute_pass.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/rg/transient_pool.hpp"
 #include "engine/test_bindings.h"
 
 using namespace vkgi;

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../common/cli.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/gi.hpp"
 
 namespace vkgi::render {
 

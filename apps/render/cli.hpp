@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/image_metrics.hpp"
-#include "engine/result.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/image_metrics.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/gi.hpp"
 #include "../common/scene_overrides.hpp"
 
 namespace vkgi::render {
@@ -36,7 +36,7 @@ struct Options {
     bool allowOutsideFolder = false;
     std::optional<apps::CameraSpec> camera; // --camera: replaces the scene's
     std::vector<Light> lights;              // --light: added to the scene's
-    // Technique knobs in command-line order ("lpv.grid", "64"); names and values from gi/knobs.hpp.
+    // Technique knobs in command-line order ("lpv.grid", "64"); names and values from vkgi/knobs.hpp.
     std::vector<std::pair<std::string, std::string>> knobs;
 };
 

@@ -10,11 +10,11 @@
 
 #include "../common/args.hpp"
 #include "cli.hpp"
-#include "engine/file_util.hpp"
-#include "engine/gltf_loader.hpp"
-#include "engine/image_io.hpp"
-#include "gi/gi.hpp"
-#include "gi/reference.hpp"
+#include "vkgi/file_util.hpp"
+#include "vkgi/gltf_loader.hpp"
+#include "vkgi/image_io.hpp"
+#include "vkgi/gi.hpp"
+#include "vkgi/reference.hpp"
 
 using namespace vkgi;
 

@@ -5,9 +5,9 @@
 #include <cstdio>
 
 #include "../common/args.hpp"
-#include "engine/context.hpp"
-#include "engine/gltf_loader.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/gltf_loader.hpp"
+#include "vkgi/gi.hpp"
 #include "options.hpp"
 #include "viewer.hpp"
 #include "window.hpp"

@@ -10,9 +10,9 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/camera.hpp"
-#include "engine/result.hpp"
-#include "engine/scene.hpp"
+#include "vkgi/camera.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/scene.hpp"
 
 namespace vkgi::view {
 

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "engine/result.hpp"
+#include "vkgi/result.hpp"
 #include "window.hpp"
 
 #include "../common/scene_overrides.hpp"
@@ -19,7 +19,7 @@ struct Options {
     std::string technique = "none";
     uint32_t width = 640; // initial window size = render size
     uint32_t height = 480;
-    std::vector<std::pair<std::string, std::string>> knobs; // --name value, from gi/knobs.hpp
+    std::vector<std::pair<std::string, std::string>> knobs; // --name value, from vkgi/knobs.hpp
     float exposure = 1.0f;                                  // display and screenshot PNG
     PresentMode present = PresentMode::Fifo;
     bool validation = false;

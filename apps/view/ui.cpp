@@ -9,15 +9,15 @@
 #include <backends/imgui_impl_vulkan.h>
 #include <imgui.h>
 
-#include "engine/vk_check.hpp"
-#include "gi/knobs.hpp"
+#include "vk_check.hpp"
+#include "vkgi/knobs.hpp"
 
 namespace vkgi::view {
 
 namespace {
 
 void checkVk(VkResult r) {
-    VK_CHECK(r);
+    VKGI_CHECK(r);
 }
 
 // The panel's value of a knob (Knob::get gives text: "64", "0.25", "on"/"off").
@@ -57,7 +57,7 @@ Result<std::unique_ptr<Ui>> Ui::create(Context& ctx, const Window& window, uint3
     poolInfo.maxSets = 8;
     poolInfo.poolSizeCount = 1;
     poolInfo.pPoolSizes = &sizes;
-    VK_CHECK(vkCreateDescriptorPool(ctx.device(), &poolInfo, nullptr, &ui->m_pool));
+    VKGI_CHECK(vkCreateDescriptorPool(ctx.device(), &poolInfo, nullptr, &ui->m_pool));
 
     // Loads what the tone-map pass wrote and keeps the layout the graph put the image in; the
     // graph's barriers order it against that pass and against presentation.
@@ -80,7 +80,7 @@ Result<std::unique_ptr<Ui>> Ui::create(Context& ctx, const Window& window, uint3
     rp.pAttachments = &color;
     rp.subpassCount = 1;
     rp.pSubpasses = &subpass;
-    VK_CHECK(vkCreateRenderPass(ctx.device(), &rp, nullptr, &ui->m_renderPass));
+    VKGI_CHECK(vkCreateRenderPass(ctx.device(), &rp, nullptr, &ui->m_renderPass));
 
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
@@ -142,7 +142,7 @@ void Ui::setTargets(const Swapchain& swapchain) {
         info.height = m_extent.height;
         info.layers = 1;
         VkFramebuffer f = VK_NULL_HANDLE;
-        VK_CHECK(vkCreateFramebuffer(m_ctx.device(), &info, nullptr, &f));
+        VKGI_CHECK(vkCreateFramebuffer(m_ctx.device(), &info, nullptr, &f));
         m_framebuffers.push_back(f);
     }
 }

@@ -1,6 +1,6 @@
 #pragma once
 // vkgi-view's Dear ImGui layer (Debian's libimgui 1.86: GLFW + Vulkan backends, which draw
-// inside a VkRenderPass). The panel is built from the knob table (gi/knobs.hpp), so every
+// inside a VkRenderPass). The panel is built from the knob table (vkgi/knobs.hpp), so every
 // technique setting is editable without UI code per knob. Drawing is one render-graph pass
 // that loads the tone-mapped swapchain image and draws the panel over it.
 #include <memory>
@@ -10,10 +10,10 @@
 
 #include <vulkan/vulkan.h>
 
-#include "engine/context.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "engine/scene.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/scene.hpp"
+#include "vkgi/gi.hpp"
 #include "window.hpp"
 
 namespace vkgi::view {

@@ -5,10 +5,10 @@
 
 #include <GLFW/glfw3.h>
 
-#include "engine/image_io.hpp"
-#include "engine/rg/compute_pass.hpp"
-#include "engine/vk_check.hpp"
-#include "gi/knobs.hpp"
+#include "vkgi/image_io.hpp"
+#include "vkgi/rg/compute_pass.hpp"
+#include "vk_check.hpp"
+#include "vkgi/knobs.hpp"
 #include "view/tonemap_bindings.h"
 
 namespace vkgi::view {
@@ -87,18 +87,18 @@ Result<void> Viewer::init(Scene scene, const gi::GiSettings& settings) {
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     poolInfo.queueFamilyIndex = m_ctx.queueFamily();
-    VK_CHECK(vkCreateCommandPool(m_ctx.device(), &poolInfo, nullptr, &m_commandPool));
+    VKGI_CHECK(vkCreateCommandPool(m_ctx.device(), &poolInfo, nullptr, &m_commandPool));
     for (FrameSlot& slot : m_slots) {
         VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
         alloc.commandPool = m_commandPool;
         alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
         alloc.commandBufferCount = 1;
-        VK_CHECK(vkAllocateCommandBuffers(m_ctx.device(), &alloc, &slot.cmd));
+        VKGI_CHECK(vkAllocateCommandBuffers(m_ctx.device(), &alloc, &slot.cmd));
         VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
         fence.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-        VK_CHECK(vkCreateFence(m_ctx.device(), &fence, nullptr, &slot.fence));
+        VKGI_CHECK(vkCreateFence(m_ctx.device(), &fence, nullptr, &slot.fence));
         VkSemaphoreCreateInfo sem{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-        VK_CHECK(vkCreateSemaphore(m_ctx.device(), &sem, nullptr, &slot.acquired));
+        VKGI_CHECK(vkCreateSemaphore(m_ctx.device(), &sem, nullptr, &slot.acquired));
         if (m_ctx.timestampsSupported())
             slot.timestamps = std::make_unique<TimestampPool>(m_ctx, 512);
     }
@@ -128,7 +128,7 @@ Viewer::~Viewer() {
 }
 
 Result<void> Viewer::finish(FrameSlot& slot) {
-    VK_CHECK(vkWaitForFences(m_ctx.device(), 1, &slot.fence, VK_TRUE, UINT64_MAX));
+    VKGI_CHECK(vkWaitForFences(m_ctx.device(), 1, &slot.fence, VK_TRUE, UINT64_MAX));
     if (!slot.submitted)
         return {};
     slot.submitted = false;
@@ -182,7 +182,7 @@ Result<void> Viewer::recreateSwapchain() {
     m_window.framebufferSize(w, h);
     if (auto ok = finishAll(); !ok)
         return ok;
-    VK_CHECK(vkDeviceWaitIdle(m_ctx.device())); // presentation may still hold the old images
+    VKGI_CHECK(vkDeviceWaitIdle(m_ctx.device())); // presentation may still hold the old images
     if (auto ok = m_swapchain->recreate(w, h); !ok)
         return ok;
     if (m_ui)
@@ -305,12 +305,12 @@ Result<void> Viewer::record(FrameSlot& slot, uint32_t imageIndex, const Camera& 
     if (auto ok = graph.compile(); !ok)
         return makeError("frame graph: " + ok.error().message);
 
-    VK_CHECK(vkResetCommandBuffer(slot.cmd, 0));
+    VKGI_CHECK(vkResetCommandBuffer(slot.cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(slot.cmd, &begin));
+    VKGI_CHECK(vkBeginCommandBuffer(slot.cmd, &begin));
     graph.execute(slot.cmd, m_ctx, *m_pool, slot.timestamps.get());
-    VK_CHECK(vkEndCommandBuffer(slot.cmd));
+    VKGI_CHECK(vkEndCommandBuffer(slot.cmd));
 
     VkSemaphoreSubmitInfo wait{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
     wait.semaphore = slot.acquired;
@@ -327,8 +327,8 @@ Result<void> Viewer::record(FrameSlot& slot, uint32_t imageIndex, const Camera& 
     submit.pCommandBufferInfos = &cmdInfo;
     submit.signalSemaphoreInfoCount = 1;
     submit.pSignalSemaphoreInfos = &signal;
-    VK_CHECK(vkResetFences(m_ctx.device(), 1, &slot.fence));
-    VK_CHECK(vkQueueSubmit2(m_ctx.queue(), 1, &submit, slot.fence));
+    VKGI_CHECK(vkResetFences(m_ctx.device(), 1, &slot.fence));
+    VKGI_CHECK(vkQueueSubmit2(m_ctx.queue(), 1, &submit, slot.fence));
     slot.submitted = true;
     return {};
 }

@@ -14,13 +14,13 @@
 #include <string>
 #include <vector>
 
-#include "engine/context.hpp"
-#include "engine/pipeline.hpp"
-#include "engine/resources.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "engine/rg/transient_pool.hpp"
-#include "engine/scene.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/pipeline.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/rg/transient_pool.hpp"
+#include "vkgi/scene.hpp"
+#include "vkgi/gi.hpp"
 #include "motion.hpp"
 #include "options.hpp"
 #include "ui.hpp"

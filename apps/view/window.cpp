@@ -5,7 +5,7 @@
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
 
-#include "engine/vk_check.hpp"
+#include "vk_check.hpp"
 
 namespace vkgi::view {
 
@@ -114,21 +114,21 @@ Result<std::unique_ptr<Swapchain>> Swapchain::create(Context& ctx, VkSurfaceKHR 
     std::unique_ptr<Swapchain> s(new Swapchain(ctx));
     s->m_surface = surface;
     VkBool32 supported = VK_FALSE;
-    VK_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(ctx.physicalDevice(), ctx.queueFamily(), surface, &supported));
+    VKGI_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(ctx.physicalDevice(), ctx.queueFamily(), surface, &supported));
     if (!supported)
         return makeError("the device's graphics+compute queue cannot present to this window");
     uint32_t n = 0;
-    VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(ctx.physicalDevice(), surface, &n, nullptr));
+    VKGI_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(ctx.physicalDevice(), surface, &n, nullptr));
     std::vector<VkSurfaceFormatKHR> formats(n);
-    VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(ctx.physicalDevice(), surface, &n, formats.data()));
+    VKGI_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(ctx.physicalDevice(), surface, &n, formats.data()));
     bool hasFormat = std::any_of(formats.begin(), formats.end(), [](const VkSurfaceFormatKHR& f) {
         return f.format == kFormat && f.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR;
     });
     if (!hasFormat)
         return makeError("the window surface does not offer B8G8R8A8_UNORM / sRGB non-linear");
-    VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(ctx.physicalDevice(), surface, &n, nullptr));
+    VKGI_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(ctx.physicalDevice(), surface, &n, nullptr));
     std::vector<VkPresentModeKHR> modes(n);
-    VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(ctx.physicalDevice(), surface, &n, modes.data()));
+    VKGI_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(ctx.physicalDevice(), surface, &n, modes.data()));
     s->m_mode = toVk(mode);
     if (std::find(modes.begin(), modes.end(), s->m_mode) == modes.end())
         return makeError(std::string("--present: the surface does not support ") + s->presentModeName());
@@ -168,7 +168,7 @@ void Swapchain::destroyImages() {
 
 Result<void> Swapchain::recreate(uint32_t width, uint32_t height) {
     VkSurfaceCapabilitiesKHR caps;
-    VK_CHECK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(m_ctx.physicalDevice(), m_surface, &caps));
+    VKGI_CHECK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(m_ctx.physicalDevice(), m_surface, &caps));
     if ((caps.supportedUsageFlags & kUsage) != kUsage)
         return makeError("the window surface does not allow STORAGE + COLOR_ATTACHMENT swapchain images");
     VkExtent2D extent = caps.currentExtent;
@@ -205,9 +205,9 @@ Result<void> Swapchain::recreate(uint32_t width, uint32_t height) {
     m_extent = extent;
 
     uint32_t n = 0;
-    VK_CHECK(vkGetSwapchainImagesKHR(m_ctx.device(), m_swapchain, &n, nullptr));
+    VKGI_CHECK(vkGetSwapchainImagesKHR(m_ctx.device(), m_swapchain, &n, nullptr));
     std::vector<VkImage> images(n);
-    VK_CHECK(vkGetSwapchainImagesKHR(m_ctx.device(), m_swapchain, &n, images.data()));
+    VKGI_CHECK(vkGetSwapchainImagesKHR(m_ctx.device(), m_swapchain, &n, images.data()));
     for (uint32_t i = 0; i < n; ++i) {
         Image image;
         image.image = images[i];
@@ -220,14 +220,14 @@ Result<void> Swapchain::recreate(uint32_t width, uint32_t height) {
         view.viewType = VK_IMAGE_VIEW_TYPE_2D;
         view.format = kFormat;
         view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-        VK_CHECK(vkCreateImageView(m_ctx.device(), &view, nullptr, &image.view));
+        VKGI_CHECK(vkCreateImageView(m_ctx.device(), &view, nullptr, &image.view));
         image.mipViews = {image.view};
         std::string name = "view.swapchain." + std::to_string(i);
         m_ctx.setName(VK_OBJECT_TYPE_IMAGE, uint64_t(image.image), name.c_str());
         m_images.push_back(std::move(image));
         VkSemaphoreCreateInfo sem{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
         VkSemaphore s = VK_NULL_HANDLE;
-        VK_CHECK(vkCreateSemaphore(m_ctx.device(), &sem, nullptr, &s));
+        VKGI_CHECK(vkCreateSemaphore(m_ctx.device(), &sem, nullptr, &s));
         m_renderFinished.push_back(s);
     }
     return {};
@@ -239,7 +239,7 @@ uint32_t Swapchain::acquire(VkSemaphore acquired) {
     if (r == VK_ERROR_OUT_OF_DATE_KHR)
         return kNoImage;
     if (r != VK_SUBOPTIMAL_KHR)
-        VK_CHECK(r);
+        VKGI_CHECK(r);
     return index; // suboptimal still signals `acquired`: render it, present() reports the recreate
 }
 
@@ -253,7 +253,7 @@ bool Swapchain::present(uint32_t index) {
     VkResult r = vkQueuePresentKHR(m_ctx.queue(), &info);
     if (r == VK_ERROR_OUT_OF_DATE_KHR || r == VK_SUBOPTIMAL_KHR)
         return false;
-    VK_CHECK(r);
+    VKGI_CHECK(r);
     return true;
 }
 

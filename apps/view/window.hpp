@@ -10,9 +10,9 @@
 
 #include <vulkan/vulkan.h>
 
-#include "engine/context.hpp"
-#include "engine/resources.hpp"
-#include "engine/result.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/result.hpp"
 
 struct GLFWwindow;
 

@@ -1,4 +1,4 @@
-#include "engine/builtin_scenes.hpp"
+#include "vkgi/builtin_scenes.hpp"
 
 #include <array>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "engine/camera.hpp"
+#include "vkgi/camera.hpp"
 
 #include <algorithm>
 #include <cmath>

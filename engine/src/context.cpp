@@ -1,12 +1,12 @@
-#include "engine/context.hpp"
+#include "vkgi/context.hpp"
 
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
 #include "engine/frame_constants.h"
-#include "engine/resources.hpp"
-#include "engine/vk_check.hpp"
+#include "vkgi/resources.hpp"
+#include "vk_check.hpp"
 
 namespace vkgi {
 
@@ -150,14 +150,14 @@ Result<void> Context::initCommon() {
     VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pool.queueFamilyIndex = m_queueFamily;
-    VK_CHECK(vkCreateCommandPool(m_device, &pool, nullptr, &m_commandPool));
+    VKGI_CHECK(vkCreateCommandPool(m_device, &pool, nullptr, &m_commandPool));
     VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    VK_CHECK(vkCreateFence(m_device, &fence, nullptr, &m_fence));
+    VKGI_CHECK(vkCreateFence(m_device, &fence, nullptr, &m_fence));
     VkDescriptorSetLayoutBinding frame{GI_FRAME_BINDING, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_ALL, nullptr};
     VkDescriptorSetLayoutCreateInfo layout{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     layout.bindingCount = 1;
     layout.pBindings = &frame;
-    VK_CHECK(vkCreateDescriptorSetLayout(m_device, &layout, nullptr, &m_frameSetLayout));
+    VKGI_CHECK(vkCreateDescriptorSetLayout(m_device, &layout, nullptr, &m_frameSetLayout));
     m_allocator = std::make_unique<Allocator>(*this);
     return {};
 }
@@ -191,20 +191,20 @@ void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) 
     alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     alloc.commandBufferCount = 1;
     VkCommandBuffer cmd;
-    VK_CHECK(vkAllocateCommandBuffers(m_device, &alloc, &cmd));
+    VKGI_CHECK(vkAllocateCommandBuffers(m_device, &alloc, &cmd));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
+    VKGI_CHECK(vkBeginCommandBuffer(cmd, &begin));
     record(cmd);
-    VK_CHECK(vkEndCommandBuffer(cmd));
+    VKGI_CHECK(vkEndCommandBuffer(cmd));
     VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
     cmdInfo.commandBuffer = cmd;
     VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
     submit.commandBufferInfoCount = 1;
     submit.pCommandBufferInfos = &cmdInfo;
-    VK_CHECK(vkQueueSubmit2(m_queue, 1, &submit, m_fence));
-    VK_CHECK(vkWaitForFences(m_device, 1, &m_fence, VK_TRUE, UINT64_MAX));
-    VK_CHECK(vkResetFences(m_device, 1, &m_fence));
+    VKGI_CHECK(vkQueueSubmit2(m_queue, 1, &submit, m_fence));
+    VKGI_CHECK(vkWaitForFences(m_device, 1, &m_fence, VK_TRUE, UINT64_MAX));
+    VKGI_CHECK(vkResetFences(m_device, 1, &m_fence));
     vkFreeCommandBuffers(m_device, m_commandPool, 1, &cmd);
 }
 
@@ -315,7 +315,7 @@ Result<std::unique_ptr<Context>> DeviceBuilder::build() {
         auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
             vkGetInstanceProcAddr(ctx->m_instance, "vkCreateDebugUtilsMessengerEXT"));
         messenger.pNext = nullptr;
-        VK_CHECK(create(ctx->m_instance, &messenger, nullptr, &ctx->m_messenger));
+        VKGI_CHECK(create(ctx->m_instance, &messenger, nullptr, &ctx->m_messenger));
     }
 
     auto pd = choosePhysicalDevice(ctx->m_instance, m_deviceName, m_deviceType);

@@ -1,4 +1,4 @@
-#include "engine/file_util.hpp"
+#include "vkgi/file_util.hpp"
 
 #include <atomic>
 #include <cerrno>

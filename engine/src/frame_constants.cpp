@@ -1,28 +1,28 @@
-#include "engine/frame_constants.hpp"
+#include "vkgi/frame_constants.hpp"
 
 #include <cstring>
 
-#include "engine/context.hpp"
-#include "engine/pipeline.hpp"
-#include "engine/vk_check.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/pipeline.hpp"
+#include "vk_check.hpp"
 
 namespace vkgi {
 
 FrameConstantsRing::FrameConstantsRing(Context& ctx, uint32_t frames) : m_ctx(ctx) {
-    GI_ASSERT(frames > 0, "FrameConstantsRing needs at least one frame");
+    VKGI_ASSERT(frames > 0, "FrameConstantsRing needs at least one frame");
     VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frames};
     VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool.maxSets = frames;
     pool.poolSizeCount = 1;
     pool.pPoolSizes = &size;
-    VK_CHECK(vkCreateDescriptorPool(ctx.device(), &pool, nullptr, &m_pool));
+    VKGI_CHECK(vkCreateDescriptorPool(ctx.device(), &pool, nullptr, &m_pool));
     std::vector<VkDescriptorSetLayout> layouts(frames, ctx.frameSetLayout());
     m_sets.resize(frames);
     VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     alloc.descriptorPool = m_pool;
     alloc.descriptorSetCount = frames;
     alloc.pSetLayouts = layouts.data();
-    VK_CHECK(vkAllocateDescriptorSets(ctx.device(), &alloc, m_sets.data()));
+    VKGI_CHECK(vkAllocateDescriptorSets(ctx.device(), &alloc, m_sets.data()));
     for (uint32_t i = 0; i < frames; ++i) {
         m_buffers.push_back(createBuffer(
             ctx, {sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryUsage::CpuToGpu},

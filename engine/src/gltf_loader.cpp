@@ -1,4 +1,4 @@
-#include "engine/gltf_loader.hpp"
+#include "vkgi/gltf_loader.hpp"
 
 #include <algorithm>
 #include <cmath>

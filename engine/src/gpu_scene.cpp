@@ -1,12 +1,12 @@
-#include "engine/gpu_scene.hpp"
+#include "vkgi/gpu_scene.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
-#include "engine/context.hpp"
+#include "vkgi/context.hpp"
 #include "engine/scene_types.h"
-#include "engine/vk_check.hpp"
+#include "vk_check.hpp"
 
 namespace vkgi {
 

@@ -1,4 +1,4 @@
-#include "engine/image_io.hpp"
+#include "vkgi/image_io.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -17,7 +17,7 @@
 #include <OpenEXR/ImfOutputFile.h>
 #include <stb_image_write.h>
 
-#include "engine/file_util.hpp"
+#include "vkgi/file_util.hpp"
 
 namespace vkgi {
 

@@ -1,4 +1,4 @@
-#include "engine/image_metrics.hpp"
+#include "vkgi/image_metrics.hpp"
 
 #include <cmath>
 #include <limits>

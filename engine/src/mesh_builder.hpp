@@ -10,7 +10,7 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/scene.hpp"
+#include "vkgi/scene.hpp"
 
 namespace vkgi {
 

@@ -1,4 +1,4 @@
-#include "engine/pipeline.hpp"
+#include "vkgi/pipeline.hpp"
 
 #include <algorithm>
 #include <cstdlib>
@@ -8,9 +8,9 @@
 
 #include <dlfcn.h>
 
-#include "engine/context.hpp"
+#include "vkgi/context.hpp"
 #include "engine/frame_constants.h"
-#include "engine/vk_check.hpp"
+#include "vk_check.hpp"
 
 namespace vkgi {
 
@@ -116,7 +116,7 @@ Result<Stage> loadStage(Context& ctx, const std::string& name) {
     VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     info.codeSize = s.code.size() * 4;
     info.pCode = s.code.data();
-    VK_CHECK(vkCreateShaderModule(ctx.device(), &info, nullptr, &s.module));
+    VKGI_CHECK(vkCreateShaderModule(ctx.device(), &info, nullptr, &s.module));
     return s;
 }
 
@@ -161,14 +161,14 @@ Result<void> buildLayout(Context& ctx, Pipeline& p, std::vector<Stage>& stages) 
     setInfo.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
     setInfo.bindingCount = uint32_t(lb.size());
     setInfo.pBindings = lb.data();
-    VK_CHECK(vkCreateDescriptorSetLayout(ctx.device(), &setInfo, nullptr, &p.setLayouts[1]));
+    VKGI_CHECK(vkCreateDescriptorSetLayout(ctx.device(), &setInfo, nullptr, &p.setLayouts[1]));
     VkPushConstantRange range{p.stages, 0, p.pushConstantSize};
     VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     info.setLayoutCount = 2;
     info.pSetLayouts = p.setLayouts;
     info.pushConstantRangeCount = p.pushConstantSize ? 1 : 0;
     info.pPushConstantRanges = &range;
-    VK_CHECK(vkCreatePipelineLayout(ctx.device(), &info, nullptr, &p.layout));
+    VKGI_CHECK(vkCreatePipelineLayout(ctx.device(), &info, nullptr, &p.layout));
     return {};
 }
 
@@ -222,7 +222,7 @@ Result<Pipeline> createComputePipeline(Context& ctx, const ComputePipelineDesc& 
     info.stage.pName = "main";
     info.stage.pSpecializationInfo = spec.entries.empty() ? nullptr : &spec.info;
     info.layout = p.layout;
-    VK_CHECK(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &info, nullptr, &p.pipeline));
+    VKGI_CHECK(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &info, nullptr, &p.pipeline));
     destroyModules(ctx, stages);
     ctx.setName(VK_OBJECT_TYPE_PIPELINE, uint64_t(p.pipeline), p.name.c_str());
     return p;
@@ -310,7 +310,7 @@ Result<Pipeline> createGraphicsPipeline(Context& ctx, const GraphicsPipelineDesc
     info.pColorBlendState = &cb;
     info.pDynamicState = &dy;
     info.layout = p.layout;
-    VK_CHECK(vkCreateGraphicsPipelines(ctx.device(), VK_NULL_HANDLE, 1, &info, nullptr, &p.pipeline));
+    VKGI_CHECK(vkCreateGraphicsPipelines(ctx.device(), VK_NULL_HANDLE, 1, &info, nullptr, &p.pipeline));
     destroyModules(ctx, stages);
     ctx.setName(VK_OBJECT_TYPE_PIPELINE, uint64_t(p.pipeline), p.name.c_str());
     return p;

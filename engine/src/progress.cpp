@@ -1,4 +1,4 @@
-#include "engine/progress.hpp"
+#include "vkgi/progress.hpp"
 
 #include <algorithm>
 #include <cstdio>

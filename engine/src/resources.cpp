@@ -1,10 +1,10 @@
-#include "engine/resources.hpp"
+#include "vkgi/resources.hpp"
 
 #include <algorithm>
 #include <cstring>
 
-#include "engine/context.hpp"
-#include "engine/vk_check.hpp"
+#include "vkgi/context.hpp"
+#include "vk_check.hpp"
 
 namespace vkgi {
 
@@ -38,7 +38,7 @@ uint32_t Allocator::findType(uint32_t bits, VkMemoryPropertyFlags required, VkMe
         if (fallback < 0)
             fallback = int(i);
     }
-    GI_ASSERT(fallback >= 0, "no Vulkan memory type satisfies the request");
+    VKGI_ASSERT(fallback >= 0, "no Vulkan memory type satisfies the request");
     return uint32_t(fallback);
 }
 
@@ -74,9 +74,9 @@ Allocation Allocator::allocate(const VkMemoryRequirements& req, VkMemoryProperty
     VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     info.allocationSize = nb.size;
     info.memoryTypeIndex = type;
-    VK_CHECK(vkAllocateMemory(m_ctx.device(), &info, nullptr, &nb.memory));
+    VKGI_CHECK(vkAllocateMemory(m_ctx.device(), &info, nullptr, &nb.memory));
     if (m_props.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
-        VK_CHECK(vkMapMemory(m_ctx.device(), nb.memory, 0, VK_WHOLE_SIZE, 0, &nb.mapped));
+        VKGI_CHECK(vkMapMemory(m_ctx.device(), nb.memory, 0, VK_WHOLE_SIZE, 0, &nb.mapped));
     if (req.size < nb.size)
         nb.freeList.push_back({req.size, nb.size - req.size});
     m_reservedBytes += nb.size;
@@ -190,14 +190,14 @@ VkDeviceSize imageBytes(const ImageDesc& d) {
 }
 
 Buffer createBuffer(Context& ctx, const BufferDesc& desc, const char* name) {
-    GI_ASSERT(desc.size > 0, "createBuffer: size must be > 0");
+    VKGI_ASSERT(desc.size > 0, "createBuffer: size must be > 0");
     Buffer b;
     b.desc = desc;
     VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     info.size = desc.size;
     info.usage = desc.usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-    VK_CHECK(vkCreateBuffer(ctx.device(), &info, nullptr, &b.buffer));
+    VKGI_CHECK(vkCreateBuffer(ctx.device(), &info, nullptr, &b.buffer));
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(ctx.device(), b.buffer, &req);
     VkMemoryPropertyFlags required = 0, preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
@@ -208,7 +208,7 @@ Buffer createBuffer(Context& ctx, const BufferDesc& desc, const char* name) {
         preferred = VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
     }
     b.alloc = ctx.allocator().allocate(req, required, preferred);
-    VK_CHECK(vkBindBufferMemory(ctx.device(), b.buffer, b.alloc.memory, b.alloc.offset));
+    VKGI_CHECK(vkBindBufferMemory(ctx.device(), b.buffer, b.alloc.memory, b.alloc.offset));
     ctx.setName(VK_OBJECT_TYPE_BUFFER, uint64_t(b.buffer), name);
     return b;
 }
@@ -230,7 +230,7 @@ VkImageView makeView(Context& ctx, const Image& img, uint32_t baseMip, uint32_t 
     info.format = d.format;
     info.subresourceRange = {aspectOf(d.format), baseMip, mips, 0, d.arrayLayers};
     VkImageView view;
-    VK_CHECK(vkCreateImageView(ctx.device(), &info, nullptr, &view));
+    VKGI_CHECK(vkCreateImageView(ctx.device(), &info, nullptr, &view));
     return view;
 }
 
@@ -242,13 +242,13 @@ VkImageView makeLayerView(Context& ctx, const Image& img, uint32_t layer) {
     info.format = img.desc.format;
     info.subresourceRange = {aspectOf(img.desc.format), 0, 1, layer, 1};
     VkImageView view;
-    VK_CHECK(vkCreateImageView(ctx.device(), &info, nullptr, &view));
+    VKGI_CHECK(vkCreateImageView(ctx.device(), &info, nullptr, &view));
     return view;
 }
 } // namespace
 
 Image createImage(Context& ctx, const ImageDesc& desc, const char* name) {
-    GI_ASSERT(desc.width > 0 && desc.height > 0 && desc.depth > 0 && desc.mipLevels > 0 && desc.arrayLayers > 0,
+    VKGI_ASSERT(desc.width > 0 && desc.height > 0 && desc.depth > 0 && desc.mipLevels > 0 && desc.arrayLayers > 0,
               "createImage: zero extent, mip count or layer count");
     Image img;
     img.desc = desc;
@@ -263,11 +263,11 @@ Image createImage(Context& ctx, const ImageDesc& desc, const char* name) {
     info.usage = desc.usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     info.flags = desc.cube ? VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT : 0;
     info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    VK_CHECK(vkCreateImage(ctx.device(), &info, nullptr, &img.image));
+    VKGI_CHECK(vkCreateImage(ctx.device(), &info, nullptr, &img.image));
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(ctx.device(), img.image, &req);
     img.alloc = ctx.allocator().allocate(req, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    VK_CHECK(vkBindImageMemory(ctx.device(), img.image, img.alloc.memory, img.alloc.offset));
+    VKGI_CHECK(vkBindImageMemory(ctx.device(), img.image, img.alloc.memory, img.alloc.offset));
     ctx.setName(VK_OBJECT_TYPE_IMAGE, uint64_t(img.image), name);
     img.view = makeView(ctx, img, 0, desc.mipLevels);
     for (uint32_t m = 0; m < desc.mipLevels; ++m)
@@ -308,7 +308,7 @@ VkSampler createSampler(Context& ctx, const SamplerDesc& d) {
     info.compareEnable = d.compare ? VK_TRUE : VK_FALSE;
     info.compareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
     VkSampler s;
-    VK_CHECK(vkCreateSampler(ctx.device(), &info, nullptr, &s));
+    VKGI_CHECK(vkCreateSampler(ctx.device(), &info, nullptr, &s));
     return s;
 }
 
@@ -338,7 +338,7 @@ Buffer staging(Context& ctx, VkDeviceSize size, MemoryUsage usage) {
 } // namespace
 
 void uploadBuffer(Context& ctx, const Buffer& dst, const void* data, VkDeviceSize size, VkDeviceSize offset) {
-    GI_ASSERT(offset + size <= dst.desc.size, "uploadBuffer: write past the end of the buffer");
+    VKGI_ASSERT(offset + size <= dst.desc.size, "uploadBuffer: write past the end of the buffer");
     if (size == 0)
         return;
     Buffer s = staging(ctx, size, MemoryUsage::CpuToGpu);
@@ -382,7 +382,7 @@ VkDeviceSize mipBytes(const Image& img, uint32_t mip) {
 } // namespace
 
 void uploadImage(Context& ctx, const Image& dst, const void* data, VkDeviceSize size, VkImageLayout finalLayout) {
-    GI_ASSERT(size == mipBytes(dst, 0), "uploadImage: data size does not match mip 0 of the image");
+    VKGI_ASSERT(size == mipBytes(dst, 0), "uploadImage: data size does not match mip 0 of the image");
     Buffer s = staging(ctx, size, MemoryUsage::CpuToGpu);
     std::memcpy(s.mapped(), data, size);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
@@ -395,7 +395,7 @@ void uploadImage(Context& ctx, const Image& dst, const void* data, VkDeviceSize 
 }
 
 std::vector<uint8_t> readbackImage(Context& ctx, const Image& src, VkImageLayout currentLayout, uint32_t mip) {
-    GI_ASSERT(mip < src.desc.mipLevels, "readbackImage: mip level out of range");
+    VKGI_ASSERT(mip < src.desc.mipLevels, "readbackImage: mip level out of range");
     VkDeviceSize size = mipBytes(src, mip);
     Buffer s = staging(ctx, size, MemoryUsage::GpuToCpu);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
@@ -415,7 +415,7 @@ TimestampPool::TimestampPool(Context& ctx, uint32_t maxScopes) : m_ctx(ctx), m_m
     VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     info.queryType = VK_QUERY_TYPE_TIMESTAMP;
     info.queryCount = 2 * maxScopes;
-    VK_CHECK(vkCreateQueryPool(ctx.device(), &info, nullptr, &m_pool));
+    VKGI_CHECK(vkCreateQueryPool(ctx.device(), &info, nullptr, &m_pool));
 }
 
 TimestampPool::~TimestampPool() { vkDestroyQueryPool(m_ctx.device(), m_pool, nullptr); }
@@ -426,7 +426,7 @@ void TimestampPool::reset(VkCommandBuffer cmd) {
 }
 
 uint32_t TimestampPool::begin(VkCommandBuffer cmd) {
-    GI_ASSERT(m_used < m_max, "TimestampPool: more scopes than the pool was created for");
+    VKGI_ASSERT(m_used < m_max, "TimestampPool: more scopes than the pool was created for");
     uint32_t scope = m_used++;
     vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, m_pool, 2 * scope);
     return scope;
@@ -441,7 +441,7 @@ std::vector<double> TimestampPool::resolveMs() {
     if (m_used == 0)
         return ms;
     std::vector<uint64_t> ticks(2 * m_used);
-    VK_CHECK(vkGetQueryPoolResults(m_ctx.device(), m_pool, 0, 2 * m_used, ticks.size() * sizeof(uint64_t),
+    VKGI_CHECK(vkGetQueryPoolResults(m_ctx.device(), m_pool, 0, 2 * m_used, ticks.size() * sizeof(uint64_t),
                                    ticks.data(), sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
     for (uint32_t i = 0; i < m_used; ++i)
         ms[i] = double(ticks[2 * i + 1] - ticks[2 * i]) * m_ctx.timestampPeriodNs() * 1e-6;

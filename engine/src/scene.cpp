@@ -1,4 +1,4 @@
-#include "engine/scene.hpp"
+#include "vkgi/scene.hpp"
 
 #include <cmath>
 #include <string>

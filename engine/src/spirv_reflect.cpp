@@ -6,7 +6,7 @@
 #include <string>
 #include <unordered_map>
 
-#include "engine/pipeline.hpp"
+#include "vkgi/pipeline.hpp"
 
 namespace vkgi {
 

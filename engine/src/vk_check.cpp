@@ -1,4 +1,4 @@
-#include "engine/vk_check.hpp"
+#include "vk_check.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -58,3 +58,12 @@ void fatal(const char* file, int line, const char* message) {
 }
 
 } // namespace vkgi
+
+namespace vkgi::rg::detail {
+
+void missingBlackboardEntry(const char* typeName) {
+    std::fprintf(stderr, "fatal: Blackboard::get: no entry of type %s (its producer pass did not run first)\n", typeName);
+    std::abort();
+}
+
+} // namespace vkgi::rg::detail

@@ -6,10 +6,10 @@
 
 #include "direct/direct_passes.hpp"
 #include "direct/host_gbuffer.hpp"
-#include "engine/frame_constants.hpp"
-#include "engine/rg/transient_pool.hpp"
-#include "engine/vk_check.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/frame_constants.hpp"
+#include "vkgi/rg/transient_pool.hpp"
+#include "vk_check.hpp"
+#include "vkgi/gi.hpp"
 #include "pass_selection.hpp"
 #include "technique.hpp"
 
@@ -94,7 +94,7 @@ struct GiSystem::Impl {
 GiSystem::Impl::~Impl() {
     if (!ctx)
         return;
-    VK_CHECK(vkDeviceWaitIdle(ctx->device()));
+    VKGI_CHECK(vkDeviceWaitIdle(ctx->device()));
     technique.reset();
     for (Buffer& b : readback)
         if (b)
@@ -264,18 +264,18 @@ const Buffer& GiSystem::Impl::readbackBuffer(uint32_t slot, uint32_t width, uint
 }
 
 void GiSystem::Impl::submitAndWait(rg::RenderGraph& graph, rg::TimestampScopes scopes) {
-    VK_CHECK(vkResetCommandBuffer(cmd, 0));
+    VKGI_CHECK(vkResetCommandBuffer(cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
+    VKGI_CHECK(vkBeginCommandBuffer(cmd, &begin));
     graph.execute(cmd, *ctx, *pool, ctx->timestampsSupported() ? timestamps.get() : nullptr, scopes);
-    VK_CHECK(vkEndCommandBuffer(cmd));
+    VKGI_CHECK(vkEndCommandBuffer(cmd));
     VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     submit.commandBufferCount = 1;
     submit.pCommandBuffers = &cmd;
-    VK_CHECK(vkResetFences(ctx->device(), 1, &fence));
-    VK_CHECK(vkQueueSubmit(ctx->queue(), 1, &submit, fence));
-    VK_CHECK(vkWaitForFences(ctx->device(), 1, &fence, VK_TRUE, UINT64_MAX));
+    VKGI_CHECK(vkResetFences(ctx->device(), 1, &fence));
+    VKGI_CHECK(vkQueueSubmit(ctx->queue(), 1, &submit, fence));
+    VKGI_CHECK(vkWaitForFences(ctx->device(), 1, &fence, VK_TRUE, UINT64_MAX));
 }
 
 GiSystem::GiSystem(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
@@ -301,14 +301,14 @@ Result<std::unique_ptr<GiSystem>> GiSystem::create(Context& ctx, const GiSetting
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     poolInfo.queueFamilyIndex = ctx.queueFamily();
-    VK_CHECK(vkCreateCommandPool(ctx.device(), &poolInfo, nullptr, &impl->commandPool));
+    VKGI_CHECK(vkCreateCommandPool(ctx.device(), &poolInfo, nullptr, &impl->commandPool));
     VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
     alloc.commandPool = impl->commandPool;
     alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     alloc.commandBufferCount = 1;
-    VK_CHECK(vkAllocateCommandBuffers(ctx.device(), &alloc, &impl->cmd));
+    VKGI_CHECK(vkAllocateCommandBuffers(ctx.device(), &alloc, &impl->cmd));
     VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    VK_CHECK(vkCreateFence(ctx.device(), &fenceInfo, nullptr, &impl->fence));
+    VKGI_CHECK(vkCreateFence(ctx.device(), &fenceInfo, nullptr, &impl->fence));
     return std::unique_ptr<GiSystem>(new GiSystem(std::move(impl)));
 }
 
@@ -333,7 +333,7 @@ Result<void> GiSystem::setScene(const Scene& scene) {
     if (!uploaded)
         return uploaded.error();
     if (m->gpu) {
-        VK_CHECK(vkDeviceWaitIdle(m->ctx->device()));
+        VKGI_CHECK(vkDeviceWaitIdle(m->ctx->device()));
         destroyScene(*m->ctx, *m->gpu);
     }
     m->gpu = std::move(*uploaded);

@@ -1,4 +1,4 @@
-#include "gi/knobs.hpp"
+#include "vkgi/knobs.hpp"
 
 #include <charconv>
 #include <cmath>

@@ -25,9 +25,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/camera.hpp"
-#include "engine/scene.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/camera.hpp"
+#include "vkgi/scene.hpp"
+#include "vkgi/gi.hpp"
 
 namespace vkgi::gi {
 

@@ -16,11 +16,11 @@
 // when no requested output needs indirect light (the changes then keep accumulating).
 #include <memory>
 
-#include "engine/gpu_scene.hpp"
-#include "engine/rg/blackboard.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "gi/frame_data.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/gpu_scene.hpp"
+#include "vkgi/rg/blackboard.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/frame_data.hpp"
+#include "vkgi/gi.hpp"
 #include "pass_selection.hpp"
 
 namespace vkgi::gi {

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // vkgi-view: linear radiance (RGBA32F composite) to the 8-bit UNORM swapchain image, with the
-// tone map of engine/image_io.hpp (exposure, Narkowicz's ACES fit, sRGB OETF; NaN/Inf ->
+// tone map of vkgi/image_io.hpp (exposure, Narkowicz's ACES fit, sRGB OETF; NaN/Inf ->
 // magenta), so the window shows what the screenshot PNG stores. The composite may be smaller
 // than the window while a resize is pending: pixels outside it are black.
 #include "view/tonemap_bindings.h"

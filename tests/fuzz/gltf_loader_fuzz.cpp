@@ -12,7 +12,7 @@
 
 #include <unistd.h>
 
-#include "engine/gltf_loader.hpp"
+#include "vkgi/gltf_loader.hpp"
 
 namespace {
 

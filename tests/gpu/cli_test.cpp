@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "engine/image_io.hpp"
+#include "vkgi/image_io.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/test_env.hpp"
 

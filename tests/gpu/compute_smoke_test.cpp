@@ -4,13 +4,13 @@
 #include <cmath>
 #include <cstring>
 
-#include "engine/frame_constants.hpp"
-#include "engine/pipeline.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "engine/rg/transient_pool.hpp"
-#include "engine/resources.hpp"
+#include "vkgi/frame_constants.hpp"
+#include "vkgi/pipeline.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/rg/transient_pool.hpp"
+#include "vkgi/resources.hpp"
 #include "engine/test_bindings.h"
-#include "engine/vk_check.hpp"
+#include "vk_check.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/gpu_util.hpp"
 
@@ -179,7 +179,7 @@ TEST(Embedding, RunsOnAHostCreatedDevice) {
     dci.enabledExtensionCount = 1;
     dci.ppEnabledExtensionNames = &devExt;
     VkDevice device;
-    VK_CHECK(vkCreateDevice(pd, &dci, nullptr, &device));
+    VKGI_CHECK(vkCreateDevice(pd, &dci, nullptr, &device));
     VkQueue queue;
     vkGetDeviceQueue(device, 0, 0, &queue);
     {
@@ -188,7 +188,7 @@ TEST(Embedding, RunsOnAHostCreatedDevice) {
         EXPECT_FALSE((*ctx)->ownsDevice());
         runSmoke(**ctx);
     } // vkgi's context is gone; the host's device must still work
-    VK_CHECK(vkDeviceWaitIdle(device));
+    VKGI_CHECK(vkDeviceWaitIdle(device));
     vkDestroyDevice(device, nullptr);
     vkDestroyInstance(instance, nullptr);
     EXPECT_EQ(validationMessages, 0u);

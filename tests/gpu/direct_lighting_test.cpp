@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/builtin_scenes.hpp"
-#include "engine/image_io.hpp"
-#include "engine/image_metrics.hpp"
-#include "engine/vk_check.hpp"
-#include "gi/frame_data.hpp"
-#include "gi/gi.hpp"
-#include "gi/reference.hpp"
+#include "vkgi/builtin_scenes.hpp"
+#include "vkgi/image_io.hpp"
+#include "vkgi/image_metrics.hpp"
+#include "vk_check.hpp"
+#include "vkgi/frame_data.hpp"
+#include "vkgi/gi.hpp"
+#include "vkgi/reference.hpp"
 #include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/test_env.hpp"

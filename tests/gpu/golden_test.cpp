@@ -13,10 +13,10 @@
 #include <sstream>
 #include <string>
 
-#include "engine/builtin_scenes.hpp"
-#include "engine/image_io.hpp"
-#include "gi/gi.hpp"
-#include "gi/knobs.hpp"
+#include "vkgi/builtin_scenes.hpp"
+#include "vkgi/image_io.hpp"
+#include "vkgi/gi.hpp"
+#include "vkgi/knobs.hpp"
 #include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/test_env.hpp"

@@ -5,10 +5,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "engine/builtin_scenes.hpp"
-#include "engine/gpu_scene.hpp"
+#include "vkgi/builtin_scenes.hpp"
+#include "vkgi/gpu_scene.hpp"
 #include "engine/scene_types.h"
-#include "engine/vk_check.hpp"
+#include "vk_check.hpp"
 #include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
 

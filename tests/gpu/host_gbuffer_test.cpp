@@ -8,12 +8,12 @@
 #include <string>
 
 #include "direct/direct_passes.hpp"
-#include "engine/builtin_scenes.hpp"
-#include "engine/resources.hpp"
-#include "engine/rg/blackboard.hpp"
-#include "engine/rg/transient_pool.hpp"
-#include "gi/frame_data.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/builtin_scenes.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/rg/blackboard.hpp"
+#include "vkgi/rg/transient_pool.hpp"
+#include "vkgi/frame_data.hpp"
+#include "vkgi/gi.hpp"
 #include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/image_stats.hpp"

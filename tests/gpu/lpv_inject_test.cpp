@@ -9,7 +9,7 @@
 
 #include <glm/gtc/packing.hpp>
 
-#include "engine/rg/transient_pool.hpp"
+#include "vkgi/rg/transient_pool.hpp"
 #include "gi/lpv_passes.h"
 #include "lpv/lpv_cpu.hpp"
 #include "lpv/lpv_inject.hpp"

@@ -13,10 +13,10 @@
 
 #include <glm/gtc/packing.hpp>
 
-#include "engine/vk_check.hpp"
+#include "vk_check.hpp"
 #include "gi/lpv.h"
 #include "lpv/lpv_cpu.hpp"
-#include "engine/rg/transient_pool.hpp"
+#include "vkgi/rg/transient_pool.hpp"
 #include "lpv/lpv_passes.hpp"
 #include "lpv/lpv_volume.hpp"
 #include "support/gpu_fixture.hpp"

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/builtin_scenes.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/builtin_scenes.hpp"
+#include "vkgi/gi.hpp"
 #include "pass_selection.hpp"
 #include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"

@@ -7,10 +7,10 @@
 #include <fstream>
 #include <string>
 
-#include "engine/context.hpp"
-#include "engine/rg/compute_pass.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "engine/rg/transient_pool.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/rg/compute_pass.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/rg/transient_pool.hpp"
 #include "engine/test_bindings.h"
 #include "support/gpu_fixture.hpp"
 #include "support/gpu_util.hpp"

@@ -1,14 +1,14 @@
 // Reflective shadow map flux: summed over all texels it must equal albedo x the light's power
-// that reaches the surfaces (gi/frame_data.hpp documents the per-texel formula).
+// that reaches the surfaces (vkgi/frame_data.hpp documents the per-texel formula).
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 
-#include "engine/builtin_scenes.hpp"
-#include "engine/rg/transient_pool.hpp"
-#include "engine/vk_check.hpp"
-#include "gi/frame_data.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/builtin_scenes.hpp"
+#include "vkgi/rg/transient_pool.hpp"
+#include "vk_check.hpp"
+#include "vkgi/frame_data.hpp"
+#include "vkgi/gi.hpp"
 #include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/gpu_util.hpp"

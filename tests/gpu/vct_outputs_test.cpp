@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/builtin_scenes.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/builtin_scenes.hpp"
+#include "vkgi/gi.hpp"
 #include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
 

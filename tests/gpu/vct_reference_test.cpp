@@ -7,10 +7,10 @@
 #include <vector>
 #include <cstdio>
 
-#include "engine/builtin_scenes.hpp"
-#include "engine/image_metrics.hpp"
-#include "gi/gi.hpp"
-#include "gi/reference.hpp"
+#include "vkgi/builtin_scenes.hpp"
+#include "vkgi/image_metrics.hpp"
+#include "vkgi/gi.hpp"
+#include "vkgi/reference.hpp"
 #include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/image_stats.hpp"

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "gi/vct.hpp"
+#include "vkgi/vct.hpp"
 #include "voxel/voxel_grid.hpp"
 
 using namespace vkgi;

@@ -8,7 +8,7 @@
 #include <set>
 #include <vector>
 
-#include "engine/context.hpp"
+#include "vkgi/context.hpp"
 #include "support/gpu_fixture.hpp"
 #include "vct/vct_passes.hpp"
 #include "vct_test_scene.hpp"

@@ -11,10 +11,10 @@
 #include <glm/glm.hpp>
 #include <gtest/gtest.h>
 
-#include "engine/context.hpp"
-#include "engine/resources.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "engine/rg/transient_pool.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/rg/transient_pool.hpp"
 #include "engine/scene_types.h"
 #include "support/gpu_util.hpp"
 #include "voxel/voxel_graph.hpp"

@@ -9,7 +9,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "engine/context.hpp"
+#include "vkgi/context.hpp"
 #include "support/gpu_fixture.hpp"
 #include "voxel/voxel_grid.hpp"
 #include "vct_test_scene.hpp"

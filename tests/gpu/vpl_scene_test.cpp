@@ -10,15 +10,15 @@
 #include <utility>
 #include <vector>
 
-#include "engine/builtin_scenes.hpp"
-#include "engine/image_metrics.hpp"
-#include "engine/resources.hpp"
-#include "engine/rg/blackboard.hpp"
-#include "engine/rg/transient_pool.hpp"
-#include "gi/gi.hpp"
-#include "gi/reference.hpp"
+#include "vkgi/builtin_scenes.hpp"
+#include "vkgi/image_metrics.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/rg/blackboard.hpp"
+#include "vkgi/rg/transient_pool.hpp"
+#include "vkgi/gi.hpp"
+#include "vkgi/reference.hpp"
 #include "gi/vpl.h"
-#include "gi/vpl.hpp"
+#include "vkgi/vpl.hpp"
 #include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/gpu_util.hpp"

@@ -11,13 +11,13 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "engine/context.hpp"
-#include "engine/resources.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "engine/rg/transient_pool.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/rg/transient_pool.hpp"
 #include "gi/direct_types.h"
 #include "gi/vpl.h"
-#include "gi/vpl.hpp"
+#include "vkgi/vpl.hpp"
 #include "support/gpu_fixture.hpp"
 
 using namespace vkgi;

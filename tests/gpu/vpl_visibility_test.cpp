@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/image_metrics.hpp"
-#include "gi/gi.hpp"
-#include "gi/reference.hpp"
+#include "vkgi/image_metrics.hpp"
+#include "vkgi/gi.hpp"
+#include "vkgi/reference.hpp"
 #include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/image_stats.hpp"

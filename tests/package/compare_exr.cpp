@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "engine/image_io.hpp"
+#include "vkgi/image_io.hpp"
 
 int main(int argc, char** argv) {
     if (argc < 3 || argc > 4) {

@@ -15,10 +15,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "engine/builtin_scenes.hpp"
-#include "engine/image_metrics.hpp"
-#include "gi/gi.hpp"
-#include "gi/reference.hpp"
+#include "vkgi/builtin_scenes.hpp"
+#include "vkgi/image_metrics.hpp"
+#include "vkgi/gi.hpp"
+#include "vkgi/reference.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/gi_render.hpp"
 #include "support/image_stats.hpp"

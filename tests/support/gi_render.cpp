@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/builtin_scenes.hpp"
+#include "vkgi/builtin_scenes.hpp"
 
 namespace vkgi::test {
 

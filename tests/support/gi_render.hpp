@@ -3,13 +3,13 @@
 #include <memory>
 #include <string>
 
-#include "engine/context.hpp"
-#include "engine/scene.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/scene.hpp"
+#include "vkgi/gi.hpp"
 
 namespace vkgi::test {
 
-// A built-in scene (engine/builtin_scenes.hpp); a scene that does not build fails the test here
+// A built-in scene (vkgi/builtin_scenes.hpp); a scene that does not build fails the test here
 // and gives an empty scene.
 Scene builtinScene(const std::string& name);
 

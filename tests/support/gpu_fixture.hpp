@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/context.hpp"
+#include "vkgi/context.hpp"
 
 namespace vkgi::test {
 

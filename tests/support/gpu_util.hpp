@@ -6,10 +6,10 @@
 #include <initializer_list>
 #include <vector>
 
-#include "engine/context.hpp"
-#include "engine/resources.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "engine/rg/transient_pool.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/rg/transient_pool.hpp"
 
 namespace vkgi::test {
 

@@ -1,6 +1,6 @@
 #pragma once
-// Whole-image statistics the tests assert on (engine/image_metrics.hpp has the error metrics).
-#include "engine/hdr_image.hpp"
+// Whole-image statistics the tests assert on (vkgi/image_metrics.hpp has the error metrics).
+#include "vkgi/hdr_image.hpp"
 
 namespace vkgi::test {
 

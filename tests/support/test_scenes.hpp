@@ -1,6 +1,6 @@
 #pragma once
 // Small synthetic scenes shared by GPU tests whose closed forms need a simple geometry.
-#include "engine/scene.hpp"
+#include "vkgi/scene.hpp"
 
 namespace vkgi::test {
 

@@ -3,10 +3,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/file_util.hpp"
-#include "engine/progress.hpp"
-#include "gi/bench.hpp"
-#include "gi/vct.hpp"
+#include "vkgi/file_util.hpp"
+#include "vkgi/progress.hpp"
+#include "vkgi/bench.hpp"
+#include "vkgi/vct.hpp"
 #include "support/test_env.hpp"
 
 #include <cmath>

@@ -5,8 +5,8 @@
 #include <set>
 #include <tuple>
 
-#include "engine/builtin_scenes.hpp"
-#include "engine/scene.hpp"
+#include "vkgi/builtin_scenes.hpp"
+#include "vkgi/scene.hpp"
 
 using namespace vkgi;
 

@@ -2,7 +2,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "engine/camera.hpp"
+#include "vkgi/camera.hpp"
 
 using namespace vkgi;
 

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <string>
 
-#include "engine/rg/compute_pass.hpp"
+#include "vkgi/rg/compute_pass.hpp"
 #include "engine/test_bindings.h"
 
 namespace vkgi::rg {

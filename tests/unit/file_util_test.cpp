@@ -7,8 +7,8 @@
 #include <sstream>
 #include <string>
 
-#include "engine/file_util.hpp"
-#include "engine/image_io.hpp"
+#include "vkgi/file_util.hpp"
+#include "vkgi/image_io.hpp"
 #include "support/test_env.hpp"
 
 namespace vkgi {

@@ -9,7 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "engine/gltf_loader.hpp"
+#include "vkgi/gltf_loader.hpp"
 #include "support/test_env.hpp"
 
 using namespace vkgi;

@@ -12,7 +12,7 @@
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb/stb_image.h>
 
-#include "engine/image_io.hpp"
+#include "vkgi/image_io.hpp"
 #include "support/test_env.hpp"
 
 using namespace vkgi;

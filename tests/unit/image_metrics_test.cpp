@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/image_metrics.hpp"
+#include "vkgi/image_metrics.hpp"
 
 using namespace vkgi;
 

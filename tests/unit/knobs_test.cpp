@@ -4,7 +4,7 @@
 
 #include <set>
 
-#include "gi/knobs.hpp"
+#include "vkgi/knobs.hpp"
 
 using namespace vkgi::gi;
 

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "gi/lpv.hpp"
+#include "vkgi/lpv.hpp"
 
 using vkgi::gi::LpvSettings;
 

@@ -11,9 +11,9 @@
 
 #include <tbb/global_control.h>
 
-#include "engine/builtin_scenes.hpp"
-#include "engine/image_metrics.hpp"
-#include "gi/reference.hpp"
+#include "vkgi/builtin_scenes.hpp"
+#include "vkgi/image_metrics.hpp"
+#include "vkgi/reference.hpp"
 #include "support/image_stats.hpp"
 #include "support/test_env.hpp"
 

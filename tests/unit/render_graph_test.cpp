@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/rg/blackboard.hpp"
-#include "engine/rg/render_graph.hpp"
+#include "vkgi/rg/blackboard.hpp"
+#include "vkgi/rg/render_graph.hpp"
 
 namespace vkgi::rg {
 namespace {

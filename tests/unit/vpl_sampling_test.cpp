@@ -1,4 +1,4 @@
-// VPL placement math (gi/vpl.h, gi/vpl.hpp): Halton values, uniformity on the sphere, the
+// VPL placement math (gi/vpl.h, vkgi/vpl.hpp): Halton values, uniformity on the sphere, the
 // paper's "first N inside the cone" rule, determinism, the spot frame and its smoothness.
 #include <cmath>
 #include <limits>
@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "gi/vpl.h"
-#include "gi/vpl.hpp"
+#include "vkgi/vpl.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi;

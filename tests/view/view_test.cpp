@@ -24,8 +24,8 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/image_io.hpp"
-#include "engine/image_metrics.hpp"
+#include "vkgi/image_io.hpp"
+#include "vkgi/image_metrics.hpp"
 #include "support/test_env.hpp"
 
 namespace vkgi::test {

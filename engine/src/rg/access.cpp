@@ -1,4 +1,4 @@
-#include "engine/rg/access.hpp"
+#include "vkgi/rg/access.hpp"
 
 #include <array>
 #include <string_view>

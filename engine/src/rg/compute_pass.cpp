@@ -1,12 +1,12 @@
 // ComputePass: the declaration of a compute dispatch's bindings is also its recording, so the
 // graph's accesses, the barriers derived from them and the descriptors can never disagree.
-#include "engine/rg/compute_pass.hpp"
+#include "vkgi/rg/compute_pass.hpp"
 
 #include <string>
 #include <vector>
 
-#include "engine/context.hpp"
-#include "engine/vk_check.hpp"
+#include "vkgi/context.hpp"
+#include "vk_check.hpp"
 
 namespace vkgi::rg {
 

@@ -1,7 +1,7 @@
 // writeDot(): the compiled graph as Graphviz, for debugging and the docs.
 #include <ostream>
 
-#include "engine/rg/render_graph.hpp"
+#include "vkgi/rg/render_graph.hpp"
 
 namespace vkgi::rg {
 

@@ -2,10 +2,10 @@
 // from the accesses the pass declared, so a descriptor can never disagree with the barriers.
 #include <span>
 
-#include "engine/context.hpp"
-#include "engine/frame_constants.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "engine/vk_check.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/frame_constants.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vk_check.hpp"
 
 namespace vkgi::rg {
 
@@ -25,33 +25,33 @@ const detail::Use* PassContext::findUse(uint32_t resource, uint32_t mip, uint32_
 }
 
 const Image& PassContext::image(ImageHandle h) const {
-    GI_ASSERT(findUse(h.index, kAll) != nullptr, "PassContext::image: the pass did not declare this image");
-    GI_ASSERT(m_graph.m_physImages[h.index] != nullptr, "PassContext::image: image has no physical resource");
+    VKGI_ASSERT(findUse(h.index, kAll) != nullptr, "PassContext::image: the pass did not declare this image");
+    VKGI_ASSERT(m_graph.m_physImages[h.index] != nullptr, "PassContext::image: image has no physical resource");
     return *m_graph.m_physImages[h.index];
 }
 
 const Buffer& PassContext::buffer(BufferHandle h) const {
-    GI_ASSERT(findUse(h.index, kAll) != nullptr, "PassContext::buffer: the pass did not declare this buffer");
-    GI_ASSERT(m_graph.m_physBuffers[h.index] != nullptr, "PassContext::buffer: buffer has no physical resource");
+    VKGI_ASSERT(findUse(h.index, kAll) != nullptr, "PassContext::buffer: the pass did not declare this buffer");
+    VKGI_ASSERT(m_graph.m_physBuffers[h.index] != nullptr, "PassContext::buffer: buffer has no physical resource");
     return *m_graph.m_physBuffers[h.index];
 }
 
 VkImageView PassContext::mipView(ImageHandle h, uint32_t mip) const {
     const Image& img = image(h);
-    GI_ASSERT(mip < img.mipViews.size(), "PassContext::mipView: mip level out of range");
+    VKGI_ASSERT(mip < img.mipViews.size(), "PassContext::mipView: mip level out of range");
     return img.mipViews[mip];
 }
 
 VkImageView PassContext::layerView(ImageHandle h, uint32_t layer) const {
-    GI_ASSERT(findUse(h.index, 0, layer) != nullptr, "PassContext::layerView: the pass did not declare this layer");
+    VKGI_ASSERT(findUse(h.index, 0, layer) != nullptr, "PassContext::layerView: the pass did not declare this layer");
     const Image& img = image(h);
-    GI_ASSERT(layer < img.layerViews.size(), "PassContext::layerView: layer out of range (or not a 2D image)");
+    VKGI_ASSERT(layer < img.layerViews.size(), "PassContext::layerView: layer out of range (or not a 2D image)");
     return img.layerViews[layer];
 }
 
 VkImageLayout PassContext::layout(ImageHandle h, uint32_t mip) const {
     const detail::Use* use = findUse(h.index, mip);
-    GI_ASSERT(use != nullptr, "PassContext::layout: the pass did not declare this mip of the image");
+    VKGI_ASSERT(use != nullptr, "PassContext::layout: the pass did not declare this mip of the image");
     return accessInfo(use->access).layout;
 }
 
@@ -103,13 +103,13 @@ void PassContext::dispatchIndirect(const Pipeline& pipeline, BufferHandle args, 
     bool declared = false;
     for (const detail::Use& u : m_graph.m_passes[m_pass].uses)
         declared = declared || (u.resource == args.index && u.access == Access::IndirectRead);
-    GI_ASSERT(declared, "PassContext::dispatchIndirect: the pass did not declare IndirectRead of its arguments");
+    VKGI_ASSERT(declared, "PassContext::dispatchIndirect: the pass did not declare IndirectRead of its arguments");
     bindForDispatch(pipeline, push, pushSize, items);
     vkCmdDispatchIndirect(m_cmd, buffer(args).buffer, offset);
 }
 
 void PassContext::bindFrameSet(const Pipeline& pipeline) const {
-    GI_ASSERT(m_graph.frameSet() != VK_NULL_HANDLE,
+    VKGI_ASSERT(m_graph.frameSet() != VK_NULL_HANDLE,
               "a pass uses FrameConstants but RenderGraph::setFrameSet was not called");
     vkgi::bindFrameSet(m_cmd, pipeline, m_graph.frameSet());
 }

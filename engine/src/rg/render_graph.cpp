@@ -1,6 +1,6 @@
 // Declaration side of the render graph: passes, resources, versions, imports and exports.
 // Misuse is recorded as an error naming the pass and resource and reported by compile().
-#include "engine/rg/render_graph.hpp"
+#include "vkgi/rg/render_graph.hpp"
 
 #include <algorithm>
 

@@ -2,7 +2,7 @@
 // derivation from the Access table. Pure data, no Vulkan calls, so unit tests run it.
 #include <algorithm>
 
-#include "engine/rg/render_graph.hpp"
+#include "vkgi/rg/render_graph.hpp"
 
 namespace vkgi::rg {
 

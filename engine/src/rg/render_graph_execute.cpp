@@ -2,10 +2,10 @@
 // batched barriers inside debug labels and timestamp scopes, then stores final states.
 #include <algorithm>
 
-#include "engine/context.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "engine/rg/transient_pool.hpp"
-#include "engine/vk_check.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/rg/transient_pool.hpp"
+#include "vk_check.hpp"
 
 namespace vkgi::rg {
 
@@ -37,7 +37,7 @@ void addPreviousUse(const std::vector<AccessState>& state, const std::vector<Acc
 
 void RenderGraph::execute(VkCommandBuffer cmd, Context& ctx, TransientPool& pool, TimestampPool* timestamps,
                           TimestampScopes scopes) {
-    GI_ASSERT(m_isCompiled, "RenderGraph::execute: the graph was not compiled successfully");
+    VKGI_ASSERT(m_isCompiled, "RenderGraph::execute: the graph was not compiled successfully");
     acquireTransients(ctx, pool);
     m_timestamps = timestamps;
     m_timedPasses.clear();

@@ -1,11 +1,11 @@
 // Descriptor-keyed transient pool (kajiya's TransientResourceCache) with lifetime-based reuse
 // within one execution: resources of equal description whose pass spans do not overlap share
 // one entry (aliasing of equal descriptions only; no placed sub-allocation).
-#include "engine/rg/transient_pool.hpp"
+#include "vkgi/rg/transient_pool.hpp"
 
 #include <algorithm>
 
-#include "engine/context.hpp"
+#include "vkgi/context.hpp"
 
 namespace vkgi::rg {
 

@@ -1,4 +1,4 @@
-#include "gi/bench.hpp"
+#include "vkgi/bench.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <set>
 #include <sstream>
 
-#include "gi/vct.hpp"
+#include "vkgi/vct.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -2,7 +2,7 @@
 // and the readback of requested images.
 #include "direct/direct_passes.hpp"
 
-#include "engine/rg/compute_pass.hpp"
+#include "vkgi/rg/compute_pass.hpp"
 
 namespace vkgi::gi {
 

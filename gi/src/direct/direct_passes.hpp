@@ -4,12 +4,12 @@
 // private to gi/.
 #include <vector>
 
-#include "engine/gpu_scene.hpp"
-#include "engine/pipeline.hpp"
-#include "engine/rg/render_graph.hpp"
+#include "vkgi/gpu_scene.hpp"
+#include "vkgi/pipeline.hpp"
+#include "vkgi/rg/render_graph.hpp"
 #include "gi/direct_types.h"
-#include "gi/frame_data.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/frame_data.hpp"
+#include "vkgi/gi.hpp"
 
 namespace vkgi::gi {
 
@@ -29,7 +29,7 @@ struct DirectPipelines {
 Result<DirectPipelines> createDirectPipelines(Context& ctx);
 void destroyDirectPipelines(Context& ctx, DirectPipelines& p);
 
-// G-buffer formats (documented in gi/frame_data.hpp).
+// G-buffer formats (documented in vkgi/frame_data.hpp).
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr VkFormat kPositionFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 constexpr VkFormat kNormalFormat = VK_FORMAT_R16G16B16A16_SFLOAT;

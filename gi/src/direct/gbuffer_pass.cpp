@@ -2,7 +2,7 @@
 // pixel centres (Camera::projection, no jitter), so it lines up with the path tracer.
 #include "direct/direct_passes.hpp"
 
-#include "engine/context.hpp"
+#include "vkgi/context.hpp"
 
 namespace vkgi::gi {
 

@@ -1,7 +1,7 @@
 // Pipelines and samplers of the shared direct-lighting passes, created once per GiSystem.
 #include "direct/direct_passes.hpp"
 
-#include "engine/context.hpp"
+#include "vkgi/context.hpp"
 
 namespace vkgi::gi {
 

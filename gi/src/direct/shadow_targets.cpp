@@ -4,8 +4,8 @@
 // (imports), and the light passes render into single layers through PassContext::layerView.
 #include "direct/direct_passes.hpp"
 
-#include "engine/context.hpp"
-#include "engine/vk_check.hpp"
+#include "vkgi/context.hpp"
+#include "vk_check.hpp"
 
 namespace vkgi::gi {
 
@@ -45,7 +45,7 @@ void ensureShadowTargets(Context& ctx, ShadowTargets& t, uint32_t layers, uint32
     layers = std::max(layers, 1u); // the deferred pass always binds an atlas
     if (t.layers == layers && t.resolution == resolution && t.rsm == rsm && t.atlas.image)
         return;
-    VK_CHECK(vkDeviceWaitIdle(ctx.device())); // the old targets may still be read by a frame
+    VKGI_CHECK(vkDeviceWaitIdle(ctx.device())); // the old targets may still be read by a frame
     destroyShadowTargets(ctx, t);
     t.atlas = createLayered(ctx, "gi.shadow.atlas", kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, layers,
                             resolution);

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/result.hpp"
-#include "engine/scene.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/scene.hpp"
 #include "gi/lpv_passes.h"
 
 namespace vkgi::gi::lpv {

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <string>
 
-#include "engine/context.hpp"
-#include "engine/rg/compute_pass.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/rg/compute_pass.hpp"
 
 namespace vkgi::gi::lpv {
 

@@ -12,7 +12,7 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/rg/render_graph.hpp"
+#include "vkgi/rg/render_graph.hpp"
 #include "gi/lpv_passes.h"
 #include "lpv/lpv_passes.hpp"
 
@@ -36,7 +36,7 @@ public:
     VkSampler linearSampler = VK_NULL_HANDLE;     // trilinear SH lookup, clamp to edge (RSM and G-buffer: imageLoad)
 };
 
-// The reflective shadow map as the direct-lighting module publishes it (gi/frame_data.hpp):
+// The reflective shadow map as the direct-lighting module publishes it (vkgi/frame_data.hpp):
 // 2D arrays, position RGBA32F (w = 1 valid), normal RGBA16F, flux RGBA32F.
 struct RsmInput {
     rg::ImageHandle position, normal, flux;

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "engine/rg/compute_pass.hpp"
+#include "vkgi/rg/compute_pass.hpp"
 
 namespace vkgi::gi::lpv {
 

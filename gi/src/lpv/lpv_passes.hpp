@@ -8,7 +8,7 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/rg/render_graph.hpp"
+#include "vkgi/rg/render_graph.hpp"
 #include "lpv/lpv_volume.hpp"
 
 namespace vkgi::gi::lpv {

@@ -1,4 +1,4 @@
-#include "gi/lpv.hpp"
+#include "vkgi/lpv.hpp"
 
 #include <string>
 

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "gi/frame_data.hpp"
+#include "vkgi/frame_data.hpp"
 #include "lpv/lpv_grid.hpp"
 #include "lpv/lpv_inject.hpp"
 #include "lpv/lpv_passes.hpp"

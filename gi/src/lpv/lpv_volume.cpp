@@ -1,7 +1,7 @@
 #include "lpv/lpv_volume.hpp"
 
-#include "engine/context.hpp"
-#include "engine/vk_check.hpp"
+#include "vkgi/context.hpp"
+#include "vk_check.hpp"
 #include "gi/lpv.h"
 
 namespace vkgi::gi::lpv {
@@ -62,8 +62,8 @@ void Propagator::destroy(Context& ctx) {
 }
 
 const Pipeline& Propagator::pipeline(VkFormat format, bool occlusion, bool bounce, uint32_t accumulate) const {
-    GI_ASSERT(isSupportedShFormat(format), "lpv::Propagator::pipeline: SH format must be RGBA16F or RGBA32F");
-    GI_ASSERT(accumulate <= LPV_ACCUMULATE_PAIR, "lpv::Propagator::pipeline: accumulate must be LPV_ACCUMULATE_*");
+    VKGI_ASSERT(isSupportedShFormat(format), "lpv::Propagator::pipeline: SH format must be RGBA16F or RGBA32F");
+    VKGI_ASSERT(accumulate <= LPV_ACCUMULATE_PAIR, "lpv::Propagator::pipeline: accumulate must be LPV_ACCUMULATE_*");
     return m_pipelines[format == VK_FORMAT_R32G32B32A32_SFLOAT][occlusion][bounce][accumulate];
 }
 

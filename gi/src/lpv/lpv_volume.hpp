@@ -6,9 +6,9 @@
 #include <glm/glm.hpp>
 #include <vulkan/vulkan.h>
 
-#include "engine/pipeline.hpp"
-#include "engine/resources.hpp"
-#include "engine/result.hpp"
+#include "vkgi/pipeline.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/result.hpp"
 #include "gi/lpv.h"
 
 namespace vkgi::gi::lpv {

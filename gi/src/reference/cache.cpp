@@ -8,9 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/file_util.hpp"
-#include "engine/image_io.hpp"
-#include "gi/reference.hpp"
+#include "vkgi/file_util.hpp"
+#include "vkgi/image_io.hpp"
+#include "vkgi/reference.hpp"
 
 namespace vkgi::gi {
 

@@ -1,4 +1,4 @@
-// The reference integrator: see gi/reference.hpp for the model and the estimator.
+// The reference integrator: see vkgi/reference.hpp for the model and the estimator.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -12,8 +12,8 @@
 #include <tbb/parallel_for.h>
 
 #include "engine/lights.h"
-#include "engine/progress.hpp"
-#include "gi/reference.hpp"
+#include "vkgi/progress.hpp"
+#include "vkgi/reference.hpp"
 #include "reference/rt_scene.hpp"
 #include "reference/sampling.hpp"
 

@@ -8,8 +8,8 @@
 #include <embree3/rtcore.h>
 #include <glm/glm.hpp>
 
-#include "engine/result.hpp"
-#include "engine/scene.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/scene.hpp"
 
 namespace vkgi::gi::ref {
 
@@ -52,7 +52,7 @@ struct SurfaceHit {
     // Embree's plane test, rounded to float so that rounding cannot undo the move. The bound
     // scales with the position's own coordinates along ng and with the triangle's size, not
     // with the largest coordinate: a larger move starts rays behind the adjacent face of an
-    // acute concave edge (gi/reference.hpp).
+    // acute concave edge (vkgi/reference.hpp).
     glm::vec3 spawnAbove;
     glm::vec3 spawnBelow;
 };

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <string>
 
-#include "engine/rg/compute_pass.hpp"
-#include "engine/vk_check.hpp"
+#include "vkgi/rg/compute_pass.hpp"
+#include "vk_check.hpp"
 
 namespace vkgi::gi {
 
@@ -50,7 +50,7 @@ rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::Im
                 .read(VCT_MIP_BINDING_LIST, list)
                 .dispatchIndirect(list, GI_VOXEL_LIST_BLOCKS * sizeof(uint32_t));
         } else if (level == tail) { // this level and all coarser ones, four at most
-            GI_ASSERT(count <= 4, "the mip tail has at most four levels");
+            VKGI_ASSERT(count <= 4, "the mip tail has at most four levels");
             push.info.z = count;
             // Tail bindings past the last level are bound to the last level and not touched.
             rg::ImageHandle levels[4] = {directional, directional, directional, directional};

@@ -3,8 +3,8 @@
 // (voxel/voxel_graph.hpp); the persistent state they use is VctVolumes (vct_volumes.hpp).
 #include <cstdint>
 
-#include "engine/rg/render_graph.hpp"
-#include "gi/vct.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/vct.hpp"
 #include "vct/vct_volumes.hpp"
 #include "voxel/voxel_graph.hpp"
 
@@ -40,7 +40,7 @@ struct VctPassOptions {
     bool relight = true;
     // false: the voxel light leaves out the emission volume (the scene has no emissive material).
     bool emission = true;
-    // VctOcclusion::ShadowMap reads this shadow atlas (ShadowData of gi/frame_data.hpp); without
+    // VctOcclusion::ShadowMap reads this shadow atlas (ShadowData of vkgi/frame_data.hpp); without
     // one (graphs built by hand, no direct-light passes) the voxel light ray-marches hard shadows.
     rg::ImageHandle shadowAtlas;
     rg::BufferHandle shadowViews, lightShadows;

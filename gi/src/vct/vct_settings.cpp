@@ -1,7 +1,7 @@
 #include <cmath>
 #include <string>
 
-#include "gi/vct.hpp"
+#include "vkgi/vct.hpp"
 #include "gi/voxel_grid.h"
 
 namespace vkgi::gi {

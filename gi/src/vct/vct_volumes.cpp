@@ -4,8 +4,8 @@
 #include <cmath>
 #include <string>
 
-#include "engine/context.hpp"
-#include "engine/vk_check.hpp"
+#include "vkgi/context.hpp"
+#include "vk_check.hpp"
 
 namespace vkgi::gi {
 
@@ -72,7 +72,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
     words.format = VK_FORMAT_R32_UINT;
     words.offset = 0;
     words.range = VK_WHOLE_SIZE;
-    VK_CHECK(vkCreateBufferView(ctx.device(), &words, nullptr, &v->m_listWords));
+    VKGI_CHECK(vkCreateBufferView(ctx.device(), &words, nullptr, &v->m_listWords));
     ImageDesc written;
     written.type = VK_IMAGE_TYPE_3D;
     written.format = VK_FORMAT_R8_UINT;

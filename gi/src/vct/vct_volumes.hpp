@@ -9,10 +9,10 @@
 #include <cstdint>
 #include <memory>
 
-#include "engine/pipeline.hpp"
-#include "engine/resources.hpp"
-#include "engine/result.hpp"
-#include "gi/vct.hpp"
+#include "vkgi/pipeline.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/vct.hpp"
 #include "gi/vct_passes.h"
 #include "voxel/voxel_grid.hpp"
 

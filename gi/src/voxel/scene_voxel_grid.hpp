@@ -6,9 +6,9 @@
 #include <memory>
 #include <vector>
 
-#include "engine/gpu_scene.hpp"
-#include "engine/result.hpp"
-#include "gi/frame_data.hpp"
+#include "vkgi/gpu_scene.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/frame_data.hpp"
 #include "pass_selection.hpp"
 #include "voxel/voxel_graph.hpp"
 #include "voxel/voxel_grid.hpp"

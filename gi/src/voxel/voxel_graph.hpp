@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/rg/render_graph.hpp"
+#include "vkgi/rg/render_graph.hpp"
 #include "voxel/voxel_grid.hpp"
 
 namespace vkgi::gi {

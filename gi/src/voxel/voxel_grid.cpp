@@ -5,7 +5,7 @@
 #include <cmath>
 #include <string>
 
-#include "engine/context.hpp"
+#include "vkgi/context.hpp"
 
 namespace vkgi::gi {
 

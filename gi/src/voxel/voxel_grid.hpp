@@ -6,11 +6,11 @@
 #include <memory>
 #include <vector>
 
-#include "engine/pipeline.hpp"
-#include "engine/resources.hpp"
-#include "engine/result.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "engine/scene.hpp"
+#include "vkgi/pipeline.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/scene.hpp"
 #include "gi/voxel_passes.h"
 
 namespace vkgi::gi {
@@ -30,7 +30,7 @@ float chooseRadianceScale(float maxRadiance);
 // voxel from it (the closest a voxel centre gets), I / (voxel/2)^2 / pi, or lux / pi.
 float sceneMaxRadiance(const Scene& scene, float voxelSize);
 
-// One draw of the GPU scene as the voxelizer sees it (mirrors GpuDraw of engine/gpu_scene.hpp).
+// One draw of the GPU scene as the voxelizer sees it (mirrors GpuDraw of vkgi/gpu_scene.hpp).
 struct VoxelDraw {
     uint32_t instance = 0;
     uint32_t firstIndex = 0;

@@ -3,7 +3,7 @@
 #include <string>
 
 #include "gi/vpl.h"
-#include "gi/vpl.hpp"
+#include "vkgi/vpl.hpp"
 
 namespace vkgi::gi {
 

@@ -8,12 +8,12 @@
 #include <string>
 #include <utility>
 
-#include "engine/context.hpp"
-#include "engine/pipeline.hpp"
-#include "engine/resources.hpp"
-#include "engine/rg/compute_pass.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/pipeline.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/rg/compute_pass.hpp"
 #include "gi/vpl.h"
-#include "gi/vpl.hpp"
+#include "vkgi/vpl.hpp"
 
 namespace vkgi::gi {
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/vk_check.hpp"
-#include "gi/vpl.hpp"
+#include "vk_check.hpp"
+#include "vkgi/vpl.hpp"
 #include "voxel/scene_voxel_grid.hpp"
 
 namespace vkgi::gi {
@@ -124,7 +124,7 @@ public:
             settings.visibility = false; // no geometry, no grid: nothing can occlude
         }
         auto out = m_technique->addPasses(graph, in, settings);
-        GI_ASSERT(out.ok(), "VplTechniqueModule::addPasses: inputs were validated in sceneChanged");
+        VKGI_ASSERT(out.ok(), "VplTechniqueModule::addPasses: inputs were validated in sceneChanged");
         inputs.blackboard.add(*out);
         return {out->indirect, {}, {}, {}};
     }

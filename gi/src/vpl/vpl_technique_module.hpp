@@ -1,6 +1,6 @@
 #pragma once
 // Technique::Vpl's GiSystem module (private to gi/): a thin adapter that reads the shared
-// G-buffer, RSM and shadow views from TechniqueInputs, runs VplTechnique (gi/vpl.hpp) and
+// G-buffer, RSM and shadow views from TechniqueInputs, runs VplTechnique (vkgi/vpl.hpp) and
 // publishes IndirectData (and VplOutputs, for tests and tools that want the VPL buffers).
 #include <memory>
 

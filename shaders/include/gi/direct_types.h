@@ -94,7 +94,7 @@ GI_INLINE uint cubeFace(vec3 d) {
     return d.z >= 0.0 ? 4u : 5u;
 }
 
-// Reflected flux of one RSM texel (see docs in gi/include/gi/frame_data.hpp):
+// Reflected flux of one RSM texel (see docs in gi/include/vkgi/frame_data.hpp):
 // perspective: albedo * I * attenuation * dOmega, dOmega = texelArea * cos^3(angle to the axis);
 // orthographic: albedo * E * texelArea (area perpendicular to the light).
 GI_INLINE float rsmTexelSolidAngle(float planeTexelArea, float cosToAxis) {

@@ -15,7 +15,7 @@
 #define GI_VPL_MAX_LIGHTS 8u
 // Most negative VPLs (paper section 3.3); same cost argument as above.
 #define GI_VPL_MAX_NEGATIVE 4096u
-// Largest interleave tile side (kMaxVplInterleave in gi/vpl.hpp): the filter reads 2n - 1
+// Largest interleave tile side (kMaxVplInterleave in vkgi/vpl.hpp): the filter reads 2n - 1
 // neighbours per axis.
 #define GI_VPL_MAX_INTERLEAVE 4u
 // Work-group width of the 1D passes (VPL generation): 64 = 8 lavapipe SIMD lanes x 8.

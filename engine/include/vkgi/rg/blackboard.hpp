@@ -6,9 +6,12 @@
 #include <typeindex>
 #include <unordered_map>
 
-#include "engine/vk_check.hpp"
-
 namespace vkgi::rg {
+
+namespace detail {
+// Reports a Blackboard::get of a type nobody added (defined in the engine library).
+[[noreturn]] void missingBlackboardEntry(const char* typeName);
+} // namespace detail
 
 class Blackboard {
 public:
@@ -21,7 +24,8 @@ public:
     // The stored T; a missing T is a programming error (a module ran before its producer).
     template <typename T> const T& get() const {
         const T* value = tryGet<T>();
-        GI_ASSERT(value != nullptr, "Blackboard::get: no entry of the requested type (producer pass missing?)");
+        if (value == nullptr)
+            detail::missingBlackboardEntry(typeid(T).name());
         return *value;
     }
     template <typename T> T& get() { return const_cast<T&>(static_cast<const Blackboard*>(this)->get<T>()); }

@@ -9,7 +9,7 @@
 
 #include <vulkan/vulkan.h>
 
-#include "engine/result.hpp"
+#include "vkgi/result.hpp"
 
 namespace vkgi {
 
@@ -34,7 +34,7 @@ struct ReflectedBinding {
     std::string name;
     // What the shader may do with it: GLSL readonly clears `writable`, writeonly clears
     // `readable`; sampled images, samplers and uniform buffers are readable only. Render-graph
-    // compute passes derive each binding's rg::Access from these (engine/rg/compute_pass.hpp).
+    // compute passes derive each binding's rg::Access from these (vkgi/rg/compute_pass.hpp).
     bool readable = true;
     bool writable = true;
 };

@@ -9,8 +9,8 @@
 #include <memory>
 #include <vector>
 
-#include "engine/resources.hpp"
-#include "engine/rg/render_graph.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/rg/render_graph.hpp"
 
 namespace vkgi::rg {
 

@@ -31,8 +31,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "engine/pipeline.hpp"
-#include "engine/rg/render_graph.hpp"
+#include "vkgi/pipeline.hpp"
+#include "vkgi/rg/render_graph.hpp"
 
 namespace vkgi::rg {
 

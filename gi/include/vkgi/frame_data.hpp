@@ -36,9 +36,9 @@
 #include <glm/glm.hpp>
 #include <vulkan/vulkan.h>
 
-#include "engine/camera.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "engine/scene.hpp"
+#include "vkgi/camera.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/scene.hpp"
 
 namespace vkgi {
 struct GpuScene;

@@ -33,10 +33,10 @@
 #include <cstdint>
 #include <filesystem>
 
-#include "engine/camera.hpp"
-#include "engine/hdr_image.hpp"
-#include "engine/result.hpp"
-#include "engine/scene.hpp"
+#include "vkgi/camera.hpp"
+#include "vkgi/hdr_image.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/scene.hpp"
 
 namespace vkgi::gi {
 

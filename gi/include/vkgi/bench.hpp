@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "engine/result.hpp"
+#include "vkgi/result.hpp"
 
 namespace vkgi::gi {
 

@@ -4,9 +4,9 @@
 // every rasterising pass, the voxelizer and the RSM read.
 #include <vector>
 
-#include "engine/resources.hpp"
-#include "engine/result.hpp"
-#include "engine/scene.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/scene.hpp"
 
 namespace vkgi {
 

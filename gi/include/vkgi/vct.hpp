@@ -6,8 +6,8 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/result.hpp"
-#include "engine/scene.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/scene.hpp"
 
 namespace vkgi::gi {
 

@@ -10,16 +10,16 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/camera.hpp"
-#include "engine/context.hpp"
-#include "engine/hdr_image.hpp"
-#include "engine/result.hpp"
-#include "engine/rg/blackboard.hpp"
-#include "engine/rg/render_graph.hpp"
-#include "engine/scene.hpp"
-#include "gi/lpv.hpp"
-#include "gi/vct.hpp"
-#include "gi/vpl.hpp"
+#include "vkgi/camera.hpp"
+#include "vkgi/context.hpp"
+#include "vkgi/hdr_image.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/rg/blackboard.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/scene.hpp"
+#include "vkgi/lpv.hpp"
+#include "vkgi/vct.hpp"
+#include "vkgi/vpl.hpp"
 
 namespace vkgi::gi {
 
@@ -54,10 +54,10 @@ struct GiSettings {
     float shadowConstantBias = 0.5f;
     // Render the reflective shadow map even when the technique does not read it (tests, tools).
     bool forceRsm = false;
-    LpvSettings lpv; // Technique::Lpv knobs (gi/lpv.hpp)
+    LpvSettings lpv; // Technique::Lpv knobs (vkgi/lpv.hpp)
     // Technique::Vpl (image-space instant radiosity, docs/vpl.md).
     VplSettings vpl;
-    VctSettings vct; // Technique::Vct knobs (gi/vct.hpp), validated when the technique is created
+    VctSettings vct; // Technique::Vct knobs (vkgi/vct.hpp), validated when the technique is created
 };
 
 // Checks every setting GiSystem::create checks: the shared ones and those of
@@ -144,7 +144,7 @@ struct HostImage {
     rg::Access access = rg::Access::None;
 };
 
-// The host's G-buffer, in vkgi's G-buffer conventions (gi/frame_data.hpp) at the camera's pixel
+// The host's G-buffer, in vkgi's G-buffer conventions (vkgi/frame_data.hpp) at the camera's pixel
 // centres, all the same size; the technique computes the indirect light of these surfaces.
 struct HostGBuffer {
     // D32_SFLOAT, Camera::projection depth (0 near .. 1 far, 1 = background); usage SAMPLED.
@@ -218,7 +218,7 @@ public:
     // whose barriers then order it after the previous submission on the same queue (vkgi-view runs
     // this way under synchronization validation). setScene waits for idle; updateScene uploads
     // through the same queue behind full barriers, so it is ordered after the frames in flight.
-    // The blackboard gets the shared handles (gi/frame_data.hpp) for the host's own passes.
+    // The blackboard gets the shared handles (vkgi/frame_data.hpp) for the host's own passes.
     Result<GiOutputs> addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
                                 uint32_t width, uint32_t height, const FrameRequest& request = {});
 

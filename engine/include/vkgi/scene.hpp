@@ -10,8 +10,8 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/camera.hpp"
-#include "engine/result.hpp"
+#include "vkgi/camera.hpp"
+#include "vkgi/result.hpp"
 
 namespace vkgi {
 

@@ -19,10 +19,10 @@
 #include <glm/vec3.hpp>
 #include <vulkan/vulkan.h>
 
-#include "engine/pipeline.hpp"
-#include "engine/resources.hpp"
-#include "engine/result.hpp"
-#include "engine/rg/access.hpp"
+#include "vkgi/pipeline.hpp"
+#include "vkgi/resources.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/rg/access.hpp"
 
 namespace vkgi {
 class Context;

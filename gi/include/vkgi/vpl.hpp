@@ -11,9 +11,9 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/camera.hpp"
-#include "engine/result.hpp"
-#include "engine/rg/render_graph.hpp"
+#include "vkgi/camera.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/rg/render_graph.hpp"
 
 namespace vkgi {
 class Context;
@@ -95,7 +95,7 @@ struct VplSpot {
 // as (x, y, 0): where a directional light's VPLs sample its orthographic RSM window.
 std::vector<glm::vec3> windowSamplePoints(uint32_t count);
 
-// What the VPL passes read. Image layouts as documented in gi/frame_data.hpp.
+// What the VPL passes read. Image layouts as documented in vkgi/frame_data.hpp.
 struct VplInputs {
     rg::ImageHandle gPosition; // RGBA32F world position, w = 1 where geometry was drawn
     rg::ImageHandle gNormal;   // unit normal

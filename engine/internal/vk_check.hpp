@@ -1,5 +1,5 @@
 #pragma once
-// VK_CHECK is always on (release builds too): a failed Vulkan call is a programming or
+// VKGI_CHECK is always on (release builds too): a failed Vulkan call is a programming or
 // device error the frame cannot recover from, so it prints file:line, the expression and the
 // VkResult name, then aborts. Recoverable failures use Result<T> instead.
 #include <vulkan/vulkan.h>
@@ -13,7 +13,7 @@ const char* toString(VkResult result);
 
 } // namespace vkgi
 
-#define VK_CHECK(expr)                                                                                                 \
+#define VKGI_CHECK(expr)                                                                                                 \
     do {                                                                                                               \
         VkResult vkgi_check_result_ = (expr);                                                                          \
         if (vkgi_check_result_ != VK_SUCCESS)                                                                          \
@@ -21,7 +21,7 @@ const char* toString(VkResult result);
     } while (0)
 
 // Always-on invariant check for programming errors (misuse of an API), with a message.
-#define GI_ASSERT(cond, msg)                                                                                           \
+#define VKGI_ASSERT(cond, msg)                                                                                           \
     do {                                                                                                               \
         if (!(cond))                                                                                                   \
             ::vkgi::fatal(__FILE__, __LINE__, msg);                                                                    \

@@ -3,7 +3,7 @@
 // Elvek's thesis). Each field is a sweepable vkgi-bench knob; docs/lpv.md has the derivation.
 #include <cstdint>
 
-#include "engine/result.hpp"
+#include "vkgi/result.hpp"
 
 namespace vkgi::gi {
 

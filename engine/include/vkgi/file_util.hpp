@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/result.hpp"
+#include "vkgi/result.hpp"
 
 namespace vkgi {
 

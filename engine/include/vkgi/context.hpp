@@ -11,7 +11,7 @@
 
 #include <vulkan/vulkan.h>
 
-#include "engine/result.hpp"
+#include "vkgi/result.hpp"
 
 namespace vkgi {
 

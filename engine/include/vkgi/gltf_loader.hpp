@@ -33,9 +33,9 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/builtin_scenes.hpp"
-#include "engine/result.hpp"
-#include "engine/scene.hpp"
+#include "vkgi/builtin_scenes.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/scene.hpp"
 
 namespace vkgi {
 

@@ -25,8 +25,8 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/result.hpp"
-#include "engine/scene.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/scene.hpp"
 
 namespace vkgi {
 

@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/hdr_image.hpp"
-#include "engine/result.hpp"
+#include "vkgi/hdr_image.hpp"
+#include "vkgi/result.hpp"
 
 namespace vkgi {
 

@@ -6,7 +6,7 @@
 #include <vulkan/vulkan.h>
 
 #include "engine/frame_constants.h"
-#include "engine/resources.hpp"
+#include "vkgi/resources.hpp"
 
 namespace vkgi {
 

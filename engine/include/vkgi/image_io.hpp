@@ -9,8 +9,8 @@
 #include <glm/ext/vector_uint3_sized.hpp>
 #include <glm/vec3.hpp>
 
-#include "engine/hdr_image.hpp"
-#include "engine/result.hpp"
+#include "vkgi/hdr_image.hpp"
+#include "vkgi/result.hpp"
 
 namespace vkgi {
 

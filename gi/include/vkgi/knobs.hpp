@@ -8,8 +8,8 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/result.hpp"
-#include "gi/gi.hpp"
+#include "vkgi/result.hpp"
+#include "vkgi/gi.hpp"
 
 namespace vkgi::gi {
 
