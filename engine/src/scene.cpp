@@ -41,6 +41,8 @@ Camera Scene::cameraOrDefault() const {
     Aabb b = bounds();
     if (!b.valid())
         return Camera{};
+    if (std::optional<Camera> inside = interiorCamera(*this))
+        return *inside;
     return framingCamera(b.min, b.max);
 }
 

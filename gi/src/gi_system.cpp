@@ -71,6 +71,9 @@ struct GiSystem::Impl {
     ShadowLayout lastShadowLayout; // layout the persistent atlas was last rendered with
     std::optional<Camera> lastTechniqueCamera;
     uint32_t lastTechniqueWidth = 0, lastTechniqueHeight = 0;
+    // Graphs of the last frames GiSystem::record recorded into host command buffers.
+    std::unique_ptr<rg::RenderGraph> recorded[kFrameRing];
+    uint32_t recordIndex = 0;
 
     ~Impl();
     // `host`: the host's G-buffer replaces the G-buffer pass, and no direct light is computed.
@@ -85,6 +88,10 @@ struct GiSystem::Impl {
     FrameData frameData(const Camera& camera, uint32_t width, uint32_t height);
     const Buffer& readbackBuffer(uint32_t slot, uint32_t width, uint32_t height);
     void submitAndWait(rg::RenderGraph& graph, rg::TimestampScopes scopes = rg::TimestampScopes::PerPass);
+    // The host G-buffer frame of renderIndirect and record: checks `host`, adds the passes, the
+    // copy into the host's image, the readback when asked, and compiles. `api` names the caller.
+    Result<void> addIndirectFrame(rg::RenderGraph& graph, rg::Blackboard& bb, const Camera& camera,
+                                  const HostFrame& host, const char* api);
     void invalidate() {
         shadowChanges = SceneChanges{};
         techniqueChanges = SceneChanges{};
@@ -425,11 +432,12 @@ Result<GiOutputs> GiSystem::addPasses(rg::RenderGraph& graph, rg::Blackboard& bl
                         FrameRequest{false, false, true}, &gbuffer);
 }
 
-Result<FrameResult> GiSystem::renderIndirect(const Camera& camera, const HostFrame& host) {
-    if (auto ok = checkHostFrame(m->technique.get(), host.gbuffer); !ok)
+Result<void> GiSystem::Impl::addIndirectFrame(rg::RenderGraph& graph, rg::Blackboard& bb, const Camera& camera,
+                                              const HostFrame& host, const char* api) {
+    if (auto ok = checkHostFrame(technique.get(), host.gbuffer); !ok)
         return ok.error();
     if (!host.indirect.image && !host.readback)
-        return makeError("GiSystem::renderIndirect: HostFrame has no indirect image and no readback: nothing to do");
+        return makeError(std::string(api) + ": HostFrame has no indirect image and no readback: nothing to do");
     if (host.indirect.image)
         if (auto ok = checkHostIndirect(host.indirect, host.gbuffer); !ok)
             return ok.error();
@@ -438,23 +446,31 @@ Result<FrameResult> GiSystem::renderIndirect(const Camera& camera, const HostFra
     if (auto ok = checkFinalAccess("HostFrame.gbufferFinalAccess", host.gbufferFinalAccess); !ok)
         return ok.error();
     uint32_t width = host.gbuffer.normal.width, height = host.gbuffer.normal.height;
-    rg::RenderGraph graph;
-    rg::Blackboard bb;
-    auto outputs = m->addPasses(graph, bb, camera, width, height, FrameRequest{false, false, true}, &host.gbuffer);
+    auto outputs = addPasses(graph, bb, camera, width, height, FrameRequest{false, false, true}, &host.gbuffer);
     if (!outputs)
         return outputs.error();
     exportHostGBuffer(graph, bb.get<GBufferData>(), host.gbuffer, host.gbufferFinalAccess);
     if (host.indirect.image)
         addHostIndirectCopy(graph, outputs->indirect, host.indirect, host.indirectFinalAccess);
     if (host.readback)
-        addReadbackPass(graph, "gi.readback.indirect", outputs->indirect, m->readbackBuffer(2, width, height));
-    if (auto ok = graph.compile(); !ok)
+        addReadbackPass(graph, "gi.readback.indirect", outputs->indirect, readbackBuffer(2, width, height));
+    if (auto ok = graph.compile(); !ok) {
+        invalidate(); // nothing runs: what this frame skipped as clean may be stale
         return makeError("frame graph: " + ok.error().message);
+    }
+    return {};
+}
+
+Result<FrameResult> GiSystem::renderIndirect(const Camera& camera, const HostFrame& host) {
+    rg::RenderGraph graph;
+    rg::Blackboard bb;
+    if (auto ok = m->addIndirectFrame(graph, bb, camera, host, "GiSystem::renderIndirect"); !ok)
+        return ok.error();
     m->submitAndWait(graph);
 
     FrameResult r;
     if (host.readback)
-        r.indirect = readbackToImage(m->readback[2], width, height);
+        r.indirect = readbackToImage(m->readback[2], host.gbuffer.normal.width, host.gbuffer.normal.height);
     r.passes = graph.timings();
     r.totalMs = frameTotalMs(graph, r.passes);
     r.culledPasses = graph.culledPassNames();
@@ -462,6 +478,71 @@ Result<FrameResult> GiSystem::renderIndirect(const Camera& camera, const HostFra
     r.persistentByOwner = persistentMemory();
     r.persistentBytes = r.persistentByOwner.total();
     return r;
+}
+
+Result<void> GiSystem::record(VkCommandBuffer cmd, const Camera& camera, const HostFrame& host) {
+    if (cmd == VK_NULL_HANDLE)
+        return makeError("GiSystem::record: no command buffer");
+    if (host.readback)
+        return makeError("GiSystem::record: HostFrame.readback needs a wait; use renderIndirect for it");
+    if (!host.indirect.image)
+        return makeError("GiSystem::record: HostFrame.indirect is required (the result stays on the GPU)");
+    // The graph owns what the recorded commands refer to until the frame completed: keep the
+    // last kFrameRing graphs (the host has at most that many of this system's frames in flight).
+    std::unique_ptr<rg::RenderGraph>& slot = m->recorded[m->recordIndex % kFrameRing];
+    auto graph = std::make_unique<rg::RenderGraph>();
+    rg::Blackboard bb;
+    if (auto ok = m->addIndirectFrame(*graph, bb, camera, host, "GiSystem::record"); !ok)
+        return ok.error();
+    graph->execute(cmd, *m->ctx, *m->pool, nullptr, rg::TimestampScopes::FrameOnly);
+    slot = std::move(graph);
+    ++m->recordIndex;
+    return {};
+}
+
+Result<void> GiSystem::setSettings(const GiSettings& settings) {
+    if (auto ok = validateSettings(settings); !ok)
+        return ok.error();
+    const GiSettings& old = m->settings;
+    bool techniqueChanged = settings.technique != old.technique;
+    switch (settings.technique) {
+    case Technique::Lpv: techniqueChanged = techniqueChanged || !(settings.lpv == old.lpv); break;
+    case Technique::Vct: techniqueChanged = techniqueChanged || !(settings.vct == old.vct); break;
+    case Technique::Vpl: techniqueChanged = techniqueChanged || !(settings.vpl == old.vpl); break;
+    case Technique::None: break;
+    }
+    if (techniqueChanged) {
+        auto technique = createTechnique(*m->ctx, settings);
+        if (!technique)
+            return technique.error();
+        // Frames in flight may still read the old module's volumes.
+        VKGI_CHECK(vkDeviceWaitIdle(m->ctx->device()));
+        m->technique = std::move(*technique);
+        m->techniqueChanges = SceneChanges{};
+        m->lastTechniqueCamera.reset();
+        if (m->technique && m->gpu)
+            if (auto ok = m->technique->sceneChanged(*m->ctx, m->scene, *m->gpu, true); !ok)
+                return ok;
+    }
+    // The shadow/RSM atlas follows shadowMapSize, maxShadowLayers and the RSM need by itself
+    // (addShadowPasses re-creates it and re-renders every light); PCF and biases are read by
+    // the next deferred pass. A technique that lit its volumes through the old shadow maps or
+    // filter relights them (as for moved lights), without re-voxelizing.
+    bool shadowsChanged = settings.shadowMapSize != old.shadowMapSize ||
+                          settings.maxShadowLayers != old.maxShadowLayers || settings.pcfRadius != old.pcfRadius ||
+                          settings.shadowNormalOffset != old.shadowNormalOffset ||
+                          settings.shadowConstantBias != old.shadowConstantBias;
+    if (shadowsChanged && !techniqueChanged) {
+        SceneChanges lights{false};
+        for (uint32_t i = 0; i < uint32_t(m->scene.lights.size()); ++i)
+            lights.lights.push_back(i);
+        m->techniqueChanges.merge(lights);
+        if (m->technique && m->gpu)
+            if (auto ok = m->technique->sceneChanged(*m->ctx, m->scene, *m->gpu, false); !ok)
+                return ok;
+    }
+    m->settings = settings;
+    return {};
 }
 
 uint64_t GiSystem::persistentBytes() const {

@@ -301,3 +301,69 @@ TEST_F(HostGBufferTest, BadInputNamesTheField) {
     bad.indirectFinalAccess = rg::Access::TransferWrite;
     expectError(*vpl, bad, "HostFrame.indirectFinalAccess");
 }
+
+// GiSystem::record into the host's own command buffers, two frames in flight (both recorded and
+// submitted before either is waited for), each into its own output image: both receive exactly
+// the internal path's indirect light. The host submits; vkgi neither submits nor waits.
+TEST_F(HostGBufferTest, RecordIntoHostCommandBuffersTwoFramesInFlight) {
+    HdrImage internal = internalIndirect(Technique::Vpl);
+    ASSERT_GT(meanRgb(internal), 0.01);
+    auto sys = system(Technique::Vpl);
+    ASSERT_TRUE(sys);
+    ImageDesc d;
+    d.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+    d.width = kSize;
+    d.height = kSize;
+    d.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
+    Image second = createImage(ctx(), d, "host.indirect.second");
+
+    VkDevice device = ctx().device();
+    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    poolInfo.queueFamilyIndex = ctx().queueFamily();
+    VkCommandPool pool = VK_NULL_HANDLE;
+    ASSERT_EQ(vkCreateCommandPool(device, &poolInfo, nullptr, &pool), VK_SUCCESS);
+    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    alloc.commandPool = pool;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 2;
+    VkCommandBuffer cmds[2] = {};
+    ASSERT_EQ(vkAllocateCommandBuffers(device, &alloc, cmds), VK_SUCCESS);
+
+    const Image* outputs[2] = {&output32, &second};
+    for (uint32_t i = 0; i < 2; ++i) {
+        VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        ASSERT_EQ(vkBeginCommandBuffer(cmds[i], &begin), VK_SUCCESS);
+        HostFrame frame;
+        frame.gbuffer = gbuffer(true);
+        frame.indirect = hostImage(*outputs[i], rg::Access::None);
+        frame.indirectFinalAccess = rg::Access::FragmentSampledRead;
+        auto ok = sys->record(cmds[i], camera, frame);
+        ASSERT_TRUE(ok) << ok.error().message;
+        ASSERT_EQ(vkEndCommandBuffer(cmds[i]), VK_SUCCESS);
+        VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        submit.commandBufferCount = 1;
+        submit.pCommandBuffers = &cmds[i];
+        ASSERT_EQ(vkQueueSubmit(ctx().queue(), 1, &submit, VK_NULL_HANDLE), VK_SUCCESS);
+    }
+    ASSERT_EQ(vkQueueWaitIdle(ctx().queue()), VK_SUCCESS);
+    EXPECT_EQ(maxDifference(readHostImage(output32), internal), 0.0);
+    EXPECT_EQ(maxDifference(readHostImage(second), internal), 0.0);
+
+    // What record cannot do names the field.
+    HostFrame frame;
+    frame.gbuffer = gbuffer(true);
+    frame.readback = true;
+    frame.indirect = hostImage(output32, rg::Access::FragmentSampledRead);
+    auto readback = sys->record(cmds[0], camera, frame);
+    ASSERT_FALSE(readback);
+    EXPECT_NE(readback.error().message.find("readback"), std::string::npos) << readback.error().message;
+    frame.readback = false;
+    frame.indirect = {};
+    auto noOutput = sys->record(cmds[0], camera, frame);
+    ASSERT_FALSE(noOutput);
+    EXPECT_NE(noOutput.error().message.find("HostFrame.indirect"), std::string::npos) << noOutput.error().message;
+
+    vkDestroyCommandPool(device, pool, nullptr);
+    destroyImage(ctx(), second);
+}

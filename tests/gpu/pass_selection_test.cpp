@@ -407,3 +407,66 @@ TEST_F(PassSelectionTest, VplStaticFrameReusesTheShadowMapAndRsm) {
     EXPECT_TRUE(ran(second, "vpl.gather"));
     EXPECT_TRUE(sameImage(first.composite, second.composite));
 }
+
+// GiSystem::setSettings rebuilds only what a setting feeds, and every frame after a change equals
+// a fresh system's first frame with the new settings.
+TEST_F(PassSelectionTest, SettingsChangesRebuildOnlyWhatDependsOnThem) {
+    auto scene = makeBuiltinScene("cornell");
+    ASSERT_TRUE(scene);
+    GiSettings settings = smallSettings(Technique::Vct);
+    auto sys = system(settings, *scene);
+    ASSERT_TRUE(sys);
+    frame(*sys, *scene);
+    auto expectFresh = [&](const FrameResult& f, const GiSettings& s, const char* what) {
+        auto fresh = system(s, *scene);
+        ASSERT_TRUE(fresh);
+        EXPECT_TRUE(sameImage(f.composite, frame(*fresh, *scene).composite)) << what;
+    };
+
+    // The PCF radius: no shadow map or voxel work; the voxel light follows the new filter.
+    settings.pcfRadius = 2;
+    ASSERT_TRUE(sys->setSettings(settings));
+    FrameResult pcf = frame(*sys, *scene);
+    EXPECT_FALSE(ran(pcf, "gi.light[")) << viewIndependent(pcf);
+    EXPECT_FALSE(ran(pcf, "gi.voxel.")) << viewIndependent(pcf);
+    EXPECT_TRUE(ran(pcf, "gi.vct.light"));
+    expectFresh(pcf, settings, "pcf radius");
+
+    // A larger shadow map: the atlas is re-rendered and the voxels relit, not re-voxelized.
+    settings.shadowMapSize = 128;
+    ASSERT_TRUE(sys->setSettings(settings));
+    FrameResult atlas = frame(*sys, *scene);
+    EXPECT_TRUE(ran(atlas, "gi.light[0].spot"));
+    EXPECT_FALSE(ran(atlas, "gi.voxel.")) << viewIndependent(atlas);
+    expectFresh(atlas, settings, "shadow map size");
+
+    // A VCT knob rebuilds the technique (new volumes: voxelized again), nothing else.
+    settings.vct.diffuseAperture = 0.4f;
+    ASSERT_TRUE(sys->setSettings(settings));
+    FrameResult cones = frame(*sys, *scene);
+    EXPECT_TRUE(ran(cones, "gi.voxel.voxelize"));
+    EXPECT_FALSE(ran(cones, "gi.light[")) << viewIndependent(cones);
+    expectFresh(cones, settings, "vct aperture");
+
+    // Another technique's knob changes nothing of this one.
+    settings.lpv.iterations = 5;
+    ASSERT_TRUE(sys->setSettings(settings));
+    EXPECT_EQ(viewIndependent(frame(*sys, *scene)), "");
+
+    // Another technique.
+    settings.technique = Technique::Lpv;
+    ASSERT_TRUE(sys->setSettings(settings));
+    FrameResult lpv = frame(*sys, *scene);
+    EXPECT_TRUE(ran(lpv, "gi.lpv.propagate"));
+    expectFresh(lpv, settings, "switch to lpv");
+
+    // Wrong settings change nothing.
+    GiSettings bad = settings;
+    bad.vct.gridResolution = 100;
+    bad.technique = Technique::Vct;
+    auto rejected = sys->setSettings(bad);
+    ASSERT_FALSE(rejected);
+    EXPECT_NE(rejected.error().message.find("gridResolution"), std::string::npos) << rejected.error().message;
+    EXPECT_EQ(sys->settings().technique, Technique::Lpv);
+    EXPECT_EQ(viewIndependent(frame(*sys, *scene)), "");
+}

@@ -2,7 +2,9 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "mesh_builder.hpp"
 #include "vkgi/camera.hpp"
+#include "vkgi/scene.hpp"
 
 using namespace vkgi;
 
@@ -42,4 +44,49 @@ TEST(Camera, FramingCameraSeesTheWholeBox) {
         EXPECT_GT(ndc.z, 0.0f) << i;
         EXPECT_LT(ndc.z, 1.0f) << i;
     }
+}
+
+namespace {
+
+Scene oneMeshScene(MeshBuilder& b) {
+    Scene s;
+    s.materials.push_back({});
+    s.meshes.push_back(b.take("m", 0));
+    s.instances.push_back({});
+    return s;
+}
+
+} // namespace
+
+// A hall (walls facing in, 20 x 6 x 8 m, a door in one wall) gets a camera inside, looking down
+// its long axis; a closed object (walls facing out) and an open box keep the outside view.
+TEST(Camera, DefaultCameraStandsInsideInteriors) {
+    MeshBuilder hall;
+    hall.addBox({-10.0f, 0.0f, -4.0f}, {10.0f, 6.0f, 4.0f}, Facing::Inward, 4);
+    Scene interior = oneMeshScene(hall);
+    std::optional<Camera> inside = interiorCamera(interior);
+    ASSERT_TRUE(inside);
+    Aabb b = interior.bounds();
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_GT(inside->position[k], b.min[k]);
+        EXPECT_LT(inside->position[k], b.max[k]);
+    }
+    EXPECT_NEAR(inside->forward.x, 1.0f, 1e-6f); // the long axis
+    EXPECT_LT(inside->position.x, -5.0f);        // backed off towards one end
+    Camera viaDefault = interior.cameraOrDefault();
+    EXPECT_EQ(viaDefault.position, inside->position);
+
+    // The same box facing out is an object: seen from outside, as before.
+    MeshBuilder object;
+    object.addBox({-10.0f, 0.0f, -4.0f}, {10.0f, 6.0f, 4.0f}, Facing::Outward, 4);
+    Scene closedObject = oneMeshScene(object);
+    EXPECT_FALSE(interiorCamera(closedObject));
+    EXPECT_LT(closedObject.cameraOrDefault().position.z, -4.0f);
+
+    // A box open on two sides (a stage): too many rays escape.
+    MeshBuilder stage;
+    stage.addQuad({-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1});    // floor, facing up
+    stage.addQuad({-1, 2, 1}, {1, 2, 1}, {1, 2, -1}, {-1, 2, -1});    // ceiling, facing down
+    stage.addQuad({-1, 0, 1}, {1, 0, 1}, {1, 2, 1}, {-1, 2, 1});      // back wall, facing -z
+    EXPECT_FALSE(interiorCamera(oneMeshScene(stage)));
 }

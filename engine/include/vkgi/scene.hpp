@@ -25,6 +25,7 @@ struct Aabb {
     }
     glm::vec3 centre() const { return 0.5f * (min + max); }
     glm::vec3 extent() const { return max - min; }
+    bool operator==(const Aabb&) const = default;
 };
 
 // An RGBA8 texture (sRGB-encoded when `srgb`), row 0 at the top as stored in the file.
@@ -92,9 +93,14 @@ struct Scene {
     Aabb bounds() const;
     uint64_t triangleCount() const;
     bool hasEmission() const;
-    // The scene camera, or a default that frames the bounds.
+    // The scene camera, or a default: inside an interior (interiorCamera), else framing the bounds.
     Camera cameraOrDefault() const;
 };
+
+// For a scene whose surfaces enclose the centre of its bounds (nearly every ray from there meets
+// the front side of a wall): a camera inside, towards one end of the longest horizontal axis and
+// looking along it. Nothing for open scenes and closed objects. Costs rays x triangles on the CPU.
+std::optional<Camera> interiorCamera(const Scene& scene);
 
 // Largest |translation| of an instance, in metres: beyond it float positions are coarser than
 // a millimetre and squared distances approach float overflow in the techniques.

@@ -195,6 +195,12 @@ public:
 
     Context& context();
     const GiSettings& settings() const;
+    // Changes the settings at run time (validated first; on an error nothing changes). Rebuilds
+    // only what depends on what changed: the technique module (pipelines, volumes) when the
+    // technique or its own settings struct changed (waits for the device); the shadow/RSM atlas
+    // at the next frame when its size, layer count or RSM need changed. PCF radius and shadow
+    // biases apply to the next frame without any rebuild.
+    Result<void> setSettings(const GiSettings& settings);
 
     // Uploads a scene (validated first; the error names the problem). Replaces any previous one.
     Result<void> setScene(const Scene& scene);
@@ -235,6 +241,16 @@ public:
     // are left in the graph's last access unless the host exports their handles (GBufferData).
     Result<GiOutputs> addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
                                 const HostGBuffer& gbuffer);
+
+    // Host command-buffer path (how FidelityFX-style modules integrate): records the indirect
+    // light of the host's G-buffer into `cmd`, a primary command buffer the host has begun and
+    // submits itself to the Context's queue (or a queue of the same family). The recording has
+    // the barriers from the host images' stated accesses, the passes, the copy into
+    // `frame.indirect` (required) and the barriers into the final accesses; no submission and no
+    // wait. `frame.readback` must be false (renderIndirect reads back). The host images must stay
+    // valid until the command buffer completed, and at most two of this system's frames may be in
+    // flight: the system keeps what the last two recordings refer to. No per-pass timings.
+    Result<void> record(VkCommandBuffer cmd, const Camera& camera, const HostFrame& frame);
 
     // Scene + atlases + technique state currently allocated, in bytes.
     uint64_t persistentBytes() const;

@@ -22,6 +22,8 @@ struct LpvSettings {
                               // factor per axis, one flux-weighted surfel per block, energy conserved. 4 by
                               // default: factor^2 fewer texels to read, and against converged references
                               // it is as accurate as 1 or better (docs/lpv.md "Reduced RSM")
+
+    bool operator==(const LpvSettings&) const = default;
 };
 
 // Checks ranges; the error names the field and the accepted range.

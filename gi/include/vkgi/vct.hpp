@@ -46,6 +46,8 @@ struct VctSettings {
     // the room's 2-voxel window wall: mean indirect 1.73x the path tracer's (march 1.08x), 16^3
     // Cornell boxes 1.27x (docs/vct.md).
     VctOcclusion occlusion = VctOcclusion::RayMarchHard;
+
+    bool operator==(const VctSettings&) const = default;
 };
 
 // Readable error for settings the passes cannot run with (grid not a power of two, no cones,

@@ -58,6 +58,8 @@ struct VplSettings {
     // in the paper.
     bool visibility = false;
     uint32_t visibilityGrid = 64; // voxels per axis, a power of two 16..256
+
+    bool operator==(const VplSettings&) const = default;
 };
 
 // Checks every knob; the error names the knob, its value and the allowed range.
