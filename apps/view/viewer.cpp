@@ -102,7 +102,7 @@ Result<void> Viewer::init(Scene scene, const gi::GiSettings& settings) {
         if (m_ctx.timestampsSupported())
             slot.timestamps = std::make_unique<TimestampPool>(m_ctx, 512);
     }
-    return rebuildGi(settings);
+    return createGi(settings);
 }
 
 Viewer::~Viewer() {
@@ -162,7 +162,7 @@ Result<void> Viewer::finishAll() {
     return {};
 }
 
-Result<void> Viewer::rebuildGi(const gi::GiSettings& settings) {
+Result<void> Viewer::createGi(const gi::GiSettings& settings) {
     if (auto ok = finishAll(); !ok)
         return ok;
     m_gi.reset();
@@ -446,12 +446,15 @@ Result<bool> Viewer::applyEdits(const std::vector<int>& keys, bool scriptedFrame
             m_camera->toggleMode();
     }
     if (newSettings) {
-        gi::GiSettings previous = m_gi->settings();
-        if (auto ok = rebuildGi(*newSettings); !ok) {
-            m_status = ok.error().message; // the panel shows it; go back to the previous settings
+        // The system rebuilds only what the changed knobs feed; wrong settings change nothing.
+        if (auto ok = finishAll(); !ok)
+            return ok.error();
+        if (auto ok = m_gi->setSettings(*newSettings); !ok) {
+            m_status = ok.error().message; // the panel shows it; the previous settings stay
             std::fprintf(stderr, "vkgi-view: %s\n", ok.error().message.c_str());
-            if (auto back = rebuildGi(previous); !back)
-                return back.error();
+        } else {
+            std::printf("vkgi-view: technique %s (%s)\n", gi::toString(newSettings->technique),
+                        gi::describeKnobs(*newSettings).c_str());
         }
     }
     if (sceneEdited || m_animate)

@@ -5,7 +5,7 @@
 // pool (entries idle for 8 executions survive) are sized for; GPU-side hazards between
 // frames are covered by the graph's barriers, derived from the states it carries over (on
 // the one queue). GiSystem frees persistent images only on a settings or scene change: the
-// viewer waits for both slots before those (rebuildGi, updateScene), and the shadow atlas
+// viewer waits for both slots before those (setSettings, updateScene), and the shadow atlas
 // waits for the device itself when its layout changes.
 #include <chrono>
 #include <filesystem>
@@ -59,7 +59,7 @@ private:
     // Waits for a slot's submit and takes its results (timings, screenshot files).
     Result<void> finish(FrameSlot& slot);
     Result<void> finishAll();
-    Result<void> rebuildGi(const gi::GiSettings& settings);
+    Result<void> createGi(const gi::GiSettings& settings);
     Result<void> recreateSwapchain();
     void handleKeys(const std::vector<int>& keys, bool& screenshot, std::optional<gi::GiSettings>& settings);
     // Keys, the scripted technique switch and the panel: rebuilds the GiSystem or updates the
