@@ -31,7 +31,17 @@ if [[ -n "$(find "$prefix" -name '*.spv')" || -e "$prefix/share/vkgi" ]]; then
     echo "package-test: the package installs SPIR-V files; the shaders belong inside the library" >&2
     exit 1
 fi
-echo "package-test: installed size $(du -sh "$prefix" | cut -f1) ($(find "$prefix/include" -name '*.hpp' | wc -l) headers)"
+# The library embeds the GI shaders and nothing else (test, viewer and bench shaders stay in those
+# programs): every embedded array is named vkgi_spirv_gi_<path under shaders/>.
+embedded="$(nm --defined-only "$prefix/lib/libvkgi_gi.a" | grep -Eo 'vkgi_spirv_gi_[A-Za-z0-9_]+_(comp|vert|frag|geom)$' | sort -u)"
+if [[ -z "$embedded" ]] || grep -Ev '^vkgi_spirv_gi_gi_' <<<"$embedded" | grep -q . ||
+    grep -q gather_baseline <<<"$embedded"; then
+    echo "package-test: libvkgi_gi.a embeds shaders other than the GI library's own:" >&2
+    echo "$embedded" >&2
+    exit 1
+fi
+echo "package-test: installed size $(du -sh "$prefix" | cut -f1) ($(find "$prefix/include" -name '*.hpp' | wc -l) headers," \
+    "$(wc -l <<<"$embedded") shaders embedded in libvkgi_gi.a)"
 
 scene=cornell technique=vpl size=64x64
 "$build/apps/vkgi-render" --scene $scene --technique $technique --size $size --out "$work/reference.exr" >/dev/null
