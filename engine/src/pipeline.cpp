@@ -1,12 +1,6 @@
 #include "vkgi/pipeline.hpp"
 
 #include <algorithm>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <mutex>
-
-#include <dlfcn.h>
 
 #include "vkgi/context.hpp"
 #include "engine/frame_constants.h"
@@ -14,80 +8,35 @@
 
 namespace vkgi {
 
-namespace detail {
-// Defined by exactly one of two tiny libraries (engine/spirv_location): the build tree's
-// returns its spirv folder, the installed one returns null (no build path in a package).
-const char* buildTreeSpirvDir();
-} // namespace detail
-
 namespace {
-
-std::mutex g_spirvMutex;
-std::string g_spirvDir; // setSpirvDir
-
-// <dir of the binary holding this code>/../share/vkgi/spirv: the executable (static vkgi) or
-// the host's shared library vkgi is linked into, when it is installed in vkgi's prefix.
-std::vector<std::filesystem::path> packageCandidates() {
-    namespace fs = std::filesystem;
-    std::vector<fs::path> out;
-    auto add = [&](const fs::path& binary) {
-        std::error_code ec;
-        fs::path real = fs::canonical(binary, ec);
-        if (ec)
-            return;
-        fs::path dir = real.parent_path().parent_path() / "share" / "vkgi" / "spirv";
-        if (std::find(out.begin(), out.end(), dir) == out.end())
-            out.push_back(dir);
-    };
-    Dl_info info{};
-    if (dladdr(reinterpret_cast<void*>(&spirvDir), &info) && info.dli_fname && info.dli_fname[0] == '/')
-        add(info.dli_fname);
-    add("/proc/self/exe");
-    return out;
-}
-
+// Head of the registered tables. Constant-initialised, so tables registering from other
+// translation units' static initialisers never see it unset, whatever the order.
+constinit SpirvTable* g_spirvTables = nullptr;
 } // namespace
 
-void setSpirvDir(std::string dir) {
-    std::lock_guard lock(g_spirvMutex);
-    g_spirvDir = std::move(dir);
+SpirvTable::SpirvTable(std::span<const EmbeddedSpirv> shaders) : m_shaders(shaders), m_next(g_spirvTables) {
+    g_spirvTables = this;
 }
 
-std::string spirvDir() {
-    {
-        std::lock_guard lock(g_spirvMutex);
-        if (!g_spirvDir.empty())
-            return g_spirvDir;
-    }
-    if (const char* env = std::getenv("VKGI_SPIRV_DIR"); env && env[0])
-        return env;
-    std::vector<std::filesystem::path> candidates = packageCandidates();
-    for (const auto& dir : candidates) {
-        std::error_code ec;
-        if (std::filesystem::is_directory(dir, ec))
-            return dir.string();
-    }
-    if (const char* built = detail::buildTreeSpirvDir())
-        return built;
-    return candidates.empty() ? std::string("share/vkgi/spirv") : candidates.front().string();
+SpirvTable::~SpirvTable() {
+    for (SpirvTable** link = &g_spirvTables; *link; link = &(*link)->m_next)
+        if (*link == this) {
+            *link = m_next;
+            break;
+        }
 }
 
 Result<std::vector<uint32_t>> loadSpirv(const std::string& name) {
-    std::string path = spirvDir() + "/" + name + ".spv";
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in)
-        return makeError(path + ": cannot open SPIR-V (was the shader built? an installed vkgi looks in "
-                         "<prefix>/share/vkgi/spirv next to the binary; otherwise set VKGI_SPIRV_DIR or call "
-                         "vkgi::setSpirvDir)");
-    std::streamsize size = in.tellg();
-    if (size <= 20 || size % 4 != 0)
-        return makeError(path + ": not a SPIR-V file (size " + std::to_string(size) + ")");
-    std::vector<uint32_t> code(size_t(size) / 4);
-    in.seekg(0);
-    in.read(reinterpret_cast<char*>(code.data()), size);
-    if (code[0] != 0x07230203u)
-        return makeError(path + ": bad SPIR-V magic number");
-    return code;
+    for (const SpirvTable* table = g_spirvTables; table; table = table->m_next)
+        for (const EmbeddedSpirv& shader : table->m_shaders) {
+            if (name != shader.name)
+                continue;
+            if (shader.words <= 5 || shader.code[0] != 0x07230203u)
+                return makeError(name + ": embedded SPIR-V is corrupt (" + std::to_string(shader.words) + " words)");
+            return std::vector<uint32_t>(shader.code, shader.code + shader.words);
+        }
+    return makeError(name + ": no such shader embedded in this program (shaders are compiled into the library or "
+                            "program that uses them: vkgi_embed_spirv in cmake/CompileShaders.cmake)");
 }
 
 const ReflectedBinding* Pipeline::findBinding(uint32_t set, uint32_t binding) const {

@@ -1,7 +1,8 @@
 #pragma once
-// Compute and graphics pipelines from build-time SPIR-V. Descriptor layouts are reflected
+// Compute and graphics pipelines from SPIR-V embedded at build time. Descriptor layouts are reflected
 // from the SPIR-V itself, so a binding is declared once (in GLSL): set 0 holds per-frame
 // globals, set 1 per-dispatch resources written with push descriptors.
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -15,16 +16,31 @@ namespace vkgi {
 
 class Context;
 
-// Loads <spirvDir()>/<name>.spv, e.g. "engine/fill.comp"; checks the SPIR-V magic and size.
+// SPIR-V compiled into the program at build time (cmake/CompileShaders.cmake vkgi_embed_spirv):
+// each library or program that uses shaders carries its own, so a host reads no file at run time.
+struct EmbeddedSpirv {
+    const char* name; // path under shaders/, e.g. "gi/lpv/inject.comp"
+    const uint32_t* code;
+    size_t words;
+};
+// A table of embedded shaders, registered for lookup by name while it lives. The generated code
+// defines one static table per library or program; later tables are searched first.
+class SpirvTable {
+public:
+    explicit SpirvTable(std::span<const EmbeddedSpirv> shaders);
+    ~SpirvTable();
+    SpirvTable(const SpirvTable&) = delete;
+    SpirvTable& operator=(const SpirvTable&) = delete;
+
+private:
+    friend Result<std::vector<uint32_t>> loadSpirv(const std::string& name);
+    std::span<const EmbeddedSpirv> m_shaders;
+    SpirvTable* m_next = nullptr;
+};
+
+// The embedded SPIR-V named `name`, e.g. "engine/test/fill.comp"; checks the magic and size.
+// A name no linked table holds is an error naming it.
 Result<std::vector<uint32_t>> loadSpirv(const std::string& name);
-// The folder SPIR-V is loaded from, first match of: setSpirvDir(); the VKGI_SPIRV_DIR environment
-// variable; <dir>/../share/vkgi/spirv where <dir> holds the binary vkgi's code is linked into
-// (an application or shared library installed in vkgi's prefix); the build tree's spirv folder
-// (build tree only: an installed package has no build path in it). docs/embedding.md.
-std::string spirvDir();
-// Overrides the folder for every later pipeline creation (empty: back to the search above).
-// Thread-safe; pipelines already created keep their code.
-void setSpirvDir(std::string dir);
 
 struct ReflectedBinding {
     uint32_t set = 0;
