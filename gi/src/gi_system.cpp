@@ -9,6 +9,7 @@
 #include "vkgi/frame_constants.hpp"
 #include "vkgi/rg/transient_pool.hpp"
 #include "vk_check.hpp"
+#include "vk_dispatch.hpp"
 #include "vkgi/gi.hpp"
 #include "pass_selection.hpp"
 #include "technique.hpp"
@@ -83,18 +84,46 @@ struct GiSystem::Impl {
     void addCompositeAndOutputs(rg::RenderGraph& graph, rg::Blackboard& bb, const FrameRequest& request,
                                 GiOutputs& out);
     FrameData frameData(const Camera& camera, uint32_t width, uint32_t height);
+    // The public entry points' bodies (GiSystem runs each inside guarded()).
+    Result<void> setScene(const Scene& newScene);
+    Result<void> updateScene(const Scene& newScene);
+    Result<FrameResult> renderFrame(const Camera& camera, uint32_t width, uint32_t height, const FrameRequest& request);
+    Result<GiOutputs> addHostPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
+                                    const HostGBuffer& gbuffer);
+    Result<FrameResult> renderIndirect(const Camera& camera, const HostFrame& host);
+    PersistentMemory persistentMemory() const;
     const Buffer& readbackBuffer(uint32_t slot, uint32_t width, uint32_t height);
     void submitAndWait(rg::RenderGraph& graph, rg::TimestampScopes scopes = rg::TimestampScopes::PerPass);
     void invalidate() {
         shadowChanges = SceneChanges{};
         techniqueChanges = SceneChanges{};
     }
+    // After a failed Vulkan call: waits until nothing of the frame can still run, drops its
+    // half-recorded command buffer, and makes the next frame recompute every persistent result
+    // (the failed frame may have marked work clean that never ran). Results are ignored: the
+    // call that failed already reported the error, and a lost device fails these too.
+    void recover() noexcept {
+        (void)vkDeviceWaitIdle(ctx->device());
+        if (cmd)
+            (void)vkResetCommandBuffer(cmd, 0);
+        invalidate();
+    }
+    // Runs an entry point's body; a failed Vulkan call inside (VulkanError) becomes its error.
+    template <typename Body> auto guarded(Body&& body) -> decltype(body()) {
+        try {
+            return body();
+        } catch (const VulkanError& e) {
+            recover();
+            return makeError(e.what());
+        }
+    }
 };
 
 GiSystem::Impl::~Impl() {
     if (!ctx)
         return;
-    VKGI_CHECK(vkDeviceWaitIdle(ctx->device()));
+    // Never throws: after a device loss this fails too, and everything is destroyed regardless.
+    (void)vkDeviceWaitIdle(ctx->device());
     technique.reset();
     for (Buffer& b : readback)
         if (b)
@@ -270,11 +299,13 @@ void GiSystem::Impl::submitAndWait(rg::RenderGraph& graph, rg::TimestampScopes s
     VKGI_CHECK(vkBeginCommandBuffer(cmd, &begin));
     graph.execute(cmd, *ctx, *pool, ctx->timestampsSupported() ? timestamps.get() : nullptr, scopes);
     VKGI_CHECK(vkEndCommandBuffer(cmd));
-    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &cmd;
+    VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+    cmdInfo.commandBuffer = cmd;
+    VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+    submit.commandBufferInfoCount = 1;
+    submit.pCommandBufferInfos = &cmdInfo;
     VKGI_CHECK(vkResetFences(ctx->device(), 1, &fence));
-    VKGI_CHECK(vkQueueSubmit(ctx->queue(), 1, &submit, fence));
+    VKGI_CHECK(vkQueueSubmit2(ctx->queue(), 1, &submit, fence));
     VKGI_CHECK(vkWaitForFences(ctx->device(), 1, &fence, VK_TRUE, UINT64_MAX));
 }
 
@@ -287,28 +318,32 @@ Result<std::unique_ptr<GiSystem>> GiSystem::create(Context& ctx, const GiSetting
     auto impl = std::make_unique<Impl>();
     impl->ctx = &ctx;
     impl->settings = settings;
-    auto pipelines = createDirectPipelines(ctx);
-    if (!pipelines)
-        return pipelines.error();
-    impl->pipelines = *pipelines;
-    auto technique = createTechnique(ctx, settings);
-    if (!technique)
-        return technique.error();
-    impl->technique = std::move(*technique);
-    impl->pool = std::make_unique<rg::TransientPool>(ctx);
-    impl->timestamps = std::make_unique<TimestampPool>(ctx, kMaxTimedPasses);
-    impl->frameRing = std::make_unique<FrameConstantsRing>(ctx, kFrameRing);
-    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    poolInfo.queueFamilyIndex = ctx.queueFamily();
-    VKGI_CHECK(vkCreateCommandPool(ctx.device(), &poolInfo, nullptr, &impl->commandPool));
-    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    alloc.commandPool = impl->commandPool;
-    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    alloc.commandBufferCount = 1;
-    VKGI_CHECK(vkAllocateCommandBuffers(ctx.device(), &alloc, &impl->cmd));
-    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    VKGI_CHECK(vkCreateFence(ctx.device(), &fenceInfo, nullptr, &impl->fence));
+    try {
+        auto pipelines = createDirectPipelines(ctx);
+        if (!pipelines)
+            return pipelines.error();
+        impl->pipelines = *pipelines;
+        auto technique = createTechnique(ctx, settings);
+        if (!technique)
+            return technique.error();
+        impl->technique = std::move(*technique);
+        impl->pool = std::make_unique<rg::TransientPool>(ctx);
+        impl->timestamps = std::make_unique<TimestampPool>(ctx, kMaxTimedPasses);
+        impl->frameRing = std::make_unique<FrameConstantsRing>(ctx, kFrameRing);
+        VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+        poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+        poolInfo.queueFamilyIndex = ctx.queueFamily();
+        VKGI_CHECK(vkCreateCommandPool(ctx.device(), &poolInfo, nullptr, &impl->commandPool));
+        VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+        alloc.commandPool = impl->commandPool;
+        alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+        alloc.commandBufferCount = 1;
+        VKGI_CHECK(vkAllocateCommandBuffers(ctx.device(), &alloc, &impl->cmd));
+        VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        VKGI_CHECK(vkCreateFence(ctx.device(), &fenceInfo, nullptr, &impl->fence));
+    } catch (const VulkanError& e) {
+        return makeError(e.what()); // ~Impl destroys what was created so far
+    }
     return std::unique_ptr<GiSystem>(new GiSystem(std::move(impl)));
 }
 
@@ -328,50 +363,73 @@ Result<std::unique_ptr<GiSystem>> GiSystem::createHeadless(const GiSettings& set
 Context& GiSystem::context() { return *m->ctx; }
 const GiSettings& GiSystem::settings() const { return m->settings; }
 
+void GiSystem::invalidate() { m->invalidate(); }
+
+// Every entry point runs inside Impl::guarded: a failed Vulkan call is returned as the error.
 Result<void> GiSystem::setScene(const Scene& scene) {
-    auto uploaded = uploadScene(*m->ctx, scene);
-    if (!uploaded)
-        return uploaded.error();
-    if (m->gpu) {
-        VKGI_CHECK(vkDeviceWaitIdle(m->ctx->device()));
-        destroyScene(*m->ctx, *m->gpu);
-    }
-    m->gpu = std::move(*uploaded);
-    m->scene = scene;
-    m->features = analyzeScene(scene);
-    m->invalidate();
-    if (m->technique)
-        return m->technique->sceneChanged(*m->ctx, m->scene, *m->gpu, true);
-    return {};
+    return m->guarded([&] { return m->setScene(scene); });
 }
 
 Result<void> GiSystem::updateScene(const Scene& scene) {
-    if (!m->gpu)
-        return makeError("GiSystem::updateScene: no scene (call setScene first)");
-    if (auto ok = updateSceneTransforms(*m->ctx, *m->gpu, scene); !ok)
-        return ok;
-    SceneChanges changes = diffScenes(m->scene, scene);
-    m->shadowChanges.merge(changes);
-    m->techniqueChanges.merge(changes);
-    m->scene.instances = scene.instances;
-    m->scene.lights = scene.lights;
-    if (m->technique)
-        return m->technique->sceneChanged(*m->ctx, m->scene, *m->gpu, false);
-    return {};
+    return m->guarded([&] { return m->updateScene(scene); });
 }
-
-void GiSystem::invalidate() { m->invalidate(); }
 
 Result<GiOutputs> GiSystem::addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
                                       uint32_t width, uint32_t height, const FrameRequest& request) {
-    return m->addPasses(graph, blackboard, camera, width, height, request);
+    return m->guarded([&] { return m->addPasses(graph, blackboard, camera, width, height, request); });
 }
 
 Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, uint32_t height,
                                           const FrameRequest& request) {
+    return m->guarded([&] { return m->renderFrame(camera, width, height, request); });
+}
+
+Result<GiOutputs> GiSystem::addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
+                                      const HostGBuffer& gbuffer) {
+    return m->guarded([&] { return m->addHostPasses(graph, blackboard, camera, gbuffer); });
+}
+
+Result<FrameResult> GiSystem::renderIndirect(const Camera& camera, const HostFrame& host) {
+    return m->guarded([&] { return m->renderIndirect(camera, host); });
+}
+
+Result<void> GiSystem::Impl::setScene(const Scene& newScene) {
+    auto uploaded = uploadScene(*ctx, newScene);
+    if (!uploaded)
+        return uploaded.error();
+    if (gpu) {
+        VKGI_CHECK(vkDeviceWaitIdle(ctx->device()));
+        destroyScene(*ctx, *gpu);
+    }
+    gpu = std::move(*uploaded);
+    scene = newScene;
+    features = analyzeScene(newScene);
+    invalidate();
+    if (technique)
+        return technique->sceneChanged(*ctx, scene, *gpu, true);
+    return {};
+}
+
+Result<void> GiSystem::Impl::updateScene(const Scene& newScene) {
+    if (!gpu)
+        return makeError("GiSystem::updateScene: no scene (call setScene first)");
+    if (auto ok = updateSceneTransforms(*ctx, *gpu, newScene); !ok)
+        return ok;
+    SceneChanges changes = diffScenes(scene, newScene);
+    shadowChanges.merge(changes);
+    techniqueChanges.merge(changes);
+    scene.instances = newScene.instances;
+    scene.lights = newScene.lights;
+    if (technique)
+        return technique->sceneChanged(*ctx, scene, *gpu, false);
+    return {};
+}
+
+Result<FrameResult> GiSystem::Impl::renderFrame(const Camera& camera, uint32_t width, uint32_t height,
+                                                const FrameRequest& request) {
     rg::RenderGraph graph;
     rg::Blackboard bb;
-    auto outputs = m->addPasses(graph, bb, camera, width, height, request);
+    auto outputs = addPasses(graph, bb, camera, width, height, request);
     if (!outputs)
         return outputs.error();
     rg::ImageHandle images[5] = {outputs->composite, outputs->direct, outputs->indirect, outputs->glossy, outputs->ao};
@@ -379,18 +437,18 @@ Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, 
                             "gi.readback.glossy", "gi.readback.ao"};
     for (uint32_t i = 0; i < 5; ++i)
         if (images[i].valid())
-            addReadbackPass(graph, names[i], images[i], m->readbackBuffer(i, width, height));
+            addReadbackPass(graph, names[i], images[i], readbackBuffer(i, width, height));
     if (auto ok = graph.compile(); !ok) {
-        m->invalidate(); // nothing ran: what this frame skipped as clean may be stale
+        invalidate(); // nothing ran: what this frame skipped as clean may be stale
         return makeError("frame graph: " + ok.error().message);
     }
-    m->submitAndWait(graph, request.passTimings ? rg::TimestampScopes::PerPass : rg::TimestampScopes::FrameOnly);
+    submitAndWait(graph, request.passTimings ? rg::TimestampScopes::PerPass : rg::TimestampScopes::FrameOnly);
 
     FrameResult r;
     HdrImage* targets[5] = {&r.composite, &r.direct, &r.indirect, &r.glossy, &r.ao};
     for (uint32_t i = 0; i < 5; ++i)
         if (images[i].valid())
-            *targets[i] = readbackToImage(m->readback[i], width, height, i == 4 ? ReadbackChannels::AlphaToRgb
+            *targets[i] = readbackToImage(readback[i], width, height, i == 4 ? ReadbackChannels::AlphaToRgb
                                                                                  : ReadbackChannels::Rgb);
     r.passes = graph.timings();
     r.totalMs = frameTotalMs(graph, r.passes);
@@ -417,16 +475,16 @@ Result<void> checkHostFrame(const TechniqueModule* technique, const HostGBuffer&
 
 } // namespace
 
-Result<GiOutputs> GiSystem::addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
-                                      const HostGBuffer& gbuffer) {
-    if (auto ok = checkHostFrame(m->technique.get(), gbuffer); !ok)
+Result<GiOutputs> GiSystem::Impl::addHostPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard,
+                                                 const Camera& camera, const HostGBuffer& gbuffer) {
+    if (auto ok = checkHostFrame(technique.get(), gbuffer); !ok)
         return ok.error();
-    return m->addPasses(graph, blackboard, camera, gbuffer.normal.width, gbuffer.normal.height,
+    return addPasses(graph, blackboard, camera, gbuffer.normal.width, gbuffer.normal.height,
                         FrameRequest{false, false, true}, &gbuffer);
 }
 
-Result<FrameResult> GiSystem::renderIndirect(const Camera& camera, const HostFrame& host) {
-    if (auto ok = checkHostFrame(m->technique.get(), host.gbuffer); !ok)
+Result<FrameResult> GiSystem::Impl::renderIndirect(const Camera& camera, const HostFrame& host) {
+    if (auto ok = checkHostFrame(technique.get(), host.gbuffer); !ok)
         return ok.error();
     if (!host.indirect.image && !host.readback)
         return makeError("GiSystem::renderIndirect: HostFrame has no indirect image and no readback: nothing to do");
@@ -440,21 +498,21 @@ Result<FrameResult> GiSystem::renderIndirect(const Camera& camera, const HostFra
     uint32_t width = host.gbuffer.normal.width, height = host.gbuffer.normal.height;
     rg::RenderGraph graph;
     rg::Blackboard bb;
-    auto outputs = m->addPasses(graph, bb, camera, width, height, FrameRequest{false, false, true}, &host.gbuffer);
+    auto outputs = addPasses(graph, bb, camera, width, height, FrameRequest{false, false, true}, &host.gbuffer);
     if (!outputs)
         return outputs.error();
     exportHostGBuffer(graph, bb.get<GBufferData>(), host.gbuffer, host.gbufferFinalAccess);
     if (host.indirect.image)
         addHostIndirectCopy(graph, outputs->indirect, host.indirect, host.indirectFinalAccess);
     if (host.readback)
-        addReadbackPass(graph, "gi.readback.indirect", outputs->indirect, m->readbackBuffer(2, width, height));
+        addReadbackPass(graph, "gi.readback.indirect", outputs->indirect, readbackBuffer(2, width, height));
     if (auto ok = graph.compile(); !ok)
         return makeError("frame graph: " + ok.error().message);
-    m->submitAndWait(graph);
+    submitAndWait(graph);
 
     FrameResult r;
     if (host.readback)
-        r.indirect = readbackToImage(m->readback[2], width, height);
+        r.indirect = readbackToImage(readback[2], width, height);
     r.passes = graph.timings();
     r.totalMs = frameTotalMs(graph, r.passes);
     r.culledPasses = graph.culledPassNames();
@@ -468,15 +526,17 @@ uint64_t GiSystem::persistentBytes() const {
     return persistentMemory().total();
 }
 
-PersistentMemory GiSystem::persistentMemory() const {
+PersistentMemory GiSystem::persistentMemory() const { return m->persistentMemory(); }
+
+PersistentMemory GiSystem::Impl::persistentMemory() const {
     PersistentMemory p;
-    p.shadows = m->shadows.bytes();
-    if (m->gpu)
-        p.scene = m->gpu->bytes();
-    for (const Buffer& b : m->readback)
+    p.shadows = shadows.bytes();
+    if (gpu)
+        p.scene = gpu->bytes();
+    for (const Buffer& b : readback)
         p.readback += b ? b.desc.size : 0;
-    if (m->technique)
-        p.technique = m->technique->persistentBytes();
+    if (technique)
+        p.technique = technique->persistentBytes();
     return p;
 }
 
