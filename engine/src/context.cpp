@@ -193,17 +193,22 @@ void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) 
     alloc.commandBufferCount = 1;
     VkCommandBuffer cmd;
     VKGI_CHECK(vkAllocateCommandBuffers(m_device, &alloc, &cmd));
-    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VKGI_CHECK(vkBeginCommandBuffer(cmd, &begin));
-    record(cmd);
-    VKGI_CHECK(vkEndCommandBuffer(cmd));
-    VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
-    cmdInfo.commandBuffer = cmd;
-    VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
-    submit.commandBufferInfoCount = 1;
-    submit.pCommandBufferInfos = &cmdInfo;
-    VKGI_CHECK(vkQueueSubmit2(m_queue, 1, &submit, m_fence));
+    try {
+        VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        VKGI_CHECK(vkBeginCommandBuffer(cmd, &begin));
+        record(cmd);
+        VKGI_CHECK(vkEndCommandBuffer(cmd));
+        VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+        cmdInfo.commandBuffer = cmd;
+        VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+        submit.commandBufferInfoCount = 1;
+        submit.pCommandBufferInfos = &cmdInfo;
+        VKGI_CHECK(vkQueueSubmit2(m_queue, 1, &submit, m_fence));
+    } catch (...) {
+        vkFreeCommandBuffers(m_device, m_commandPool, 1, &cmd); // never submitted
+        throw;
+    }
     VKGI_CHECK(vkWaitForFences(m_device, 1, &m_fence, VK_TRUE, UINT64_MAX));
     VKGI_CHECK(vkResetFences(m_device, 1, &m_fence));
     vkFreeCommandBuffers(m_device, m_commandPool, 1, &cmd);

@@ -72,6 +72,10 @@ struct GiSystem::Impl {
     ShadowLayout lastShadowLayout; // layout the persistent atlas was last rendered with
     std::optional<Camera> lastTechniqueCamera;
     uint32_t lastTechniqueWidth = 0, lastTechniqueHeight = 0;
+    // A frame failed: the technique's own record-time bookkeeping (what its volumes hold, which
+    // voxels the last voxelization touched) may describe work that never ran, so the next frame
+    // rebuilds the technique's state as for a new scene.
+    bool rebuildTechnique = false;
 
     ~Impl();
     // `host`: the host's G-buffer replaces the G-buffer pass, and no direct light is computed.
@@ -102,18 +106,24 @@ struct GiSystem::Impl {
     // half-recorded command buffer, and makes the next frame recompute every persistent result
     // (the failed frame may have marked work clean that never ran). Results are ignored: the
     // call that failed already reported the error, and a lost device fails these too.
-    void recover() noexcept {
-        (void)vkDeviceWaitIdle(ctx->device());
-        if (cmd)
-            (void)vkResetCommandBuffer(cmd, 0);
+    // `submits`: false for addPasses, which records and submits nothing of its own (and must not
+    // wait on the host's queue).
+    void recover(bool submits) noexcept {
+        if (submits) {
+            (void)vkDeviceWaitIdle(ctx->device());
+            if (cmd)
+                (void)vkResetCommandBuffer(cmd, 0);
+        }
         invalidate();
+        lastTechniqueCamera.reset();
+        rebuildTechnique = true;
     }
     // Runs an entry point's body; a failed Vulkan call inside (VulkanError) becomes its error.
-    template <typename Body> auto guarded(Body&& body) -> decltype(body()) {
+    template <typename Body> auto guarded(Body&& body, bool submits = true) -> decltype(body()) {
         try {
             return body();
         } catch (const VulkanError& e) {
-            recover();
+            recover(submits);
             return makeError(e.what());
         }
     }
@@ -173,6 +183,12 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
         return makeError("GiSystem: no scene (call setScene before rendering)");
     if (auto ok = checkCamera(camera, width, height); !ok)
         return ok.error();
+    if (rebuildTechnique && technique) {
+        VKGI_CHECK(vkDeviceWaitIdle(ctx->device())); // a host's frames may still read the old volumes
+        if (auto ok = technique->sceneChanged(*ctx, scene, *gpu, true); !ok)
+            return ok.error();
+    }
+    rebuildTechnique = false;
     FrameData frameValue = frameData(camera, width, height);
     graph.setFrameSet(frameValue.frameSet); // set 0 for technique shaders that read FrameConstants
     const FrameData& frame = bb.add(std::move(frameValue));
@@ -298,14 +314,19 @@ void GiSystem::Impl::submitAndWait(rg::RenderGraph& graph, rg::TimestampScopes s
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     VKGI_CHECK(vkBeginCommandBuffer(cmd, &begin));
     graph.execute(cmd, *ctx, *pool, ctx->timestampsSupported() ? timestamps.get() : nullptr, scopes);
-    VKGI_CHECK(vkEndCommandBuffer(cmd));
-    VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
-    cmdInfo.commandBuffer = cmd;
-    VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
-    submit.commandBufferInfoCount = 1;
-    submit.pCommandBufferInfos = &cmdInfo;
-    VKGI_CHECK(vkResetFences(ctx->device(), 1, &fence));
-    VKGI_CHECK(vkQueueSubmit2(ctx->queue(), 1, &submit, fence));
+    try {
+        VKGI_CHECK(vkEndCommandBuffer(cmd));
+        VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+        cmdInfo.commandBuffer = cmd;
+        VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+        submit.commandBufferInfoCount = 1;
+        submit.pCommandBufferInfos = &cmdInfo;
+        VKGI_CHECK(vkResetFences(ctx->device(), 1, &fence));
+        VKGI_CHECK(vkQueueSubmit2(ctx->queue(), 1, &submit, fence));
+    } catch (const VulkanError&) {
+        graph.discardFinalStates(); // recorded, never run: resources keep their previous states
+        throw;
+    }
     VKGI_CHECK(vkWaitForFences(ctx->device(), 1, &fence, VK_TRUE, UINT64_MAX));
 }
 
@@ -376,7 +397,7 @@ Result<void> GiSystem::updateScene(const Scene& scene) {
 
 Result<GiOutputs> GiSystem::addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
                                       uint32_t width, uint32_t height, const FrameRequest& request) {
-    return m->guarded([&] { return m->addPasses(graph, blackboard, camera, width, height, request); });
+    return m->guarded([&] { return m->addPasses(graph, blackboard, camera, width, height, request); }, false);
 }
 
 Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, uint32_t height,
@@ -386,7 +407,7 @@ Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, 
 
 Result<GiOutputs> GiSystem::addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
                                       const HostGBuffer& gbuffer) {
-    return m->guarded([&] { return m->addHostPasses(graph, blackboard, camera, gbuffer); });
+    return m->guarded([&] { return m->addHostPasses(graph, blackboard, camera, gbuffer); }, false);
 }
 
 Result<FrameResult> GiSystem::renderIndirect(const Camera& camera, const HostFrame& host) {
