@@ -281,115 +281,119 @@ Result<VkPhysicalDevice> choosePhysicalDevice(VkInstance instance, const std::st
 } // namespace
 
 Result<std::unique_ptr<Context>> DeviceBuilder::build() {
+    try {
+        return buildContext();
+    } catch (const VulkanError& e) {
+        return makeError(e.what()); // ~Context has destroyed what was created
+    }
+}
+
+Result<std::unique_ptr<Context>> DeviceBuilder::buildContext() {
     PFN_vkGetInstanceProcAddr gipa = nullptr;
     if (auto ok = loaderGetInstanceProcAddr(gipa); !ok)
         return ok.error();
     if (auto ok = loadGlobalFunctions(gipa); !ok)
         return ok.error();
     std::unique_ptr<Context> ctx(new Context());
-    try {
-        bool validation = m_validation && hasLayer("VK_LAYER_KHRONOS_validation");
-        if (m_validation && !validation)
-            return makeError("validation requested but VK_LAYER_KHRONOS_validation is not installed "
-                             "(Debian package vulkan-validationlayers)");
-        std::vector<const char*> exts = m_instanceExtensions;
-        bool debugUtils = hasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    bool validation = m_validation && hasLayer("VK_LAYER_KHRONOS_validation");
+    if (m_validation && !validation)
+        return makeError("validation requested but VK_LAYER_KHRONOS_validation is not installed "
+                         "(Debian package vulkan-validationlayers)");
+    std::vector<const char*> exts = m_instanceExtensions;
+    bool debugUtils = hasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    if (debugUtils)
+        exts.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.pApplicationName = m_appName.c_str();
+    app.pEngineName = "vkgi";
+    app.apiVersion = VK_API_VERSION_1_3;
+    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    ici.pApplicationInfo = &app;
+    const char* layer = "VK_LAYER_KHRONOS_validation";
+    VkValidationFeatureEnableEXT syncFeature = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+    VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+    VkDebugUtilsMessengerCreateInfoEXT messenger = messengerInfo(&ctx->m_validation);
+    if (validation) {
+        ici.enabledLayerCount = 1;
+        ici.ppEnabledLayerNames = &layer;
+        if (m_syncValidation) {
+            features.enabledValidationFeatureCount = 1;
+            features.pEnabledValidationFeatures = &syncFeature;
+            messenger.pNext = &features;
+        }
         if (debugUtils)
-            exts.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
-
-        VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-        app.pApplicationName = m_appName.c_str();
-        app.pEngineName = "vkgi";
-        app.apiVersion = VK_API_VERSION_1_3;
-        VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-        ici.pApplicationInfo = &app;
-        const char* layer = "VK_LAYER_KHRONOS_validation";
-        VkValidationFeatureEnableEXT syncFeature = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
-        VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
-        VkDebugUtilsMessengerCreateInfoEXT messenger = messengerInfo(&ctx->m_validation);
-        if (validation) {
-            ici.enabledLayerCount = 1;
-            ici.ppEnabledLayerNames = &layer;
-            if (m_syncValidation) {
-                features.enabledValidationFeatureCount = 1;
-                features.pEnabledValidationFeatures = &syncFeature;
-                messenger.pNext = &features;
-            }
-            if (debugUtils)
-                ici.pNext = &messenger; // also catches messages from instance creation itself
-        }
-        ici.enabledExtensionCount = uint32_t(exts.size());
-        ici.ppEnabledExtensionNames = exts.data();
-        VkResult r = vkCreateInstance(&ici, nullptr, &ctx->m_instance);
-        if (r != VK_SUCCESS)
-            return makeError(std::string("vkCreateInstance failed: ") + toString(r));
-        if (auto ok = loadInstanceFunctions(gipa, ctx->m_instance); !ok)
-            return ok.error();
-        if (validation && debugUtils) {
-            auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-                vkGetInstanceProcAddr(ctx->m_instance, "vkCreateDebugUtilsMessengerEXT"));
-            messenger.pNext = nullptr;
-            VKGI_CHECK(create(ctx->m_instance, &messenger, nullptr, &ctx->m_messenger));
-        }
-
-        auto pd = choosePhysicalDevice(ctx->m_instance, m_deviceName, m_deviceType);
-        if (!pd)
-            return pd.error();
-        ctx->m_physicalDevice = *pd;
-        ctx->m_queueFamily = uint32_t(findQueueFamily(*pd));
-
-        float priority = 1.0f;
-        VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-        qci.queueFamilyIndex = ctx->m_queueFamily;
-        qci.queueCount = 1;
-        qci.pQueuePriorities = &priority;
-
-        VkPhysicalDeviceFeatures2 supported{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-        vkGetPhysicalDeviceFeatures2(*pd, &supported);
-        VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
-        f11.multiview = VK_TRUE;
-        VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-        f12.pNext = &f11;
-        f12.hostQueryReset = VK_TRUE;
-        f12.scalarBlockLayout = VK_TRUE;
-        f12.shaderFloat16 = VK_FALSE;
-        VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-        f13.pNext = &f12;
-        f13.synchronization2 = VK_TRUE;
-        f13.dynamicRendering = VK_TRUE;
-        f13.maintenance4 = VK_TRUE;
-        VkPhysicalDeviceFeatures2 enabled{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-        enabled.pNext = &f13;
-        // Optional core features used when present (atomics/stores in fragment shaders,
-        // geometry shaders for layered rendering, 64-bit-free float atomics come via shader types).
-        enabled.features.fragmentStoresAndAtomics = supported.features.fragmentStoresAndAtomics;
-        enabled.features.vertexPipelineStoresAndAtomics = supported.features.vertexPipelineStoresAndAtomics;
-        enabled.features.geometryShader = supported.features.geometryShader;
-        enabled.features.shaderStorageImageExtendedFormats = supported.features.shaderStorageImageExtendedFormats;
-        enabled.features.samplerAnisotropy = supported.features.samplerAnisotropy;
-        enabled.features.depthClamp = supported.features.depthClamp;
-
-        std::vector<const char*> devExts = m_deviceExtensions;
-        devExts.push_back(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
-        for (const char* e : devExts)
-            if (!hasDeviceExtension(*pd, e))
-                return makeError(std::string("device lacks required extension ") + e);
-        VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-        dci.pNext = &enabled;
-        dci.queueCreateInfoCount = 1;
-        dci.pQueueCreateInfos = &qci;
-        dci.enabledExtensionCount = uint32_t(devExts.size());
-        dci.ppEnabledExtensionNames = devExts.data();
-        r = vkCreateDevice(*pd, &dci, nullptr, &ctx->m_device);
-        if (r != VK_SUCCESS)
-            return makeError(std::string("vkCreateDevice failed: ") + toString(r));
-        vkGetDeviceQueue(ctx->m_device, ctx->m_queueFamily, 0, &ctx->m_queue);
-        ctx->m_ownsDevice = true;
-        if (auto ok = ctx->initCommon(); !ok)
-            return ok.error();
-    } catch (const VulkanError& e) {
-        return makeError(e.what()); // ~Context destroys what was created
+            ici.pNext = &messenger; // also catches messages from instance creation itself
     }
+    ici.enabledExtensionCount = uint32_t(exts.size());
+    ici.ppEnabledExtensionNames = exts.data();
+    VkResult r = vkCreateInstance(&ici, nullptr, &ctx->m_instance);
+    if (r != VK_SUCCESS)
+        return makeError(std::string("vkCreateInstance failed: ") + toString(r));
+    if (auto ok = loadInstanceFunctions(gipa, ctx->m_instance); !ok)
+        return ok.error();
+    if (validation && debugUtils) {
+        auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+            vkGetInstanceProcAddr(ctx->m_instance, "vkCreateDebugUtilsMessengerEXT"));
+        messenger.pNext = nullptr;
+        VKGI_CHECK(create(ctx->m_instance, &messenger, nullptr, &ctx->m_messenger));
+    }
+
+    auto pd = choosePhysicalDevice(ctx->m_instance, m_deviceName, m_deviceType);
+    if (!pd)
+        return pd.error();
+    ctx->m_physicalDevice = *pd;
+    ctx->m_queueFamily = uint32_t(findQueueFamily(*pd));
+
+    float priority = 1.0f;
+    VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    qci.queueFamilyIndex = ctx->m_queueFamily;
+    qci.queueCount = 1;
+    qci.pQueuePriorities = &priority;
+
+    VkPhysicalDeviceFeatures2 supported{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    vkGetPhysicalDeviceFeatures2(*pd, &supported);
+    VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
+    f11.multiview = VK_TRUE;
+    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    f12.pNext = &f11;
+    f12.hostQueryReset = VK_TRUE;
+    f12.scalarBlockLayout = VK_TRUE;
+    f12.shaderFloat16 = VK_FALSE;
+    VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+    f13.pNext = &f12;
+    f13.synchronization2 = VK_TRUE;
+    f13.dynamicRendering = VK_TRUE;
+    f13.maintenance4 = VK_TRUE;
+    VkPhysicalDeviceFeatures2 enabled{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    enabled.pNext = &f13;
+    // Optional core features used when present (atomics/stores in fragment shaders,
+    // geometry shaders for layered rendering, 64-bit-free float atomics come via shader types).
+    enabled.features.fragmentStoresAndAtomics = supported.features.fragmentStoresAndAtomics;
+    enabled.features.vertexPipelineStoresAndAtomics = supported.features.vertexPipelineStoresAndAtomics;
+    enabled.features.geometryShader = supported.features.geometryShader;
+    enabled.features.shaderStorageImageExtendedFormats = supported.features.shaderStorageImageExtendedFormats;
+    enabled.features.samplerAnisotropy = supported.features.samplerAnisotropy;
+    enabled.features.depthClamp = supported.features.depthClamp;
+
+    std::vector<const char*> devExts = m_deviceExtensions;
+    devExts.push_back(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
+    for (const char* e : devExts)
+        if (!hasDeviceExtension(*pd, e))
+            return makeError(std::string("device lacks required extension ") + e);
+    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    dci.pNext = &enabled;
+    dci.queueCreateInfoCount = 1;
+    dci.pQueueCreateInfos = &qci;
+    dci.enabledExtensionCount = uint32_t(devExts.size());
+    dci.ppEnabledExtensionNames = devExts.data();
+    r = vkCreateDevice(*pd, &dci, nullptr, &ctx->m_device);
+    if (r != VK_SUCCESS)
+        return makeError(std::string("vkCreateDevice failed: ") + toString(r));
+    vkGetDeviceQueue(ctx->m_device, ctx->m_queueFamily, 0, &ctx->m_queue);
+    ctx->m_ownsDevice = true;
+    if (auto ok = ctx->initCommon(); !ok)
+        return ok.error();
     return ctx;
 }
 

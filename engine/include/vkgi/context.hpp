@@ -112,6 +112,7 @@ public:
     Result<std::unique_ptr<Context>> build();
 
 private:
+    Result<std::unique_ptr<Context>> buildContext(); // build() without catching VulkanError
     std::string m_deviceName;
     VkPhysicalDeviceType m_deviceType = VK_PHYSICAL_DEVICE_TYPE_MAX_ENUM;
     bool m_validation = false;
