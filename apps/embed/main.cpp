@@ -11,6 +11,10 @@
 // instance; any message makes the exit code 3. --host-graph adds vkgi's passes to the host's own
 // render graph, recorded into the host's command buffer and submitted by the host, instead of
 // GiSystem::renderFrame (the image is the same).
+//
+// Built with VKGI_EMBED_VOLK (tests/package's vkgi-embed-volk), the host loads Vulkan through
+// volk, as many engines do, and hands volk's vkGetInstanceProcAddr to vkgi in ExternalDevice:
+// vkgi then calls nothing of the Vulkan loader's that the host did not give it.
 #include <atomic>
 #include <charconv>
 #include <cstdio>
@@ -18,7 +22,11 @@
 #include <string>
 #include <vector>
 
+#ifdef VKGI_EMBED_VOLK
+#include <volk.h> // before any Vulkan header: the vk* names are volk's function pointers
+#else
 #include <vulkan/vulkan.h>
+#endif
 
 #include "vkgi/context.hpp"
 #include "vkgi/gltf_loader.hpp"
@@ -135,6 +143,10 @@ vkgi::Result<void> createInstance(HostVulkan& host, bool validate) {
     messenger.pfnUserCallback = onValidation;
     VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     info.pApplicationInfo = &app;
+#ifdef VKGI_EMBED_VOLK
+    if (volkInitialize() != VK_SUCCESS)
+        return vkgi::makeError("volkInitialize failed: no Vulkan loader");
+#endif
     if (validate) {
         features.pNext = &messenger;
         info.pNext = &features;
@@ -146,6 +158,9 @@ vkgi::Result<void> createInstance(HostVulkan& host, bool validate) {
     if (VkResult r = vkCreateInstance(&info, nullptr, &host.instance); r != VK_SUCCESS)
         return vkgi::makeError("vkCreateInstance failed (" + std::to_string(int(r)) +
                                (validate ? "); is the Khronos validation layer installed?" : ")"));
+#ifdef VKGI_EMBED_VOLK
+    volkLoadInstance(host.instance);
+#endif
     if (validate) {
         auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
             vkGetInstanceProcAddr(host.instance, "vkCreateDebugUtilsMessengerEXT"));
@@ -232,6 +247,9 @@ vkgi::Result<void> createDevice(HostVulkan& host) {
     info.ppEnabledExtensionNames = &extension;
     if (VkResult r = vkCreateDevice(host.physicalDevice, &info, nullptr, &host.device); r != VK_SUCCESS)
         return vkgi::makeError("vkCreateDevice failed (" + std::to_string(int(r)) + ")");
+#ifdef VKGI_EMBED_VOLK
+    volkLoadDevice(host.device); // the host's own device calls skip the loader's dispatch
+#endif
     vkGetDeviceQueue(host.device, host.queueFamily, 0, &host.queue);
     return {};
 }
@@ -363,7 +381,11 @@ int run(const Options& o) {
     {
         // vkgi uses the host's objects and never destroys them; the Context and the GiSystem
         // must be destroyed before the device (this scope).
-        auto ctx = vkgi::wrapExternalDevice({host.instance, host.physicalDevice, host.device, host.queue, host.queueFamily});
+        vkgi::ExternalDevice device{host.instance, host.physicalDevice, host.device, host.queue, host.queueFamily};
+        // The loader the host uses (with volk, its vkGetInstanceProcAddr variable); null would
+        // mean libvulkan.so.1's.
+        device.getInstanceProcAddr = vkGetInstanceProcAddr;
+        auto ctx = vkgi::wrapExternalDevice(device);
         if (!ctx)
             return fail(ctx.error().message);
         vkgi::gi::GiSettings settings;

@@ -7,6 +7,7 @@
 #include "engine/frame_constants.h"
 #include "vkgi/resources.hpp"
 #include "vk_check.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi {
 
@@ -192,17 +193,22 @@ void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) 
     alloc.commandBufferCount = 1;
     VkCommandBuffer cmd;
     VKGI_CHECK(vkAllocateCommandBuffers(m_device, &alloc, &cmd));
-    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VKGI_CHECK(vkBeginCommandBuffer(cmd, &begin));
-    record(cmd);
-    VKGI_CHECK(vkEndCommandBuffer(cmd));
-    VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
-    cmdInfo.commandBuffer = cmd;
-    VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
-    submit.commandBufferInfoCount = 1;
-    submit.pCommandBufferInfos = &cmdInfo;
-    VKGI_CHECK(vkQueueSubmit2(m_queue, 1, &submit, m_fence));
+    try {
+        VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        VKGI_CHECK(vkBeginCommandBuffer(cmd, &begin));
+        record(cmd);
+        VKGI_CHECK(vkEndCommandBuffer(cmd));
+        VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+        cmdInfo.commandBuffer = cmd;
+        VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+        submit.commandBufferInfoCount = 1;
+        submit.pCommandBufferInfos = &cmdInfo;
+        VKGI_CHECK(vkQueueSubmit2(m_queue, 1, &submit, m_fence));
+    } catch (...) {
+        vkFreeCommandBuffers(m_device, m_commandPool, 1, &cmd); // never submitted
+        throw;
+    }
     VKGI_CHECK(vkWaitForFences(m_device, 1, &m_fence, VK_TRUE, UINT64_MAX));
     VKGI_CHECK(vkResetFences(m_device, 1, &m_fence));
     vkFreeCommandBuffers(m_device, m_commandPool, 1, &cmd);
@@ -275,6 +281,19 @@ Result<VkPhysicalDevice> choosePhysicalDevice(VkInstance instance, const std::st
 } // namespace
 
 Result<std::unique_ptr<Context>> DeviceBuilder::build() {
+    try {
+        return buildContext();
+    } catch (const VulkanError& e) {
+        return makeError(e.what()); // ~Context has destroyed what was created
+    }
+}
+
+Result<std::unique_ptr<Context>> DeviceBuilder::buildContext() {
+    PFN_vkGetInstanceProcAddr gipa = nullptr;
+    if (auto ok = loaderGetInstanceProcAddr(gipa); !ok)
+        return ok.error();
+    if (auto ok = loadGlobalFunctions(gipa); !ok)
+        return ok.error();
     std::unique_ptr<Context> ctx(new Context());
     bool validation = m_validation && hasLayer("VK_LAYER_KHRONOS_validation");
     if (m_validation && !validation)
@@ -311,6 +330,8 @@ Result<std::unique_ptr<Context>> DeviceBuilder::build() {
     VkResult r = vkCreateInstance(&ici, nullptr, &ctx->m_instance);
     if (r != VK_SUCCESS)
         return makeError(std::string("vkCreateInstance failed: ") + toString(r));
+    if (auto ok = loadInstanceFunctions(gipa, ctx->m_instance); !ok)
+        return ok.error();
     if (validation && debugUtils) {
         auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
             vkGetInstanceProcAddr(ctx->m_instance, "vkCreateDebugUtilsMessengerEXT"));
@@ -379,6 +400,12 @@ Result<std::unique_ptr<Context>> DeviceBuilder::build() {
 Result<std::unique_ptr<Context>> wrapExternalDevice(const ExternalDevice& ext) {
     if (!ext.instance || !ext.physicalDevice || !ext.device || !ext.queue)
         return makeError("wrapExternalDevice: instance, physicalDevice, device and queue must all be set");
+    PFN_vkGetInstanceProcAddr gipa = ext.getInstanceProcAddr;
+    if (!gipa)
+        if (auto ok = loaderGetInstanceProcAddr(gipa); !ok)
+            return makeError("wrapExternalDevice: " + ok.error().message);
+    if (auto ok = loadInstanceFunctions(gipa, ext.instance); !ok)
+        return makeError("wrapExternalDevice: " + ok.error().message);
     std::unique_ptr<Context> ctx(new Context());
     ctx->m_instance = ext.instance;
     ctx->m_physicalDevice = ext.physicalDevice;
@@ -390,8 +417,12 @@ Result<std::unique_ptr<Context>> wrapExternalDevice(const ExternalDevice& ext) {
     vkGetPhysicalDeviceProperties(ext.physicalDevice, &props);
     if (props.apiVersion < VK_API_VERSION_1_3)
         return makeError(std::string("wrapExternalDevice: ") + props.deviceName + " is not a Vulkan 1.3 device");
-    if (auto ok = ctx->initCommon(); !ok)
-        return makeError("wrapExternalDevice: " + ok.error().message);
+    try {
+        if (auto ok = ctx->initCommon(); !ok)
+            return makeError("wrapExternalDevice: " + ok.error().message);
+    } catch (const VulkanError& e) {
+        return makeError(std::string("wrapExternalDevice: ") + e.what());
+    }
     return ctx;
 }
 

@@ -5,6 +5,7 @@
 #include "vkgi/context.hpp"
 #include "vkgi/pipeline.hpp"
 #include "vk_check.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi {
 

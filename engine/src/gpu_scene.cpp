@@ -7,6 +7,7 @@
 #include "vkgi/context.hpp"
 #include "engine/scene_types.h"
 #include "vk_check.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi {
 

@@ -5,6 +5,7 @@
 
 #include "vkgi/context.hpp"
 #include "vk_check.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi {
 
@@ -13,6 +14,9 @@ namespace {
 // blocks, small enough not to over-reserve on lavapipe's single device heap.
 constexpr VkDeviceSize kBlockSize = 64ull << 20;
 VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
+// The steps of createBuffer/createImage that may throw after the handle exists.
+void bindBufferMemory(Context& ctx, Buffer& b);
+void bindImageMemoryAndViews(Context& ctx, Image& img, const char* name);
 } // namespace
 
 Allocator::Allocator(Context& ctx) : m_ctx(ctx) {
@@ -75,8 +79,12 @@ Allocation Allocator::allocate(const VkMemoryRequirements& req, VkMemoryProperty
     info.allocationSize = nb.size;
     info.memoryTypeIndex = type;
     VKGI_CHECK(vkAllocateMemory(m_ctx.device(), &info, nullptr, &nb.memory));
-    if (m_props.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
-        VKGI_CHECK(vkMapMemory(m_ctx.device(), nb.memory, 0, VK_WHOLE_SIZE, 0, &nb.mapped));
+    if (m_props.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) {
+        if (VkResult r = vkMapMemory(m_ctx.device(), nb.memory, 0, VK_WHOLE_SIZE, 0, &nb.mapped); r != VK_SUCCESS) {
+            vkFreeMemory(m_ctx.device(), nb.memory, nullptr);
+            throwVulkanError(__FILE__, __LINE__, "vkMapMemory", r);
+        }
+    }
     if (req.size < nb.size)
         nb.freeList.push_back({req.size, nb.size - req.size});
     m_reservedBytes += nb.size;
@@ -198,6 +206,20 @@ Buffer createBuffer(Context& ctx, const BufferDesc& desc, const char* name) {
     info.usage = desc.usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     VKGI_CHECK(vkCreateBuffer(ctx.device(), &info, nullptr, &b.buffer));
+    try {
+        bindBufferMemory(ctx, b);
+    } catch (...) {
+        destroyBuffer(ctx, b); // a failed allocation leaks no buffer
+        throw;
+    }
+    ctx.setName(VK_OBJECT_TYPE_BUFFER, uint64_t(b.buffer), name);
+    return b;
+}
+
+namespace {
+
+void bindBufferMemory(Context& ctx, Buffer& b) {
+    const BufferDesc& desc = b.desc;
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(ctx.device(), b.buffer, &req);
     VkMemoryPropertyFlags required = 0, preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
@@ -209,11 +231,8 @@ Buffer createBuffer(Context& ctx, const BufferDesc& desc, const char* name) {
     }
     b.alloc = ctx.allocator().allocate(req, required, preferred);
     VKGI_CHECK(vkBindBufferMemory(ctx.device(), b.buffer, b.alloc.memory, b.alloc.offset));
-    ctx.setName(VK_OBJECT_TYPE_BUFFER, uint64_t(b.buffer), name);
-    return b;
 }
 
-namespace {
 VkImageView makeView(Context& ctx, const Image& img, uint32_t baseMip, uint32_t mips) {
     VkImageViewCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     info.image = img.image;
@@ -264,6 +283,19 @@ Image createImage(Context& ctx, const ImageDesc& desc, const char* name) {
     info.flags = desc.cube ? VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT : 0;
     info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
     VKGI_CHECK(vkCreateImage(ctx.device(), &info, nullptr, &img.image));
+    try {
+        bindImageMemoryAndViews(ctx, img, name);
+    } catch (...) {
+        destroyImage(ctx, img); // a failed allocation or view leaks no image
+        throw;
+    }
+    return img;
+}
+
+namespace {
+
+void bindImageMemoryAndViews(Context& ctx, Image& img, const char* name) {
+    const ImageDesc& desc = img.desc;
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(ctx.device(), img.image, &req);
     img.alloc = ctx.allocator().allocate(req, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
@@ -275,8 +307,9 @@ Image createImage(Context& ctx, const ImageDesc& desc, const char* name) {
     if (desc.type == VK_IMAGE_TYPE_2D)
         for (uint32_t l = 0; l < desc.arrayLayers; ++l)
             img.layerViews.push_back(makeLayerView(ctx, img, l));
-    return img;
 }
+
+} // namespace
 
 void destroyBuffer(Context& ctx, Buffer& b) {
     if (b.buffer)

@@ -1,7 +1,10 @@
 #include "vk_check.hpp"
+#include "vk_dispatch.hpp"
 
 #include <cstdio>
 #include <cstdlib>
+#include <string>
+#include <string_view>
 
 namespace vkgi {
 
@@ -45,10 +48,28 @@ const char* toString(VkResult r) {
     }
 }
 
-void vkFatal(const char* file, int line, const char* expr, VkResult result) {
-    std::fprintf(stderr, "%s:%d: %s -> %s\n", file, line, expr, toString(result));
-    std::fflush(stderr);
-    std::abort();
+namespace {
+
+// "vkQueueSubmit2" from "vkQueueSubmit2(queue, 1, &submit, fence)"; "gi_system.cpp" from a path.
+std::string vulkanErrorMessage(const char* file, int line, const char* expr, VkResult result) {
+    std::string_view call(expr);
+    call = call.substr(0, call.find('('));
+    while (!call.empty() && call.back() == ' ')
+        call.remove_suffix(1);
+    std::string_view path(file);
+    if (size_t slash = path.find_last_of('/'); slash != std::string_view::npos)
+        path.remove_prefix(slash + 1);
+    return std::string(call) + " failed: " + toString(result) + " (" + std::string(path) + ":" + std::to_string(line) +
+           ")";
+}
+
+} // namespace
+
+VulkanError::VulkanError(const char* file, int line, const char* expr, VkResult result)
+    : std::runtime_error(vulkanErrorMessage(file, line, expr, result)), m_result(result) {}
+
+void throwVulkanError(const char* file, int line, const char* expr, VkResult result) {
+    throw VulkanError(file, line, expr, result);
 }
 
 void fatal(const char* file, int line, const char* message) {

@@ -10,6 +10,7 @@
 #include "vkgi/pipeline.hpp"
 #include "vkgi/rg/transient_pool.hpp"
 #include "vk_check.hpp"
+#include "vk_dispatch.hpp"
 #include "vkgi/gi.hpp"
 #include "pass_selection.hpp"
 #include "technique.hpp"
@@ -76,6 +77,10 @@ struct GiSystem::Impl {
     ShadowLayout lastShadowLayout; // layout the persistent atlas was last rendered with
     std::optional<Camera> lastTechniqueCamera;
     uint32_t lastTechniqueWidth = 0, lastTechniqueHeight = 0;
+    // A frame failed: the technique's own record-time bookkeeping (what its volumes hold, which
+    // voxels the last voxelization touched) may describe work that never ran, so the next frame
+    // rebuilds the technique's state as for a new scene.
+    bool rebuildTechnique = false;
     // Graphs of the last frames GiSystem::record recorded into host command buffers.
     std::unique_ptr<rg::RenderGraph> recorded[kFrameRing];
     uint32_t recordIndex = 0;
@@ -91,22 +96,58 @@ struct GiSystem::Impl {
     void addCompositeAndOutputs(rg::RenderGraph& graph, rg::Blackboard& bb, const FrameRequest& request,
                                 GiOutputs& out);
     FrameData frameData(const Camera& camera, uint32_t width, uint32_t height);
-    const Buffer& readbackBuffer(uint32_t slot, uint32_t width, uint32_t height);
-    void submitAndWait(rg::RenderGraph& graph, rg::TimestampScopes scopes = rg::TimestampScopes::PerPass);
+    // The public entry points' bodies (GiSystem runs each inside guarded()).
+    Result<void> setScene(const Scene& newScene);
+    Result<void> updateScene(const Scene& newScene);
+    Result<FrameResult> renderFrame(const Camera& camera, uint32_t width, uint32_t height, const FrameRequest& request);
+    Result<GiOutputs> addHostPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
+                                    const HostGBuffer& gbuffer);
+    Result<FrameResult> renderIndirect(const Camera& camera, const HostFrame& host);
+    Result<void> record(VkCommandBuffer cmd, const Camera& camera, const HostFrame& host);
+    Result<void> setSettings(const GiSettings& newSettings);
     // The host G-buffer frame of renderIndirect and record: checks `host`, adds the passes, the
     // copy into the host's image, the readback when asked, and compiles. `api` names the caller.
     Result<void> addIndirectFrame(rg::RenderGraph& graph, rg::Blackboard& bb, const Camera& camera,
                                   const HostFrame& host, const char* api);
+    PersistentMemory persistentMemory() const;
+    const Buffer& readbackBuffer(uint32_t slot, uint32_t width, uint32_t height);
+    void submitAndWait(rg::RenderGraph& graph, rg::TimestampScopes scopes = rg::TimestampScopes::PerPass);
     void invalidate() {
         shadowChanges = SceneChanges{};
         techniqueChanges = SceneChanges{};
+    }
+    // After a failed Vulkan call: waits until nothing of the frame can still run, drops its
+    // half-recorded command buffer, and makes the next frame recompute every persistent result
+    // (the failed frame may have marked work clean that never ran). Results are ignored: the
+    // call that failed already reported the error, and a lost device fails these too.
+    // `submits`: false for addPasses, which records and submits nothing of its own (and must not
+    // wait on the host's queue).
+    void recover(bool submits) noexcept {
+        if (submits) {
+            (void)vkDeviceWaitIdle(ctx->device());
+            if (cmd)
+                (void)vkResetCommandBuffer(cmd, 0);
+        }
+        invalidate();
+        lastTechniqueCamera.reset();
+        rebuildTechnique = true;
+    }
+    // Runs an entry point's body; a failed Vulkan call inside (VulkanError) becomes its error.
+    template <typename Body> auto guarded(Body&& body, bool submits = true) -> decltype(body()) {
+        try {
+            return body();
+        } catch (const VulkanError& e) {
+            recover(submits);
+            return makeError(e.what());
+        }
     }
 };
 
 GiSystem::Impl::~Impl() {
     if (!ctx)
         return;
-    VKGI_CHECK(vkDeviceWaitIdle(ctx->device()));
+    // Never throws: after a device loss this fails too, and everything is destroyed regardless.
+    (void)vkDeviceWaitIdle(ctx->device());
     technique.reset();
     for (Buffer& b : readback)
         if (b)
@@ -156,6 +197,12 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
         return makeError("GiSystem: no scene (call setScene before rendering)");
     if (auto ok = checkCamera(camera, width, height); !ok)
         return ok.error();
+    if (rebuildTechnique && technique) {
+        VKGI_CHECK(vkDeviceWaitIdle(ctx->device())); // a host's frames may still read the old volumes
+        if (auto ok = technique->sceneChanged(*ctx, scene, *gpu, true); !ok)
+            return ok.error();
+    }
+    rebuildTechnique = false;
     FrameData frameValue = frameData(camera, width, height);
     graph.setFrameSet(frameValue.frameSet); // set 0 for technique shaders that read FrameConstants
     const FrameData& frame = bb.add(std::move(frameValue));
@@ -281,12 +328,19 @@ void GiSystem::Impl::submitAndWait(rg::RenderGraph& graph, rg::TimestampScopes s
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     VKGI_CHECK(vkBeginCommandBuffer(cmd, &begin));
     graph.execute(cmd, *ctx, *pool, ctx->timestampsSupported() ? timestamps.get() : nullptr, scopes);
-    VKGI_CHECK(vkEndCommandBuffer(cmd));
-    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &cmd;
-    VKGI_CHECK(vkResetFences(ctx->device(), 1, &fence));
-    VKGI_CHECK(vkQueueSubmit(ctx->queue(), 1, &submit, fence));
+    try {
+        VKGI_CHECK(vkEndCommandBuffer(cmd));
+        VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+        cmdInfo.commandBuffer = cmd;
+        VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+        submit.commandBufferInfoCount = 1;
+        submit.pCommandBufferInfos = &cmdInfo;
+        VKGI_CHECK(vkResetFences(ctx->device(), 1, &fence));
+        VKGI_CHECK(vkQueueSubmit2(ctx->queue(), 1, &submit, fence));
+    } catch (const VulkanError&) {
+        graph.discardFinalStates(); // recorded, never run: resources keep their previous states
+        throw;
+    }
     VKGI_CHECK(vkWaitForFences(ctx->device(), 1, &fence, VK_TRUE, UINT64_MAX));
 }
 
@@ -300,28 +354,32 @@ Result<std::unique_ptr<GiSystem>> GiSystem::create(Context& ctx, const GiSetting
     auto impl = std::make_unique<Impl>();
     impl->ctx = &ctx;
     impl->settings = settings;
-    auto pipelines = createDirectPipelines(ctx);
-    if (!pipelines)
-        return pipelines.error();
-    impl->pipelines = *pipelines;
-    auto technique = createTechnique(ctx, settings);
-    if (!technique)
-        return technique.error();
-    impl->technique = std::move(*technique);
-    impl->pool = std::make_unique<rg::TransientPool>(ctx);
-    impl->timestamps = std::make_unique<TimestampPool>(ctx, kMaxTimedPasses);
-    impl->frameRing = std::make_unique<FrameConstantsRing>(ctx, kFrameRing);
-    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    poolInfo.queueFamilyIndex = ctx.queueFamily();
-    VKGI_CHECK(vkCreateCommandPool(ctx.device(), &poolInfo, nullptr, &impl->commandPool));
-    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    alloc.commandPool = impl->commandPool;
-    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    alloc.commandBufferCount = 1;
-    VKGI_CHECK(vkAllocateCommandBuffers(ctx.device(), &alloc, &impl->cmd));
-    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    VKGI_CHECK(vkCreateFence(ctx.device(), &fenceInfo, nullptr, &impl->fence));
+    try {
+        auto pipelines = createDirectPipelines(ctx);
+        if (!pipelines)
+            return pipelines.error();
+        impl->pipelines = *pipelines;
+        auto technique = createTechnique(ctx, settings);
+        if (!technique)
+            return technique.error();
+        impl->technique = std::move(*technique);
+        impl->pool = std::make_unique<rg::TransientPool>(ctx);
+        impl->timestamps = std::make_unique<TimestampPool>(ctx, kMaxTimedPasses);
+        impl->frameRing = std::make_unique<FrameConstantsRing>(ctx, kFrameRing);
+        VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+        poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+        poolInfo.queueFamilyIndex = ctx.queueFamily();
+        VKGI_CHECK(vkCreateCommandPool(ctx.device(), &poolInfo, nullptr, &impl->commandPool));
+        VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+        alloc.commandPool = impl->commandPool;
+        alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+        alloc.commandBufferCount = 1;
+        VKGI_CHECK(vkAllocateCommandBuffers(ctx.device(), &alloc, &impl->cmd));
+        VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        VKGI_CHECK(vkCreateFence(ctx.device(), &fenceInfo, nullptr, &impl->fence));
+    } catch (const VulkanError& e) {
+        return makeError(e.what()); // ~Impl destroys what was created so far
+    }
     return std::unique_ptr<GiSystem>(new GiSystem(std::move(impl)));
 }
 
@@ -341,50 +399,81 @@ Result<std::unique_ptr<GiSystem>> GiSystem::createHeadless(const GiSettings& set
 Context& GiSystem::context() { return *m->ctx; }
 const GiSettings& GiSystem::settings() const { return m->settings; }
 
+void GiSystem::invalidate() { m->invalidate(); }
+
+// Every entry point runs inside Impl::guarded: a failed Vulkan call is returned as the error.
 Result<void> GiSystem::setScene(const Scene& scene) {
-    auto uploaded = uploadScene(*m->ctx, scene);
-    if (!uploaded)
-        return uploaded.error();
-    if (m->gpu) {
-        VKGI_CHECK(vkDeviceWaitIdle(m->ctx->device()));
-        destroyScene(*m->ctx, *m->gpu);
-    }
-    m->gpu = std::move(*uploaded);
-    m->scene = scene;
-    m->features = analyzeScene(scene);
-    m->invalidate();
-    if (m->technique)
-        return m->technique->sceneChanged(*m->ctx, m->scene, *m->gpu, true);
-    return {};
+    return m->guarded([&] { return m->setScene(scene); });
 }
 
 Result<void> GiSystem::updateScene(const Scene& scene) {
-    if (!m->gpu)
-        return makeError("GiSystem::updateScene: no scene (call setScene first)");
-    if (auto ok = updateSceneTransforms(*m->ctx, *m->gpu, scene); !ok)
-        return ok;
-    SceneChanges changes = diffScenes(m->scene, scene);
-    m->shadowChanges.merge(changes);
-    m->techniqueChanges.merge(changes);
-    m->scene.instances = scene.instances;
-    m->scene.lights = scene.lights;
-    if (m->technique)
-        return m->technique->sceneChanged(*m->ctx, m->scene, *m->gpu, false);
-    return {};
+    return m->guarded([&] { return m->updateScene(scene); });
 }
-
-void GiSystem::invalidate() { m->invalidate(); }
 
 Result<GiOutputs> GiSystem::addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
                                       uint32_t width, uint32_t height, const FrameRequest& request) {
-    return m->addPasses(graph, blackboard, camera, width, height, request);
+    return m->guarded([&] { return m->addPasses(graph, blackboard, camera, width, height, request); }, false);
 }
 
 Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, uint32_t height,
                                           const FrameRequest& request) {
+    return m->guarded([&] { return m->renderFrame(camera, width, height, request); });
+}
+
+Result<GiOutputs> GiSystem::addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
+                                      const HostGBuffer& gbuffer) {
+    return m->guarded([&] { return m->addHostPasses(graph, blackboard, camera, gbuffer); }, false);
+}
+
+Result<FrameResult> GiSystem::renderIndirect(const Camera& camera, const HostFrame& host) {
+    return m->guarded([&] { return m->renderIndirect(camera, host); });
+}
+
+Result<void> GiSystem::record(VkCommandBuffer cmd, const Camera& camera, const HostFrame& host) {
+    return m->guarded([&] { return m->record(cmd, camera, host); }, false);
+}
+
+Result<void> GiSystem::setSettings(const GiSettings& settings) {
+    return m->guarded([&] { return m->setSettings(settings); });
+}
+
+Result<void> GiSystem::Impl::setScene(const Scene& newScene) {
+    auto uploaded = uploadScene(*ctx, newScene);
+    if (!uploaded)
+        return uploaded.error();
+    if (gpu) {
+        VKGI_CHECK(vkDeviceWaitIdle(ctx->device()));
+        destroyScene(*ctx, *gpu);
+    }
+    gpu = std::move(*uploaded);
+    scene = newScene;
+    features = analyzeScene(newScene);
+    invalidate();
+    if (technique)
+        return technique->sceneChanged(*ctx, scene, *gpu, true);
+    return {};
+}
+
+Result<void> GiSystem::Impl::updateScene(const Scene& newScene) {
+    if (!gpu)
+        return makeError("GiSystem::updateScene: no scene (call setScene first)");
+    if (auto ok = updateSceneTransforms(*ctx, *gpu, newScene); !ok)
+        return ok;
+    SceneChanges changes = diffScenes(scene, newScene);
+    shadowChanges.merge(changes);
+    techniqueChanges.merge(changes);
+    scene.instances = newScene.instances;
+    scene.lights = newScene.lights;
+    if (technique)
+        return technique->sceneChanged(*ctx, scene, *gpu, false);
+    return {};
+}
+
+Result<FrameResult> GiSystem::Impl::renderFrame(const Camera& camera, uint32_t width, uint32_t height,
+                                                const FrameRequest& request) {
     rg::RenderGraph graph;
     rg::Blackboard bb;
-    auto outputs = m->addPasses(graph, bb, camera, width, height, request);
+    auto outputs = addPasses(graph, bb, camera, width, height, request);
     if (!outputs)
         return outputs.error();
     rg::ImageHandle images[5] = {outputs->composite, outputs->direct, outputs->indirect, outputs->glossy, outputs->ao};
@@ -392,18 +481,18 @@ Result<FrameResult> GiSystem::renderFrame(const Camera& camera, uint32_t width, 
                             "gi.readback.glossy", "gi.readback.ao"};
     for (uint32_t i = 0; i < 5; ++i)
         if (images[i].valid())
-            addReadbackPass(graph, names[i], images[i], m->readbackBuffer(i, width, height));
+            addReadbackPass(graph, names[i], images[i], readbackBuffer(i, width, height));
     if (auto ok = graph.compile(); !ok) {
-        m->invalidate(); // nothing ran: what this frame skipped as clean may be stale
+        invalidate(); // nothing ran: what this frame skipped as clean may be stale
         return makeError("frame graph: " + ok.error().message);
     }
-    m->submitAndWait(graph, request.passTimings ? rg::TimestampScopes::PerPass : rg::TimestampScopes::FrameOnly);
+    submitAndWait(graph, request.passTimings ? rg::TimestampScopes::PerPass : rg::TimestampScopes::FrameOnly);
 
     FrameResult r;
     HdrImage* targets[5] = {&r.composite, &r.direct, &r.indirect, &r.glossy, &r.ao};
     for (uint32_t i = 0; i < 5; ++i)
         if (images[i].valid())
-            *targets[i] = readbackToImage(m->readback[i], width, height, i == 4 ? ReadbackChannels::AlphaToRgb
+            *targets[i] = readbackToImage(readback[i], width, height, i == 4 ? ReadbackChannels::AlphaToRgb
                                                                                  : ReadbackChannels::Rgb);
     r.passes = graph.timings();
     r.totalMs = frameTotalMs(graph, r.passes);
@@ -430,11 +519,11 @@ Result<void> checkHostFrame(const TechniqueModule* technique, const HostGBuffer&
 
 } // namespace
 
-Result<GiOutputs> GiSystem::addPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
-                                      const HostGBuffer& gbuffer) {
-    if (auto ok = checkHostFrame(m->technique.get(), gbuffer); !ok)
+Result<GiOutputs> GiSystem::Impl::addHostPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard,
+                                                 const Camera& camera, const HostGBuffer& gbuffer) {
+    if (auto ok = checkHostFrame(technique.get(), gbuffer); !ok)
         return ok.error();
-    return m->addPasses(graph, blackboard, camera, gbuffer.normal.width, gbuffer.normal.height,
+    return addPasses(graph, blackboard, camera, gbuffer.normal.width, gbuffer.normal.height,
                         FrameRequest{false, false, true}, &gbuffer);
 }
 
@@ -467,16 +556,16 @@ Result<void> GiSystem::Impl::addIndirectFrame(rg::RenderGraph& graph, rg::Blackb
     return {};
 }
 
-Result<FrameResult> GiSystem::renderIndirect(const Camera& camera, const HostFrame& host) {
+Result<FrameResult> GiSystem::Impl::renderIndirect(const Camera& camera, const HostFrame& host) {
     rg::RenderGraph graph;
     rg::Blackboard bb;
-    if (auto ok = m->addIndirectFrame(graph, bb, camera, host, "GiSystem::renderIndirect"); !ok)
+    if (auto ok = addIndirectFrame(graph, bb, camera, host, "GiSystem::renderIndirect"); !ok)
         return ok.error();
-    m->submitAndWait(graph);
+    submitAndWait(graph);
 
     FrameResult r;
     if (host.readback)
-        r.indirect = readbackToImage(m->readback[2], host.gbuffer.normal.width, host.gbuffer.normal.height);
+        r.indirect = readbackToImage(readback[2], host.gbuffer.normal.width, host.gbuffer.normal.height);
     r.passes = graph.timings();
     r.totalMs = frameTotalMs(graph, r.passes);
     r.culledPasses = graph.culledPassNames();
@@ -486,7 +575,7 @@ Result<FrameResult> GiSystem::renderIndirect(const Camera& camera, const HostFra
     return r;
 }
 
-Result<void> GiSystem::record(VkCommandBuffer cmd, const Camera& camera, const HostFrame& host) {
+Result<void> GiSystem::Impl::record(VkCommandBuffer cmd, const Camera& camera, const HostFrame& host) {
     if (cmd == VK_NULL_HANDLE)
         return makeError("GiSystem::record: no command buffer");
     if (host.readback)
@@ -495,59 +584,59 @@ Result<void> GiSystem::record(VkCommandBuffer cmd, const Camera& camera, const H
         return makeError("GiSystem::record: HostFrame.indirect is required (the result stays on the GPU)");
     // The graph owns what the recorded commands refer to until the frame completed: keep the
     // last kFrameRing graphs (the host has at most that many of this system's frames in flight).
-    std::unique_ptr<rg::RenderGraph>& slot = m->recorded[m->recordIndex % kFrameRing];
+    std::unique_ptr<rg::RenderGraph>& slot = recorded[recordIndex % kFrameRing];
     auto graph = std::make_unique<rg::RenderGraph>();
     rg::Blackboard bb;
-    if (auto ok = m->addIndirectFrame(*graph, bb, camera, host, "GiSystem::record"); !ok)
+    if (auto ok = addIndirectFrame(*graph, bb, camera, host, "GiSystem::record"); !ok)
         return ok.error();
-    graph->execute(cmd, *m->ctx, *m->pool, nullptr, rg::TimestampScopes::FrameOnly);
+    graph->execute(cmd, *ctx, *pool, nullptr, rg::TimestampScopes::FrameOnly);
     slot = std::move(graph);
-    ++m->recordIndex;
+    ++recordIndex;
     return {};
 }
 
-Result<void> GiSystem::setSettings(const GiSettings& settings) {
-    if (auto ok = validateSettings(settings); !ok)
+Result<void> GiSystem::Impl::setSettings(const GiSettings& newSettings) {
+    if (auto ok = validateSettings(newSettings); !ok)
         return ok.error();
-    const GiSettings& old = m->settings;
-    bool techniqueChanged = settings.technique != old.technique;
-    switch (settings.technique) {
-    case Technique::Lpv: techniqueChanged = techniqueChanged || !(settings.lpv == old.lpv); break;
-    case Technique::Vct: techniqueChanged = techniqueChanged || !(settings.vct == old.vct); break;
-    case Technique::Vpl: techniqueChanged = techniqueChanged || !(settings.vpl == old.vpl); break;
+    const GiSettings& old = settings;
+    bool techniqueChanged = newSettings.technique != old.technique;
+    switch (newSettings.technique) {
+    case Technique::Lpv: techniqueChanged = techniqueChanged || !(newSettings.lpv == old.lpv); break;
+    case Technique::Vct: techniqueChanged = techniqueChanged || !(newSettings.vct == old.vct); break;
+    case Technique::Vpl: techniqueChanged = techniqueChanged || !(newSettings.vpl == old.vpl); break;
     case Technique::None: break;
     }
     if (techniqueChanged) {
-        auto technique = createTechnique(*m->ctx, settings);
-        if (!technique)
-            return technique.error();
+        auto module = createTechnique(*ctx, newSettings);
+        if (!module)
+            return module.error();
         // Frames in flight may still read the old module's volumes.
-        VKGI_CHECK(vkDeviceWaitIdle(m->ctx->device()));
-        m->technique = std::move(*technique);
-        m->techniqueChanges = SceneChanges{};
-        m->lastTechniqueCamera.reset();
-        if (m->technique && m->gpu)
-            if (auto ok = m->technique->sceneChanged(*m->ctx, m->scene, *m->gpu, true); !ok)
+        VKGI_CHECK(vkDeviceWaitIdle(ctx->device()));
+        technique = std::move(*module);
+        techniqueChanges = SceneChanges{};
+        lastTechniqueCamera.reset();
+        if (technique && gpu)
+            if (auto ok = technique->sceneChanged(*ctx, scene, *gpu, true); !ok)
                 return ok;
     }
     // The shadow/RSM atlas follows shadowMapSize, maxShadowLayers and the RSM need by itself
     // (addShadowPasses re-creates it and re-renders every light); PCF and biases are read by
     // the next deferred pass. A technique that lit its volumes through the old shadow maps or
     // filter relights them (as for moved lights), without re-voxelizing.
-    bool shadowsChanged = settings.shadowMapSize != old.shadowMapSize ||
-                          settings.maxShadowLayers != old.maxShadowLayers || settings.pcfRadius != old.pcfRadius ||
-                          settings.shadowNormalOffset != old.shadowNormalOffset ||
-                          settings.shadowConstantBias != old.shadowConstantBias;
+    bool shadowsChanged = newSettings.shadowMapSize != old.shadowMapSize ||
+                          newSettings.maxShadowLayers != old.maxShadowLayers || newSettings.pcfRadius != old.pcfRadius ||
+                          newSettings.shadowNormalOffset != old.shadowNormalOffset ||
+                          newSettings.shadowConstantBias != old.shadowConstantBias;
     if (shadowsChanged && !techniqueChanged) {
         SceneChanges lights{false};
-        for (uint32_t i = 0; i < uint32_t(m->scene.lights.size()); ++i)
+        for (uint32_t i = 0; i < uint32_t(scene.lights.size()); ++i)
             lights.lights.push_back(i);
-        m->techniqueChanges.merge(lights);
-        if (m->technique && m->gpu)
-            if (auto ok = m->technique->sceneChanged(*m->ctx, m->scene, *m->gpu, false); !ok)
+        techniqueChanges.merge(lights);
+        if (technique && gpu)
+            if (auto ok = technique->sceneChanged(*ctx, scene, *gpu, false); !ok)
                 return ok;
     }
-    m->settings = settings;
+    settings = newSettings;
     return {};
 }
 
@@ -555,15 +644,17 @@ uint64_t GiSystem::persistentBytes() const {
     return persistentMemory().total();
 }
 
-PersistentMemory GiSystem::persistentMemory() const {
+PersistentMemory GiSystem::persistentMemory() const { return m->persistentMemory(); }
+
+PersistentMemory GiSystem::Impl::persistentMemory() const {
     PersistentMemory p;
-    p.shadows = m->shadows.bytes();
-    if (m->gpu)
-        p.scene = m->gpu->bytes();
-    for (const Buffer& b : m->readback)
+    p.shadows = shadows.bytes();
+    if (gpu)
+        p.scene = gpu->bytes();
+    for (const Buffer& b : readback)
         p.readback += b ? b.desc.size : 0;
-    if (m->technique)
-        p.technique = m->technique->persistentBytes();
+    if (technique)
+        p.technique = technique->persistentBytes();
     return p;
 }
 

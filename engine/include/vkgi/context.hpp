@@ -64,7 +64,7 @@ public:
     void endLabel(VkCommandBuffer cmd) const;
 
     // Records `record` into a one-time command buffer, submits it and waits (uploads,
-    // readbacks, tests). Not for per-frame work.
+    // readbacks, tests). Not for per-frame work. Throws std::runtime_error when a Vulkan call fails.
     void submitAndWait(const std::function<void(VkCommandBuffer)>& record);
     VkCommandPool commandPool() const { return m_commandPool; }
     // Set 0 of every pipeline layout: the per-frame constants (engine/frame_constants.h).
@@ -108,9 +108,11 @@ public:
     DeviceBuilder& addInstanceExtension(const char* name);
     DeviceBuilder& addDeviceExtension(const char* name);
     DeviceBuilder& setApplicationName(std::string name);
+    // Loads Vulkan from libvulkan.so.1; a failed Vulkan call comes back as the error.
     Result<std::unique_ptr<Context>> build();
 
 private:
+    Result<std::unique_ptr<Context>> buildContext(); // build() without catching VulkanError
     std::string m_deviceName;
     VkPhysicalDeviceType m_deviceType = VK_PHYSICAL_DEVICE_TYPE_MAX_ENUM;
     bool m_validation = false;
@@ -129,7 +131,13 @@ struct ExternalDevice {
     VkDevice device = VK_NULL_HANDLE;
     VkQueue queue = VK_NULL_HANDLE;
     uint32_t queueFamily = 0;
+    // The host's vkGetInstanceProcAddr (volk: the global `vkGetInstanceProcAddr` after
+    // volkInitialize), through which vkgi loads every Vulkan function it calls. Null: the Vulkan
+    // loader's, from libvulkan.so.1. vkgi never calls a global vk* symbol either way. One function
+    // table serves the process, so every Context should come from the same loader.
+    PFN_vkGetInstanceProcAddr getInstanceProcAddr = nullptr;
 };
+// A failed Vulkan call while wrapping comes back as the error ("vkCreateFence failed: ...").
 Result<std::unique_ptr<Context>> wrapExternalDevice(const ExternalDevice& external);
 
 // Environment defaults for tools and tests: VKGI_DEVICE selects by name substring,

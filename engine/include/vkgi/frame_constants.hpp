@@ -1,6 +1,7 @@
 #pragma once
 // Set 0 of every pipeline: the per-frame constants uniform buffer. A small ring of buffers
 // and descriptor sets lets the CPU fill frame N+1 while frame N may still be in flight.
+// Creation throws std::runtime_error when a Vulkan call fails.
 #include <vector>
 
 #include <vulkan/vulkan.h>

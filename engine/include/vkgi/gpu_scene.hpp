@@ -1,7 +1,8 @@
 #pragma once
 // The CPU Scene uploaded to device buffers (one vertex/index buffer for all meshes, instance,
 // material and light tables, base-colour textures in one 2D array) — the single GPU scene
-// every rasterising pass, the voxelizer and the RSM read.
+// every rasterising pass, the voxelizer and the RSM read. A failed Vulkan call throws
+// std::runtime_error naming the call and the VkResult (bad scene data is a Result error).
 #include <vector>
 
 #include "vkgi/resources.hpp"

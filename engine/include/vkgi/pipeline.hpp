@@ -1,7 +1,8 @@
 #pragma once
 // Compute and graphics pipelines from SPIR-V embedded at build time. Descriptor layouts are reflected
 // from the SPIR-V itself, so a binding is declared once (in GLSL): set 0 holds per-frame
-// globals, set 1 per-dispatch resources written with push descriptors.
+// globals, set 1 per-dispatch resources written with push descriptors. A failed Vulkan call
+// throws std::runtime_error naming the call and the VkResult (missing SPIR-V is a Result error).
 #include <cstddef>
 #include <cstdint>
 #include <span>

@@ -1,6 +1,8 @@
 #pragma once
 // Buffers, images, views and samplers as plain structs with small free functions
-// (create/destroy/upload/readback), backed by vkgi's own block allocator.
+// (create/destroy/upload/readback), backed by vkgi's own block allocator. A failed Vulkan call
+// (creation, allocation, submit) throws std::runtime_error naming the call and the VkResult, and
+// leaks nothing; destroy functions never throw.
 #include <cstdint>
 #include <map>
 #include <memory>

@@ -6,6 +6,7 @@
 #include "vkgi/frame_constants.hpp"
 #include "vkgi/rg/render_graph.hpp"
 #include "vk_check.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi::rg {
 

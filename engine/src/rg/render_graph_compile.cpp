@@ -305,6 +305,8 @@ void RenderGraph::storeFinalStates() {
         if (r >= m_boundImages.size() || (!m_boundImages[r] && !m_boundBuffers[r]))
             order.push_back(r);
     order.insert(order.end(), m_transientOrder.begin(), m_transientOrder.end());
+    m_replacedImageStates.clear();
+    m_replacedBufferStates.clear();
     for (uint32_t r : order) {
         ResourceNode& res = m_resources[r];
         PersistentImage* image = r < m_boundImages.size() && m_boundImages[r] ? m_boundImages[r] : res.persistentImage;
@@ -312,14 +314,27 @@ void RenderGraph::storeFinalStates() {
             r < m_boundBuffers.size() && m_boundBuffers[r] ? m_boundBuffers[r] : res.persistentBuffer;
         const std::vector<AccessState>& fin = m_finalStates[r];
         if (image) {
+            m_replacedImageStates.emplace_back(image, image->state);
             image->state.resize(fin.size());
             for (size_t i = 0; i < fin.size(); ++i)
                 if (!(fin[i] == AccessState{})) // untouched transient subresources keep older state
                     image->state[i] = fin[i];
         }
-        if (buffer && !(fin[0] == AccessState{}))
+        if (buffer && !(fin[0] == AccessState{})) {
+            m_replacedBufferStates.emplace_back(buffer, buffer->state);
             buffer->state = fin[0];
+        }
     }
+}
+
+void RenderGraph::discardFinalStates() {
+    // Reverse order: a pool entry several transients shared gets its state from before the first.
+    for (auto it = m_replacedImageStates.rbegin(); it != m_replacedImageStates.rend(); ++it)
+        it->first->state = std::move(it->second);
+    for (auto it = m_replacedBufferStates.rbegin(); it != m_replacedBufferStates.rend(); ++it)
+        it->first->state = it->second;
+    m_replacedImageStates.clear();
+    m_replacedBufferStates.clear();
 }
 
 } // namespace vkgi::rg

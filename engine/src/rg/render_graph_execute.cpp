@@ -6,6 +6,7 @@
 #include "vkgi/rg/render_graph.hpp"
 #include "vkgi/rg/transient_pool.hpp"
 #include "vk_check.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi::rg {
 

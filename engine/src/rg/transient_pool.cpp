@@ -46,7 +46,12 @@ T& TransientPool::acquire(std::vector<std::unique_ptr<Entry<T>>>& entries, const
     if (!best) {
         entries.push_back(std::make_unique<Entry<T>>());
         best = entries.back().get();
-        create.make(best->resource, desc, name);
+        try {
+            create.make(best->resource, desc, name);
+        } catch (...) {
+            entries.pop_back(); // a failed creation leaves no empty entry a later graph could match
+            throw;
+        }
     } else {
         create.rename(best->resource, name);
     }

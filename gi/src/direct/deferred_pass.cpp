@@ -3,6 +3,7 @@
 #include "direct/direct_passes.hpp"
 
 #include "vkgi/rg/compute_pass.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi::gi {
 

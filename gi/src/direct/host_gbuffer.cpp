@@ -5,6 +5,7 @@
 #include <string>
 
 #include "vkgi/rg/compute_pass.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi::gi {
 

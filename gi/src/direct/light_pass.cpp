@@ -4,6 +4,7 @@
 #include <string>
 
 #include "direct/direct_passes.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi::gi {
 

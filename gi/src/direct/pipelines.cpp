@@ -2,6 +2,7 @@
 #include "direct/direct_passes.hpp"
 
 #include "vkgi/context.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi::gi {
 

@@ -5,6 +5,7 @@
 
 #include "vkgi/context.hpp"
 #include "vkgi/rg/compute_pass.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi::gi::lpv {
 

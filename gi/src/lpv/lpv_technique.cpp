@@ -22,6 +22,7 @@
 #include "lpv/lpv_passes.hpp"
 #include "lpv/lpv_volume.hpp"
 #include "voxel/scene_voxel_grid.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi::gi {
 

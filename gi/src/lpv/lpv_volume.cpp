@@ -2,6 +2,7 @@
 
 #include "vkgi/context.hpp"
 #include "vk_check.hpp"
+#include "vk_dispatch.hpp"
 #include "gi/lpv.h"
 
 namespace vkgi::gi::lpv {

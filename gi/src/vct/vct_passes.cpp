@@ -7,6 +7,7 @@
 
 #include "vkgi/rg/compute_pass.hpp"
 #include "vk_check.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi::gi {
 

@@ -8,6 +8,7 @@
 
 #include "vct/vct_passes.hpp"
 #include "voxel/scene_voxel_grid.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi::gi {
 

@@ -6,6 +6,7 @@
 
 #include "vkgi/context.hpp"
 #include "vk_check.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi::gi {
 

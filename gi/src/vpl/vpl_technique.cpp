@@ -14,6 +14,7 @@
 #include "vkgi/rg/compute_pass.hpp"
 #include "gi/vpl.h"
 #include "vkgi/vpl.hpp"
+#include "vk_dispatch.hpp"
 
 namespace vkgi::gi {
 

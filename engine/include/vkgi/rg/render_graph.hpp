@@ -4,6 +4,8 @@
 // compile() works without a Vulkan device (validation, culling, ordering and barrier derivation
 // are plain data), so unit tests cover it; execute() creates transients from a TransientPool,
 // inserts the derived barriers, and wraps each pass in a debug label and a timestamp scope.
+// execute() throws std::runtime_error naming the Vulkan call and the VkResult when creating a
+// transient fails; compile() errors are Result errors.
 #include <cstdint>
 #include <functional>
 #include <initializer_list>
@@ -365,6 +367,9 @@ public:
     // Copies the compiled final states into persistent imports (execute() does this; device-less
     // tests call it directly to simulate a frame).
     void storeFinalStates();
+    // The commands execute() recorded never ran (their submit failed): puts back the states
+    // storeFinalStates replaced, so the next graph's barriers start from what the GPU last did.
+    void discardFinalStates();
     // Graphviz: passes are boxes (culled ones grey), resource versions ellipses.
     void writeDot(std::ostream& out) const;
 
@@ -410,6 +415,9 @@ private:
     CompiledGraph m_compiled;
     bool m_isCompiled = false;
     std::vector<std::vector<AccessState>> m_finalStates; // per resource, after the final barriers
+    // What storeFinalStates overwrote, for discardFinalStates.
+    std::vector<std::pair<PersistentImage*, std::vector<AccessState>>> m_replacedImageStates;
+    std::vector<std::pair<PersistentBuffer*, AccessState>> m_replacedBufferStates;
     std::vector<uint32_t> m_firstUser;                   // first live pass using each resource
     std::vector<uint32_t> m_lastUser;                    // last live pass using each resource
     // Execute: transients in first-use order, and for each the transient that used its pool
