@@ -103,7 +103,7 @@ struct GiSystem::Impl {
     Result<GiOutputs> addHostPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Camera& camera,
                                     const HostGBuffer& gbuffer);
     Result<FrameResult> renderIndirect(const Camera& camera, const HostFrame& host);
-    Result<void> record(VkCommandBuffer cmd, const Camera& camera, const HostFrame& host);
+    Result<void> record(VkCommandBuffer hostCmd, const Camera& camera, const HostFrame& host);
     Result<void> setSettings(const GiSettings& newSettings);
     // The host G-buffer frame of renderIndirect and record: checks `host`, adds the passes, the
     // copy into the host's image, the readback when asked, and compiles. `api` names the caller.
@@ -575,8 +575,8 @@ Result<FrameResult> GiSystem::Impl::renderIndirect(const Camera& camera, const H
     return r;
 }
 
-Result<void> GiSystem::Impl::record(VkCommandBuffer cmd, const Camera& camera, const HostFrame& host) {
-    if (cmd == VK_NULL_HANDLE)
+Result<void> GiSystem::Impl::record(VkCommandBuffer hostCmd, const Camera& camera, const HostFrame& host) {
+    if (hostCmd == VK_NULL_HANDLE)
         return makeError("GiSystem::record: no command buffer");
     if (host.readback)
         return makeError("GiSystem::record: HostFrame.readback needs a wait; use renderIndirect for it");
@@ -589,7 +589,7 @@ Result<void> GiSystem::Impl::record(VkCommandBuffer cmd, const Camera& camera, c
     rg::Blackboard bb;
     if (auto ok = addIndirectFrame(*graph, bb, camera, host, "GiSystem::record"); !ok)
         return ok.error();
-    graph->execute(cmd, *ctx, *pool, nullptr, rg::TimestampScopes::FrameOnly);
+    graph->execute(hostCmd, *ctx, *pool, nullptr, rg::TimestampScopes::FrameOnly);
     slot = std::move(graph);
     ++recordIndex;
     return {};
