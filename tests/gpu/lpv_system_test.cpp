@@ -6,6 +6,7 @@
 #include <iterator>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "vkgi/builtin_scenes.hpp"
 #include "mesh_builder.hpp"
@@ -334,5 +335,51 @@ TEST_F(LpvSystem, OneAndSixtyFourStepsAtAlbedo099AreFiniteInBothFormats) {
                     means[0], means[1]);
         EXPECT_GT(means[1], 0.0);
         EXPECT_NEAR(means[0], means[1], 0.03 * means[1]) << steps;
+    }
+}
+
+// At its defaults LPV must beat the best constant ambient term (the direct image plus the
+// relMSE-optimal colour on the surface pixels) against the all-bounce reference on the enclosed
+// scenes where its 16^3 grid crosses the room: the Cornell box by the margin issue #15 asks for
+// (0.8x), the bunny box at all (it measures just above 0.8x; docs/lpv.md "Defaults",
+// bench/lpv-128 has every scene). The former defaults, 32^3 x 8 steps, reach a quarter of the
+// grid and are above the constant on both.
+TEST_F(LpvSystem, DefaultsBeatTheBestConstantAgainstAllBounces) {
+    constexpr uint32_t kSize = 64;
+    const std::pair<const char*, double> scenes[] = {{"cornell", 0.8}, {"bunny_box", 1.0}};
+    for (const auto& [name, bar] : scenes) {
+        auto scene = makeBuiltinScene(name);
+        ASSERT_TRUE(scene) << scene.error().message;
+        ReferenceSettings rs;
+        rs.spp = 512;
+        rs.maxBounces = -1;
+        rs.progress = false;
+        auto ref = renderReferenceCached(*scene, *scene->camera, kSize, kSize, rs);
+        ASSERT_TRUE(ref) << ref.error().message;
+        auto errors = [&](const LpvSettings& lpv) {
+            GiSettings settings;
+            settings.technique = Technique::Lpv;
+            settings.lpv = lpv;
+            FrameRequest request;
+            request.direct = true;
+            auto frame = test::renderOnce(ctx(), settings, *scene, *scene->camera, kSize, kSize, request);
+            EXPECT_TRUE(frame) << (frame ? "" : frame.error().message);
+            if (!frame)
+                return std::pair<double, double>{0.0, 0.0};
+            std::vector<bool> surface = surfacePixels(frame->composite, ref->full);
+            auto mine = compareImages(frame->composite, ref->full);
+            auto ambient = compareImages(bestAmbient(frame->direct, ref->full, surface), ref->full);
+            EXPECT_EQ(mine->nonFinite, 0u);
+            return std::pair<double, double>{mine->relMse, ambient->relMse};
+        };
+        auto [lpv, ambient] = errors(LpvSettings{});
+        LpvSettings former;
+        former.gridSize = 32;
+        former.iterations = 8;
+        auto [formerLpv, formerAmbient] = errors(former);
+        std::printf("[lpv] %-10s all bounces: defaults relMSE %.4f, 32^3 x 8 %.4f, best constant %.4f (%.2fx)\n",
+                    name, lpv, formerLpv, ambient, lpv / ambient);
+        EXPECT_LT(lpv, bar * ambient) << name;
+        EXPECT_GT(formerLpv, ambient) << name << ": the former defaults were above the constant";
     }
 }

@@ -43,7 +43,7 @@ TEST(Knobs, SetReachesTheField) {
     EXPECT_EQ(findKnob("vct.occlusion")->get(s), "shadowmap");
     s.technique = Technique::Lpv;
     EXPECT_EQ(describeKnobs(s),
-              "grid=64 iterations=8 occlusion=off bounces=off damping=0.25 cascades=1 half=on rsm_reduce=4");
+              "grid=64 iterations=16 occlusion=off bounces=off damping=0.25 cascades=1 half=on rsm_reduce=4");
 }
 
 TEST(Knobs, BadValuesAreOneLineErrorsNamingTheKnob) {
@@ -75,7 +75,10 @@ TEST(Knobs, HelpListsEveryKnobWithItsDefault) {
     std::string help = knobHelp();
     for (const Knob& k : knobs())
         EXPECT_NE(help.find("--" + k.name), std::string::npos) << k.name;
-    EXPECT_NE(help.find("(default 32)"), std::string::npos);
+    size_t grid = help.find("--lpv.grid");
+    ASSERT_NE(grid, std::string::npos);
+    std::string gridLine = help.substr(grid, help.find('\n', grid) - grid);
+    EXPECT_NE(gridLine.find("(default " + std::to_string(LpvSettings{}.gridSize) + ")"), std::string::npos) << gridLine;
     EXPECT_NE(help.find("hard|soft|shadowmap"), std::string::npos);
     EXPECT_NE(help.find("(default hard)"), std::string::npos);
 }

@@ -8,8 +8,12 @@
 namespace vkgi::gi {
 
 struct LpvSettings {
-    uint32_t gridSize = 32;   // cells per axis, 1..128; memory and time grow as gridSize^3
-    uint32_t iterations = 8;  // propagation steps = how many cells light travels, 0..4096
+    // Cells per axis, 1..128; memory and time grow as gridSize^3. With `iterations` = gridSize
+    // light crosses the whole grid: the bench's sweep (docs/bench/lpv-128) puts 16^3 x 16 on or
+    // near every built-in scene's error front, below 32^3 x 8 everywhere and at a quarter of its
+    // propagation cost (docs/lpv.md "Defaults").
+    uint32_t gridSize = 16;
+    uint32_t iterations = 16; // propagation steps = how many cells light travels, 0..4096
     bool occlusion = true;    // attenuate by the geometry volume (fuzzy blocking) while propagating
     bool bounces = false;     // reflect the light the GV stops at occupied voxels of the shared voxel grid
                               // (Gaitatzes et al.; needs occlusion); off by default: on the Cornell box
