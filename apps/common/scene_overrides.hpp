@@ -17,7 +17,7 @@ namespace vkgi::apps {
 // --camera EX,EY,EZ:TX,TY,TZ[:FOV]: eye, target and vertical field of view in degrees (default 60).
 struct CameraSpec {
     glm::vec3 eye{0.0f};
-    glm::vec3 target{0.0f, 0.0f, -1.0f};
+    std::optional<glm::vec3> target; // none: the centre of the scene's bounds
     float yfovDegrees = 60.0f;
 };
 Result<CameraSpec> parseCameraSpec(const std::string& flag, const std::string& text);

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "vkgi/builtin_scenes.hpp"
 #include "vkgi/image_io.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/test_env.hpp"
@@ -68,10 +69,13 @@ TEST_F(Cli, BadArgumentsExitTwoWithOneLine) {
                  // Each knob in its own range, the settings still wrong as a whole: a bad argument too.
                  {"--technique vct --vct.grid 100", "gridResolution 100"},
                  {"--technique vpl --vpl.visibility_grid 100", "visibilityGrid 100"},
-                 {"--camera 1,2,3", "--camera"},              {"--camera 1,2,3:1,2,3", "apart"},
+                 {"--camera 1,2", "--camera"},                {"--camera 1,2,3:1,2,3", "apart"},
+                 {"--camera 1,2,3:4,5,6:30:1", "--camera"},
                  {"--camera 0,0,0:0,0,1:180", "field of view"}, {"--light lamp:0,0,0:1", "--light"},
                  {"--light point:0,0,0:-1", "above 0"},      {"--light sun:0,0,0:100", "not zero"},
-                 {"--light spot:0,1,0:0,-1,0:5:95", "DEG"},   {"--light point:0,nan,0:1", "--light"}};
+                 {"--light spot:0,1,0:0,-1,0:5:95", "OUTER"}, {"--light point:0,nan,0:1", "--light"},
+                 {"--light spot:0,1,0:0,-1,0:5:30:40", "INNER"}, {"--light point:0,1,0:5:0,0,0", "not black"},
+                 {"--light sun:0,-1,0:100:1,-1,1", "R,G,B"}};
     for (const Case& c : cases) {
         CliRun r = run(c.args);
         EXPECT_EQ(r.exitCode, 2) << c.args;
@@ -128,6 +132,35 @@ TEST_F(Cli, CameraAndLightsFromTheCommandLine) {
     EXPECT_GT(brighter, a->pixels.size() / 2) << "a 2 cd lamp in the box lights most of what the camera sees";
     EXPECT_EQ(darker, 0u) << "an added light takes nothing away";
     EXPECT_GT(differ, a->pixels.size() / 2);
+
+    // The optional parts: a red lamp adds red only; an eye without a target looks at the centre
+    // of the scene (here the same view as aiming at it explicitly).
+    CliRun red = run(base + (dir / "red.exr").string() + " --light point:0.278,0.3,0.28:2:1,0,0");
+    CliRun eyeOnly = run(base + (dir / "eye.exr").string() + " --camera 0.278,0.27,-0.6");
+    ASSERT_EQ(red.exitCode, 0) << red.err;
+    ASSERT_EQ(eyeOnly.exitCode, 0) << eyeOnly.err;
+    auto r = vkgi::readExr(dir / "red.exr"), e = vkgi::readExr(dir / "eye.exr");
+    ASSERT_TRUE(r && e);
+    double addedRed = 0.0, addedBlue = 0.0;
+    for (size_t i = 0; i < a->pixels.size(); ++i) {
+        addedRed += r->pixels[i].x - a->pixels[i].x;
+        addedBlue += std::abs(r->pixels[i].z - a->pixels[i].z);
+    }
+    EXPECT_GT(addedRed, 1e-3 * double(a->pixels.size()));
+    EXPECT_LT(addedBlue, 1e-6 * addedRed) << "a red lamp adds no blue light";
+    auto box = vkgi::makeBuiltinScene("cornell");
+    ASSERT_TRUE(box);
+    glm::vec3 centre = box->bounds().centre();
+    char aimed[128];
+    std::snprintf(aimed, sizeof aimed, "0.278,0.27,-0.6:%.9g,%.9g,%.9g", centre.x, centre.y, centre.z);
+    CliRun aimedRun = run(base + (dir / "aimed.exr").string() + " --camera " + std::string(aimed));
+    ASSERT_EQ(aimedRun.exitCode, 0) << aimedRun.err;
+    auto t = vkgi::readExr(dir / "aimed.exr");
+    ASSERT_TRUE(t);
+    double largest = 0.0;
+    for (size_t i = 0; i < e->pixels.size(); ++i)
+        largest = std::max(largest, double(glm::length(e->pixels[i] - t->pixels[i])));
+    EXPECT_EQ(largest, 0.0) << "eye-only camera = camera aimed at the bounds' centre";
 }
 
 TEST_F(Cli, SmallRenderWritesImageAndJson) {
