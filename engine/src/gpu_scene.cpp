@@ -23,8 +23,13 @@ Buffer uploadArray(Context& ctx, const std::vector<T>& data, VkBufferUsageFlags 
     // Zero-length tables still get one element so descriptors stay valid.
     size_t count = std::max<size_t>(1, data.size());
     Buffer b = createBuffer(ctx, {count * sizeof(T), usage}, name);
-    if (!data.empty())
-        uploadBuffer(ctx, b, data.data(), data.size() * sizeof(T));
+    try {
+        if (!data.empty())
+            uploadBuffer(ctx, b, data.data(), data.size() * sizeof(T));
+    } catch (...) { // a failed Vulkan call (VulkanError): nothing of the upload stays behind
+        destroyBuffer(ctx, b);
+        throw;
+    }
     return b;
 }
 
@@ -79,6 +84,40 @@ VkDeviceSize GpuScene::bytes() const {
            (textures ? imageBytes(textures.desc) : 0);
 }
 
+namespace {
+
+// The device side of uploadScene: buffers, the texture array and its sampler, into `g`. Throws
+// VulkanError part-way when a Vulkan call fails; the caller frees what is in `g` by then.
+void uploadResources(Context& ctx, const Scene& scene, GpuScene& g, const std::vector<GpuVertex>& vertices,
+                     const std::vector<uint32_t>& indices, const std::vector<GpuMaterial>& materials) {
+    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    g.vertices = uploadArray(ctx, vertices, storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "scene.vertices");
+    g.indices = uploadArray(ctx, indices, storage | VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "scene.indices");
+    g.instances = uploadArray(ctx, instanceTable(scene, g.draws), storage, "scene.instances");
+    g.materials = uploadArray(ctx, materials, storage, "scene.materials");
+    g.lights = uploadArray(ctx, lightTable(scene), storage, "scene.lights");
+    g.lightCount = uint32_t(scene.lights.size());
+
+    const uint32_t size = GI_SCENE_TEXTURE_SIZE;
+    uint32_t layers = std::max<uint32_t>(1, uint32_t(scene.textures.size()));
+    std::vector<uint8_t> texels(size_t(size) * size * 4 * layers, 255);
+    for (size_t i = 0; i < scene.textures.size(); ++i)
+        resample(scene.textures[i], size, texels.data() + i * size * size * 4);
+    ImageDesc td;
+    td.format = VK_FORMAT_R8G8B8A8_SRGB;
+    td.width = td.height = size;
+    td.arrayLayers = layers;
+    td.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
+    td.arrayView = true; // shaders bind a sampler2DArray, also when there is one layer
+    g.textures = createImage(ctx, td, "scene.textures");
+    uploadImage(ctx, g.textures, texels.data(), texels.size(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    SamplerDesc sd;
+    sd.address = VK_SAMPLER_ADDRESS_MODE_REPEAT;
+    g.textureSampler = createSampler(ctx, sd);
+}
+
+} // namespace
+
 Result<GpuScene> uploadScene(Context& ctx, const Scene& scene) {
     if (auto ok = validateScene(scene); !ok)
         return ok.error();
@@ -112,30 +151,12 @@ Result<GpuScene> uploadScene(Context& ctx, const Scene& scene) {
         gm.params = glm::vec4(m.metallic, m.roughness, float(m.baseColorTexture), m.doubleSided ? 1.0f : 0.0f);
         materials.push_back(gm);
     }
-    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-    g.vertices = uploadArray(ctx, vertices, storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "scene.vertices");
-    g.indices = uploadArray(ctx, indices, storage | VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "scene.indices");
-    g.instances = uploadArray(ctx, instanceTable(scene, g.draws), storage, "scene.instances");
-    g.materials = uploadArray(ctx, materials, storage, "scene.materials");
-    g.lights = uploadArray(ctx, lightTable(scene), storage, "scene.lights");
-    g.lightCount = uint32_t(scene.lights.size());
-
-    const uint32_t size = GI_SCENE_TEXTURE_SIZE;
-    uint32_t layers = std::max<uint32_t>(1, uint32_t(scene.textures.size()));
-    std::vector<uint8_t> texels(size_t(size) * size * 4 * layers, 255);
-    for (size_t i = 0; i < scene.textures.size(); ++i)
-        resample(scene.textures[i], size, texels.data() + i * size * size * 4);
-    ImageDesc td;
-    td.format = VK_FORMAT_R8G8B8A8_SRGB;
-    td.width = td.height = size;
-    td.arrayLayers = layers;
-    td.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
-    td.arrayView = true; // shaders bind a sampler2DArray, also when there is one layer
-    g.textures = createImage(ctx, td, "scene.textures");
-    uploadImage(ctx, g.textures, texels.data(), texels.size(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    SamplerDesc sd;
-    sd.address = VK_SAMPLER_ADDRESS_MODE_REPEAT;
-    g.textureSampler = createSampler(ctx, sd);
+    try {
+        uploadResources(ctx, scene, g, vertices, indices, materials);
+    } catch (...) { // a failed Vulkan call part-way: free what was made, then report it
+        destroyScene(ctx, g);
+        throw;
+    }
     g.bounds = scene.bounds();
     return g;
 }

@@ -364,39 +364,50 @@ void imageLayoutBarrier(VkCommandBuffer cmd, const Image& img, VkImageLayout fro
     vkCmdPipelineBarrier2(cmd, &dep);
 }
 
-Buffer staging(Context& ctx, VkDeviceSize size, MemoryUsage usage) {
-    return createBuffer(ctx, {size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, usage},
-                        "vkgi.staging");
-}
+// A host-visible transfer buffer for one copy, destroyed on every way out (a failed submit
+// throws VulkanError through the copy).
+class Staging {
+public:
+    Staging(Context& ctx, VkDeviceSize size, MemoryUsage usage)
+        : m_ctx(ctx),
+          m_buffer(createBuffer(ctx, {size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, usage},
+                                "vkgi.staging")) {}
+    ~Staging() { destroyBuffer(m_ctx, m_buffer); }
+    Staging(const Staging&) = delete;
+    Staging& operator=(const Staging&) = delete;
+    VkBuffer buffer() const { return m_buffer.buffer; }
+    void* mapped() const { return m_buffer.mapped(); }
+
+private:
+    Context& m_ctx;
+    Buffer m_buffer;
+};
 } // namespace
 
 void uploadBuffer(Context& ctx, const Buffer& dst, const void* data, VkDeviceSize size, VkDeviceSize offset) {
     VKGI_ASSERT(offset + size <= dst.desc.size, "uploadBuffer: write past the end of the buffer");
     if (size == 0)
         return;
-    Buffer s = staging(ctx, size, MemoryUsage::CpuToGpu);
+    Staging s(ctx, size, MemoryUsage::CpuToGpu);
     std::memcpy(s.mapped(), data, size);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         fullMemoryBarrier(cmd); // order after any earlier use of dst in previous submissions
         VkBufferCopy region{0, offset, size};
-        vkCmdCopyBuffer(cmd, s.buffer, dst.buffer, 1, &region);
+        vkCmdCopyBuffer(cmd, s.buffer(), dst.buffer, 1, &region);
         fullMemoryBarrier(cmd);
     });
-    destroyBuffer(ctx, s);
 }
 
 std::vector<uint8_t> readbackBuffer(Context& ctx, const Buffer& src) {
-    Buffer s = staging(ctx, src.desc.size, MemoryUsage::GpuToCpu);
+    Staging s(ctx, src.desc.size, MemoryUsage::GpuToCpu);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         fullMemoryBarrier(cmd);
         VkBufferCopy region{0, 0, src.desc.size};
-        vkCmdCopyBuffer(cmd, src.buffer, s.buffer, 1, &region);
+        vkCmdCopyBuffer(cmd, src.buffer, s.buffer(), 1, &region);
         fullMemoryBarrier(cmd);
     });
     const auto* p = static_cast<const uint8_t*>(s.mapped());
-    std::vector<uint8_t> out(p, p + src.desc.size);
-    destroyBuffer(ctx, s);
-    return out;
+    return std::vector<uint8_t>(p, p + src.desc.size);
 }
 
 namespace {
@@ -416,32 +427,29 @@ VkDeviceSize mipBytes(const Image& img, uint32_t mip) {
 
 void uploadImage(Context& ctx, const Image& dst, const void* data, VkDeviceSize size, VkImageLayout finalLayout) {
     VKGI_ASSERT(size == mipBytes(dst, 0), "uploadImage: data size does not match mip 0 of the image");
-    Buffer s = staging(ctx, size, MemoryUsage::CpuToGpu);
+    Staging s(ctx, size, MemoryUsage::CpuToGpu);
     std::memcpy(s.mapped(), data, size);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         imageLayoutBarrier(cmd, dst, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
         VkBufferImageCopy r = mipRegion(dst, 0);
-        vkCmdCopyBufferToImage(cmd, s.buffer, dst.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &r);
+        vkCmdCopyBufferToImage(cmd, s.buffer(), dst.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &r);
         imageLayoutBarrier(cmd, dst, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, finalLayout);
     });
-    destroyBuffer(ctx, s);
 }
 
 std::vector<uint8_t> readbackImage(Context& ctx, const Image& src, VkImageLayout currentLayout, uint32_t mip) {
     VKGI_ASSERT(mip < src.desc.mipLevels, "readbackImage: mip level out of range");
     VkDeviceSize size = mipBytes(src, mip);
-    Buffer s = staging(ctx, size, MemoryUsage::GpuToCpu);
+    Staging s(ctx, size, MemoryUsage::GpuToCpu);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         imageLayoutBarrier(cmd, src, currentLayout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
         VkBufferImageCopy r = mipRegion(src, mip);
-        vkCmdCopyImageToBuffer(cmd, src.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, s.buffer, 1, &r);
+        vkCmdCopyImageToBuffer(cmd, src.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, s.buffer(), 1, &r);
         imageLayoutBarrier(cmd, src, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, currentLayout);
         fullMemoryBarrier(cmd);
     });
     const auto* p = static_cast<const uint8_t*>(s.mapped());
-    std::vector<uint8_t> out(p, p + size);
-    destroyBuffer(ctx, s);
-    return out;
+    return std::vector<uint8_t>(p, p + size);
 }
 
 TimestampPool::TimestampPool(Context& ctx, uint32_t maxScopes) : m_ctx(ctx), m_max(maxScopes) {

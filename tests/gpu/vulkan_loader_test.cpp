@@ -23,7 +23,9 @@ std::atomic<uint32_t> g_lookups{0};        // names the library looked up throug
 std::atomic<bool> g_failAllocate{false};   // vkAllocateMemory returns VK_ERROR_OUT_OF_DEVICE_MEMORY
 std::atomic<uint32_t> g_failedAllocations{0};
 std::atomic<VkResult> g_submitResult{VK_SUCCESS}; // an error: vkQueueSubmit2 returns it, submitting nothing
+std::atomic<int32_t> g_buffersBeforeFailure{-1}; // >= 0: vkCreateBuffer succeeds this many more times, then fails
 PFN_vkAllocateMemory g_allocateMemory = nullptr;
+PFN_vkCreateBuffer g_createBuffer = nullptr;
 PFN_vkQueueSubmit2 g_queueSubmit2 = nullptr;
 
 VKAPI_ATTR VkResult VKAPI_CALL faultyAllocateMemory(VkDevice device, const VkMemoryAllocateInfo* info,
@@ -42,12 +44,26 @@ VKAPI_ATTR VkResult VKAPI_CALL faultyQueueSubmit2(VkQueue queue, uint32_t count,
     return g_queueSubmit2(queue, count, submits, fence);
 }
 
+VKAPI_ATTR VkResult VKAPI_CALL faultyCreateBuffer(VkDevice device, const VkBufferCreateInfo* info,
+                                                  const VkAllocationCallbacks* allocator, VkBuffer* buffer) {
+    int32_t left = g_buffersBeforeFailure.load();
+    if (left == 0)
+        return VK_ERROR_OUT_OF_DEVICE_MEMORY;
+    if (left > 0)
+        g_buffersBeforeFailure = left - 1;
+    return g_createBuffer(device, info, allocator, buffer);
+}
+
 VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL hostGetInstanceProcAddr(VkInstance instance, const char* name) {
     ++g_lookups;
     PFN_vkVoidFunction real = vkGetInstanceProcAddr(instance, name);
     if (std::strcmp(name, "vkAllocateMemory") == 0) {
         g_allocateMemory = reinterpret_cast<PFN_vkAllocateMemory>(real);
         return reinterpret_cast<PFN_vkVoidFunction>(faultyAllocateMemory);
+    }
+    if (std::strcmp(name, "vkCreateBuffer") == 0) {
+        g_createBuffer = reinterpret_cast<PFN_vkCreateBuffer>(real);
+        return reinterpret_cast<PFN_vkVoidFunction>(faultyCreateBuffer);
     }
     if (std::strcmp(name, "vkQueueSubmit2") == 0) {
         g_queueSubmit2 = reinterpret_cast<PFN_vkQueueSubmit2>(real);
@@ -68,10 +84,12 @@ protected:
         g_failAllocate = false;
         g_failedAllocations = 0;
         g_submitResult = VK_SUCCESS;
+        g_buffersBeforeFailure = -1;
     }
     void TearDown() override {
         g_failAllocate = false;
         g_submitResult = VK_SUCCESS;
+        g_buffersBeforeFailure = -1;
         test::GpuTest::TearDown();
     }
 
@@ -185,6 +203,40 @@ TEST_F(VulkanLoaderTest, FailedSubmitLeavesNoStaleStateForTheNextFrame) {
     ASSERT_TRUE(recovered) << recovered.error().message;
     EXPECT_TRUE(sameImage(recovered->composite, clean->composite));
     EXPECT_TRUE(sameImage(recovered->indirect, clean->indirect));
+}
+
+// setScene fails part-way through the upload (a buffer of the scene or a staging buffer cannot be
+// created): the error names the call, the buffers already made are freed, the system keeps no
+// scene, and a later setScene renders as a clean system does.
+TEST_F(VulkanLoaderTest, FailedSceneUploadFreesWhatItMadeAndTheNextUploadRenders) {
+    Scene cornell = scene();
+    auto clean = test::renderOnce(ctx(), smallVct(), cornell, cornell.cameraOrDefault(), 32, 32, {});
+    ASSERT_TRUE(clean) << clean.error().message;
+
+    auto hostCtx = wrapWithHostLoader();
+    ASSERT_TRUE(hostCtx);
+    auto system = GiSystem::create(*hostCtx, smallVct());
+    ASSERT_TRUE(system) << system.error().message;
+    const VkDeviceSize live = hostCtx->allocator().liveBytes();
+    // Buffers are made in pairs (the table, then its staging buffer): every point of failure.
+    for (int32_t before : {0, 1, 2, 3, 8, 9}) {
+        g_buffersBeforeFailure = before;
+        auto failed = (*system)->setScene(cornell);
+        g_buffersBeforeFailure = -1;
+        ASSERT_FALSE(failed) << before;
+        EXPECT_EQ(failed.error().message.rfind("vkCreateBuffer failed: VK_ERROR_OUT_OF_DEVICE_MEMORY (", 0), 0u)
+            << failed.error().message;
+        EXPECT_EQ(hostCtx->allocator().liveBytes(), live) << "the half-uploaded scene is freed, failing after "
+                                                          << before << " buffers";
+    }
+    auto noScene = (*system)->renderFrame(cornell.cameraOrDefault(), 32, 32);
+    ASSERT_FALSE(noScene);
+    EXPECT_NE(noScene.error().message.find("no scene"), std::string::npos) << noScene.error().message;
+
+    ASSERT_TRUE((*system)->setScene(cornell));
+    auto frame = (*system)->renderFrame(cornell.cameraOrDefault(), 32, 32);
+    ASSERT_TRUE(frame) << frame.error().message;
+    EXPECT_TRUE(sameImage(frame->composite, clean->composite));
 }
 
 } // namespace
