@@ -1,8 +1,8 @@
 // The camera a scene without one gets (Scene::cameraOrDefault). Outside views suit objects and
 // open scenes; an interior (a hall, a room, a building entered through its door) seen from
 // outside shows its outer walls and nothing of its light. A scene counts as an interior when
-// nearly every ray from the centre of its bounds meets the front side of a surface (walls facing
-// inwards); the camera then stands inside, backed off along the longest horizontal axis towards
+// nearly every ray from the centre of its bounds that is not aimed at the sky meets the front
+// side of a surface (walls facing inwards; a courtyard open to the sky counts); the camera then stands inside, backed off along the longest horizontal axis towards
 // one end, looking along that axis. A closed object (a statue) seen from its centre shows back
 // faces, so it keeps the outside view.
 #include <algorithm>
@@ -20,6 +20,7 @@ namespace {
 // a door or a window may let a few escape.
 constexpr float kInteriorShare = 0.9f;
 constexpr uint32_t kProbeRays = 64;
+constexpr float kSkyElevation = 0.5f; // sin(30 degrees)
 constexpr float kInteriorFov = 1.0471976f; // 60 degrees: a room fits, perspective stays mild
 
 struct Hit {
@@ -85,11 +86,17 @@ std::optional<Camera> interiorCamera(const Scene& scene) {
     if (!b.valid())
         return std::nullopt;
     glm::vec3 centre = b.centre();
-    std::vector<Hit> hits = castRays(scene, centre, sphereDirections(kProbeRays));
+    // Rays steeper than kSkyElevation upwards do not count: a courtyard or an atrium open to
+    // the sky is an interior too.
+    std::vector<glm::vec3> dirs;
+    for (const glm::vec3& d : sphereDirections(kProbeRays))
+        if (d.y <= kSkyElevation)
+            dirs.push_back(d);
+    std::vector<Hit> hits = castRays(scene, centre, dirs);
     uint32_t front = 0;
     for (const Hit& h : hits)
         front += h.front ? 1u : 0u;
-    if (float(front) < kInteriorShare * float(kProbeRays))
+    if (float(front) < kInteriorShare * float(dirs.size()))
         return std::nullopt;
 
     glm::vec3 ext = b.extent();

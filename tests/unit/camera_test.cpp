@@ -4,6 +4,7 @@
 
 #include "mesh_builder.hpp"
 #include "vkgi/camera.hpp"
+#include "vkgi/builtin_scenes.hpp"
 #include "vkgi/scene.hpp"
 
 using namespace vkgi;
@@ -89,4 +90,25 @@ TEST(Camera, DefaultCameraStandsInsideInteriors) {
     stage.addQuad({-1, 2, 1}, {1, 2, 1}, {1, 2, -1}, {-1, 2, -1});    // ceiling, facing down
     stage.addQuad({-1, 0, 1}, {1, 0, 1}, {1, 2, 1}, {-1, 2, 1});      // back wall, facing -z
     EXPECT_FALSE(interiorCamera(oneMeshScene(stage)));
+}
+
+// The built-in interiors, stripped of their cameras, get one inside: the hall, the sun-lit room
+// (its window lets a few probe rays out) and the atrium (open to the sky). The Cornell box is
+// open at the front.
+TEST(Camera, BuiltinInteriorsGetACameraInside) {
+    for (const char* name : {"hall", "room", "atrium", "cornell"}) {
+        auto scene = makeBuiltinScene(name);
+        ASSERT_TRUE(scene) << scene.error().message;
+        scene->camera.reset();
+        std::optional<Camera> inside = interiorCamera(*scene);
+        const bool open = std::string(name) == "cornell";
+        EXPECT_EQ(inside.has_value(), !open) << name;
+        if (!inside)
+            continue;
+        Aabb b = scene->bounds();
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_GT(inside->position[k], b.min[k]) << name;
+            EXPECT_LT(inside->position[k], b.max[k]) << name;
+        }
+    }
 }

@@ -97,8 +97,8 @@ struct Scene {
     Camera cameraOrDefault() const;
 };
 
-// For a scene whose surfaces enclose the centre of its bounds (nearly every ray from there meets
-// the front side of a wall): a camera inside, towards one end of the longest horizontal axis and
+// For a scene whose surfaces enclose the centre of its bounds (nearly every ray from there that
+// is not aimed at the sky meets the front side of a wall): a camera inside, towards one end of the longest horizontal axis and
 // looking along it. Nothing for open scenes and closed objects. Costs rays x triangles on the CPU.
 std::optional<Camera> interiorCamera(const Scene& scene);
 
