@@ -1,9 +1,11 @@
 #pragma once
 // vkgi's public GI API. A GiSystem renders a scene with direct lighting (G-buffer, shadow maps,
-// deferred shading) plus the indirect light of the selected technique, either as a whole
-// frame (renderFrame: build graph, execute, submit, wait, read back) or as passes added to a
-// host's own render graph (addPasses). Every pass goes through vkgi::rg, so unrequested work
-// is culled and every pass is timed.
+// deferred shading) plus the indirect light of the selected technique: as a whole frame
+// (renderFrame, or renderIndirect on the host's G-buffer: build graph, execute, submit, wait),
+// recorded into the host's command buffer (record), or as passes added to the host's own render
+// graph (addPasses). Every pass goes through vkgi::rg, so unrequested work is culled and every
+// pass can be timed. Every call that can fail returns a Result, a failed Vulkan call included:
+// those are neither thrown to the host nor fatal (docs/embedding.md, "Errors").
 #include <cstdint>
 #include <memory>
 #include <string>
