@@ -13,7 +13,7 @@ namespace vkgi {
 // Name of a VkResult value ("VK_ERROR_DEVICE_LOST"); the 1.3.239 headers lack vk_enum_string_helper.h.
 const char* toString(VkResult result);
 
-// A failed Vulkan call: what() is one line, "vkQueueSubmit2 failed: VK_ERROR_DEVICE_LOST (gi_system.cpp:123)".
+// A failed Vulkan call: what() is one line, "vkQueueSubmit2 failed: VK_ERROR_DEVICE_LOST (context.cpp:123)".
 class VulkanError : public std::runtime_error {
 public:
     VulkanError(const char* file, int line, const char* expr, VkResult result);

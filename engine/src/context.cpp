@@ -186,6 +186,15 @@ void Context::endLabel(VkCommandBuffer cmd) const {
         m_fn.cmdEndLabel(cmd);
 }
 
+void Context::submit(VkCommandBuffer cmd, VkFence fence) const {
+    VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+    cmdInfo.commandBuffer = cmd;
+    VkSubmitInfo2 info{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+    info.commandBufferInfoCount = 1;
+    info.pCommandBufferInfos = &cmdInfo;
+    VKGI_CHECK(vkQueueSubmit2(m_queue, 1, &info, fence));
+}
+
 void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) {
     VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
     alloc.commandPool = m_commandPool;
@@ -199,12 +208,7 @@ void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) 
         VKGI_CHECK(vkBeginCommandBuffer(cmd, &begin));
         record(cmd);
         VKGI_CHECK(vkEndCommandBuffer(cmd));
-        VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
-        cmdInfo.commandBuffer = cmd;
-        VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
-        submit.commandBufferInfoCount = 1;
-        submit.pCommandBufferInfos = &cmdInfo;
-        VKGI_CHECK(vkQueueSubmit2(m_queue, 1, &submit, m_fence));
+        submit(cmd, m_fence);
     } catch (...) {
         vkFreeCommandBuffers(m_device, m_commandPool, 1, &cmd); // never submitted
         throw;

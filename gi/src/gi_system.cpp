@@ -330,13 +330,8 @@ void GiSystem::Impl::submitAndWait(rg::RenderGraph& graph, rg::TimestampScopes s
     graph.execute(cmd, *ctx, *pool, ctx->timestampsSupported() ? timestamps.get() : nullptr, scopes);
     try {
         VKGI_CHECK(vkEndCommandBuffer(cmd));
-        VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
-        cmdInfo.commandBuffer = cmd;
-        VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
-        submit.commandBufferInfoCount = 1;
-        submit.pCommandBufferInfos = &cmdInfo;
         VKGI_CHECK(vkResetFences(ctx->device(), 1, &fence));
-        VKGI_CHECK(vkQueueSubmit2(ctx->queue(), 1, &submit, fence));
+        ctx->submit(cmd, fence);
     } catch (const VulkanError&) {
         graph.discardFinalStates(); // recorded, never run: resources keep their previous states
         throw;

@@ -175,7 +175,7 @@ TEST_F(VulkanLoaderTest, DeviceLostAtSubmitIsReturnedAndTheSystemIsDestroyedClea
     auto failed = (*system)->renderFrame(cornell.cameraOrDefault(), 32, 32);
     ASSERT_FALSE(failed);
     const std::string& message = failed.error().message;
-    EXPECT_EQ(message.rfind("vkQueueSubmit2 failed: VK_ERROR_DEVICE_LOST (gi_system.cpp:", 0), 0u) << message;
+    EXPECT_EQ(message.rfind("vkQueueSubmit2 failed: VK_ERROR_DEVICE_LOST (context.cpp:", 0), 0u) << message;
     system->reset(); // destroys everything with the device "lost": no abort, no throw
     hostCtx.reset();
 }

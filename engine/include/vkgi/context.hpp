@@ -66,6 +66,9 @@ public:
     // Records `record` into a one-time command buffer, submits it and waits (uploads,
     // readbacks, tests). Not for per-frame work. Throws std::runtime_error when a Vulkan call fails.
     void submitAndWait(const std::function<void(VkCommandBuffer)>& record);
+    // Submits one recorded command buffer to the queue, signalling `fence` (may be null). Throws
+    // std::runtime_error when the submit fails.
+    void submit(VkCommandBuffer cmd, VkFence fence) const;
     VkCommandPool commandPool() const { return m_commandPool; }
     // Set 0 of every pipeline layout: the per-frame constants (engine/frame_constants.h).
     VkDescriptorSetLayout frameSetLayout() const { return m_frameSetLayout; }
