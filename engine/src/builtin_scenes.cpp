@@ -449,6 +449,46 @@ Scene makeHall() {
     return s;
 }
 
+// ---- the same interiors inside a large world ------------------------------------------
+// A 400 m square ground plane under the interior and a ring of low buildings 40-180 m away: the
+// scene's bounds grow ~27x while what the camera sees does not (closed hall walls; the atrium's
+// walls hide buildings that low), so a technique's error should not change either. Techniques
+// that size their volumes or constants by the scene's bounds do worse here (issue #16).
+constexpr float kWorldHalf = 200.0f, kBuildingMaxH = 8.0f;
+
+void addWorldAround(Scene& s, const std::string& prefix, float groundY) {
+    uint32_t ground = addMaterial(s, prefix + "_ground", {0.30f, 0.28f, 0.25f});
+    uint32_t building = addMaterial(s, prefix + "_buildings", {0.50f, 0.48f, 0.45f});
+    MeshBuilder g, b;
+    g.addGridQuad({-kWorldHalf, groundY, kWorldHalf}, {kWorldHalf, groundY, kWorldHalf},
+                  {kWorldHalf, groundY, -kWorldHalf}, {-kWorldHalf, groundY, -kWorldHalf}, 16);
+    // Deterministic placement: 24 buildings on rings, sizes from a fixed sequence.
+    for (int i = 0; i < 24; ++i) {
+        float angle = 2.0f * kPi * (float(i) + 0.37f * float(i % 3)) / 24.0f;
+        float radius = 40.0f + 140.0f * float((i * 7) % 24) / 23.0f;
+        float w = 6.0f + float((i * 5) % 7), d = 5.0f + float((i * 3) % 5);
+        float h = 3.0f + (kBuildingMaxH - 3.0f) * float((i * 11) % 13) / 12.0f;
+        glm::vec3 c(radius * std::cos(angle), groundY, radius * std::sin(angle));
+        b.addBox({c.x - 0.5f * w, groundY, c.z - 0.5f * d}, {c.x + 0.5f * w, groundY + h, c.z + 0.5f * d});
+    }
+    addMeshInstance(s, g, prefix + "_ground", ground);
+    addMeshInstance(s, b, prefix + "_buildings", building);
+}
+
+Scene makeHallWorld() {
+    Scene s = makeHall();
+    s.name = "hall_world";
+    addWorldAround(s, "hall_world", -0.05f); // just under the floor tiles
+    return s;
+}
+
+Scene makeAtriumWorld() {
+    Scene s = makeAtrium();
+    s.name = "atrium_world";
+    addWorldAround(s, "atrium_world", -0.25f); // just under the floor slab
+    return s;
+}
+
 struct Entry {
     const char* name;
     std::function<Scene(const BuiltinSceneParams&)> make;
@@ -466,6 +506,8 @@ const std::vector<Entry>& registry() {
         {"bunny_box", makeBunnyBox},
         {"atrium", [](const BuiltinSceneParams&) { return makeAtrium(); }},
         {"hall", [](const BuiltinSceneParams&) { return makeHall(); }},
+        {"hall_world", [](const BuiltinSceneParams&) { return makeHallWorld(); }},
+        {"atrium_world", [](const BuiltinSceneParams&) { return makeAtriumWorld(); }},
     };
     return entries;
 }

@@ -19,6 +19,9 @@
 //   hall              16 x 6 x 10 m interior under a 1000 cd point lamp: checkered floor of 1 m tiles
 //                     (albedo 0.8 / 0.04), ten thin pillars, a sphere, a vase and a ring with smooth
 //                     normals (curved surfaces, thin geometry, high contrast: real-content stand-in)
+//   hall_world        the hall on a 400 m ground plane among low buildings 40-180 m away (bounds ~27x
+//                     the hall's, same view): techniques must not size anything by the scene bounds
+//   atrium_world      the atrium in the same 400 m world, under its sun
 // Reflectances of the Cornell scenes (linear sRGB): white (0.725, 0.71, 0.68), red
 // (0.63, 0.065, 0.05), green (0.14, 0.45, 0.091).
 #include <string>
