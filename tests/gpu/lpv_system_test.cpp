@@ -223,6 +223,9 @@ TEST_F(LpvSystem, DirectionalLightUsesBlendedCascades) {
     FrameResult single = render(*scene, lpv, 32);
 
     lpv.cascades = 2;
+    // The finest level's cells as large as the fitted grid's (16 cells over the longest side + 2).
+    const glm::vec3 e = bounds.extent();
+    lpv.cellSize = std::max({e.x, e.y, e.z}) / 14.0f;
     FrameResult frame = render(*scene, lpv, 32);
     std::printf("[lpv] sun into the Cornell box: mean indirect %.4f with one fitted grid, %.4f with 2 cascades\n",
                 meanRgb(single.indirect), meanRgb(frame.indirect));

@@ -422,11 +422,47 @@ TEST_F(VplScene, DirectionalLightVplsSampleItsWindowWithExactFlux) {
     EXPECT_NEAR(total, reflected, 0.02 * reflected);
 }
 
+// The same sun and plane with a focus radius far below the window (R = 1.5 m on a 20 m plane,
+// as a 16 m radius on a 200 m level): the VPLs gather around the camera's place on the plane,
+// each carrying its share 1 / (N p) of the window, and still sum to what the plane reflects.
+TEST_F(VplScene, FocusedSunVplsGatherAroundTheCameraAndStayUnbiased) {
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+    sun.intensity = 3.0f;
+    Scene scene = test::planeScene(0.5f, sun);
+    scene.camera->position = glm::vec3(2.0f, 3.0f, -1.0f);
+    VplSettings v;
+    v.vplCount = 1024;
+    v.focusRadius = 1.5f;
+    auto sys = makeSystem(v);
+    ASSERT_TRUE(sys && sys->setScene(scene));
+    std::vector<gpu::VplRecord> vpls = vplRecords(*sys, *scene.camera);
+    ASSERT_EQ(vpls.size(), 1024u);
+    // The camera's place on the plane along the light.
+    const glm::vec3 eye = scene.camera->position;
+    const glm::vec3 centre = eye + sun.direction * (eye.y / -sun.direction.y);
+    double total = 0.0;
+    uint32_t near = 0;
+    for (const gpu::VplRecord& r : vpls) {
+        if (r.position.w == 0.0f)
+            continue;
+        EXPECT_NEAR(r.position.y, 0.0f, 1e-3f);
+        total += r.flux.x;
+        // Within 2R in the window is within 2R / cos(theta) on the plane at most.
+        near += glm::distance(glm::vec3(r.position), centre) < 2.0f * v.focusRadius / -sun.direction.y;
+    }
+    // Radial CDF at 2R: 4/5 of all points; uniform points would put 7% of the plane there.
+    EXPECT_GT(near, uint32_t(0.7 * 1024)) << near;
+    const double reflected = 600.0 * double(-sun.direction.y);
+    EXPECT_NEAR(total, reflected, 0.05 * reflected) << "1 / (N p) weights keep the sum unbiased";
+}
+
 // Integrating sphere (r = 1, albedo 0.5, 1 cd point light at the centre): between two points of
 // a sphere cos(vpl) cos(receiver) / d^2 = 1 / (4 r^2) wherever the VPLs lie, so the one-bounce
 // radiance is exact for any VPL placement: albedo/pi * sum(flux)/pi / (4 r^2) with sum(flux) =
 // albedo * I * 4 pi, i.e. rho^2 I / (pi r^2) = 0.0796 nits on every pixel. Only the 1/d^2 clamp
-// (radius 2% of the diagonal) removes a little where a VPL lies within it.
+// (one footprint radius) removes a little where a VPL lies within it.
 TEST_F(VplScene, IntegratingSphereGetsTheClosedFormBounceFromAPointLight) {
     Scene scene = builtin("sphere");
     const double expected = 0.25 / 3.14159265358979;

@@ -239,7 +239,6 @@ protected:
             in.rsmFlux = g.importImage("rsm.flux", rsmFlux, sampled);
             in.shadowViews = g.importBuffer("views", views, rg::Access::TransferWrite);
             in.spots.push_back({light.position, light.direction, std::cos(kConeHalf), 0, 1});
-            in.sceneDiagonal = 2.0f;
             auto out = m_technique->addPasses(g, in, settings);
             EXPECT_TRUE(out) << out.error().message;
             if (!out)
@@ -274,15 +273,16 @@ protected:
     std::vector<Buffer> m_host;
 };
 
-// CPU version of the gather (gi/vpl_gather.h) for one G-buffer pixel.
-glm::vec3 cpuGather(const std::vector<gpu::VplRecord>& vpls, glm::vec3 x, glm::vec3 n, float clamp2) {
+// CPU version of the gather (gi/vpl_gather.h) for one G-buffer pixel: each VPL's 1/d^2 is clamped
+// at clamp times its footprint radius (flux.w = radius^2).
+glm::vec3 cpuGather(const std::vector<gpu::VplRecord>& vpls, glm::vec3 x, glm::vec3 n, float clamp) {
     glm::dvec3 e(0.0);
     for (const auto& v : vpls) {
         glm::dvec3 d = glm::dvec3(v.position) - glm::dvec3(x);
         double d2 = glm::dot(d, d);
         glm::dvec3 w = d / std::sqrt(std::max(d2, 1e-30));
         double g = std::max(glm::dot(glm::dvec3(n), w), 0.0) * std::max(-glm::dot(glm::dvec3(v.direction), w), 0.0) /
-                   std::max(d2, double(clamp2));
+                   std::max(d2, double(clamp) * double(clamp) * double(v.flux.w));
         e += glm::dvec3(v.flux) * g * double(v.position.w);
     }
     return glm::vec3(e / glm::pi<double>());
@@ -329,6 +329,11 @@ TEST_F(VplSynthetic, VplsLieOnTheLitFloorInsideTheConeWithExactFlux) {
         // albedo * I * cone solid angle / N, independent of the texel (float rounding only).
         for (int c = 0; c < 3; ++c)
             EXPECT_NEAR(v.flux[c], kAlbedoFloor[c] * l.intensity * omegaPerVpl, 1e-4f * omegaPerVpl * l.intensity);
+        // Footprint: the floor area of its solid angle, omega d^2 / cos with cos = 1 / d (the
+        // light is 1 m above the floor), as the squared radius of a disc: omega d^3 / pi.
+        const float dist = glm::distance(glm::vec3(v.position), l.position);
+        const float footprint = omegaPerVpl * dist * dist * dist / glm::pi<float>();
+        EXPECT_NEAR(v.flux.w, footprint, 1e-4f * footprint);
     }
 }
 
@@ -363,16 +368,15 @@ TEST_F(VplSynthetic, GatherMatchesTheCpuSum) {
     VplSettings s;
     s.interleave = 1; // the full gather, pixel by pixel
     s.vplCount = 100;
-    s.clampDistance = 0.05f;
+    s.clampDistance = 1.5f;
     RunResult r = run(l, s);
     GBuffer gb = makeGBuffer();
-    float clamp2 = (0.05f * 2.0f) * (0.05f * 2.0f);
     double maxRel = 0.0;
     for (uint32_t i = 0; i < kW * kH; ++i) {
         glm::vec3 want(0.0f);
         if (gb.position[i].w > 0.0f)
             want = glm::vec3(gb.albedo[i]) / glm::pi<float>() *
-                   cpuGather(r.vpls, glm::vec3(gb.position[i]), glm::vec3(gb.normal[i]), clamp2);
+                   cpuGather(r.vpls, glm::vec3(gb.position[i]), glm::vec3(gb.normal[i]), s.clampDistance);
         for (int c = 0; c < 3; ++c)
             maxRel = std::max(maxRel, double(std::abs(r.indirect[i][c] - want[c])) / (std::abs(want[c]) + 1e-6));
     }
@@ -387,8 +391,10 @@ TEST_F(VplSynthetic, ErrorFallsWithVplCount) {
     GBuffer gb = makeGBuffer();
     VplSettings s;
     s.interleave = 1; // the full gather, pixel by pixel
-    s.clampDistance = 0.05f;
-    float clamp2 = 0.1f * 0.1f;
+    // The VPLs' clamp radius shrinks as their footprints do (1/sqrt(N)), so the sum tends to the
+    // unclamped integral; the integral keeps a 2 cm clamp only to stay finite at the quadrature's
+    // resolution where the wall meets the floor.
+    const float clamp2 = 0.02f * 0.02f;
     std::vector<glm::vec3> want(kW * kH, glm::vec3(0.0f));
     for (uint32_t i = 0; i < kW * kH; i += 3) // every third pixel keeps the CPU integral short
         if (gb.position[i].w > 0.0f)
@@ -525,7 +531,7 @@ TEST_F(VplSynthetic, InterleavedGatherMatchesTheFullGatherOnASmoothWall) {
     s.vplCount = 200;
     s.interleave = 1;
     RunResult full = run(l, s, 1.0f, wall);
-    const float clamp2 = (s.clampDistance * 2.0f) * (s.clampDistance * 2.0f); // scene diagonal 2 m
+    const float clamp2 = 0.02f * 0.02f; // as in ErrorFallsWithVplCount
     std::vector<float> integral(kW * kH, 0.0f);
     for (uint32_t i = 0; i < kW * kH; i += 3) // every third pixel keeps the CPU integral short
         integral[i] = kAlbedoWall / glm::pi<float>() *

@@ -115,3 +115,20 @@ TEST(LpvGrid, CascadeWeightsSumToOneInsideTheCoarsest) {
               0.0f);
     EXPECT_EQ(gpu::lpvBorderFade(c[0], glm::vec3(c[0].origin) + 8.0f * c[0].origin.w), 1.0f);
 }
+
+TEST(LpvGrid, AutomaticCascadesOnlyForACameraInsideARegionTooLargeForOneGrid) {
+    // Explicit counts are kept whatever the region.
+    EXPECT_EQ(cascadeCount(1, 1.0f, 100.0f, true), 1u);
+    EXPECT_EQ(cascadeCount(2, 1.0f, 0.01f, false), 2u);
+    // Automatic, 1 m finest cell: the coarsest of kAutoCascades levels has 4 m cells.
+    const float coarsest = std::ldexp(1.0f, int(kAutoCascades) - 1);
+    EXPECT_EQ(cascadeCount(0, 1.0f, 0.04f, true), 1u);       // inside a Cornell box
+    EXPECT_EQ(cascadeCount(0, 1.0f, coarsest, true), 1u);    // at the bound: still the fitted grid
+    EXPECT_EQ(cascadeCount(0, 1.0f, 1.01f * coarsest, true), kAutoCascades);
+    EXPECT_EQ(cascadeCount(0, 1.0f, 28.0f, true), kAutoCascades); // inside a 400 m level over 14 cells
+    // A camera outside the lit region sees all of it: the fitted grid, whatever its size.
+    EXPECT_EQ(cascadeCount(0, 1.0f, 28.0f, false), 1u);
+    // The bound follows the cell size in metres, not the region.
+    EXPECT_EQ(cascadeCount(0, 0.1f, 1.0f, true), kAutoCascades);
+    EXPECT_EQ(cascadeCount(0, 10.0f, 28.0f, true), 1u);
+}

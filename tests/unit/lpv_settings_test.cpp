@@ -40,10 +40,20 @@ TEST(LpvSettings, OutOfRangeNamesTheField) {
     s.damping = std::numeric_limits<float>::quiet_NaN();
     EXPECT_FALSE(validate(s));
     s = LpvSettings{};
-    s.cascades = 0;
-    EXPECT_FALSE(validate(s));
-    s.cascades = 4;
-    EXPECT_FALSE(validate(s));
-    s.cascades = 3;
-    EXPECT_TRUE(validate(s));
+    s.cascades = 5;
+    r = validate(s);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("cascades"), std::string::npos) << r.error().message;
+    for (uint32_t n : {0u, 1u, 4u}) {
+        s.cascades = n;
+        EXPECT_TRUE(validate(s)) << n;
+    }
+    s = LpvSettings{};
+    for (float cell : {0.0f, -1.0f, 2e4f, std::numeric_limits<float>::quiet_NaN(),
+                       std::numeric_limits<float>::infinity()}) {
+        s.cellSize = cell;
+        r = validate(s);
+        ASSERT_FALSE(r) << cell;
+        EXPECT_NE(r.error().message.find("cellSize"), std::string::npos) << r.error().message;
+    }
 }

@@ -132,6 +132,8 @@ TEST(VplSampling, SettingsValidation) {
     s = {};
     s.clampDistance = 0.0f;
     EXPECT_FALSE(validateVplSettings(s));
+    s.clampDistance = 16.5f;
+    EXPECT_FALSE(validateVplSettings(s));
     s = {};
     s.refineThreshold = std::nanf("");
     EXPECT_FALSE(validateVplSettings(s));

@@ -19,8 +19,13 @@ struct LpvSettings {
                               // (Gaitatzes et al.; needs occlusion); off by default: on the Cornell box
                               // it lowers RMSE but raises relMSE (docs/lpv.md)
     float damping = 1.0f;     // light-bleeding damping strength at lookup (thesis 3.3.1), 0 = off, 0..1
-    uint32_t cascades = 1;    // nested camera-centred volumes (1..3) for scenes with a directional light,
-                              // blended over 2 cells at their borders; other scenes use one fitted grid
+    // Nested camera-centred volumes (1..4) of gridSize^3, blended over 2 cells at their borders,
+    // for any light type; 1 = one grid fitted to the lit region. 0 (default) = automatic: 3
+    // cascades when the camera is inside the lit region and the fitted grid's cells would be
+    // coarser than 4 * cellSize, else the fitted grid: a room keeps its fitted grid, a viewer
+    // inside a level many times larger than the view gets cascades.
+    uint32_t cascades = 0;
+    float cellSize = 1.0f;    // metres: cell edge of the finest cascade (doubling per level), (0, 1e4]
     bool halfFloat = true;    // RGBA16F SH storage (half the bandwidth); false = RGBA32F reference
     uint32_t rsmReduce = 4;   // 1, 2 or 4: inject (and build the geometry volume) from the RSM reduced by this
                               // factor per axis, one flux-weighted surfel per block, energy conserved. 4 by

@@ -39,11 +39,19 @@ struct VplSettings {
     uint32_t negativeVplCount = 0;   // negative VPLs (0 = off), 0..kMaxNegativeVpls
     uint32_t lowResFactor = 1;       // indirect light at 1/factor resolution per axis: 1 (off), 2 or 4
     float refineThreshold = 0.1f;    // discontinuity test: 1 - dot(normals) or |dp| / depth above it refines
-    // Clamp of the 1/d^2 term near a VPL, as a fraction of the scene's bounding-box diagonal:
-    // d^2 is replaced by max(d^2, (clampDistance * diagonal)^2). It removes the bright splotches
-    // next to VPLs at the cost of darkening contact regions. 0.02 gave the lowest indirect RMSE
-    // on cornell_spot (docs/vpl.md): smaller clamps leave splotches, larger ones darken corners.
-    float clampDistance = 0.02f;
+    // Clamp of the 1/d^2 term near a VPL, in units of the VPL's footprint radius r (the radius of
+    // the disc of surface one VPL stands for: its share of what the RSM saw): d^2 is replaced by
+    // max(d^2, (clampDistance * r)^2). It removes the bright splotches next to VPLs at the cost
+    // of darkening contact regions, and follows the VPLs' spacing, so it means the same in a
+    // box and in a city. The default is the bench's choice (docs/vpl.md).
+    float clampDistance = 1.0f;
+    // Directional lights: where the light's window is more than twice this radius (metres) from
+    // its centre to a corner, as in a level much larger than the view, its VPLs concentrate
+    // around the camera with the density of a 2D Student-t of this radius (pdf of r proportional
+    // to 1 / (1 + r^2 / R^2)^2, positive everywhere, so nothing lit is left out and each VPL's
+    // flux is divided by its density: the sum stays unbiased). Smaller windows keep the uniform
+    // Halton points of the paper.
+    float focusRadius = 16.0f;
     // Interleaved sampling: each pixel of an n x n tile gathers 1/n^2 of the VPLs and a
     // geometry-aware tent filter over the tile sums the subsets back (docs/vpl.md). 1 = off
     // (every pixel gathers every VPL); 2, 3 or 4. 4 by default: the bench's choice for the
@@ -110,7 +118,6 @@ struct VplInputs {
     rg::ImageHandle rsmFlux;
     rg::BufferHandle shadowViews; // GpuShadowView per layer (gi/direct_types.h)
     std::vector<VplSpot> spots;   // at most kMaxVplLights
-    float sceneDiagonal = 1.0f;   // metres; scales VplSettings::clampDistance
     // With VplSettings::visibility: the voxel grid's albedo volume (RGBA8 3D, a = occupancy,
     // gi/voxel_grid.h), its min corner and voxel edge, and its voxels per axis.
     rg::ImageHandle occupancy;

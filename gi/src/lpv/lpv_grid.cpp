@@ -56,4 +56,11 @@ std::vector<gpu::LpvGrid> fitCascades(glm::vec3 eye, glm::vec3 forward, float fi
     return grids;
 }
 
+uint32_t cascadeCount(uint32_t requested, float cellSize, float fittedCell, bool cameraInside) {
+    if (requested > 0)
+        return requested;
+    const float coarsest = cellSize * float(1u << (kAutoCascades - 1));
+    return cameraInside && fittedCell > coarsest ? kAutoCascades : 1u;
+}
+
 } // namespace vkgi::gi::lpv

@@ -1,7 +1,7 @@
 #pragma once
 // Where LPVs sit in the world: one volume fitted to the lit part of the scene (point and spot
-// lights with a finite range only light their range), or nested camera-centred cascades for
-// scenes lit by directional lights. Pure CPU.
+// lights with a finite range only light their range), or nested camera-centred cascades whose
+// cells are set in metres, for any light type. Pure CPU.
 #include <cstdint>
 #include <vector>
 
@@ -26,5 +26,19 @@ Aabb litRegion(const Aabb& bounds, const std::vector<Light>& lights);
 // level then covers what the camera sees, yet the camera stays inside it); origins snap to whole
 // cells of their level so a moving camera does not make the volumes shimmer. Level 0 is the finest.
 std::vector<gpu::LpvGrid> fitCascades(glm::vec3 eye, glm::vec3 forward, float finest, uint32_t cells, uint32_t count);
+
+// Cascades the automatic setting (LpvSettings::cascades = 0) uses when the lit region is too
+// large for one grid.
+constexpr uint32_t kAutoCascades = 3;
+
+// How many volumes a frame uses: `requested` (LpvSettings::cascades) when nonzero. Automatic
+// (0): kAutoCascades camera-centred cascades starting at `cellSize` metres when the camera is
+// inside the lit region (`cameraInside`) and the one grid fitted to that region would have
+// coarser cells (`fittedCell`) than their coarsest level: a viewer inside a level much larger
+// than the view. Otherwise the fitted grid, which covers everything lit at a resolution the
+// cascades would not beat where it matters and is kept across frames; a camera outside the lit
+// region sees all of it (a scaled-up box seen from afar renders like the small one). The region
+// only selects between the two here; it never sets a cascade's cell.
+uint32_t cascadeCount(uint32_t requested, float cellSize, float fittedCell, bool cameraInside);
 
 } // namespace vkgi::gi::lpv

@@ -1,5 +1,5 @@
 // Technique::Lpv: per frame, inject the shared RSM into a grid fitted to the lit part of the
-// scene, build the geometry volume from the RSM and the camera's G-buffer, propagate (with
+// scene (or into camera-centred cascades when that part is too large for one grid), build the geometry volume from the RSM and the camera's G-buffer, propagate (with
 // reflection at the shared voxel grid's occupied voxels when bounces are on), and look the
 // accumulated light up per pixel. With one grid (no camera-following cascades) the accumulated
 // volume and the injection buffer are persistent: injection and propagation run only when a
@@ -104,9 +104,6 @@ private:
     // The grid fitted to the part of the scene the lights reach (none when nothing is lit).
     Result<void> fitGrid(const Scene& scene, const GpuScene& gpu) {
         m_grid.reset();
-        m_directional = false;
-        for (const Light& l : scene.lights)
-            m_directional = m_directional || l.type == LightType::Directional;
         Aabb region = lpv::litRegion(gpu.bounds, scene.lights);
         if (!region.valid())
             return {};
@@ -114,18 +111,21 @@ private:
         if (!grid)
             return grid.error();
         m_grid = *grid;
+        m_region = region;
         return {};
     }
 
-    // One grid fitted to the lit region, or (directional light, cascades > 1) nested grids
-    // following the camera.
+    // One grid fitted to the lit region, or nested grids following the camera whose finest
+    // cell is LpvSettings::cellSize metres (lpv::cascadeCount picks for cascades = 0).
     std::vector<gpu::LpvGrid> gridsFor(const FrameData& frame) const {
-        if (m_settings.cascades <= 1 || !m_directional)
+        const glm::vec3 eye = frame.camera.position;
+        const bool inside = glm::all(glm::greaterThanEqual(eye, m_region.min)) &&
+                            glm::all(glm::lessThanEqual(eye, m_region.max));
+        const uint32_t count = lpv::cascadeCount(m_settings.cascades, m_settings.cellSize, m_grid->origin.w, inside);
+        if (count <= 1)
             return {*m_grid};
-        // The coarsest level spans twice the lit region, so it covers it from any camera inside.
-        float finest = 2.0f * m_grid->origin.w / float(1u << (m_settings.cascades - 1));
-        return lpv::fitCascades(frame.camera.position, glm::normalize(frame.camera.forward), finest,
-                                m_settings.gridSize, m_settings.cascades);
+        return lpv::fitCascades(frame.camera.position, glm::normalize(frame.camera.forward), m_settings.cellSize,
+                                m_settings.gridSize, count);
     }
 
     // One grid: the propagated volume is kept and reused while nothing it depends on changed.
@@ -311,8 +311,8 @@ private:
     LpvSettings m_settings;
     lpv::Propagator m_propagator;
     lpv::Injector m_injector;
-    std::optional<gpu::LpvGrid> m_grid;
-    bool m_directional = false;
+    std::optional<gpu::LpvGrid> m_grid; // fitted to the lit region (also what cascadeCount weighs)
+    Aabb m_region;                      // the lit region
     SceneVoxelGrid m_voxels; // the bounce's grid (multi-bounce on)
     // The accumulated SH volume and injection buffer (its header holds the flux unit M) of the
     // single-grid case, kept across frames.

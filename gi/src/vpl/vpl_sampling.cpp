@@ -21,8 +21,10 @@ Result<void> validateVplSettings(const VplSettings& s) {
         return bad("lowResFactor " + std::to_string(s.lowResFactor) + " must be 1, 2 or 4");
     if (!std::isfinite(s.refineThreshold) || s.refineThreshold < 0.0f)
         return bad("refineThreshold " + std::to_string(s.refineThreshold) + " must be finite and >= 0");
-    if (!std::isfinite(s.clampDistance) || s.clampDistance <= 0.0f || s.clampDistance > 1.0f)
-        return bad("clampDistance " + std::to_string(s.clampDistance) + " must be in (0, 1]");
+    if (!std::isfinite(s.focusRadius) || s.focusRadius <= 0.0f || s.focusRadius > 1e5f)
+        return bad("focusRadius " + std::to_string(s.focusRadius) + " must be in (0, 1e5] metres");
+    if (!std::isfinite(s.clampDistance) || s.clampDistance <= 0.0f || s.clampDistance > 16.0f)
+        return bad("clampDistance " + std::to_string(s.clampDistance) + " must be in (0, 16]");
     if (s.interleave < 1 || s.interleave > kMaxVplInterleave)
         return bad("interleave " + std::to_string(s.interleave) + " is outside 1.." +
                    std::to_string(kMaxVplInterleave));

@@ -158,12 +158,11 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
     const uint32_t vplCount = lightCount * settings.vplCount;
     const uint32_t factor = settings.lowResFactor;
     const uint32_t lowResWidth = (in.width + factor - 1) / factor, lowResHeight = (in.height + factor - 1) / factor;
-    const float clampDistance = settings.clampDistance * std::max(in.sceneDiagonal, 1e-6f);
     gpu::VplPixelPush push{};
     push.size = glm::uvec4(lowResWidth, lowResHeight, factor, in.width * in.height);
     push.counts = glm::uvec4(vplCount, settings.negativeVplCount, in.width, in.height);
     push.camera = glm::vec4(in.camera.position, 0.0f);
-    push.params = glm::vec4(clampDistance * clampDistance, settings.refineThreshold, settings.interleaveTolerance,
+    push.params = glm::vec4(settings.clampDistance * settings.clampDistance, settings.refineThreshold, settings.interleaveTolerance,
                             settings.negativeVplCount > 0 ? 1.0f : 0.0f);
     push.interleave = glm::uvec4(settings.interleave, lightCount, settings.vplCount,
                                  settings.visibility ? in.occupancyResolution : 0u);
@@ -183,7 +182,8 @@ struct VplTechnique::Impl {
 
     explicit Impl(Context& c) : ctx(c) {}
     Result<const std::vector<glm::vec3>*> directions(uint32_t count, float cosOuter);
-    Result<LightTables> lightTables(const std::vector<VplSpot>& spots, uint32_t vplCount, uint32_t interleave);
+    Result<LightTables> lightTables(const std::vector<VplSpot>& spots, const VplSettings& settings,
+                                    const Camera& camera);
 
     rg::BufferHandle addGeneratePass(rg::RenderGraph& graph, const VplInputs& in, const LightTableHandles& tables,
                                      uint32_t lightCount, uint32_t vplCount);
@@ -220,8 +220,9 @@ Result<const std::vector<glm::vec3>*> VplTechnique::Impl::directions(uint32_t co
     return &it->second;
 }
 
-Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& spots, uint32_t vplCount,
-                                                    uint32_t interleave) {
+Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& spots, const VplSettings& settings,
+                                                    const Camera& camera) {
+    const uint32_t vplCount = settings.vplCount, interleave = settings.interleave;
     LightTables tables;
     std::vector<std::vector<glm::vec3>> samples; // per light, in Halton order
     for (uint32_t l = 0; l < spots.size(); ++l) {
@@ -232,6 +233,9 @@ Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& 
             // Halton points of the orthographic window; each VPL stands for 1/N of its area
             // (the shader turns that into flux with the layer's texel area, vpl_generate.comp).
             light.position = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f / float(vplCount));
+            // Where the window is much larger than the focus radius, the shader moves the
+            // points towards the camera (vpl_generate.comp).
+            light.axisX = glm::vec4(camera.position, settings.focusRadius);
             samples.push_back(windowSamplePoints(vplCount));
         } else {
             auto local = directions(vplCount, spot.cosOuter);
@@ -452,7 +456,7 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
         return ok.error();
     if (in.spots.empty())
         return addClearPass(graph, in.width, in.height);
-    auto tables = m->lightTables(in.spots, settings.vplCount, settings.interleave);
+    auto tables = m->lightTables(in.spots, settings, in.camera);
     if (!tables)
         return tables.error();
 

@@ -65,8 +65,6 @@ VplInputs vplInputs(const TechniqueInputs& inputs, const RsmData& rsm) {
     in.rsmFlux = rsm.flux;
     in.shadowViews = inputs.shadow.views;
     const Scene& scene = *frame.scene;
-    Aabb bounds = scene.bounds();
-    in.sceneDiagonal = bounds.valid() ? glm::length(bounds.extent()) : 1.0f;
     in.spots = spotsWithRsmLayers(scene, rsm);
     return in;
 }

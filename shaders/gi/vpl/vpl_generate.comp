@@ -10,10 +10,18 @@
 // the window in normalised device coordinates, the ray starts there on the near plane and runs
 // along the light, and the VPL stands for 1/N of the window's area A = texelArea * res^2:
 //     flux = rsmFlux / texelArea * (A / N) = rsmFlux * res^2 / N = albedo * E * A / N.
+// In a window much larger than the focus radius R the point is instead drawn around the camera's
+// place in the window with density p(r) = 1 / (pi R^2 (1 + r^2/R^2)^2) per square metre (radial
+// CDF r^2 / (R^2 + r^2), inverted in closed form), and the VPL stands for 1 / (N p) of the area;
+// points beyond the window meet nothing and stay empty.
+// Each VPL also records the area of surface it stands for, (solid angle / N) d^2 / cos or
+// (A / N) / cos, as the squared radius of a disc of that area: the gathers clamp 1/d^2 at a
+// multiple of it (a disc emitter of that radius is finite on its axis; a point is not).
 #include "gi/direct_types.h"
 #include "gi/vpl.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_1D) in;
+const float kMinFootprintCos = 0.25;
 layout(push_constant) uniform PushBlock { VplGeneratePush pc; };
 
 layout(set = 1, binding = VPL_GENERATE_BINDING_RSM_POSITION) uniform sampler2DArray rsmPosition;
@@ -36,8 +44,24 @@ void main() {
     GpuShadowView view = shadowViews[layer];
     bool ortho = view.eye.w == 0.0;
     vec3 origin, dir;
+    bool inWindow = true;
+    float shareArea = 0.0; // focused directional light: the window area this VPL stands for (m^2)
     if (ortho) {
-        vec4 nearPoint = inverse(view.viewProj) * vec4(local.xy, 0.0, 1.0);
+        mat4 inv = inverse(view.viewProj);
+        vec2 halfExtent = vec2(length((inv * vec4(1.0, 0.0, 0.0, 0.0)).xyz), length((inv * vec4(0.0, 1.0, 0.0, 0.0)).xyz));
+        float radius = light.axisX.w;
+        if (radius > 0.0 && length(halfExtent) > 2.0 * radius) {
+            vec2 u = clamp(local.xy * 0.5 + 0.5, vec2(0.0), vec2(1.0 - 1e-7));
+            float r = radius * sqrt(u.x / (1.0 - u.x));
+            float phi = 6.28318530718 * u.y;
+            vec4 c = view.viewProj * vec4(light.axisX.xyz, 1.0);
+            local.xy = c.xy / c.w + r * vec2(cos(phi), sin(phi)) / halfExtent;
+            float q = 1.0 + (r * r) / (radius * radius);
+            shareArea = 3.14159265359 * radius * radius * q * q * light.position.w; // 1 / (N p)
+            if (any(greaterThan(abs(local.xy), vec2(1.0))))
+                inWindow = false; // beyond the window: an empty VPL
+        }
+        vec4 nearPoint = inv * vec4(local.xy, 0.0, 1.0);
         origin = nearPoint.xyz / nearPoint.w;
         dir = view.axisArea.xyz;
     } else {
@@ -51,7 +75,7 @@ void main() {
     vpl.position = vec4(origin, 0.0);
     vpl.direction = vec4(0.0, 0.0, 1.0, 0.0);
     vpl.flux = vec4(0.0);
-    if (clip.w > 0.0) {
+    if (clip.w > 0.0 && inWindow) {
         float res = view.texel.z;
         vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
         ivec2 texel = clamp(ivec2(floor(uv * res)), ivec2(0), ivec2(int(res) - 1));
@@ -67,16 +91,23 @@ void main() {
             float t = abs(denom) > 1e-4 ? dot(p.xyz - origin, n) / denom : -1.0;
             float tolerance = 2.0 * view.texel.x * texelDist + 1e-6;
             vec3 hit = (t > 0.0 && distance(origin + t * dir, p.xyz) < tolerance) ? origin + t * dir : p.xyz;
-            float scale;
+            float scale, footprint;
+            // Grazing surfaces: the footprint stops growing at kMinFootprintCos (their flux is
+            // small there anyway, and an unbounded clamp would darken a whole wall).
+            float cosSurface = max(-dot(dir, n), kMinFootprintCos);
             if (ortho) {
-                scale = light.position.w * res * res;
+                float share = shareArea > 0.0 ? shareArea : light.position.w * view.axisArea.w * res * res;
+                scale = share / view.axisArea.w;
+                footprint = share / cosSurface;
             } else {
                 float cosAxis = max(dot(normalize(p.xyz - origin), view.axisArea.xyz), 1e-3);
                 scale = light.position.w / rsmTexelSolidAngle(view.axisArea.w, cosAxis);
+                vec3 toHit = hit - origin;
+                footprint = light.position.w * dot(toHit, toHit) / cosSurface;
             }
             vpl.position = vec4(hit, 1.0);
             vpl.direction = vec4(n, 0.0);
-            vpl.flux = vec4(flux * scale, 0.0);
+            vpl.flux = vec4(flux * scale, footprint * (1.0 / GI_VPL_PI));
         }
     }
     vpls[i] = vpl;

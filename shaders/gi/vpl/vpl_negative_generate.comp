@@ -49,7 +49,7 @@ void main() {
         float area = omega * depth2 / cosView * (float(size.x * size.y) / float(count));
         v.position.w = 1.0;
         v.direction = vec4(sum / len, 0.0);
-        v.flux = vec4(texelFetch(incident, px, 0).rgb * area, 0.0);
+        v.flux = vec4(texelFetch(incident, px, 0).rgb * area, area * (1.0 / GI_VPL_PI));
     }
     negativeVpls[i] = v;
 }

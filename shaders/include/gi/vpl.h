@@ -99,7 +99,9 @@ GI_NAMESPACE_BEGIN
 GI_GPU_STRUCT(VplRecord) {
     vec4 position;  // xyz world position, w = 1 valid / 0 empty (the sample hit nothing)
     vec4 direction; // xyz: surface normal (positive VPL) or lobe axis = mean travel direction (negative)
-    vec4 flux;      // rgb flux in cd*sr, w = 0
+    vec4 flux;      // rgb flux in cd*sr; w = r^2, the squared radius of the disc of surface the VPL
+                    // stands for (its share of the area the RSM or the G-buffer sampled, / pi):
+                    // the length scale of the gathers' 1/d^2 clamp
 };
 GI_CHECK_SIZE(VplRecord, 48);
 
@@ -109,7 +111,9 @@ GI_CHECK_SIZE(VplRecord, 48);
 GI_GPU_STRUCT(VplLight) {
     vec4 position; // xyz light position, w = solid angle each VPL stands for (cone solid angle / N),
                    // or for a directional light the share of the RSM window (1 / N)
-    vec4 axisX;    // spot frame: world-space images of the local x, y, z axes (z = spot axis)
+    vec4 axisX;    // spot frame: world-space images of the local x, y, z axes (z = spot axis); a
+                   // directional light: xyz the camera position, w the focus radius in metres
+                   // (VplSettings::focusRadius)
     vec4 axisY;
     vec4 axisZ;
     uvec4 info;    // x 0 (each sample direction names its light), y VPL count,
@@ -132,7 +136,8 @@ GI_GPU_STRUCT(VplPixelPush) {
     uvec4 size;       // x width, y height of the image being written, z low-res factor, w refine capacity
     uvec4 counts;     // x positive VPLs, y negative VPLs, z full-res width, w full-res height
     vec4 camera;      // xyz camera position, w 0
-    vec4 params;      // x clamp distance^2, y refine threshold, z interleave filter's plane tolerance
+    vec4 params;      // x clamp^2 (VplSettings::clampDistance: the 1/d^2 clamp radius in units of each
+                      // VPL's footprint radius, flux.w), y refine threshold, z interleave filter's plane tolerance
                       // (fraction of the distance to the camera), w 1 when the filter passes must
                       // also filter the travel directions (negative VPLs read them), else 0
     uvec4 interleave; // x tile side n (1 = every pixel gathers every VPL), y lights, z VPLs per light,

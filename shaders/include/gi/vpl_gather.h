@@ -13,7 +13,8 @@
 float vplLuminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
 // Irradiance (lux) at x (normal n) from the positive VPLs [first, end): each is a cosine
-// emitter, E = flux/pi * cosVpl * cosX / max(d^2, clamp2). `travel` receives the sum of the
+// emitter, E = flux/pi * cosVpl * cosX / max(d^2, clamp2 * r^2) with r^2 the VPL's footprint
+// (flux.w), so the clamp follows the spacing of the VPLs, not any length of the scene. `travel` receives the sum of the
 // unit directions the light travels in, weighted by the luminance of each contribution.
 vec3 vplGatherPositive(vec3 x, vec3 n, uint first, uint end, float clamp2, out vec3 travel) {
     vec3 e = vec3(0.0);
@@ -23,7 +24,7 @@ vec3 vplGatherPositive(vec3 x, vec3 n, uint first, uint end, float clamp2, out v
         vec3 d = v.position.xyz - x;
         float d2 = dot(d, d);
         vec3 w = d * inversesqrt(max(d2, 1e-30));
-        float g = max(dot(n, w), 0.0) * max(-dot(v.direction.xyz, w), 0.0) / max(d2, clamp2);
+        float g = max(dot(n, w), 0.0) * max(-dot(v.direction.xyz, w), 0.0) / max(d2, clamp2 * v.flux.w);
 #ifdef VPL_VISIBILITY
         if (g > 0.0)
             g *= vplVisibility(x, n, v.position.xyz, v.direction.xyz);
@@ -36,7 +37,7 @@ vec3 vplGatherPositive(vec3 x, vec3 n, uint first, uint end, float clamp2, out v
 }
 
 // Irradiance the first `count` negative VPLs remove at x: each re-emits the light that crossed
-// its surface in a cosine lobe around its travel direction, E = flux/pi * cosLobe * cosX / max(d^2, clamp2).
+// its surface in a cosine lobe around its travel direction, E = flux/pi * cosLobe * cosX / max(d^2, clamp2 * r^2).
 vec3 vplGatherNegative(vec3 x, vec3 n, uint count, float clamp2) {
     vec3 e = vec3(0.0);
     for (uint k = 0u; k < count; ++k) {
@@ -44,7 +45,7 @@ vec3 vplGatherNegative(vec3 x, vec3 n, uint count, float clamp2) {
         vec3 d = x - v.position.xyz;
         float d2 = dot(d, d);
         vec3 w = d * inversesqrt(max(d2, 1e-30));
-        float g = max(dot(v.direction.xyz, w), 0.0) * max(-dot(n, w), 0.0) / max(d2, clamp2);
+        float g = max(dot(v.direction.xyz, w), 0.0) * max(-dot(n, w), 0.0) / max(d2, clamp2 * v.flux.w);
         e += v.flux.rgb * (g * v.position.w);
     }
     return e * (1.0 / GI_VPL_PI);
