@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -193,3 +194,41 @@ TEST_F(VctClipmap, MovingTheCameraUpdatesTheMovedLevelsAndEqualsAFreshSystem) {
         }
     }
 }
+
+// Prints (does not assert: timings are the bench's) the GPU time of a frame after a one-voxel
+// camera move against a frame whose move re-voxelizes every level, medians of 5 each.
+TEST_F(VctClipmap, OneVoxelMoveCostsLessThanAFullUpdate) {
+    Scene scene = test::builtinScene("hall_world");
+    VctSettings vct = clipmapSettings();
+    GiSettings settings = vctSettings(vct);
+    const float v0 = vctFinestVoxel(vct);
+    Camera camera = scene.cameraOrDefault();
+    camera.position.x = (2.0f * std::round(camera.position.x / (2.0f * v0)) + 0.5f) * v0;
+    const glm::vec3 home = camera.position;
+    auto system = test::systemWithScene(ctx(), settings, scene);
+    ASSERT_TRUE(system.ok()) << system.error().message;
+    FrameRequest request;
+    ASSERT_TRUE((*system)->renderFrame(camera, kSize, kSize, request).ok()); // shaders compiled
+    std::vector<double> full, oneVoxel;
+    for (int i = 0; i < 5; ++i) {
+        // Far enough that every level's corner moves, then back home, then one voxel on.
+        camera.position = home + glm::vec3(0.0f, 0.0f, float(i % 2 == 0 ? 1 : -1) * 80.0f);
+        ASSERT_TRUE((*system)->renderFrame(camera, kSize, kSize, request).ok());
+        camera.position = home;
+        auto f = (*system)->renderFrame(camera, kSize, kSize, request);
+        ASSERT_TRUE(f.ok()) << f.error().message;
+        EXPECT_FALSE(hasLeftOut(*f, "gi.voxel.*@3"));
+        full.push_back(f->totalMs);
+        camera.position.x += v0;
+        auto m = (*system)->renderFrame(camera, kSize, kSize, request);
+        ASSERT_TRUE(m.ok()) << m.error().message;
+        EXPECT_TRUE(hasLeftOut(*m, "gi.voxel.*@1"));
+        oneVoxel.push_back(m->totalMs);
+    }
+    std::sort(full.begin(), full.end());
+    std::sort(oneVoxel.begin(), oneVoxel.end());
+    std::printf("hall_world, 4 levels of 32^3, 64^2: frame after a one-voxel move %.1f ms, after a move of every "
+                "level %.1f ms (ratio %.2f)\n",
+                oneVoxel[2], full[2], oneVoxel[2] / full[2]);
+}
+

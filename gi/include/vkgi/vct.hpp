@@ -49,6 +49,8 @@ struct VctSettings {
     // Clipmap levels (1..8). 1: one grid fitted to the scene bounds or gridBox. 2..8: camera-centred
     // levels of gridResolution^3 voxels each, level l with voxels of `voxel` * 2^l metres, so what
     // the grid resolves does not depend on how far the scene extends (docs/vct.md "Clipmap").
+    // Memory grows as levels * gridResolution^3: the clipmap is meant for gridResolution 32 (4
+    // levels of 32^3 stay within the module's 64 MiB; 64^3 levels do not).
     uint32_t levels = 1;
     // Voxel edge of the finest clipmap level in metres (levels > 1); 0 = automatic: the finest
     // level spans kVctAutoFinestSpan metres.
