@@ -50,7 +50,7 @@ RenderGraph::~RenderGraph() = default;
 uint32_t RenderGraph::beginPass(std::string name) {
     m_isCompiled = false;
     m_passes.push_back({});
-    m_passes.back().name = std::move(name);
+    m_passes.back().name = std::move(name) + m_passNameSuffix;
     return uint32_t(m_passes.size() - 1);
 }
 

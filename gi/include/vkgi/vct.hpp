@@ -46,9 +46,27 @@ struct VctSettings {
     // the room's 2-voxel window wall: mean indirect 1.73x the path tracer's (march 1.08x), 16^3
     // Cornell boxes 1.27x (docs/vct.md).
     VctOcclusion occlusion = VctOcclusion::RayMarchHard;
+    // Clipmap levels (1..8). 1: one grid fitted to the scene bounds or gridBox. 2..8: camera-centred
+    // levels of gridResolution^3 voxels each, level l with voxels of `voxel` * 2^l metres, so what
+    // the grid resolves does not depend on how far the scene extends (docs/vct.md "Clipmap").
+    // Memory grows as levels * gridResolution^3: the clipmap is meant for gridResolution 32 (4
+    // levels of 32^3 stay within the module's 64 MiB; 64^3 levels do not).
+    uint32_t levels = 1;
+    // Voxel edge of the finest clipmap level in metres (levels > 1); 0 = automatic: the finest
+    // level spans kVctAutoFinestSpan metres.
+    float voxel = 0.0f;
 
     bool operator==(const VctSettings&) const = default;
 };
+
+// Span (metres) of the finest clipmap level when VctSettings::voxel is 0: a room around the
+// camera, so that the finest voxels are about those of a 64^3 grid fitted to a 16 m hall.
+inline constexpr float kVctAutoFinestSpan = 8.0f;
+// Most clipmap levels (VctSettings::levels).
+inline constexpr uint32_t kVctMaxLevels = 8;
+
+// Voxel edge (metres) of the finest clipmap level of `settings` (levels > 1).
+float vctFinestVoxel(const VctSettings& settings);
 
 // Readable error for settings the passes cannot run with (grid not a power of two, no cones,
 // non-finite or out-of-range apertures and step factors).

@@ -230,7 +230,8 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
 // The per-pixel passes ("gi.vct.trace" and, at low resolution, the upsample and refine) through
 // out.directional.
 VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, VctOutputs out,
-                          const VctSettings& settings, const VctGBufferHandles& g, bool glossyImage);
+                          const VctSettings& settings, const VctGBufferHandles& g, bool glossyImage,
+                          const VctClipmapHandles* clip = nullptr);
 
 // "gi.vct.shadow": direct light with cone-traced visibility through out.directional into out.direct.
 // Only with VctSettings::softShadows and a G-buffer with emission.
@@ -315,11 +316,62 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage);
 }
 
+rg::BufferHandle addClipmapParamsPass(rg::RenderGraph& graph, const gpu::VctClipmapParams& params) {
+    BufferDesc desc;
+    desc.size = sizeof(gpu::VctClipmapParams);
+    desc.usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    rg::BufferHandle buffer = graph.createBuffer("gi.vct.clip.params", desc);
+    graph.addPass(
+        "gi.vct.clip.params", [&](rg::PassBuilder& b) { buffer = b.write(buffer, Access::TransferWrite); },
+        [buffer, params](rg::PassContext& ctx) {
+            vkCmdUpdateBuffer(ctx.cmd(), ctx.buffer(buffer).buffer, 0, sizeof(params), &params);
+        });
+    return buffer;
+}
+
+rg::ImageHandle addClipmapCopyPass(rg::RenderGraph& graph, rg::ImageHandle directional, rg::ImageHandle clipmap,
+                                   uint32_t level, uint32_t n, uint32_t mips) {
+    const uint32_t layers = GI_VCT_DIRECTIONS * n;
+    const rg::SubresourceRange target{0, mips, level * layers, layers};
+    graph.addPass(
+        "gi.vct.clip.copy",
+        [&](rg::PassBuilder& b) {
+            b.read(directional, Access::TransferRead);
+            clipmap = b.write(clipmap, Access::TransferWrite, target);
+        },
+        [directional, clipmap, level, n, mips, layers](rg::PassContext& ctx) {
+            // Level k of a view uses its stack's first N >> k layers (vct_passes.h); the copy
+            // takes whole stacks, which keeps it one region per mip.
+            VkImageCopy regions[9 /* log2(GI_VOXEL_MAX_RESOLUTION) + 1 */];
+            for (uint32_t m = 0; m < mips; ++m) {
+                uint32_t size = std::max(1u, n >> m);
+                regions[m] = {{VK_IMAGE_ASPECT_COLOR_BIT, m, 0, layers},
+                              {0, 0, 0},
+                              {VK_IMAGE_ASPECT_COLOR_BIT, m, level * layers, layers},
+                              {0, 0, 0},
+                              {size, size, 1}};
+            }
+            vkCmdCopyImage(ctx.cmd(), ctx.image(directional).image, ctx.layout(directional),
+                           ctx.image(clipmap).image, ctx.layout(clipmap), mips, regions);
+        });
+    return clipmap;
+}
+
+VctOutputs addVctClipmapTracePasses(rg::RenderGraph& graph, const VctVolumes& level0, const VctClipmapHandles& clip,
+                                    const VctSettings& settings, const VctGBufferHandles& gbuffer, bool glossyImage) {
+    VctOutputs out;
+    out.directional = clip.volume;
+    return addTracePasses(graph, level0, out, settings, gbuffer, glossyImage, &clip);
+}
+
 namespace {
 
 VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, VctOutputs out,
-                          const VctSettings& settings, const VctGBufferHandles& g, bool glossyImage) {
+                          const VctSettings& settings, const VctGBufferHandles& g, bool glossyImage,
+                          const VctClipmapHandles* clip) {
     const VctVolumes::Pipelines& p = volumes.pipelines();
+    const Pipeline& tracePipeline = clip ? p.traceClip : p.trace;
+    const Pipeline& refinePipeline = clip ? p.traceRefineClip : p.traceRefine;
     gpu::ConeParams cones = volumes.coneParams(settings, g.width, g.height);
     if (glossyImage)
         cones.info.y |= GI_VCT_FLAG_GLOSSY_IMAGE;
@@ -344,16 +396,18 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, Vct
     listDesc.size = VkDeviceSize(GI_VCT_REFINE_HEADER + (f == 1 ? 0u : 2u * push.lowRes.w)) * sizeof(uint32_t);
     listDesc.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
     rg::BufferHandle refineList = graph.createBuffer("gi.vct.refine_list", listDesc);
-    rg::ComputePass(graph, "gi.vct.trace", p.trace)
-        .push(push)
+    rg::ComputePass trace(graph, "gi.vct.trace", tracePipeline);
+    trace.push(push)
         .sample(VCT_CONE_BINDING_DIRECTIONAL, out.directional, volumes.sampler())
         .read(VCT_TRACE_BINDING_POSITION, g.position)
         .read(VCT_TRACE_BINDING_NORMAL, g.normal)
         .read(VCT_TRACE_BINDING_ALBEDO, g.albedo)
         .overwrite(VCT_TRACE_BINDING_INDIRECT, indirect)
         .overwrite(VCT_TRACE_BINDING_GLOSSY, glossy)
-        .write(VCT_TRACE_BINDING_REFINE_LIST, refineList)
-        .dispatch({push.lowRes.y, push.lowRes.z, 1u});
+        .write(VCT_TRACE_BINDING_REFINE_LIST, refineList);
+    if (clip)
+        trace.read(VCT_TRACE_BINDING_CLIPMAP, clip->params);
+    trace.dispatch({push.lowRes.y, push.lowRes.z, 1u});
     if (f == 1) {
         out.indirect = indirect;
         out.glossy = glossy;
@@ -377,16 +431,18 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, Vct
         .read(VCT_UPSAMPLE_BINDING_ALBEDO, g.albedo)
         .dispatch({blocks(g.width), blocks(g.height), 1u});
     // Work groups counted by the upsample (header words 1..3, gi/vct_passes.h).
-    rg::ComputePass(graph, "gi.vct.refine", p.traceRefine)
-        .push(push)
+    rg::ComputePass refine(graph, "gi.vct.refine", refinePipeline);
+    refine.push(push)
         .sample(VCT_CONE_BINDING_DIRECTIONAL, out.directional, volumes.sampler())
         .read(VCT_TRACE_BINDING_POSITION, g.position)
         .read(VCT_TRACE_BINDING_NORMAL, g.normal)
         .read(VCT_TRACE_BINDING_ALBEDO, g.albedo)
         .write(VCT_TRACE_BINDING_INDIRECT, out.indirect)
         .write(VCT_TRACE_BINDING_GLOSSY, out.glossy)
-        .read(VCT_TRACE_BINDING_REFINE_LIST, refineList)
-        .dispatchIndirect(refineList, sizeof(uint32_t));
+        .read(VCT_TRACE_BINDING_REFINE_LIST, refineList);
+    if (clip)
+        refine.read(VCT_TRACE_BINDING_CLIPMAP, clip->params);
+    refine.dispatchIndirect(refineList, sizeof(uint32_t));
     return out;
 }
 

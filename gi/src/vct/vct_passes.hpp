@@ -56,4 +56,24 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                         uint32_t lightCount, const VctSettings& settings, const VctGBufferHandles* gbuffer,
                         VctPassOptions options = {});
 
+// The clipmap (VctSettings::levels > 1, vct_passes.h): the levels' directional volumes stacked
+// in one volume, and its parameters.
+struct VctClipmapHandles {
+    rg::ImageHandle volume;  // RGBA16F 2D array, N x N, GI_VCT_DIRECTIONS N levels layers, the directional mips
+    rg::BufferHandle params; // VctClipmapParams (uniform)
+};
+
+// "gi.vct.clip.params": a transient uniform buffer holding `params`.
+rg::BufferHandle addClipmapParamsPass(rg::RenderGraph& graph, const gpu::VctClipmapParams& params);
+
+// "gi.vct.clip.copy": `level`'s directional volume (all mips) into its layers of `clipmap`
+// (returned: the new version). `n` = the levels' resolution, `mips` their mip count.
+rg::ImageHandle addClipmapCopyPass(rg::RenderGraph& graph, rg::ImageHandle directional, rg::ImageHandle clipmap,
+                                   uint32_t level, uint32_t n, uint32_t mips);
+
+// The per-pixel passes ("gi.vct.trace", and at low resolution the upsample and refine) through the
+// clipmap; `level0` (the finest level) gives the grid parameters and the pipelines.
+VctOutputs addVctClipmapTracePasses(rg::RenderGraph& graph, const VctVolumes& level0, const VctClipmapHandles& clip,
+                                    const VctSettings& settings, const VctGBufferHandles& gbuffer, bool glossyImage);
+
 } // namespace vkgi::gi

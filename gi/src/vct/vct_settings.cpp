@@ -2,11 +2,13 @@
 #include <string>
 
 #include "vkgi/vct.hpp"
-#include "gi/voxel_grid.h"
+#include "gi/vct_passes.h"
 
 namespace vkgi::gi {
 
 namespace {
+constexpr uint32_t kVctMaxClipmapLayers = 2048;
+
 bool isPowerOfTwo(uint32_t v) {
     return v != 0 && (v & (v - 1)) == 0;
 }
@@ -39,7 +41,27 @@ Result<void> validateVctSettings(const VctSettings& s) {
     if (s.gridBox && (!s.gridBox->valid() || !std::isfinite(s.gridBox->min.x + s.gridBox->min.y + s.gridBox->min.z +
                                                             s.gridBox->max.x + s.gridBox->max.y + s.gridBox->max.z)))
         return makeError("vct: gridBox must be a finite, non-empty box");
+    if (s.levels < 1 || s.levels > kVctMaxLevels)
+        return makeError("vct: levels " + std::to_string(s.levels) + " must be in [1, " +
+                         std::to_string(kVctMaxLevels) + "]");
+    if (!std::isfinite(s.voxel) || s.voxel < 0.0f)
+        return makeError("vct: voxel must be a finite edge length >= 0 metres (0 = automatic)");
+    // The clipmap volume stacks the levels' six views of N slices along the layers of one array
+    // image; 2048 layers is what lavapipe allows (maxImageArrayLayers).
+    if (s.levels > 1 && GI_VCT_DIRECTIONS * s.gridResolution * s.levels > kVctMaxClipmapLayers)
+        return makeError("vct: levels " + std::to_string(s.levels) + " of " + std::to_string(s.gridResolution) +
+                         "^3 need " + std::to_string(GI_VCT_DIRECTIONS * s.gridResolution * s.levels) +
+                         " array layers; at most " + std::to_string(kVctMaxClipmapLayers) +
+                         " (6 * grid * levels): use fewer levels or a smaller grid");
+    if (s.levels > 1 && s.softShadows)
+        return makeError("vct: soft_shadows need levels = 1 (the shadow cones read a single grid)");
+    if (s.levels > 1 && s.voxel > 0.0f && (s.voxel < 1e-4f || s.voxel > 1e4f))
+        return makeError("vct: voxel " + std::to_string(s.voxel) + " m is outside [1e-4, 1e4] metres");
     return {};
+}
+
+float vctFinestVoxel(const VctSettings& s) {
+    return s.voxel > 0.0f ? s.voxel : kVctAutoFinestSpan / float(s.gridResolution);
 }
 
 } // namespace vkgi::gi

@@ -1,10 +1,15 @@
 // Voxel cone tracing as a GiSystem technique: owns the voxel grid and the VCT volumes, re-fits
 // them when a scene is uploaded, and adds the voxel + VCT passes to each frame's graph. The
-// grid is also published on the blackboard (VoxelGridData) for other techniques.
+// grid is also published on the blackboard (VoxelGridData) for other techniques. With
+// VctSettings::levels > 1 it owns one grid and VCT volumes per clipmap level instead, placed
+// around the camera every frame (docs/vct.md "Clipmap").
 #include "vct/vct_technique.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
 #include <memory>
+#include <string>
 
 #include "vct/vct_passes.hpp"
 #include "voxel/scene_voxel_grid.hpp"
@@ -14,12 +19,33 @@ namespace vkgi::gi {
 
 namespace {
 
+// One clipmap level: a grid of voxels settings.voxel * 2^l around the camera, and its VCT volumes.
+struct ClipLevel {
+    std::unique_ptr<VoxelGrid> grid;
+    std::unique_ptr<VctVolumes> volumes;
+    glm::ivec3 cell{0};  // the grid's min corner in its own voxels
+    bool placed = false; // `cell` holds where the grid was last voxelized
+    VoxelUpdate update = VoxelUpdate::Full;
+    bool lit = false;    // the volumes (and its layers of the clipmap volume) hold its voxel light
+};
+
+// Min corner (in level voxels of edge `voxel`) of a level of n^3 voxels centred on `eye`: a whole
+// number of 2-voxel blocks, so the level's 2^3 blocks (mip 1) and the next coarser level's voxels
+// cover the same space.
+glm::ivec3 clipCell(glm::vec3 eye, float voxel, uint32_t n) {
+    glm::vec3 blocks = glm::floor(eye / (2.0f * voxel) + 0.5f);
+    return 2 * glm::ivec3(blocks) - glm::ivec3(int(n / 2));
+}
+
 class VctTechnique final : public TechniqueModule {
 public:
     explicit VctTechnique(Context& ctx, const VctSettings& settings) : m_ctx(ctx), m_settings(settings) {}
     ~VctTechnique() override {
-        if (m_grid)
+        if (m_grid || !m_levels.empty())
             vkDeviceWaitIdle(m_ctx.device()); // persistent volumes may still be read by the last frame
+        m_levels.clear();
+        if (m_clipmap.image.image)
+            destroyImage(m_ctx, m_clipmap.image);
     }
 
     Result<void> sceneChanged(Context& ctx, const Scene& scene, const GpuScene& gpu, bool uploaded) override {
@@ -27,6 +53,8 @@ public:
         m_lightCount = gpu.lightCount;
         if (!uploaded)
             return {}; // what moved arrives as PassSelection::changes with the next frame
+        if (m_settings.levels > 1)
+            return createClipmap(ctx, scene);
         Aabb box = m_settings.gridBox ? *m_settings.gridBox : scene.bounds();
         if (!box.valid()) { // empty scene: a unit box keeps every pass well-defined (all voxels empty)
             box.extend(glm::vec3(-0.5f));
@@ -57,6 +85,8 @@ public:
     }
 
     IndirectOutputs addPasses(rg::RenderGraph& graph, const TechniqueInputs& in) override {
+        if (!m_levels.empty())
+            return addClipmapPasses(graph, in);
         const FrameData& frame = in.frame;
         const SceneHandles& scene = in.scene;
         const GBufferData& gbuffer = in.gbuffer;
@@ -117,10 +147,141 @@ public:
     }
 
     uint64_t persistentBytes() const override {
-        return (m_grid ? m_grid->bytes() : 0) + (m_volumes ? m_volumes->bytes() : 0);
+        uint64_t bytes = (m_grid ? m_grid->bytes() : 0) + (m_volumes ? m_volumes->bytes() : 0);
+        for (const ClipLevel& level : m_levels)
+            bytes += level.grid->bytes() + level.volumes->bytes();
+        if (m_clipmap.image.image)
+            bytes += imageBytes(m_clipmap.image.desc);
+        return bytes;
     }
 
 private:
+    // Levels of settings.gridResolution^3 voxels of voxel * 2^l, placed at the first frame. Only
+    // the finest voxel sets a length scale (the radiance scale); the scene's bounds set none.
+    Result<void> createClipmap(Context& ctx, const Scene& scene) {
+        if (!m_levels.empty())
+            vkDeviceWaitIdle(ctx.device());
+        m_levels.clear();
+        if (m_clipmap.image.image)
+            destroyImage(ctx, m_clipmap.image);
+        m_clipmap = {};
+        const uint32_t n = m_settings.gridResolution;
+        const float finest = vctFinestVoxel(m_settings);
+        // One radiance scale for all levels: the finest voxels hold the brightest radiance.
+        const float scale = chooseRadianceScale(sceneMaxRadiance(scene, finest));
+        for (uint32_t l = 0; l < m_settings.levels; ++l) {
+            const float voxel = std::ldexp(finest, int(l));
+            gpu::VoxelGridParams params{};
+            params.originSize = glm::vec4(glm::vec3(0.0f), voxel);
+            params.scales = glm::vec4(1.0f / voxel, scale, 1.0f / scale, 0.0f);
+            params.dims = glm::uvec4(n, uint32_t(std::countr_zero(n)), 0u, 0u);
+            ClipLevel level;
+            auto grid = VoxelGrid::create(ctx, params);
+            if (!grid)
+                return grid.error();
+            level.grid = std::move(*grid);
+            auto volumes = VctVolumes::create(ctx, *level.grid);
+            if (!volumes)
+                return volumes.error();
+            level.volumes = std::move(*volumes);
+            m_levels.push_back(std::move(level));
+        }
+        ImageDesc d;
+        d.type = VK_IMAGE_TYPE_2D;
+        d.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+        d.width = d.height = n;
+        d.arrayLayers = GI_VCT_DIRECTIONS * n * m_settings.levels;
+        d.mipLevels = m_levels[0].volumes->directionalLevels();
+        d.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+        m_clipmap.image = createImage(ctx, d, "vct.clipmap");
+        return {};
+    }
+
+    // The clipmap's frame: per level, the voxel and VCT passes (named "...@l") if its origin
+    // moved, an object moved or a light changed, its copy into the clipmap volume, then the
+    // per-pixel passes through the clipmap.
+    IndirectOutputs addClipmapPasses(rg::RenderGraph& graph, const TechniqueInputs& in) {
+        const FrameData& frame = in.frame;
+        const GBufferData& gbuffer = in.gbuffer;
+        PassSelection& selection = in.selection;
+        const SceneChanges& changes = selection.changes;
+        const uint32_t n = m_settings.gridResolution;
+        VctSettings settings = m_settings;
+        if (settings.glossy && !selection.features.metallic && !selection.request.glossy) {
+            settings.glossy = false;
+            selection.leaveOut("gi.vct.trace:glossy-cone", LeftOutReason::NotNeeded, "no metallic material");
+        }
+        VctPassOptions options{true, selection.features.emissive};
+        options.glossyImage = selection.request.glossy;
+        if (!options.glossyImage)
+            selection.leaveOut("gi.vct.trace:glossy-image", LeftOutReason::NotNeeded,
+                               "the glossy image is not requested");
+        options.shadowAtlas = in.shadow.atlas;
+        options.shadowViews = in.shadow.views;
+        options.lightShadows = in.shadow.lightShadows;
+        options.shadowSampler = in.shadow.compareSampler;
+        VoxelSceneHandles handles{in.scene.vertices, in.scene.indices, in.scene.instances, in.scene.materials,
+                                  m_draws};
+        const VoxelUpdate sceneUpdate = voxelUpdateFor(changes);
+        rg::ImageHandle clipmap = graph.importImage("gi.vct.clipmap", m_clipmap);
+        gpu::VctClipmapParams params{};
+        params.info = glm::uvec4(uint32_t(m_levels.size()), n, 0u, 0u);
+        const glm::ivec3 cell0 = clipCell(frame.camera.position, m_levels[0].grid->params().originSize.w, n);
+        for (uint32_t l = 0; l < m_levels.size(); ++l) {
+            ClipLevel& level = m_levels[l];
+            const float voxel = level.grid->params().originSize.w;
+            const glm::ivec3 cell = clipCell(frame.camera.position, voxel, n);
+            const bool moved = !level.placed || cell != level.cell;
+            if (moved) { // the whole level again: what the old box held is stale
+                level.grid->setOrigin(glm::vec3(cell) * voxel);
+                level.cell = cell;
+                level.placed = true;
+                level.update = VoxelUpdate::Full;
+            }
+            params.level[l] = glm::vec4(glm::vec3(cell * (1 << l) - cell0), float(1u << l));
+            const std::string at = "@" + std::to_string(l);
+            const VoxelUpdate update = std::max(level.update, sceneUpdate);
+            if (update == VoxelUpdate::None)
+                selection.leaveOut("gi.voxel.*" + at, LeftOutReason::NotDirty,
+                                   "level " + std::to_string(l) + "'s origin did not move and no object moved");
+            else if (update == VoxelUpdate::Dynamic)
+                selection.leaveOut("gi.voxel.*.static" + at, LeftOutReason::NotDirty, "no static object moved");
+            const bool relight = !level.lit || update != VoxelUpdate::None || changes.anyLight();
+            if (!relight) {
+                std::string why = "level " + std::to_string(l) +
+                                  " did not move and no light or object changed since it was lit";
+                for (const char* pass : {"gi.vct.light", "gi.vct.mip[*]", "gi.vct.bounce*", "gi.vct.clip.copy"})
+                    if (settings.bounces >= 2 || std::string(pass) != "gi.vct.bounce*")
+                        selection.leaveOut(pass + at, LeftOutReason::NotDirty, why);
+            } else if (!selection.features.emissive) {
+                selection.leaveOut("gi.vct.light:emission" + at, LeftOutReason::NotNeeded, "no emissive material");
+            }
+            graph.setPassNameSuffix(at);
+            VoxelGridData grid = addVoxelGridPasses(graph, *level.grid, handles, update);
+            level.update = VoxelUpdate::None;
+            if (l == 0)
+                in.blackboard.add(grid); // the finest level stands for the grid
+            if (relight) {
+                VctOutputs lit = addVctPasses(graph, *level.volumes, grid, in.scene.lights, m_lightCount, settings,
+                                              nullptr, options);
+                clipmap = addClipmapCopyPass(graph, lit.directional, clipmap, l, n,
+                                             level.volumes->directionalLevels());
+                level.lit = true;
+            }
+            graph.setPassNameSuffix("");
+        }
+        if (m_settings.bounces < 2)
+            selection.leaveOut("gi.vct.bounce*", LeftOutReason::NotNeeded, "vct.bounces = 1");
+        VctClipmapHandles clip{clipmap, addClipmapParamsPass(graph, params)};
+        VctGBufferHandles g{gbuffer.position, gbuffer.normal, gbuffer.albedo,       gbuffer.emission,
+                            frame.width,      frame.height,   frame.camera.position};
+        VctOutputs out =
+            addVctClipmapTracePasses(graph, *m_levels[0].volumes, clip, settings, g, options.glossyImage);
+        in.blackboard.add(out);
+        return {out.indirect, settings.ambientOcclusion ? out.indirect : rg::ImageHandle{},
+                settings.glossy ? out.glossy : rg::ImageHandle{}, rg::ImageHandle{}};
+    }
+
     Context& m_ctx;
     VctSettings m_settings;
     std::unique_ptr<VoxelGrid> m_grid;
@@ -129,6 +290,8 @@ private:
     uint32_t m_lightCount = 0;
     VoxelUpdate m_update = VoxelUpdate::Full; // Full until a new grid's first frame
     bool m_lit = false;                       // the volumes hold the voxel light of the current grid
+    std::vector<ClipLevel> m_levels;          // levels > 1: the clipmap levels, finest first
+    rg::PersistentImage m_clipmap;            // levels > 1: the levels' directional volumes stacked
 };
 
 } // namespace

@@ -73,6 +73,8 @@ public:
         Pipeline traceRefine;    // vct_trace_refine.comp: the refine list's pixels at full resolution
         Pipeline upsample;       // vct_upsample.comp: low resolution -> full, refine list appended
         Pipeline softShadow;     // vct_soft_shadow.comp: direct light with cone-traced visibility
+        Pipeline traceClip;      // vct_trace_clip.comp: the trace through the clipmap (levels > 1)
+        Pipeline traceRefineClip; // vct_trace_refine_clip.comp: the refine through the clipmap
     };
     const Pipelines& pipelines() const { return m_pipelines; }
     // The occupied-voxel list as R32_UINT texels (the hard voxel-light march reads its bits).

@@ -75,6 +75,10 @@ public:
 
     const gpu::VoxelGridParams& params() const { return m_params; }
     uint32_t resolution() const { return m_params.dims.x; }
+    // Moves the grid (a clipmap level following the camera). What the volumes hold belongs to
+    // the old box until the caller re-voxelizes in full (VoxelUpdate::Full), which zeroes what
+    // went stale as for a moved object.
+    void setOrigin(glm::vec3 origin) { m_params.originSize = glm::vec4(origin, m_params.originSize.w); }
     // The grid every consumer reads (static and dynamic geometry merged).
     const VoxelVolumes& volumes() const { return m_volumes; }
     // Static geometry only, voxelized once (the flag volume is staticVolumes().albedo.a).

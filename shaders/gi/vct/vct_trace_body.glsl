@@ -19,6 +19,9 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #endif
 layout(push_constant) uniform Push { VctTracePush pc; };
 #include "voxel_cone.glsl"
+#ifdef GI_VCT_CLIPMAP
+#include "voxel_clip.glsl"
+#endif
 layout(set = 1, binding = VCT_TRACE_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
 layout(set = 1, binding = VCT_TRACE_BINDING_NORMAL, rgba16f) uniform readonly image2D gNormal;
 layout(set = 1, binding = VCT_TRACE_BINDING_ALBEDO, rgba16f) uniform readonly image2D gAlbedo;
@@ -67,10 +70,20 @@ void main() {
     vec4 nr = imageLoad(gNormal, px);
     vec4 am = imageLoad(gAlbedo, px);
     vec3 normal = normalize(nr.xyz);
+#ifdef GI_VCT_CLIPMAP
+    // In finest voxels from level 0's corner (pc.grid is level 0), lifted one voxel of the
+    // coarsest level the first samples read.
+    vec3 u = (position.xyz - pc.grid.originSize.xyz) * pc.grid.scales.x;
+    float start = clipLift(u);
+    vec3 p = u + start * normal;
+    float occlusion;
+    vec3 diffuse = diffuseGatherClip(p, normal, pc.cones, start, occlusion);
+#else
     float n = float(pc.grid.dims.x);
     vec3 p = (position.xyz - pc.grid.originSize.xyz) * pc.grid.scales.x + normal;
     float occlusion;
     vec3 diffuse = diffuseGather(p, normal, pc.cones, n, occlusion);
+#endif
     vec3 glossy = vec3(0.0);
     if ((pc.cones.info.y & GI_VCT_FLAG_GLOSSY) != 0u) {
         vec3 v = normalize(pc.eye.xyz - position.xyz);
@@ -79,7 +92,11 @@ void main() {
         float tanHalf = clamp(nr.w * nr.w, 0.01, 1.0);
         float unused;
         vec3 r = reflect(-v, normal);
+#ifdef GI_VCT_CLIPMAP
+        glossy = traceConeClip(p, r, max(dot(r, normal), 0.0), tanHalf, pc.cones.cone.y, 0.0, start, unused).rgb;
+#else
         glossy = traceCone(p, r, max(dot(r, normal), 0.0), tanHalf, pc.cones.cone.y, 0.0, n, unused).rgb;
+#endif
     }
     float metallic = clamp(am.w, 0.0, 1.0);
     vec3 indirect = am.rgb * mix(diffuse, glossy, metallic) * pc.grid.scales.z;

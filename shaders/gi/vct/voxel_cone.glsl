@@ -70,7 +70,9 @@ int coneLevel(float diameter, float reach, int maxLevel) {
 // its opacity at 64^3, more the finer the grid, i.e. the coarser the level its walls are
 // reached at). The radiance is the mean of the views' radiances weighted by what each
 // contributes to the extinction, so an opaque face-on view hides the edge-on views behind it.
-vec4 sampleDirectional(ConeFrame f, vec3 p, int level, float invSize, bool ahead) {
+// `layerBase` is the first layer of the grid's six stacks: 0 for the directional volume, the
+// level's in the clipmap volume (vct_passes.h).
+vec4 sampleDirectionalAt(ConeFrame f, vec3 p, int level, float invSize, bool ahead, float layerBase) {
     float texels = f.n * invSize; // this level's resolution
     // Each view is read at the centre of its texel along its own axis (filtered across it): a
     // texel of view k is a slab along k whose opacity already integrates what lies along k, so
@@ -108,7 +110,7 @@ vec4 sampleDirectional(ConeFrame f, vec3 p, int level, float invSize, bool ahead
     // any axis reads exactly 0 (coneExit relies on it).
     vec3 inside = step(vec3(0.0), slice) * step(slice, vec3(texels - 1.0));
     vec3 edge = clamp(q + 0.5, 0.0, 1.0) * clamp(texels + 0.5 - q, 0.0, 1.0);
-    vec3 layer = f.stack + clamp(slice, vec3(0.0), vec3(texels - 1.0));
+    vec3 layer = (f.stack + layerBase) + clamp(slice, vec3(0.0), vec3(texels - 1.0));
     vec3 uvw = p * f.invN;
     float lod = float(level);
     vec4 sx = (inside.x * edge.y * edge.z) * textureLod(directional, vec3(uvw.yz, layer.x), lod);
@@ -122,6 +124,10 @@ vec4 sampleDirectional(ConeFrame f, vec3 p, int level, float invSize, bool ahead
     float inv = 1.0 / (opacity.x * opacity.y * opacity.z);
     vec3 weight = tau * vec3(opacity.y * opacity.z, opacity.x * opacity.z, opacity.x * opacity.y) * inv;
     return vec4(weight.x * sx.rgb + weight.y * sy.rgb + weight.z * sz.rgb, tau.x + tau.y + tau.z);
+}
+
+vec4 sampleDirectional(ConeFrame f, vec3 p, int level, float invSize, bool ahead) {
+    return sampleDirectionalAt(f, p, level, invSize, ahead, 0.0);
 }
 
 // Distance along a cone beyond which every sample lies half a texel or more outside the grid on

@@ -187,6 +187,19 @@ GI_GPU_STRUCT(VctShadowPush) {
     uvec4 info; // x light count, y width, z height, w 0
 };
 GI_CHECK_SIZE(VctShadowPush, 96);
+// Clipmap (VctSettings::levels > 1, docs/vct.md "Clipmap"): level l is an N^3 grid of voxels
+// 2^l times the finest, its own directional volume copied into the clipmap volume, the same 2D
+// array with the levels stacked along the layers: level l's stack of view d starts at layer
+// (GI_VCT_DIRECTIONS l + d) N, mips as in the directional volume. The per-pixel cones
+// (vct_trace_clip.comp, voxel_clip.glsl) read it with these parameters in a uniform block.
+#define GI_VCT_MAX_LEVELS 8u
+GI_GPU_STRUCT(VctClipmapParams) {
+    // Per level: xyz its min corner in finest voxels from level 0's (whole numbers), w 2^l.
+    vec4 level[GI_VCT_MAX_LEVELS];
+    uvec4 info; // x level count, y N, z 0, w 0
+};
+GI_CHECK_SIZE(VctClipmapParams, 144);
+
 // Refine list (vct_upsample.comp -> vct_trace_refine.comp): uint count, then the refine
 // trace's VkDispatchIndirectCommand (groups of GI_VCT_REFINE_GROUP), then the traced pixels
 // (vctRefineEntry in shaders/gi/vct/vct_refine.glsl: quad, pixel in it, pixels it serves).
@@ -248,6 +261,7 @@ GI_CHECK_SIZE(VctShadowPush, 96);
 #define VCT_TRACE_BINDING_INDIRECT 5       // out: rgb indirect radiance, a = AO (RGBA32F)
 #define VCT_TRACE_BINDING_GLOSSY 6         // out: glossy cone radiance (RGBA32F)
 #define VCT_TRACE_BINDING_REFINE_LIST 7    // the refine list: header zeroed (trace) or traced (refine)
+#define VCT_TRACE_BINDING_CLIPMAP 8        // clipmap variants: VctClipmapParams (uniform block)
 #define VCT_SHADOW_BINDING_POSITION 2      // G-buffer position
 #define VCT_SHADOW_BINDING_NORMAL 3        // G-buffer normal
 #define VCT_SHADOW_BINDING_ALBEDO 4        // G-buffer albedo

@@ -288,6 +288,11 @@ public:
     RenderGraph(const RenderGraph&) = delete;
     RenderGraph& operator=(const RenderGraph&) = delete;
 
+    // Appended to the name of every pass added from now on (until set again): a module that adds
+    // the same passes once per instance (VCT's clipmap levels) keeps their names apart.
+    void setPassNameSuffix(std::string suffix) { m_passNameSuffix = std::move(suffix); }
+    const std::string& passNameSuffix() const { return m_passNameSuffix; }
+
     // Adds a pass: `setup(PassBuilder&)` runs now; `execute(PassContext&)` is stored and runs in
     // execute() unless the pass is culled. Captures are copied; keep them small.
     template <typename Setup, typename Execute>
@@ -434,6 +439,7 @@ private:
     std::vector<uint32_t> m_timedPasses;
     MemoryReport m_memory;
     VkDescriptorSet m_frameSet = VK_NULL_HANDLE;
+    std::string m_passNameSuffix;
 };
 
 } // namespace vkgi::rg

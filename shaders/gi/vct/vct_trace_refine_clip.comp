@@ -1,0 +1,6 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Per-pixel cones for the pixels of the refine list through the clipmap (VctSettings::levels > 1).
+#define GI_VCT_REFINE
+#define GI_VCT_CLIPMAP
+#include "vct_trace_body.glsl"
