@@ -139,8 +139,8 @@ std::vector<Knob> makeKnobs() {
                  [](GiSettings& s) -> bool& { return s.vct.softShadows; }),
         floatKnob("vct.shadow_aperture", 0.001, 1, vct, "half-angle of the shadow cones, radians",
                   [](GiSettings& s) -> float& { return s.vct.shadowAperture; }),
-        uintKnob("vct.levels", 1, 8, vct,
-                 "clipmap levels around the camera (1 = one grid fitted to the scene; 2..8: level l has voxels "
+        uintKnob("vct.levels", 0, 8, vct,
+                 "clipmap levels around the camera (0 = automatic, 1 = one grid fitted to the scene; 2..8: level l has voxels "
                  "of vct.voxel * 2^l)",
                  [](GiSettings& s) -> uint32_t& { return s.vct.levels; }),
         floatKnob("vct.voxel", 0, 1e4, vct, "voxel edge of the finest clipmap level, metres (0 = the finest level spans 8 m)",

@@ -96,8 +96,8 @@ TEST(VctSettings, ClipmapValuesAreReadableErrors) {
         EXPECT_NE(r.error().message.find(word), std::string::npos) << r.error().message;
     };
     VctSettings s;
-    s.levels = 0;
-    expectError(s, "levels 0");
+    s.levels = 0; // automatic
+    EXPECT_TRUE(validateVctSettings(s).ok());
     s.levels = 9;
     expectError(s, "levels 9");
     s = {};
@@ -232,3 +232,31 @@ TEST_F(VctClipmap, OneVoxelMoveCostsLessThanAFullUpdate) {
                 oneVoxel[2], full[2], oneVoxel[2] / full[2]);
 }
 
+
+// levels = 0 (the default) picks the clipmap for a viewer inside a level much larger than the
+// view and the fitted grid otherwise: the hall (fitted voxels 0.25 m, finer than the clipmap's
+// coarsest 2 m) keeps its grid, the hall in the 400 m world gets 4 levels of 32^3, and the same
+// Cornell box scaled up a thousandfold, seen from its camera outside it, keeps its grid.
+TEST(VctSettings, AutomaticLevelsPickTheClipmapOnlyForAViewerInsideALargeWorld) {
+    const VctSettings automatic;
+    ASSERT_EQ(automatic.levels, 0u);
+    auto resolved = [&](const Scene& scene) { return resolveVctLevels(automatic, scene.bounds(), scene.cameraOrDefault()); };
+    const VctSettings hall = resolved(test::builtinScene("hall"));
+    EXPECT_EQ(hall.levels, 1u);
+    EXPECT_EQ(hall.gridResolution, automatic.gridResolution);
+    const VctSettings world = resolved(test::builtinScene("hall_world"));
+    EXPECT_EQ(world.levels, kVctAutoLevels);
+    EXPECT_EQ(world.gridResolution, kVctAutoLevelResolution);
+    EXPECT_TRUE(validateVctSettings(world).ok());
+    Scene big = test::builtinScene("cornell");
+    for (Mesh& m : big.meshes)
+        for (glm::vec3& p : m.positions)
+            p *= 1000.0f;
+    big.camera->position *= 1000.0f;
+    EXPECT_EQ(resolved(big).levels, 1u) << "a camera outside the bounds sees all of the scene";
+    VctSettings soft = automatic;
+    soft.softShadows = true;
+    EXPECT_EQ(resolveVctLevels(soft, test::builtinScene("hall_world").bounds(), *test::builtinScene("hall_world").camera).levels,
+              1u)
+        << "soft shadows read one grid";
+}

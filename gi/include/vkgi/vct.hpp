@@ -6,6 +6,7 @@
 
 #include <glm/glm.hpp>
 
+#include "vkgi/camera.hpp"
 #include "vkgi/result.hpp"
 #include "vkgi/scene.hpp"
 
@@ -46,12 +47,16 @@ struct VctSettings {
     // the room's 2-voxel window wall: mean indirect 1.73x the path tracer's (march 1.08x), 16^3
     // Cornell boxes 1.27x (docs/vct.md).
     VctOcclusion occlusion = VctOcclusion::RayMarchHard;
-    // Clipmap levels (1..8). 1: one grid fitted to the scene bounds or gridBox. 2..8: camera-centred
+    // Clipmap levels (0..8). 1: one grid fitted to the scene bounds or gridBox. 2..8: camera-centred
     // levels of gridResolution^3 voxels each, level l with voxels of `voxel` * 2^l metres, so what
     // the grid resolves does not depend on how far the scene extends (docs/vct.md "Clipmap").
     // Memory grows as levels * gridResolution^3: the clipmap is meant for gridResolution 32 (4
     // levels of 32^3 stay within the module's 64 MiB; 64^3 levels do not).
-    uint32_t levels = 1;
+    // 0 (default) = automatic, decided when a scene is set: kVctAutoLevels levels of
+    // kVctAutoLevelResolution^3 when the scene's camera is inside its bounds and the fitted grid's
+    // voxels would be coarser than the clipmap's coarsest level (a viewer inside a level much
+    // larger than the view), else the fitted grid of gridResolution^3.
+    uint32_t levels = 0;
     // Voxel edge of the finest clipmap level in metres (levels > 1); 0 = automatic: the finest
     // level spans kVctAutoFinestSpan metres.
     float voxel = 0.0f;
@@ -64,6 +69,13 @@ struct VctSettings {
 inline constexpr float kVctAutoFinestSpan = 8.0f;
 // Most clipmap levels (VctSettings::levels).
 inline constexpr uint32_t kVctMaxLevels = 8;
+// The clipmap the automatic setting (levels = 0) picks: the bench's choice (docs/vct.md).
+inline constexpr uint32_t kVctAutoLevels = 4;
+inline constexpr uint32_t kVctAutoLevelResolution = 32;
+
+// What VctSettings::levels = 0 resolves to for `scene` seen from `camera`: `settings` with
+// levels (and for a clipmap gridResolution) set; other values are returned unchanged.
+VctSettings resolveVctLevels(const VctSettings& settings, const Aabb& bounds, const Camera& camera);
 
 // Voxel edge (metres) of the finest clipmap level of `settings` (levels > 1).
 float vctFinestVoxel(const VctSettings& settings);

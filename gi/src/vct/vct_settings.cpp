@@ -1,4 +1,5 @@
 #include <cmath>
+#include <algorithm>
 #include <string>
 
 #include "vkgi/vct.hpp"
@@ -41,9 +42,9 @@ Result<void> validateVctSettings(const VctSettings& s) {
     if (s.gridBox && (!s.gridBox->valid() || !std::isfinite(s.gridBox->min.x + s.gridBox->min.y + s.gridBox->min.z +
                                                             s.gridBox->max.x + s.gridBox->max.y + s.gridBox->max.z)))
         return makeError("vct: gridBox must be a finite, non-empty box");
-    if (s.levels < 1 || s.levels > kVctMaxLevels)
-        return makeError("vct: levels " + std::to_string(s.levels) + " must be in [1, " +
-                         std::to_string(kVctMaxLevels) + "]");
+    if (s.levels > kVctMaxLevels)
+        return makeError("vct: levels " + std::to_string(s.levels) + " must be in [0, " +
+                         std::to_string(kVctMaxLevels) + "] (0 = automatic)");
     if (!std::isfinite(s.voxel) || s.voxel < 0.0f)
         return makeError("vct: voxel must be a finite edge length >= 0 metres (0 = automatic)");
     // The clipmap volume stacks the levels' six views of N slices along the layers of one array
@@ -58,6 +59,26 @@ Result<void> validateVctSettings(const VctSettings& s) {
     if (s.levels > 1 && s.voxel > 0.0f && (s.voxel < 1e-4f || s.voxel > 1e4f))
         return makeError("vct: voxel " + std::to_string(s.voxel) + " m is outside [1e-4, 1e4] metres");
     return {};
+}
+
+VctSettings resolveVctLevels(const VctSettings& s, const Aabb& bounds, const Camera& camera) {
+    if (s.levels != 0)
+        return s;
+    VctSettings fitted = s, clip = s;
+    fitted.levels = 1;
+    clip.levels = kVctAutoLevels;
+    clip.gridResolution = kVctAutoLevelResolution;
+    // Soft shadows and an explicit grid box need the one grid.
+    if (s.softShadows || s.gridBox || !bounds.valid())
+        return fitted;
+    const glm::vec3 eye = camera.position;
+    const bool inside = glm::all(glm::greaterThanEqual(eye, bounds.min)) && glm::all(glm::lessThanEqual(eye, bounds.max));
+    const glm::vec3 e = bounds.extent();
+    // fitVoxelGrid: the longest side spans resolution - 1 voxels.
+    const float fittedVoxel = std::max({e.x, e.y, e.z}) / float(s.gridResolution - 1);
+    const float coarsest = vctFinestVoxel(clip) * float(1u << (kVctAutoLevels - 1));
+    // The bounds only select here; the clipmap's voxels are set in metres.
+    return inside && fittedVoxel > coarsest ? clip : fitted;
 }
 
 float vctFinestVoxel(const VctSettings& s) {

@@ -39,7 +39,8 @@ glm::ivec3 clipCell(glm::vec3 eye, float voxel, uint32_t n) {
 
 class VctTechnique final : public TechniqueModule {
 public:
-    explicit VctTechnique(Context& ctx, const VctSettings& settings) : m_ctx(ctx), m_settings(settings) {}
+    explicit VctTechnique(Context& ctx, const VctSettings& settings)
+        : m_ctx(ctx), m_requested(settings), m_settings(resolveVctLevels(settings, Aabb{}, Camera{})) {}
     ~VctTechnique() override {
         if (m_grid || !m_levels.empty())
             vkDeviceWaitIdle(m_ctx.device()); // persistent volumes may still be read by the last frame
@@ -53,6 +54,7 @@ public:
         m_lightCount = gpu.lightCount;
         if (!uploaded)
             return {}; // what moved arrives as PassSelection::changes with the next frame
+        m_settings = resolveVctLevels(m_requested, scene.bounds(), scene.cameraOrDefault());
         if (m_settings.levels > 1)
             return createClipmap(ctx, scene);
         Aabb box = m_settings.gridBox ? *m_settings.gridBox : scene.bounds();
@@ -67,10 +69,14 @@ public:
         auto params = fitVoxelGrid(box, m_settings.gridResolution, scale);
         if (!params)
             return params.error();
-        if (m_grid)
+        if (m_grid || !m_levels.empty())
             vkDeviceWaitIdle(ctx.device());
         m_volumes.reset();
         m_grid.reset();
+        m_levels.clear(); // the last scene's clipmap (automatic levels)
+        if (m_clipmap.image.image)
+            destroyImage(ctx, m_clipmap.image);
+        m_clipmap = {};
         auto grid = VoxelGrid::create(ctx, *params);
         if (!grid)
             return grid.error();
@@ -159,9 +165,11 @@ private:
     // Levels of settings.gridResolution^3 voxels of voxel * 2^l, placed at the first frame. Only
     // the finest voxel sets a length scale (the radiance scale); the scene's bounds set none.
     Result<void> createClipmap(Context& ctx, const Scene& scene) {
-        if (!m_levels.empty())
+        if (!m_levels.empty() || m_grid)
             vkDeviceWaitIdle(ctx.device());
         m_levels.clear();
+        m_volumes.reset(); // the last scene's fitted grid (automatic levels)
+        m_grid.reset();
         if (m_clipmap.image.image)
             destroyImage(ctx, m_clipmap.image);
         m_clipmap = {};
@@ -283,7 +291,8 @@ private:
     }
 
     Context& m_ctx;
-    VctSettings m_settings;
+    VctSettings m_requested; // as the caller gave them (levels may be 0: automatic)
+    VctSettings m_settings;  // levels resolved for the current scene
     std::unique_ptr<VoxelGrid> m_grid;
     std::unique_ptr<VctVolumes> m_volumes;
     std::vector<VoxelDraw> m_draws;
