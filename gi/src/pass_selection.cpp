@@ -122,6 +122,22 @@ std::vector<bool> cleanShadowLights(const ShadowLayout& now, const ShadowLayout&
     return clean;
 }
 
+std::vector<bool> cleanShadowCascades(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes) {
+    std::vector<bool> clean(now.lights.size(), false);
+    if (changes.all || changes.geometry() || last.lights.size() != now.lights.size() ||
+        last.resolution != now.resolution)
+        return clean;
+    for (uint32_t i = 0; i < now.lights.size(); ++i) {
+        const LightShadowPlan& a = now.lights[i];
+        const LightShadowPlan& b = last.lights[i];
+        bool same = a.cascadeCount > 0 && a.cascadeFirst == b.cascadeFirst && a.cascadeCount == b.cascadeCount &&
+                    std::memcmp(&now.views[a.cascadeFirst], &last.views[b.cascadeFirst],
+                                a.cascadeCount * sizeof(gpu::GpuShadowView)) == 0;
+        clean[i] = same && !changes.lightChanged(i);
+    }
+    return clean;
+}
+
 bool sameView(const Camera& a, uint32_t aw, uint32_t ah, const Camera& b, uint32_t bw, uint32_t bh) {
     return aw == bw && ah == bh && a.position == b.position && a.forward == b.forward && a.up == b.up &&
            a.yfov == b.yfov && a.znear == b.znear && a.zfar == b.zfar;
