@@ -133,7 +133,7 @@ TEST(SceneAnalysis, FeaturesOfTheBuiltinScenes) {
         {"cornell", "0 0 1 000"},   {"cornell_point", "0 1 0 000"}, {"cornell_spot", "0 0 1 000"},
         {"cornell_emissive", "0 0 0 100"}, {"furnace", "0 0 0 100"}, {"sphere", "0 1 0 000"},
         {"room", "1 0 0 000"},      {"bunny_box", "0 0 1 000"},     {"atrium", "1 0 0 000"},
-        {"hall", "0 1 0 000"},
+        {"hall", "0 1 0 000"},      {"hall_world", "0 1 0 000"},   {"atrium_world", "1 0 0 000"},
     };
     for (const std::string& name : builtinSceneNames()) {
         auto scene = makeBuiltinScene(name);
