@@ -252,11 +252,12 @@ void GiSystem::Impl::addShadowPasses(rg::RenderGraph& graph, rg::Blackboard& bb,
         if (keep[i])
             selection.leaveOut(lightPassName(i, scene.lights[i].type), LeftOutReason::NotDirty,
                                "light " + std::to_string(i) + " and every object unchanged");
-    std::vector<bool> keepCascades = cleanShadowCascades(layout, lastShadowLayout, shadowChanges);
+    std::vector<uint32_t> keepCascades = cleanShadowCascades(layout, lastShadowLayout, shadowChanges);
     for (uint32_t i = 0; i < keepCascades.size(); ++i)
-        if (keepCascades[i])
-            selection.leaveOut(cascadePassName(i), LeftOutReason::NotDirty,
-                               "light " + std::to_string(i) + ", every object and the cascades' texel grid unchanged");
+        for (uint32_t k = 0; k < layout.lights[i].cascadeCount; ++k)
+            if ((keepCascades[i] >> k) & 1u)
+                selection.leaveOut(cascadePassName(i, k), LeftOutReason::NotDirty,
+                                   "light " + std::to_string(i) + ", every object and the cascade's texels unchanged");
     addLightPasses(graph, bb, pipelines, frame, bb.get<SceneHandles>(), layout, shadows, rsm, keep, keepCascades);
     lastShadowLayout = std::move(layout);
     shadowChanges.reset();

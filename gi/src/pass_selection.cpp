@@ -122,18 +122,21 @@ std::vector<bool> cleanShadowLights(const ShadowLayout& now, const ShadowLayout&
     return clean;
 }
 
-std::vector<bool> cleanShadowCascades(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes) {
-    std::vector<bool> clean(now.lights.size(), false);
+std::vector<uint32_t> cleanShadowCascades(const ShadowLayout& now, const ShadowLayout& last,
+                                          const SceneChanges& changes) {
+    std::vector<uint32_t> clean(now.lights.size(), 0u);
     if (changes.all || changes.geometry() || last.lights.size() != now.lights.size() ||
         last.resolution != now.resolution)
         return clean;
     for (uint32_t i = 0; i < now.lights.size(); ++i) {
         const LightShadowPlan& a = now.lights[i];
         const LightShadowPlan& b = last.lights[i];
-        bool same = a.cascadeCount > 0 && a.cascadeFirst == b.cascadeFirst && a.cascadeCount == b.cascadeCount &&
-                    std::memcmp(&now.views[a.cascadeFirst], &last.views[b.cascadeFirst],
-                                a.cascadeCount * sizeof(gpu::GpuShadowView)) == 0;
-        clean[i] = same && !changes.lightChanged(i);
+        if (a.cascadeFirst != b.cascadeFirst || a.cascadeCount != b.cascadeCount || changes.lightChanged(i))
+            continue;
+        for (uint32_t k = 0; k < a.cascadeCount; ++k)
+            if (std::memcmp(&now.views[a.cascadeFirst + k], &last.views[b.cascadeFirst + k],
+                            sizeof(gpu::GpuShadowView)) == 0)
+                clean[i] |= 1u << k;
     }
     return clean;
 }

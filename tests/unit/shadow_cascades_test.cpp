@@ -192,3 +192,25 @@ TEST(ShadowCascades, SettingOutOfRangeIsAReadableError) {
     s.shadowCascades = 0;
     EXPECT_TRUE(validateSettings(s));
 }
+
+// Point and spot layers: the far plane is what the light reaches within the scene, clipped to its
+// range; stored depth is distance / far, so it does not depend on the bounds beyond that.
+TEST(ShadowCascades, PerspectiveFarPlaneIsClippedToTheLightsRange) {
+    Scene scene;
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.position = {0.0f, 4.0f, 0.0f};
+    spot.direction = {0.0f, -1.0f, 0.0f};
+    spot.outerConeAngle = 0.5f;
+    spot.intensity = 100.0f;
+    scene.lights = {spot};
+    ShadowLayout unlimited = planShadows(scene, kWorld, 256, 64);
+    ASSERT_EQ(unlimited.views.size(), 1u);
+    EXPECT_GT(unlimited.views[0].eye.w, 280.0f); // the world's farthest corner
+    scene.lights[0].range = 12.0f;
+    ShadowLayout ranged = planShadows(scene, kWorld, 256, 64);
+    ASSERT_EQ(ranged.views.size(), 1u);
+    EXPECT_NEAR(ranged.views[0].eye.w, 12.0f * 1.01f, 1e-3f);
+    // The texel size per metre of distance is the cone's, whatever the far plane.
+    EXPECT_EQ(ranged.views[0].texel.x, unlimited.views[0].texel.x);
+}

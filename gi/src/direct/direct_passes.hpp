@@ -101,13 +101,13 @@ std::string lightPassName(uint32_t light, LightType type);
 // One pass per shadowed light ("gi.light[i].spot|point|directional"), writing the atlas layers
 // of that light and, when `rsm`, the RSM arrays. Adds ShadowData (and RsmData) to `blackboard`.
 // Lights with `keep[i]` true get no pass: their persistent layers still hold this frame's content.
-// A directional light's cascades are one more pass ("gi.light[i].directional.cascades", depth
-// only), left out when `keepCascades[i]`.
+// Each cascade of a directional light is one more pass ("gi.light[i].directional.cascade[k]",
+// depth only), left out when bit k of `keepCascades[i]` is set.
 void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const DirectPipelines& p,
                     const FrameData& frame, const SceneHandles& scene, const ShadowLayout& layout,
                     ShadowTargets& targets, bool rsm, const std::vector<bool>& keep = {},
-                    const std::vector<bool>& keepCascades = {});
-std::string cascadePassName(uint32_t light);
+                    const std::vector<uint32_t>& keepCascades = {});
+std::string cascadePassName(uint32_t light, uint32_t cascade);
 
 DirectData addDeferredPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame,
                            const SceneHandles& scene, const GBufferData& gbuffer, const ShadowData& shadow);

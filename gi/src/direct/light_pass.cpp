@@ -13,8 +13,8 @@ std::string lightPassName(uint32_t light, LightType type) {
     return "gi.light[" + std::to_string(light) + "]." + kind;
 }
 
-std::string cascadePassName(uint32_t light) {
-    return lightPassName(light, LightType::Directional) + ".cascades";
+std::string cascadePassName(uint32_t light, uint32_t cascade) {
+    return lightPassName(light, LightType::Directional) + ".cascade[" + std::to_string(cascade) + "]";
 }
 
 namespace {
@@ -148,21 +148,23 @@ void recordLightPass(const LightPassInfo& info, rg::PassContext& pc) {
     }
 }
 
-// `cascades`: the light's cascade layers, depth only (the RSM is written for its own layers
-// alone, so RSM consumers count each light's flux once).
+// `cascade` >= 0: that cascade layer of the light alone, depth only (the RSM is written for the
+// light's own layers alone, so RSM consumers count each light's flux once). One pass per
+// cascade: a camera move often changes the fine cascades' matrices and not the coarse ones.
 void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame, const SceneHandles& scene,
                   const ShadowLayout& layout, const LightShadowPlan& plan, bool rsm, AtlasHandles& h,
-                  bool cascades = false) {
+                  int cascade = -1) {
+    const bool cascades = cascade >= 0;
     rsm = rsm && !cascades;
-    const uint32_t first = cascades ? plan.cascadeFirst : plan.firstLayer;
-    const uint32_t count = cascades ? plan.cascadeCount : plan.layerCount;
+    const uint32_t first = cascades ? plan.cascadeFirst + uint32_t(cascade) : plan.firstLayer;
+    const uint32_t count = cascades ? 1u : plan.layerCount;
     auto info = std::make_shared<LightPassInfo>();
     bool textured = !frame.scene->textures.empty();
     info->pipeline = !rsm ? &p.shadow : textured ? &p.rsm : &p.rsmUntextured;
     info->scene = frame.gpuScene;
     info->textureSampler = frame.gpuScene->textureSampler;
     info->sceneHandles = scene;
-    info->faceMask = cascades ? (1u << count) - 1u : plan.faceMask;
+    info->faceMask = cascades ? 1u : plan.faceMask;
     info->resolution = layout.resolution;
     info->rsm = rsm;
     info->firstLayer = first;
@@ -172,7 +174,7 @@ void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameD
         info->faces.push_back({v.viewProj, v.eye, v.axisArea, glm::uvec4(0u, plan.light, layer, 0u)});
     }
     const Light& light = frame.scene->lights[plan.light];
-    std::string name = cascades ? cascadePassName(plan.light) : lightPassName(plan.light, light.type);
+    std::string name = cascades ? cascadePassName(plan.light, uint32_t(cascade)) : lightPassName(plan.light, light.type);
     graph.addPass(
         std::move(name),
         [&](rg::PassBuilder& b) {
@@ -199,7 +201,7 @@ void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameD
 void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const DirectPipelines& p,
                     const FrameData& frame, const SceneHandles& scene, const ShadowLayout& layout,
                     ShadowTargets& targets, bool rsm, const std::vector<bool>& keep,
-                    const std::vector<bool>& keepCascades) {
+                    const std::vector<uint32_t>& keepCascades) {
     AtlasHandles h;
     h.atlas = graph.importImage("gi.shadow.atlas", targets.atlas);
     if (rsm) {
@@ -213,8 +215,9 @@ void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Di
         if (plan.kind != GI_SHADOW_NONE && !(plan.light < keep.size() && keep[plan.light]))
             addLightPass(graph, p, frame, scene, layout, plan, rsm, h);
     for (const LightShadowPlan& plan : layout.lights)
-        if (plan.cascadeCount > 0 && !(plan.light < keepCascades.size() && keepCascades[plan.light]))
-            addLightPass(graph, p, frame, scene, layout, plan, rsm, h, true);
+        for (uint32_t k = 0; k < plan.cascadeCount; ++k)
+            if (!(plan.light < keepCascades.size() && (keepCascades[plan.light] >> k) & 1u))
+                addLightPass(graph, p, frame, scene, layout, plan, rsm, h, int(k));
     shadow.atlas = h.atlas;
     shadow.resolution = layout.resolution;
     shadow.layers = layout.layers;
