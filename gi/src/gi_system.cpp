@@ -90,7 +90,8 @@ struct GiSystem::Impl {
     Result<GiOutputs> addPasses(rg::RenderGraph& graph, rg::Blackboard& bb, const Camera& camera, uint32_t width,
                                 uint32_t height, const FrameRequest& request, const HostGBuffer* host = nullptr);
     // The steps of addPasses, in the order it adds them.
-    void addShadowPasses(rg::RenderGraph& graph, rg::Blackboard& bb, PassSelection& selection);
+    // `host`: no deferred pass reads cascades, so none are planned.
+    void addShadowPasses(rg::RenderGraph& graph, rg::Blackboard& bb, PassSelection& selection, bool host);
     void addTechniquePasses(rg::RenderGraph& graph, rg::Blackboard& bb, const FrameRequest& request, bool host,
                             GiOutputs& out);
     void addCompositeAndOutputs(rg::RenderGraph& graph, rg::Blackboard& bb, const FrameRequest& request,
@@ -212,7 +213,7 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
 
     PassSelection& selection = bb.add(PassSelection{features, {}, {}, request});
     leaveOutMissingLightKinds(features, selection);
-    addShadowPasses(graph, bb, selection);
+    addShadowPasses(graph, bb, selection, host != nullptr);
     if (host)
         selection.leaveOut("gi.direct", LeftOutReason::NotNeeded, "host G-buffer: the host shades direct light");
     bb.add(host ? DirectData{} : addDeferredPass(graph, pipelines, frame, sceneHandles, gbuffer, bb.get<ShadowData>()));
@@ -225,21 +226,39 @@ Result<GiOutputs> GiSystem::Impl::addPasses(rg::RenderGraph& graph, rg::Blackboa
 
 // Shadow atlas (and RSM when the technique or the settings want it): one pass per light whose
 // layers do not already hold this frame's content.
-void GiSystem::Impl::addShadowPasses(rg::RenderGraph& graph, rg::Blackboard& bb, PassSelection& selection) {
+void GiSystem::Impl::addShadowPasses(rg::RenderGraph& graph, rg::Blackboard& bb, PassSelection& selection,
+                                     bool host) {
     bool rsm = settings.forceRsm || (technique && technique->needsRsm());
-    ShadowLayout layout = planShadows(scene, gpu->bounds, settings.shadowMapSize, settings.maxShadowLayers);
+    const FrameData& frame = bb.get<FrameData>();
+    CascadeRequest cascades;
+    cascades.count = host ? 0u : settings.shadowCascades;
+    cascades.camera = frame.camera;
+    cascades.aspect = float(frame.width) / float(frame.height);
+    // The deferred pass's footprint around a receiver (deferred.comp): PCF radius, the bilinear
+    // tap's extra texel and the normal offset, plus a texel of rounding.
+    cascades.marginTexels = float(settings.pcfRadius) + std::ceil(settings.shadowNormalOffset) + 2.0f;
+    ShadowLayout layout =
+        planShadows(scene, gpu->bounds, settings.shadowMapSize, settings.maxShadowLayers, cascades);
     // New atlas or RSM arrays have no contents yet: every light renders.
-    uint32_t oldLayers = shadows.layers, oldResolution = shadows.resolution;
+    uint32_t oldLayers = shadows.layers, oldRsmLayers = shadows.rsmLayers, oldResolution = shadows.resolution;
     bool oldRsm = shadows.rsm;
-    ensureShadowTargets(*ctx, shadows, uint32_t(layout.views.size()), settings.shadowMapSize, rsm);
-    if (shadows.layers != oldLayers || shadows.resolution != oldResolution || shadows.rsm != oldRsm)
+    ensureShadowTargets(*ctx, shadows, uint32_t(layout.views.size()), layout.lightLayers(), settings.shadowMapSize,
+                        rsm);
+    if (shadows.layers != oldLayers || shadows.rsmLayers != oldRsmLayers || shadows.resolution != oldResolution ||
+        shadows.rsm != oldRsm)
         shadowChanges.all = true;
     std::vector<bool> keep = cleanShadowLights(layout, lastShadowLayout, shadowChanges);
     for (uint32_t i = 0; i < keep.size(); ++i)
         if (keep[i])
             selection.leaveOut(lightPassName(i, scene.lights[i].type), LeftOutReason::NotDirty,
                                "light " + std::to_string(i) + " and every object unchanged");
-    addLightPasses(graph, bb, pipelines, bb.get<FrameData>(), bb.get<SceneHandles>(), layout, shadows, rsm, keep);
+    std::vector<uint32_t> keepCascades = cleanShadowCascades(layout, lastShadowLayout, shadowChanges);
+    for (uint32_t i = 0; i < keepCascades.size(); ++i)
+        for (uint32_t k = 0; k < layout.lights[i].cascadeCount; ++k)
+            if ((keepCascades[i] >> k) & 1u)
+                selection.leaveOut(cascadePassName(i, k), LeftOutReason::NotDirty,
+                                   "light " + std::to_string(i) + ", every object and the cascade's texels unchanged");
+    addLightPasses(graph, bb, pipelines, frame, bb.get<SceneHandles>(), layout, shadows, rsm, keep, keepCascades);
     lastShadowLayout = std::move(layout);
     shadowChanges.reset();
 }

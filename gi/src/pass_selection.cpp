@@ -122,6 +122,25 @@ std::vector<bool> cleanShadowLights(const ShadowLayout& now, const ShadowLayout&
     return clean;
 }
 
+std::vector<uint32_t> cleanShadowCascades(const ShadowLayout& now, const ShadowLayout& last,
+                                          const SceneChanges& changes) {
+    std::vector<uint32_t> clean(now.lights.size(), 0u);
+    if (changes.all || changes.geometry() || last.lights.size() != now.lights.size() ||
+        last.resolution != now.resolution)
+        return clean;
+    for (uint32_t i = 0; i < now.lights.size(); ++i) {
+        const LightShadowPlan& a = now.lights[i];
+        const LightShadowPlan& b = last.lights[i];
+        if (a.cascadeFirst != b.cascadeFirst || a.cascadeCount != b.cascadeCount || changes.lightChanged(i))
+            continue;
+        for (uint32_t k = 0; k < a.cascadeCount; ++k)
+            if (std::memcmp(&now.views[a.cascadeFirst + k], &last.views[b.cascadeFirst + k],
+                            sizeof(gpu::GpuShadowView)) == 0)
+                clean[i] |= 1u << k;
+    }
+    return clean;
+}
+
 bool sameView(const Camera& a, uint32_t aw, uint32_t ah, const Camera& b, uint32_t bw, uint32_t bh) {
     return aw == bw && ah == bh && a.position == b.position && a.forward == b.forward && a.up == b.up &&
            a.yfov == b.yfov && a.znear == b.znear && a.zfar == b.zfar;

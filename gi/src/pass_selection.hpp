@@ -87,6 +87,11 @@ struct ShadowLayout;
 // was last rendered with; empty = never) and no change to the light or to any object since.
 std::vector<bool> cleanShadowLights(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes);
 
+// Cascade passes to leave out: per light, bit k set when its cascade k still holds this frame's
+// content: same layers, a bitwise same view (the camera moved less than that cascade's texel, or
+// not at all), and no change to the light or to any object since.
+std::vector<uint32_t> cleanShadowCascades(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes);
+
 // Same camera and frame size (bitwise): view-dependent work may be reused.
 bool sameView(const Camera& a, uint32_t aw, uint32_t ah, const Camera& b, uint32_t bw, uint32_t bh);
 

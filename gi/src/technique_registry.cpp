@@ -66,6 +66,9 @@ Result<void> checkSharedSettings(const GiSettings& s) {
         return makeError("GiSettings.shadowMapSize " + std::to_string(s.shadowMapSize) + " is outside 16..8192");
     if (s.maxShadowLayers < 1 || s.maxShadowLayers > 2048)
         return makeError("GiSettings.maxShadowLayers " + std::to_string(s.maxShadowLayers) + " is outside 1..2048");
+    if (s.shadowCascades > kMaxShadowCascades)
+        return makeError("GiSettings.shadowCascades " + std::to_string(s.shadowCascades) + " is outside 0.." +
+                         std::to_string(kMaxShadowCascades) + " (cascades per directional light, 0 = off)");
     if (s.pcfRadius > 8)
         return makeError("GiSettings.pcfRadius " + std::to_string(s.pcfRadius) + " is above 8");
     for (float b : {s.shadowNormalOffset, s.shadowConstantBias})

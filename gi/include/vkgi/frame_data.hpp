@@ -17,7 +17,11 @@
 // depth is linear (see GpuShadowView in shaders/include/gi/direct_types.h). Spots with an outer
 // cone up to kMaxSpotFrustumHalfAngle use one perspective layer covering the cone, wider spots
 // and point lights a cube (6 layers, +X,-X,+Y,-Y,+Z,-Z), directional lights one orthographic
-// layer fitted around the scene bounds.
+// layer fitted around the scene bounds. After all lights' own layers (ShadowData::layers) the
+// atlas may hold shadow-only cascade layers of directional lights, fitted to this frame's camera
+// (GiSettings::shadowCascades, docs/direct.md); only the deferred direct pass reads them, through
+// GpuLightShadow::cascades. Passes that sample the atlas at arbitrary scene points use the
+// light's own layer (GpuLightShadow::info), which covers the whole scene.
 //
 // Reflective shadow map (only when a technique needs it): arrays with the atlas's layers and size,
 //   position RGBA32F  xyz world position, w = 1 (0 = no geometry in this texel)
@@ -97,7 +101,7 @@ struct ShadowData {
     rg::BufferHandle views;        // GpuShadowView[layer]
     rg::BufferHandle lightShadows; // GpuLightShadow[light]
     uint32_t resolution = 0;
-    std::vector<ShadowLayer> layers;
+    std::vector<ShadowLayer> layers; // the lights' own layers (cascade layers follow them)
     VkSampler compareSampler = VK_NULL_HANDLE; // linear, depth compare LESS_OR_EQUAL, clamp to edge
 };
 
@@ -107,7 +111,8 @@ struct RsmData {
     rg::ImageHandle normal;
     rg::ImageHandle flux;
     uint32_t resolution = 0;
-    std::vector<ShadowLayer> layers; // same as ShadowData::layers
+    std::vector<ShadowLayer> layers; // same as ShadowData::layers: never a cascade layer, so each
+                                     // light's flux is in the RSM once
 };
 
 struct DirectData {

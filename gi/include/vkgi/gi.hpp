@@ -39,6 +39,10 @@ int modelledBounces(const GiSettings& settings);
 // Parses a name from techniqueNames(); the error lists the valid names.
 Result<Technique> parseTechnique(std::string_view name);
 
+// Largest GiSettings::shadowCascades: each cascade is an atlas layer re-rendered when the camera
+// moves, and past 8 the log splits give the nearest slice less depth than znear on usual views.
+constexpr uint32_t kMaxShadowCascades = 8;
+
 struct GiSettings {
     Technique technique = Technique::None;
     // Texels per side of each shadow-map (and RSM) layer: 256 keeps a cube light's RSM (40 bytes
@@ -47,6 +51,13 @@ struct GiSettings {
     // Atlas layers (a spot/directional light takes 1, a point light or wide spot 6); lights past
     // the limit are unshadowed. The default bounds the atlas's memory at the default layer size.
     uint32_t maxShadowLayers = 64;
+    // Shadow cascades per directional light (0..8, 0 = off; docs/direct.md): shadow-only atlas
+    // layers fitted to slices of the camera's view depth, which the deferred direct pass reads
+    // instead of the light's whole-scene layer, so shadow texels do not grow with the scene.
+    // They count against maxShadowLayers after every light's own layers, are re-rendered when the
+    // camera moves by a texel or more, and are used only where all of them have finer texels than
+    // the whole-scene layer (a camera that sees most of the scene keeps the single layer).
+    uint32_t shadowCascades = 4;
     // PCF kernel (2r+1)^2 of bilinear compares; 1 = 3x3 softens the 1-texel stair steps.
     uint32_t pcfRadius = 1;
     // Shadow biases in shadow-texel world sizes at the receiver: a normal offset and a depth

@@ -45,14 +45,32 @@ struct LightShadowPlan {
     uint32_t firstLayer = 0;
     uint32_t layerCount = 0;
     uint32_t faceMask = 0; // cube faces that can see the light's cone (others are only cleared)
+    // Directional lights: shadow-only cascade layers fitted to the camera (cascades.hpp), which
+    // the deferred pass reads instead of the whole-scene layer where they hold the receiver. They
+    // follow the atlas's light layers (layerCount), so RSM arrays never include them.
+    uint32_t cascadeFirst = 0;
+    uint32_t cascadeCount = 0;
 };
 struct ShadowLayout {
     std::vector<LightShadowPlan> lights;    // one per scene light
-    std::vector<gpu::GpuShadowView> views;  // one per layer
-    std::vector<ShadowLayer> layers;        // one per layer
+    std::vector<gpu::GpuShadowView> views;  // one per atlas layer: light layers, then cascade layers
+    std::vector<ShadowLayer> layers;        // one per light layer (the RSM's layers)
     uint32_t resolution = 0;
+    uint32_t lightLayers() const { return uint32_t(layers.size()); }
 };
-ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers);
+// What the cascades of directional lights are fitted to; count 0 = no cascades.
+struct CascadeRequest {
+    uint32_t count = 0;
+    Camera camera;
+    float aspect = 1.0f;
+    float marginTexels = 0.0f; // the deferred pass's PCF reach plus normal offset, in texels
+};
+// Every light's own layers first (lights past `maxLayers` stay unshadowed, as without cascades);
+// then cascades for directional lights while the atlas has room. A light gets its cascades only
+// when every cascade has finer texels than its whole-scene layer: where the camera sees most of
+// the scene the whole-scene layer is kept and the image does not change.
+ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers,
+                         const CascadeRequest& cascades = {});
 
 // Persistent shadow atlas and RSM arrays (recreated when the layer count or size changes),
 // sampled through 2D-array views and rendered one layer at a time (PassContext::layerView).
@@ -62,11 +80,14 @@ struct ShadowTargets {
     rg::PersistentImage rsmNormal;
     rg::PersistentImage rsmFlux;
     uint32_t layers = 0;
+    uint32_t rsmLayers = 0;
     uint32_t resolution = 0;
     bool rsm = false;
     VkDeviceSize bytes() const;
 };
-void ensureShadowTargets(Context& ctx, ShadowTargets& t, uint32_t layers, uint32_t resolution, bool rsm);
+// `layers` atlas layers; the RSM arrays get the first `rsmLayers` (the lights' own layers).
+void ensureShadowTargets(Context& ctx, ShadowTargets& t, uint32_t layers, uint32_t rsmLayers, uint32_t resolution,
+                         bool rsm);
 void destroyShadowTargets(Context& ctx, ShadowTargets& t);
 
 SceneHandles importScene(rg::RenderGraph& graph, const GpuScene& scene);
@@ -80,9 +101,13 @@ std::string lightPassName(uint32_t light, LightType type);
 // One pass per shadowed light ("gi.light[i].spot|point|directional"), writing the atlas layers
 // of that light and, when `rsm`, the RSM arrays. Adds ShadowData (and RsmData) to `blackboard`.
 // Lights with `keep[i]` true get no pass: their persistent layers still hold this frame's content.
+// Each cascade of a directional light is one more pass ("gi.light[i].directional.cascade[k]",
+// depth only), left out when bit k of `keepCascades[i]` is set.
 void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const DirectPipelines& p,
                     const FrameData& frame, const SceneHandles& scene, const ShadowLayout& layout,
-                    ShadowTargets& targets, bool rsm, const std::vector<bool>& keep = {});
+                    ShadowTargets& targets, bool rsm, const std::vector<bool>& keep = {},
+                    const std::vector<uint32_t>& keepCascades = {});
+std::string cascadePassName(uint32_t light, uint32_t cascade);
 
 DirectData addDeferredPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame,
                            const SceneHandles& scene, const GBufferData& gbuffer, const ShadowData& shadow);

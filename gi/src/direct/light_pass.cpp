@@ -13,6 +13,10 @@ std::string lightPassName(uint32_t light, LightType type) {
     return "gi.light[" + std::to_string(light) + "]." + kind;
 }
 
+std::string cascadePassName(uint32_t light, uint32_t cascade) {
+    return lightPassName(light, LightType::Directional) + ".cascade[" + std::to_string(cascade) + "]";
+}
+
 namespace {
 
 using rg::Access;
@@ -73,7 +77,8 @@ void addSetupPass(rg::RenderGraph& graph, const ShadowLayout& layout, uint32_t l
             if (d.tables.views.empty())
                 d.tables.views.push_back(gpu::GpuShadowView{});
             for (const LightShadowPlan& plan : layout.lights)
-                d.tables.lights.push_back({glm::uvec4(plan.firstLayer, plan.layerCount, plan.kind, 0u)});
+                d.tables.lights.push_back({glm::uvec4(plan.firstLayer, plan.layerCount, plan.kind, 0u),
+                                           glm::uvec4(plan.cascadeFirst, plan.cascadeCount, 0u, 0u)});
             d.tables.lights.resize(std::max<size_t>(lightCount, 1));
             d.clear = layout.views.empty();
             d.rsm = rsm;
@@ -143,29 +148,37 @@ void recordLightPass(const LightPassInfo& info, rg::PassContext& pc) {
     }
 }
 
+// `cascade` >= 0: that cascade layer of the light alone, depth only (the RSM is written for the
+// light's own layers alone, so RSM consumers count each light's flux once). One pass per
+// cascade: a camera move often changes the fine cascades' matrices and not the coarse ones.
 void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame, const SceneHandles& scene,
-                  const ShadowLayout& layout, const LightShadowPlan& plan, bool rsm, AtlasHandles& h) {
+                  const ShadowLayout& layout, const LightShadowPlan& plan, bool rsm, AtlasHandles& h,
+                  int cascade = -1) {
+    const bool cascades = cascade >= 0;
+    rsm = rsm && !cascades;
+    const uint32_t first = cascades ? plan.cascadeFirst + uint32_t(cascade) : plan.firstLayer;
+    const uint32_t count = cascades ? 1u : plan.layerCount;
     auto info = std::make_shared<LightPassInfo>();
     bool textured = !frame.scene->textures.empty();
     info->pipeline = !rsm ? &p.shadow : textured ? &p.rsm : &p.rsmUntextured;
     info->scene = frame.gpuScene;
     info->textureSampler = frame.gpuScene->textureSampler;
     info->sceneHandles = scene;
-    info->faceMask = plan.faceMask;
+    info->faceMask = cascades ? 1u : plan.faceMask;
     info->resolution = layout.resolution;
     info->rsm = rsm;
-    info->firstLayer = plan.firstLayer;
-    for (uint32_t f = 0; f < plan.layerCount; ++f) {
-        uint32_t layer = plan.firstLayer + f;
+    info->firstLayer = first;
+    for (uint32_t f = 0; f < count; ++f) {
+        uint32_t layer = first + f;
         const gpu::GpuShadowView& v = layout.views[layer];
         info->faces.push_back({v.viewProj, v.eye, v.axisArea, glm::uvec4(0u, plan.light, layer, 0u)});
     }
     const Light& light = frame.scene->lights[plan.light];
-    std::string name = lightPassName(plan.light, light.type);
+    std::string name = cascades ? cascadePassName(plan.light, uint32_t(cascade)) : lightPassName(plan.light, light.type);
     graph.addPass(
         std::move(name),
         [&](rg::PassBuilder& b) {
-            rg::SubresourceRange layers{0, 1, plan.firstLayer, plan.layerCount};
+            rg::SubresourceRange layers{0, 1, first, count};
             h.atlas = b.write(h.atlas, Access::DepthAttachmentWrite, layers);
             if (rsm) {
                 h.position = b.write(h.position, Access::ColorAttachmentWrite, layers);
@@ -187,7 +200,8 @@ void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameD
 
 void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const DirectPipelines& p,
                     const FrameData& frame, const SceneHandles& scene, const ShadowLayout& layout,
-                    ShadowTargets& targets, bool rsm, const std::vector<bool>& keep) {
+                    ShadowTargets& targets, bool rsm, const std::vector<bool>& keep,
+                    const std::vector<uint32_t>& keepCascades) {
     AtlasHandles h;
     h.atlas = graph.importImage("gi.shadow.atlas", targets.atlas);
     if (rsm) {
@@ -200,6 +214,10 @@ void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Di
     for (const LightShadowPlan& plan : layout.lights)
         if (plan.kind != GI_SHADOW_NONE && !(plan.light < keep.size() && keep[plan.light]))
             addLightPass(graph, p, frame, scene, layout, plan, rsm, h);
+    for (const LightShadowPlan& plan : layout.lights)
+        for (uint32_t k = 0; k < plan.cascadeCount; ++k)
+            if (!(plan.light < keepCascades.size() && (keepCascades[plan.light] >> k) & 1u))
+                addLightPass(graph, p, frame, scene, layout, plan, rsm, h, int(k));
     shadow.atlas = h.atlas;
     shadow.resolution = layout.resolution;
     shadow.layers = layout.layers;

@@ -5,6 +5,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "direct/cascades.hpp"
 #include "direct/direct_passes.hpp"
 
 namespace vkgi::gi {
@@ -12,8 +13,10 @@ namespace vkgi::gi {
 namespace {
 
 // Perspective near plane as a fraction of far: depth is stored linearly, so near only clips;
-// 1e-4 keeps geometry 0.1 mm from a 1 m light range from leaking.
+// 1e-4 keeps geometry 0.1 mm from a 1 m light range from leaking. Capped so a light in a large
+// scene (far in hundreds of metres) does not clip what is centimetres from it.
 constexpr float kNearFraction = 1e-4f;
+constexpr float kMaxNear = 1e-3f;
 // Far plane margin so the farthest corner of the bounds is never clipped.
 constexpr float kFarMargin = 1.01f;
 // Angle between a cube face's axis and its corners: a face can see a cone only if the cone
@@ -23,9 +26,7 @@ const float kCubeCornerAngle = std::atan(std::sqrt(2.0f));
 const std::array<glm::vec3, 6> kCubeAxes = {glm::vec3(1, 0, 0),  glm::vec3(-1, 0, 0), glm::vec3(0, 1, 0),
                                             glm::vec3(0, -1, 0), glm::vec3(0, 0, 1),  glm::vec3(0, 0, -1)};
 
-glm::vec3 upFor(const glm::vec3& axis) {
-    return std::abs(axis.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1);
-}
+glm::vec3 upFor(const glm::vec3& axis) { return lightUpFor(axis); }
 
 std::array<glm::vec3, 8> corners(const Aabb& b) {
     std::array<glm::vec3, 8> c;
@@ -34,17 +35,22 @@ std::array<glm::vec3, 8> corners(const Aabb& b) {
     return c;
 }
 
-float farDistance(const glm::vec3& eye, const Aabb& b) {
+// What the light can reach within the scene: the farthest bounds corner, or its range when
+// shorter (beyond it the light contributes nothing). Stored depth is distance / far in a 32-bit
+// float, so its precision is relative to far, not to the scene's size.
+float farDistance(const glm::vec3& eye, const Aabb& b, float range) {
     float far = 0.0f;
     for (const glm::vec3& c : corners(b))
         far = std::max(far, glm::distance(eye, c));
+    if (range > 0.0f)
+        far = std::min(far, range);
     return std::max(far * kFarMargin, 1e-3f);
 }
 
 gpu::GpuShadowView perspectiveView(const glm::vec3& eye, const glm::vec3& axis, float halfFov, float far, uint32_t n) {
     gpu::GpuShadowView v{};
     glm::mat4 view = glm::lookAtRH(eye, eye + axis, upFor(axis));
-    v.viewProj = glm::perspectiveRH_ZO(2.0f * halfFov, 1.0f, far * kNearFraction, far) * view;
+    v.viewProj = glm::perspectiveRH_ZO(2.0f * halfFov, 1.0f, std::min(far * kNearFraction, kMaxNear), far) * view;
     float texelPerMetre = 2.0f * std::tan(halfFov) / float(n);
     v.eye = glm::vec4(eye, far);
     v.axisArea = glm::vec4(axis, texelPerMetre * texelPerMetre);
@@ -79,7 +85,8 @@ gpu::GpuShadowView orthoView(const glm::vec3& dir, const Aabb& b, uint32_t n) {
 
 } // namespace
 
-ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers) {
+ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers,
+                         const CascadeRequest& cascades) {
     ShadowLayout layout;
     layout.resolution = resolution;
     for (uint32_t i = 0; i < scene.lights.size(); ++i) {
@@ -101,11 +108,11 @@ ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolu
             layout.views.push_back(orthoView(dir, bounds, resolution));
             plan.faceMask = 1;
         } else if (single) {
-            layout.views.push_back(perspectiveView(l.position, dir, l.outerConeAngle, farDistance(l.position, bounds),
+            layout.views.push_back(perspectiveView(l.position, dir, l.outerConeAngle, farDistance(l.position, bounds, l.range),
                                                    resolution));
             plan.faceMask = 1;
         } else {
-            float far = farDistance(l.position, bounds);
+            float far = farDistance(l.position, bounds, l.range);
             for (uint32_t f = 0; f < 6; ++f) {
                 layout.views.push_back(perspectiveView(l.position, kCubeAxes[f], 0.25f * 3.14159265f, far, resolution));
                 float angle = std::acos(std::clamp(glm::dot(kCubeAxes[f], dir), -1.0f, 1.0f));
@@ -116,6 +123,26 @@ ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolu
         for (uint32_t k = 0; k < count; ++k)
             layout.layers.push_back({i, single ? 0 : k, layout.views[plan.firstLayer + k].viewProj});
         layout.lights.push_back(plan);
+    }
+    if (cascades.count == 0)
+        return layout;
+    const CascadeFrustum frustum = cascadeFrustum(cascades.camera, cascades.aspect);
+    for (LightShadowPlan& plan : layout.lights) {
+        const Light& l = scene.lights[plan.light];
+        if (l.type != LightType::Directional || plan.kind == GI_SHADOW_NONE ||
+            layout.views.size() + cascades.count > maxLayers)
+            continue;
+        CascadeSet set = planCascades(frustum, glm::normalize(l.direction), bounds, cascades.count, resolution,
+                                      cascades.marginTexels);
+        const float wholeTexel = layout.views[plan.firstLayer].texel.x;
+        bool finer = !set.views.empty();
+        for (const gpu::GpuShadowView& v : set.views)
+            finer = finer && v.texel.x < wholeTexel;
+        if (!finer)
+            continue;
+        plan.cascadeFirst = uint32_t(layout.views.size());
+        plan.cascadeCount = cascades.count;
+        layout.views.insert(layout.views.end(), set.views.begin(), set.views.end());
     }
     return layout;
 }

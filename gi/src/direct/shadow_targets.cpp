@@ -42,9 +42,11 @@ VkDeviceSize ShadowTargets::bytes() const {
     return n;
 }
 
-void ensureShadowTargets(Context& ctx, ShadowTargets& t, uint32_t layers, uint32_t resolution, bool rsm) {
+void ensureShadowTargets(Context& ctx, ShadowTargets& t, uint32_t layers, uint32_t rsmLayers, uint32_t resolution,
+                         bool rsm) {
     layers = std::max(layers, 1u); // the deferred pass always binds an atlas
-    if (t.layers == layers && t.resolution == resolution && t.rsm == rsm && t.atlas.image)
+    rsmLayers = std::max(std::min(rsmLayers, layers), 1u);
+    if (t.layers == layers && t.rsmLayers == rsmLayers && t.resolution == resolution && t.rsm == rsm && t.atlas.image)
         return;
     VKGI_CHECK(vkDeviceWaitIdle(ctx.device())); // the old targets may still be read by a frame
     destroyShadowTargets(ctx, t);
@@ -52,11 +54,12 @@ void ensureShadowTargets(Context& ctx, ShadowTargets& t, uint32_t layers, uint32
                             resolution);
     if (rsm) {
         const VkImageUsageFlags usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
-        t.rsmPosition = createLayered(ctx, "gi.rsm.position", kPositionFormat, usage, layers, resolution);
-        t.rsmNormal = createLayered(ctx, "gi.rsm.normal", kNormalFormat, usage, layers, resolution);
-        t.rsmFlux = createLayered(ctx, "gi.rsm.flux", kRsmFluxFormat, usage, layers, resolution);
+        t.rsmPosition = createLayered(ctx, "gi.rsm.position", kPositionFormat, usage, rsmLayers, resolution);
+        t.rsmNormal = createLayered(ctx, "gi.rsm.normal", kNormalFormat, usage, rsmLayers, resolution);
+        t.rsmFlux = createLayered(ctx, "gi.rsm.flux", kRsmFluxFormat, usage, rsmLayers, resolution);
     }
     t.layers = layers;
+    t.rsmLayers = rsmLayers;
     t.resolution = resolution;
     t.rsm = rsm;
 }

@@ -52,6 +52,18 @@ float shadowVisibility(uint lightIndex, vec3 p, vec3 n, vec3 toLight) {
     uint layer = ls.info.x;
     if (ls.info.z == GI_SHADOW_CUBE)
         layer += cubeFace(p - light.positionType.xyz);
+    // Directional light with cascades: the finest cascade whose box holds the whole footprint
+    // (PCF reach, the bilinear tap's texel, the normal offset) around p; the planner sized every
+    // box so its slice of the view has that margin. Points outside all of them (beyond the
+    // cascades' depth range) keep the whole-scene layer. Coarse to fine, so the finest wins.
+    float margin = float(pc.size.w) + pc.bias.x + 1.5;
+    for (uint k = ls.cascades.y; k > 0u; --k) {
+        uint c = ls.cascades.x + k - 1u;
+        vec3 t = shadowProject(shadowViews[c], p);
+        float hi = shadowViews[c].texel.z - margin;
+        if (all(greaterThanEqual(t.xy, vec2(margin))) && all(lessThanEqual(t.xy, vec2(hi))) && t.z >= 0.0 && t.z <= 1.0)
+            layer = c;
+    }
     GpuShadowView view = shadowViews[layer];
     bool ortho = view.eye.w <= 0.0;
     // World size of one shadow texel at p, which the biases scale with.

@@ -58,11 +58,15 @@ GI_CHECK_SIZE(GpuShadowView, 112);
 #define GI_SHADOW_SINGLE 1u // one perspective (spot) or orthographic (directional) layer
 #define GI_SHADOW_CUBE 2u   // six layers in the order +X, -X, +Y, -Y, +Z, -Z
 
-// Which atlas layers belong to a light: x first layer, y layer count, z GI_SHADOW_* kind.
+// Which atlas layers belong to a light: info x first layer, y layer count, z GI_SHADOW_* kind.
+// Every consumer that samples the atlas at arbitrary points (voxel light, VPLs) reads `info`.
+// `cascades` (directional lights, the deferred pass only): x first cascade layer, y cascade
+// count (0 = none), finest first; shadow-only layers fitted to this frame's camera, with no RSM.
 GI_GPU_STRUCT(GpuLightShadow) {
     uvec4 info;
+    uvec4 cascades;
 };
-GI_CHECK_SIZE(GpuLightShadow, 16);
+GI_CHECK_SIZE(GpuLightShadow, 32);
 
 // Deferred direct lighting (compute over the G-buffer).
 GI_GPU_STRUCT(DeferredPush) {

@@ -1,0 +1,216 @@
+// The cascade planner of directional-light shadows (gi/src/direct/cascades.hpp): splits, fitting,
+// texel snapping, and how planShadows spends the atlas's layers on them.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "direct/cascades.hpp"
+#include "direct/direct_passes.hpp"
+#include "vkgi/gi.hpp"
+
+using namespace vkgi;
+using namespace vkgi::gi;
+
+namespace {
+
+Camera camera(glm::vec3 position, glm::vec3 forward, float znear = 0.05f, float zfar = 100.0f) {
+    Camera c;
+    c.position = position;
+    c.forward = glm::normalize(forward);
+    c.yfov = 60.0f * 3.14159265f / 180.0f;
+    c.znear = znear;
+    c.zfar = zfar;
+    return c;
+}
+
+Aabb box(glm::vec3 lo, glm::vec3 hi) {
+    Aabb b;
+    b.extend(lo);
+    b.extend(hi);
+    return b;
+}
+
+const glm::vec3 kSun = glm::normalize(glm::vec3(0.35f, -1.0f, 0.5f));
+const Aabb kWorld = box({-200.0f, -0.25f, -200.0f}, {200.0f, 9.6f, 200.0f});
+
+// Texel coordinates (0..n) and clip depth of world point x in `view`.
+glm::vec3 texelOf(const gpu::GpuShadowView& view, const glm::vec3& x) {
+    glm::vec4 c = view.viewProj * glm::vec4(x, 1.0f);
+    return glm::vec3((glm::vec2(c) / c.w * 0.5f + 0.5f) * view.texel.z, c.z / c.w);
+}
+
+} // namespace
+
+TEST(ShadowCascades, SplitsIncreaseAndCoverTheRange) {
+    for (uint32_t count : {1u, 2u, 4u, 8u})
+        for (float lambda : {0.0f, 0.5f, 0.75f, 1.0f}) {
+            std::vector<float> d = cascadeSplits(0.05f, 100.0f, count, lambda);
+            ASSERT_EQ(d.size(), count + 1);
+            EXPECT_EQ(d.front(), 0.05f);
+            EXPECT_EQ(d.back(), 100.0f);
+            for (uint32_t i = 0; i < count; ++i)
+                EXPECT_LT(d[i], d[i + 1]) << count << " cascades, lambda " << lambda << ", split " << i;
+        }
+    // Lambda 1 is the logarithmic scheme: a constant ratio between consecutive splits.
+    std::vector<float> logSplits = cascadeSplits(0.1f, 1000.0f, 4, 1.0f);
+    for (uint32_t i = 0; i < 4; ++i)
+        EXPECT_NEAR(logSplits[i + 1] / logSplits[i], 10.0f, 1e-3f);
+}
+
+TEST(ShadowCascades, SceneDepthRangeLimitsTheCameraRange) {
+    CascadeFrustum f = cascadeFrustum(camera({0, 1.7f, -12.5f}, {0, 0, 1}), 1.0f);
+    float near = 0, far = 0;
+    ASSERT_TRUE(sceneDepthRange(f, box({-7, 0, -14}, {7, 9.6f, 14}), near, far));
+    EXPECT_FLOAT_EQ(near, 0.05f);          // the camera is inside the bounds
+    EXPECT_NEAR(far, 26.5f, 1e-4f);        // the far wall, not zfar = 100
+    ASSERT_TRUE(sceneDepthRange(f, kWorld, near, far));
+    EXPECT_FLOAT_EQ(far, 100.0f);          // zfar, not the world's far edge
+    EXPECT_FALSE(sceneDepthRange(f, box({-1, 0, -30}, {1, 1, -20}), near, far)); // behind
+}
+
+TEST(ShadowCascades, EveryBoxHoldsItsSliceWithTheMargin) {
+    const uint32_t n = 256;
+    const float margin = 3.0f;
+    for (glm::vec3 forward : {glm::vec3(0, 0.1f, 1), glm::vec3(1, -0.3f, 0.2f), glm::vec3(-0.4f, 0.9f, -0.1f)})
+        for (float aspect : {1.0f, 16.0f / 9.0f}) {
+            CascadeFrustum f = cascadeFrustum(camera({3, 1.7f, -12.5f}, forward), aspect);
+            CascadeSet set = planCascades(f, kSun, kWorld, 4, n, margin);
+            ASSERT_EQ(set.views.size(), 4u);
+            for (uint32_t i = 0; i < 4; ++i) {
+                for (const glm::vec3& corner : sliceCorners(f, set.splits[i], set.splits[i + 1])) {
+                    glm::vec3 t = texelOf(set.views[i], corner);
+                    EXPECT_GE(t.x, margin) << "cascade " << i;
+                    EXPECT_GE(t.y, margin) << "cascade " << i;
+                    EXPECT_LE(t.x, float(n) - margin) << "cascade " << i;
+                    EXPECT_LE(t.y, float(n) - margin) << "cascade " << i;
+                    // Corners inside the bounds are receivers: inside the depth range.
+                    if (glm::all(glm::greaterThanEqual(corner, kWorld.min)) &&
+                        glm::all(glm::lessThanEqual(corner, kWorld.max))) {
+                        EXPECT_GE(t.z, 0.0f);
+                        EXPECT_LE(t.z, 1.0f);
+                    }
+                }
+                // Every caster in the bounds between the light and the slice is in the depth
+                // range: the bounds' corner nearest the light maps to depth >= 0.
+                for (int c = 0; c < 8; ++c) {
+                    glm::vec3 corner((c & 1) ? kWorld.max.x : kWorld.min.x, (c & 2) ? kWorld.max.y : kWorld.min.y,
+                                     (c & 4) ? kWorld.max.z : kWorld.min.z);
+                    EXPECT_GE(texelOf(set.views[i], corner).z, 0.0f);
+                }
+            }
+        }
+}
+
+TEST(ShadowCascades, TexelSizeDoesNotDependOnTheViewDirection) {
+    CascadeSet a = planCascades(cascadeFrustum(camera({0, 2, 0}, {0, 0, 1}), 1.0f), kSun, kWorld, 4, 256, 3.0f);
+    CascadeSet b = planCascades(cascadeFrustum(camera({5, 2, -3}, {1, -0.2f, 0.3f}), 1.0f), kSun, kWorld, 4, 256, 3.0f);
+    ASSERT_EQ(a.views.size(), 4u);
+    ASSERT_EQ(b.views.size(), 4u);
+    for (uint32_t i = 0; i < 4; ++i) {
+        EXPECT_FLOAT_EQ(a.views[i].texel.x, b.views[i].texel.x) << i;
+        if (i > 0) {
+            EXPECT_GT(a.views[i].texel.x, a.views[i - 1].texel.x) << "finest first";
+        }
+    }
+}
+
+// Moving the camera by a fraction of a texel: the cascade's translation stays on the texel
+// lattice (a whole number of texels from the world origin), so the same world squares map to
+// the same texels and static shadows do not shimmer; a small move keeps the matrix bit for bit.
+TEST(ShadowCascades, SnappedTranslationStaysOnTheTexelLattice) {
+    const uint32_t n = 256;
+    const glm::vec3 start(3.0f, 1.7f, -12.5f), forward(0.1f, 0.2f, 1.0f);
+    CascadeSet base = planCascades(cascadeFrustum(camera(start, forward), 1.0f), kSun, kWorld, 4, n, 3.0f);
+    ASSERT_EQ(base.views.size(), 4u);
+    int unchanged = 0;
+    for (int step = 1; step <= 20; ++step) {
+        glm::vec3 moved = start + glm::vec3(0.013f, 0.007f, -0.011f) * float(step);
+        CascadeSet set = planCascades(cascadeFrustum(camera(moved, forward), 1.0f), kSun, kWorld, 4, n, 3.0f);
+        for (uint32_t i = 0; i < 4; ++i) {
+            const glm::mat4& m = set.views[i].viewProj;
+            for (int axis = 0; axis < 2; ++axis) {
+                float texels = m[3][axis] * float(n) * 0.5f; // clip units -> texels
+                EXPECT_NEAR(texels, std::round(texels), 2e-3f) << "cascade " << i << " step " << step;
+            }
+            // Same texel size, same rotation: only the lattice offset may change.
+            EXPECT_EQ(set.views[i].texel.x, base.views[i].texel.x);
+            unchanged += m == base.views[i].viewProj;
+        }
+    }
+    // The coarse cascades' texels are tens of centimetres: most of these moves stay inside one.
+    EXPECT_GT(unchanged, 20);
+}
+
+// planShadows: cascades only where they are all finer than the whole-scene layer, counted in
+// maxShadowLayers after every light's own layer, never in the RSM's layers.
+TEST(ShadowCascades, PlanShadowsSpendsLayersOnCascadesOnlyWhereTheyHelp) {
+    Scene scene;
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = kSun;
+    sun.intensity = 1e4f;
+    scene.lights = {sun};
+    CascadeRequest req;
+    req.count = 4;
+    req.camera = camera({0, 1.7f, -12.5f}, glm::vec3(0, 3.5f, 6) - glm::vec3(0, 1.7f, -12.5f));
+    req.marginTexels = 3.0f;
+
+    ShadowLayout world = planShadows(scene, kWorld, 256, 64, req);
+    ASSERT_EQ(world.lights.size(), 1u);
+    EXPECT_EQ(world.lights[0].cascadeCount, 4u);
+    EXPECT_EQ(world.lights[0].cascadeFirst, 1u);
+    EXPECT_EQ(world.views.size(), 5u);
+    EXPECT_EQ(world.lightLayers(), 1u); // the RSM has the light's own layer only
+    for (uint32_t i = 1; i < 5; ++i)
+        EXPECT_LT(world.views[i].texel.x, world.views[0].texel.x);
+
+    // The courtyard alone: the camera sees most of it, the whole-scene layer stays.
+    ShadowLayout small = planShadows(scene, box({-7.3f, -0.2f, -14.3f}, {7.3f, 9.6f, 14.3f}), 256, 64, req);
+    EXPECT_EQ(small.lights[0].cascadeCount, 0u);
+    EXPECT_EQ(small.views.size(), 1u);
+
+    // No room for the cascades: the light keeps its own layer, shadowed as before.
+    ShadowLayout tight = planShadows(scene, kWorld, 256, 4, req);
+    EXPECT_EQ(tight.lights[0].kind, GI_SHADOW_SINGLE);
+    EXPECT_EQ(tight.lights[0].cascadeCount, 0u);
+    EXPECT_EQ(tight.views.size(), 1u);
+
+    // Cascades off: exactly the layout without a camera.
+    req.count = 0;
+    ShadowLayout off = planShadows(scene, kWorld, 256, 64, req);
+    ShadowLayout plain = planShadows(scene, kWorld, 256, 64);
+    ASSERT_EQ(off.views.size(), 1u);
+    EXPECT_EQ(off.views[0].viewProj, plain.views[0].viewProj);
+}
+
+TEST(ShadowCascades, SettingOutOfRangeIsAReadableError) {
+    GiSettings s;
+    s.shadowCascades = kMaxShadowCascades + 1;
+    auto ok = validateSettings(s);
+    ASSERT_FALSE(ok);
+    EXPECT_NE(ok.error().message.find("shadowCascades 9 is outside 0..8"), std::string::npos) << ok.error().message;
+    s.shadowCascades = 0;
+    EXPECT_TRUE(validateSettings(s));
+}
+
+// Point and spot layers: the far plane is what the light reaches within the scene, clipped to its
+// range; stored depth is distance / far, so it does not depend on the bounds beyond that.
+TEST(ShadowCascades, PerspectiveFarPlaneIsClippedToTheLightsRange) {
+    Scene scene;
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.position = {0.0f, 4.0f, 0.0f};
+    spot.direction = {0.0f, -1.0f, 0.0f};
+    spot.outerConeAngle = 0.5f;
+    spot.intensity = 100.0f;
+    scene.lights = {spot};
+    ShadowLayout unlimited = planShadows(scene, kWorld, 256, 64);
+    ASSERT_EQ(unlimited.views.size(), 1u);
+    EXPECT_GT(unlimited.views[0].eye.w, 280.0f); // the world's farthest corner
+    scene.lights[0].range = 12.0f;
+    ShadowLayout ranged = planShadows(scene, kWorld, 256, 64);
+    ASSERT_EQ(ranged.views.size(), 1u);
+    EXPECT_NEAR(ranged.views[0].eye.w, 12.0f * 1.01f, 1e-3f);
+    // The texel size per metre of distance is the cone's, whatever the far plane.
+    EXPECT_EQ(ranged.views[0].texel.x, unlimited.views[0].texel.x);
+}
