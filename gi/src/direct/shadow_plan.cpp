@@ -58,7 +58,10 @@ gpu::GpuShadowView perspectiveView(const glm::vec3& eye, const glm::vec3& axis, 
     return v;
 }
 
-// Orthographic box around the bounds, looking along `dir`.
+// Orthographic box around the bounds, looking along `dir`: a directional light's own layer. It
+// must see everything the light reaches, because the RSM (each texel's flux counted once) and the
+// voxel light read it at any point of the scene; the camera's direct image reads the cascades
+// (cascades.hpp), whose texels do not grow with the bounds.
 gpu::GpuShadowView orthoView(const glm::vec3& dir, const Aabb& b, uint32_t n) {
     float radius = std::max(0.5f * glm::length(b.extent()), 1e-3f);
     glm::vec3 eye = b.centre() - dir * (2.0f * radius);

@@ -22,6 +22,9 @@ Result<void> SceneVoxelGrid::sceneChanged(Context& ctx, const GpuScene& gpu, boo
     m_draws = voxelDraws(gpu);
     if (!gpu.bounds.valid() || (!uploaded && m_grid))
         return {}; // what moved arrives as PassSelection::changes with the next frame
+    // Fitted to the scene's bounds: LPV's multi-bounce and VPL visibility, both off by default,
+    // read this grid, so in a level much larger than the view their voxels coarsen with it
+    // (docs/lpv.md, docs/vpl.md limits). VCT's own grids follow the camera (levels > 1).
     auto params = fitVoxelGrid(gpu.bounds, resolution, 1.0f);
     if (!params)
         return params.error();
