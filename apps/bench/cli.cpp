@@ -1,5 +1,7 @@
 #include "cli.hpp"
 
+#include <algorithm>
+
 #include "../common/cli.hpp"
 
 namespace vkgi::bench {
@@ -63,6 +65,13 @@ apps::OptionTable optionTable(Options& o) {
                      "first frame of a fresh GiSystem minus warm frames, for configurations covering every\n"
                      "pass at 128x128; writes jit.csv, prints passes by cost and those over 1 s",
                      o.jit),
+        switchOption("--flight",
+                     "a camera flight forward from each --scenes camera (default hall_world), 0.05 m per frame,\n"
+                     "every technique at its defaults (or --set): per frame GPU ms, re-voxelized VCT levels,\n"
+                     "re-rendered light passes and the indirect image's change against the direct image's;\n"
+                     "writes flight.csv, prints the cost by levels rebuilt and the worst change ratio",
+                     o.flight),
+        wholeOption("--frames", "N", "frames of --flight (default 48)", o.flightFrames, 2, 100000),
         helpOption(o.help),
     };
 }
@@ -77,9 +86,18 @@ bool sweepOnly(const std::string& flag) {
 
 // The checks between options, once the whole line is read; `given` = the sweep-only options
 // on the command line, in order.
-Result<void> checkCombination(Options& o, const std::vector<std::string>& given) {
-    if (o.scaling && o.jit)
-        return makeError("--scaling and --jit are separate runs: give one");
+Result<void> checkCombination(Options& o, const std::vector<std::string>& given, bool framesGiven) {
+    if (int(o.scaling) + int(o.jit) + int(o.flight) > 1)
+        return makeError("--scaling, --jit and --flight are separate runs: give one");
+    if (framesGiven && !o.flight)
+        return makeError("--frames applies to --flight only");
+    if (o.flight) {
+        for (const std::string& flag : given)
+            if (flag == "--spp" || flag == "--budget-ms" || flag == "--passes")
+                return makeError(flag + " does not apply to --flight (it measures no error)");
+        if (std::find(given.begin(), given.end(), "--scenes") == given.end())
+            o.scenes = {"hall_world"};
+    }
     if ((o.scaling || o.jit) && !given.empty())
         return makeError(given.front() + " does not apply to " + (o.scaling ? "--scaling" : "--jit") +
                          " (it uses its own scenes and sizes)");
@@ -109,18 +127,25 @@ Result<void> checkCombination(Options& o, const std::vector<std::string>& given)
 Result<Options> parseArgs(int argc, const char* const* argv) {
     Options o;
     std::vector<std::string> given;
+    bool framesGiven = false;
     apps::OptionTable table = optionTable(o);
-    for (apps::Option& option : table)
+    for (apps::Option& option : table) {
         if (sweepOnly(option.flag))
             option.apply = [flag = option.flag, apply = option.apply, &given](const std::string& v) {
                 given.push_back(flag);
                 return apply(v);
             };
+        if (option.flag == "--frames")
+            option.apply = [apply = option.apply, &framesGiven](const std::string& v) {
+                framesGiven = true;
+                return apply(v);
+            };
+    }
     if (auto ok = apps::parseCommandLine(argc, argv, table, nullptr); !ok)
         return ok.error();
     if (o.help)
         return o;
-    if (auto ok = checkCombination(o, given); !ok)
+    if (auto ok = checkCombination(o, given, framesGiven); !ok)
         return ok.error();
     return o;
 }
@@ -130,7 +155,9 @@ std::string helpText() {
     return "usage: vkgi-bench [--scenes a,b] [--techniques a,b] [--size WxH] [--spp N] [--repeat N]\n"
            "                  [--budget-ms X] [--quick | --set KNOBS] [--passes] [--out DIR]\n"
            "       vkgi-bench --scaling [--techniques a,b] [--repeat N] [--quick] [--out DIR]\n"
-           "       vkgi-bench --jit [--techniques a,b] [--repeat N] [--out DIR]\n" +
+           "       vkgi-bench --jit [--techniques a,b] [--repeat N] [--out DIR]\n"
+           "       vkgi-bench --flight [--scenes a,b] [--techniques a,b] [--size WxH] [--set KNOBS] [--frames N]\n"
+           "                  [--out DIR]\n" +
            apps::formatOptions(optionTable(defaults), 19);
 }
 

@@ -16,6 +16,7 @@
 #include "vkgi/progress.hpp"
 #include "vkgi/knobs.hpp"
 #include "vkgi/reference.hpp"
+#include "flight.hpp"
 #include "jit.hpp"
 #include "scaling.hpp"
 #include "stream.hpp"
@@ -101,6 +102,8 @@ int main(int argc, char** argv) {
         return bench::runScaling(**ctx, *opt);
     if (opt->jit)
         return bench::runJit(**ctx, *opt);
+    if (opt->flight)
+        return bench::runFlight(**ctx, *opt);
     // The streaming rate every pass is compared with, measured now on this device and load.
     auto streamGBs = bench::measureStreamGBs(**ctx);
     if (!streamGBs) {

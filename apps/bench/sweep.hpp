@@ -28,6 +28,8 @@ struct Options {
     bool passes = false;   // print per-pass ms, bytes moved and stream ratio of every configuration
     bool scaling = false;  // --scaling: time against pixels, voxels and triangles instead (scaling.hpp)
     bool jit = false;      // --jit: first-dispatch shader compilation per pass instead (jit.hpp)
+    bool flight = false;   // --flight: a camera flight through each scene instead (flight.hpp)
+    uint32_t flightFrames = 48; // --frames: frames of the flight
     double budgetMs = 0.0; // > 0: report the best configuration within this GPU time
     std::string outDir = "out/bench";
     bool help = false;     // --help: print the usage and exit

@@ -234,8 +234,12 @@ Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& 
             // (the shader turns that into flux with the layer's texel area, vpl_generate.comp).
             light.position = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f / float(vplCount));
             // Where the window is much larger than the focus radius, the shader moves the
-            // points towards the camera (vpl_generate.comp).
-            light.axisX = glm::vec4(camera.position, settings.focusRadius);
+            // points towards the camera (vpl_generate.comp). The centre snaps to a lattice of
+            // R/4 so that the VPLs stay put while the camera moves within a cell: a centre that
+            // followed the camera would move every VPL every frame and the image would shimmer.
+            const float cell = 0.25f * settings.focusRadius;
+            const glm::vec3 centre = glm::floor(camera.position / cell + 0.5f) * cell;
+            light.axisX = glm::vec4(centre, settings.focusRadius);
             samples.push_back(windowSamplePoints(vplCount));
         } else {
             auto local = directions(vplCount, spot.cosOuter);
