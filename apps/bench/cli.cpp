@@ -72,6 +72,15 @@ apps::OptionTable optionTable(Options& o) {
                      "writes flight.csv, prints the cost by levels rebuilt and the worst change ratio",
                      o.flight),
         wholeOption("--frames", "N", "frames of --flight (default 48)", o.flightFrames, 2, 100000),
+        {"--path", "dolly|orbit", "--flight's path: dolly (default) or orbit, 0.5 degrees per frame about the\n"
+                                  "vertical axis through the point the camera looks at (temporal stability)",
+         [&o](const std::string& v) -> Result<void> {
+             if (v != "dolly" && v != "orbit")
+                 return badValue("--path", "dolly or orbit", v);
+             o.flightOrbit = v == "orbit";
+             o.pathGiven = true;
+             return {};
+         }},
         helpOption(o.help),
     };
 }
@@ -89,8 +98,8 @@ bool sweepOnly(const std::string& flag) {
 Result<void> checkCombination(Options& o, const std::vector<std::string>& given, bool framesGiven) {
     if (int(o.scaling) + int(o.jit) + int(o.flight) > 1)
         return makeError("--scaling, --jit and --flight are separate runs: give one");
-    if (framesGiven && !o.flight)
-        return makeError("--frames applies to --flight only");
+    if ((framesGiven || o.pathGiven) && !o.flight)
+        return makeError(std::string(framesGiven ? "--frames" : "--path") + " applies to --flight only");
     if (o.flight) {
         for (const std::string& flag : given)
             if (flag == "--spp" || flag == "--budget-ms" || flag == "--passes")
@@ -157,7 +166,7 @@ std::string helpText() {
            "       vkgi-bench --scaling [--techniques a,b] [--repeat N] [--quick] [--out DIR]\n"
            "       vkgi-bench --jit [--techniques a,b] [--repeat N] [--out DIR]\n"
            "       vkgi-bench --flight [--scenes a,b] [--techniques a,b] [--size WxH] [--set KNOBS] [--frames N]\n"
-           "                  [--out DIR]\n" +
+           "                  [--path dolly|orbit] [--out DIR]\n" +
            apps::formatOptions(optionTable(defaults), 19);
 }
 

@@ -1,6 +1,8 @@
 #include "flight.hpp"
 
 #include <algorithm>
+
+#include <glm/glm.hpp>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -20,6 +22,31 @@ namespace {
 // frames that move no level, the finest level only, or several alternate along the flight, and
 // 48 frames (2.4 m) keep the built-in scenes' cameras clear of their walls and objects.
 constexpr float kFlightStep = 0.05f;
+// --path orbit: degrees per frame about the vertical axis through the point the camera looks at
+// (a slow orbit, the temporal-stability case of issue #15).
+constexpr float kOrbitDegrees = 0.5f;
+
+// The camera of frame `f` along the path.
+Camera pathCamera(const Camera& start, const Aabb& bounds, bool orbit, uint32_t f) {
+    Camera camera = start;
+    const glm::vec3 forward = glm::normalize(start.forward);
+    if (!orbit) {
+        camera.position += forward * (kFlightStep * float(f));
+        return camera;
+    }
+    // Pivot at the depth of the bounds' centre along the view, kept between 0.5 and 10 m ahead
+    // so that inside a large world the orbit stays around what the camera sees.
+    const glm::vec3 centre = bounds.valid() ? bounds.centre() : start.position + forward;
+    const float depth = std::clamp(glm::dot(centre - start.position, forward), 0.5f, 10.0f);
+    const glm::vec3 pivot = start.position + forward * depth;
+    const float a = glm::radians(kOrbitDegrees * float(f));
+    const glm::mat3 turn(glm::vec3(std::cos(a), 0.0f, -std::sin(a)), glm::vec3(0.0f, 1.0f, 0.0f),
+                         glm::vec3(std::sin(a), 0.0f, std::cos(a)));
+    camera.position = pivot + turn * (start.position - pivot);
+    camera.forward = turn * start.forward;
+    camera.up = turn * start.up;
+    return camera;
+}
 
 // Mean |a - b| over the mean of a and b, summed over channels: how much an image changed.
 double relativeChange(const HdrImage& a, const HdrImage& b) {
@@ -100,16 +127,15 @@ int runFlight(Context& ctx, const Options& opt) {
             gi::FrameResult previous;
             for (uint32_t f = 0; f < opt.flightFrames; ++f) {
                 progress.add(1);
-                Camera camera = start;
-                const glm::vec3 forward = glm::normalize(start.forward);
-                camera.position += forward * (kFlightStep * float(f));
+                const Camera camera = pathCamera(start, scene->bounds(), opt.flightOrbit, f);
                 auto frame = (*sys)->renderFrame(camera, opt.width, opt.height, request);
                 if (!frame) {
                     std::fprintf(stderr, "vkgi-bench: %s %s frame %u: %s\n", sceneName.c_str(), tech.c_str(), f,
                                  frame.error().message.c_str());
                     return 1;
                 }
-                Row r{sceneName, tech, f, kFlightStep * float(f), frame->totalMs,
+                Row r{sceneName, tech, f, opt.flightOrbit ? kOrbitDegrees * float(f) : kFlightStep * float(f),
+                      frame->totalMs,
                       countPasses(*frame, "gi.voxel.voxelize"), countPasses(*frame, "gi.light[")};
                 if (f > 0) {
                     r.directChange = relativeChange(frame->direct, previous.direct);
@@ -122,7 +148,7 @@ int runFlight(Context& ctx, const Options& opt) {
     }
     progress.finish();
     std::ostringstream csv;
-    csv << "scene,technique,frame,distance_m,gpu_ms,voxelized_levels,light_passes,indirect_change,direct_change\n";
+    csv << "scene,technique,frame," << (opt.flightOrbit ? "angle_deg" : "distance_m") << ",gpu_ms,voxelized_levels,light_passes,indirect_change,direct_change\n";
     for (const Row& r : rows)
         csv << r.scene << ',' << r.technique << ',' << r.frame << ',' << r.distance << ',' << r.ms << ',' << r.levels
             << ',' << r.cascades << ',' << r.indirectChange << ',' << r.directChange << '\n';

@@ -30,6 +30,8 @@ struct Options {
     bool jit = false;      // --jit: first-dispatch shader compilation per pass instead (jit.hpp)
     bool flight = false;   // --flight: a camera flight through each scene instead (flight.hpp)
     uint32_t flightFrames = 48; // --frames: frames of the flight
+    bool flightOrbit = false;   // --path orbit: orbit the view's pivot instead of moving forward
+    bool pathGiven = false;     // --path was on the command line
     double budgetMs = 0.0; // > 0: report the best configuration within this GPU time
     std::string outDir = "out/bench";
     bool help = false;     // --help: print the usage and exit
