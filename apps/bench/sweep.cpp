@@ -183,6 +183,9 @@ Result<void> fillErrors(gi::BenchRecord& rec, const HdrImage& full, const HdrIma
     rec.rmseIndirectAll = indAll->rmse;
     rec.relMseDark = fDark->relMse;
     rec.relMseAllDark = fAllDark->relMse;
+    const std::vector<bool> surface = surfacePixels(full, *refs.full);
+    const double truth = laplacianEnergy(*refs.indirect, surface);
+    rec.hfRatio = truth > 0.0 ? laplacianEnergy(indirect, surface) / truth : 0.0;
     return {};
 }
 

@@ -84,6 +84,26 @@ HdrImage bestAmbient(const HdrImage& direct, const HdrImage& ref, const std::vec
     return out;
 }
 
+double laplacianEnergy(const HdrImage& image, const std::vector<bool>& mask, uint32_t step) {
+    auto lum = [&](uint32_t x, uint32_t y) {
+        const glm::vec3& c = image.at(x, y);
+        return 0.2126 * double(c.r) + 0.7152 * double(c.g) + 0.0722 * double(c.b);
+    };
+    auto inMask = [&](uint32_t x, uint32_t y) { return mask.size() != image.pixels.size() || mask[size_t(y) * image.width + x]; };
+    double laplacian = 0.0, energy = 0.0;
+    for (uint32_t y = step; y + step < image.height; ++y)
+        for (uint32_t x = step; x + step < image.width; ++x) {
+            if (!inMask(x, y) || !inMask(x - step, y) || !inMask(x + step, y) || !inMask(x, y - step) ||
+                !inMask(x, y + step))
+                continue;
+            const double c = lum(x, y);
+            const double l = 4.0 * c - lum(x - step, y) - lum(x + step, y) - lum(x, y - step) - lum(x, y + step);
+            laplacian += l * l;
+            energy += c * c;
+        }
+    return energy > 0.0 ? laplacian / energy : 0.0;
+}
+
 std::vector<bool> surfacePixels(const HdrImage& a, const HdrImage& b) {
     std::vector<bool> surface(a.pixels.size());
     for (size_t i = 0; i < a.pixels.size(); ++i)

@@ -66,7 +66,7 @@ TEST(Bench, CsvHasOneRowPerRecordAndOneColumnPerPass) {
     EXPECT_EQ(header,
               "scene,technique,knobs,total_ms,profiled_ms,relmse,rmse,relmse_indirect,rmse_indirect,reference_bounces,"
               "relmse_all,rmse_all,relmse_indirect_all,rmse_indirect_all,relmse_dark,relmse_all_dark,device_mib,"
-              "direct_ms,gi.a ms,gi.b ms,gi.c ms");
+              "direct_ms,hf_ratio,gi.a ms,gi.b ms,gi.c ms");
     EXPECT_EQ(row1.substr(0, 22), "cornell,vct,k=10.00000");
     EXPECT_NE(row2.find("\"grid=32,steps=8\""), std::string::npos);
     EXPECT_EQ(row1.back(), ','); // record 0 has no gi.c pass: empty last field
@@ -80,6 +80,7 @@ TEST(Bench, JsonRoundTripsTheNumbers) {
     r[0].relMseDark = 0.5;
     r[0].relMseAllDark = 0.75;
     r[0].directMs = 2.5;
+    r[0].hfRatio = 1.5;
     auto j = nlohmann::json::parse(toJson(r));
     ASSERT_EQ(j.size(), 1u);
     EXPECT_EQ(j[0]["total_ms"].get<double>(), 12.5);
@@ -90,6 +91,7 @@ TEST(Bench, JsonRoundTripsTheNumbers) {
     EXPECT_EQ(j[0]["error_all_bounces"]["rmse_indirect"].get<double>(), 0.25);
     EXPECT_EQ(j[0]["error"]["relmse_dark"].get<double>(), 0.5);
     EXPECT_EQ(j[0]["error_all_bounces"]["relmse_dark"].get<double>(), 0.75);
+    EXPECT_EQ(j[0]["error"]["hf_ratio"].get<double>(), 1.5);
     EXPECT_EQ(j[0]["passes"][1]["name"].get<std::string>(), "gi.b");
 }
 
@@ -107,6 +109,7 @@ TEST(Bench, MarkdownHasOneTablePerSceneAndMarksTheFront) {
     EXPECT_NE(md.find("| vct * | k=10.000000 | 10 | 2.5 |"), std::string::npos) << md; // on cornell's front; 10 / 4
     EXPECT_NE(md.find("| lpv | k=15.000000 | 15 | – |"), std::string::npos) << md;      // dominated by vct
     EXPECT_NE(md.find("| lpv * | a/b | 8 | – | 0 | all | 0.25 | 0 |"), std::string::npos) << md; // '|' kept out of cells
+    EXPECT_NE(md.find("| HF ratio |"), std::string::npos) << md;
     size_t rows = 0;
     for (size_t p = md.find("\n| "); p != std::string::npos; p = md.find("\n| ", p + 1))
         ++rows;

@@ -112,3 +112,39 @@ TEST(ImageMetrics, BestAmbientIsTheRelMseOptimalConstant) {
     EXPECT_LT(at(0.0), at(0.01));
     EXPECT_LT(at(0.0), at(-0.01));
 }
+
+// The smoothness measure: zero for any linear ramp (the discrete Laplacian of a plane is 0),
+// exactly 8 for stripes 2 pixels wide at stride 2 (every stencil sees the opposite value at
+// +-2 in x: |L| = 2 on every pixel, luminance^2 = 1 on half of them), independent of brightness,
+// and blind to pixels outside the mask.
+TEST(ImageMetrics, LaplacianEnergyOfRampsStripesAndMasks) {
+    HdrImage ramp(20, 12);
+    for (uint32_t y = 0; y < ramp.height; ++y)
+        for (uint32_t x = 0; x < ramp.width; ++x)
+            ramp.at(x, y) = glm::vec3(1.0f + 0.25f * float(x) + 0.5f * float(y));
+    EXPECT_NEAR(laplacianEnergy(ramp, {}), 0.0, 1e-12);
+
+    HdrImage stripes(20, 12);
+    for (uint32_t y = 0; y < stripes.height; ++y)
+        for (uint32_t x = 0; x < stripes.width; ++x)
+            stripes.at(x, y) = glm::vec3((x / 2) % 2 == 0 ? 1.0f : 0.0f);
+    EXPECT_NEAR(laplacianEnergy(stripes, {}), 8.0, 1e-9);
+    HdrImage bright = stripes;
+    for (glm::vec3& p : bright.pixels)
+        p *= 1000.0f;
+    EXPECT_NEAR(laplacianEnergy(bright, {}), 8.0, 1e-9);
+
+    // The stripes kept only in the right half, which the mask leaves out; the left half is
+    // constant, so every stencil inside the mask gives 0.
+    HdrImage half = stripes;
+    std::vector<bool> mask(half.pixels.size(), false);
+    for (uint32_t y = 0; y < half.height; ++y)
+        for (uint32_t x = 0; x < half.width; ++x) {
+            mask[size_t(y) * half.width + x] = x < 10;
+            if (x < 10)
+                half.at(x, y) = glm::vec3(2.0f);
+        }
+    EXPECT_NEAR(laplacianEnergy(half, mask), 0.0, 1e-12);
+    EXPECT_GT(laplacianEnergy(half, {}), 0.0); // without the mask the stripes count
+    EXPECT_EQ(laplacianEnergy(HdrImage(20, 12), {}), 0.0); // black: no energy to compare with
+}

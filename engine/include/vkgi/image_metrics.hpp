@@ -39,6 +39,13 @@ uint64_t countNonFinite(const HdrImage& image);
 HdrImage bestAmbient(const HdrImage& direct, const HdrImage& ref, const std::vector<bool>& surface,
                      float eps = 0.01f);
 
+// High-frequency energy of `image` over the pixels `mask` marks (issue #15's smoothness
+// measure): the mean squared discrete Laplacian of luminance at a stride of `step` pixels,
+// 4 Y(p) - Y(p +- step x) - Y(p +- step y), over the mean squared luminance of the same pixels,
+// so the number does not depend on the image's brightness. Pixels whose stencil leaves the
+// image or the mask are skipped; 0 when none is left or the image is black there.
+double laplacianEnergy(const HdrImage& image, const std::vector<bool>& mask, uint32_t step = 2);
+
 // Pixels that show a surface: light in either image (the scenes have no sky light, so a pixel
 // black in both is background, and a surface black in both adds nothing to either error).
 std::vector<bool> surfacePixels(const HdrImage& a, const HdrImage& b);

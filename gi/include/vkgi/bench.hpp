@@ -33,6 +33,11 @@ struct BenchRecord {
     // Full-image relMSE with epsilon 0.001 instead of 0.01 (against the matched and the
     // all-bounce reference): it weighs dark regions, where blotches and upsampling losses show.
     double relMseDark = 0.0, relMseAllDark = 0.0;
+    // Smoothness (issue #15): laplacianEnergy of the indirect image over that of the matched
+    // reference's indirect image, on the surface pixels. About 1: as smooth as the truth; well
+    // above: blotches; the reference's path-tracing noise adds to its own energy, so a clean
+    // smooth image can read below 1. 0 where there is no indirect image (none, ambient).
+    double hfRatio = 0.0;
     double deviceMiB = 0.0;                             // device memory of the module
     uint64_t triangles = 0;                             // the scene's triangle count
     // Bytes each pass's declared accesses move (rg::PassMemory::accessedBytes), same order as

@@ -78,7 +78,7 @@ std::string toCsv(const std::vector<BenchRecord>& records) {
     std::ostringstream out;
     out << "scene,technique,knobs,total_ms,profiled_ms,relmse,rmse,relmse_indirect,rmse_indirect,reference_bounces,"
            "relmse_all,"
-           "rmse_all,relmse_indirect_all,rmse_indirect_all,relmse_dark,relmse_all_dark,device_mib,direct_ms";
+           "rmse_all,relmse_indirect_all,rmse_indirect_all,relmse_dark,relmse_all_dark,device_mib,direct_ms,hf_ratio";
     for (const auto& p : passes)
         out << "," << csvField(p + " ms");
     out << "\n";
@@ -87,7 +87,8 @@ std::string toCsv(const std::vector<BenchRecord>& records) {
             << "," << num(r.profiledMs) << "," << num(r.relMse) << "," << num(r.rmse) << "," << num(r.relMseIndirect)
             << "," << num(r.rmseIndirect) << "," << r.referenceBounces << "," << num(r.relMseAll) << ","
             << num(r.rmseAll) << "," << num(r.relMseIndirectAll) << "," << num(r.rmseIndirectAll) << ","
-            << num(r.relMseDark) << "," << num(r.relMseAllDark) << "," << num(r.deviceMiB) << "," << num(r.directMs);
+            << num(r.relMseDark) << "," << num(r.relMseAllDark) << "," << num(r.deviceMiB) << "," << num(r.directMs) << ","
+            << num(r.hfRatio);
         for (const auto& p : passes) {
             auto it = std::find_if(r.passMs.begin(), r.passMs.end(), [&](const auto& e) { return e.first == p; });
             out << "," << (it == r.passMs.end() ? std::string() : num(it->second));
@@ -127,6 +128,7 @@ std::string toJson(const std::vector<BenchRecord>& records) {
                          {"relmse_indirect", r.relMseIndirect},
                          {"rmse_indirect", r.rmseIndirect},
                          {"relmse_dark", r.relMseDark},
+                         {"hf_ratio", r.hfRatio},
                          {"reference_bounces", r.referenceBounces}}},
                        {"error_all_bounces",
                         {{"relmse", r.relMseAll},
@@ -202,8 +204,8 @@ std::string toMarkdown(const std::vector<BenchRecord>& records) {
         std::vector<size_t> front = paretoFront(records, scene);
         out << "### " << scene << "\n\n"
             << "| technique | knobs | GPU ms | × direct | MiB | ref. bounces | relMSE | relMSE (ε 1e-3) | relMSE ind. | "
-               "RMSE ind. | all bounces: relMSE (ε 1e-3) | relMSE ind. | RMSE ind. |\n"
-            << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+               "RMSE ind. | HF ratio | all bounces: relMSE (ε 1e-3) | relMSE ind. | RMSE ind. |\n"
+            << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
         for (size_t i = 0; i < records.size(); ++i) {
             const BenchRecord& r = records[i];
             if (r.scene != scene)
@@ -215,7 +217,7 @@ std::string toMarkdown(const std::vector<BenchRecord>& records) {
             out << "| " << r.technique << (onFront ? " *" : "") << " | " << knobs << " | " << g(r.totalMs) << " | "
                 << (r.directMs > 0.0 ? g(r.totalMs / r.directMs) : std::string("–")) << " | " << g(r.deviceMiB) << " | " << (r.referenceBounces < 0 ? std::string("all") : std::to_string(r.referenceBounces))
                 << " | " << g(r.relMse) << " | " << g(r.relMseDark) << " | " << g(r.relMseIndirect) << " | "
-                << g(r.rmseIndirect) << " | " << g(r.relMseAllDark) << " | " << g(r.relMseIndirectAll) << " | "
+                << g(r.rmseIndirect) << " | " << g(r.hfRatio) << " | " << g(r.relMseAllDark) << " | " << g(r.relMseIndirectAll) << " | "
                 << g(r.rmseIndirectAll) << " |\n";
         }
         out << "\n";
