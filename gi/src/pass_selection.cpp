@@ -104,10 +104,18 @@ std::string describeChanges(const SceneChanges& c) {
     return s.empty() ? "nothing" : s;
 }
 
+namespace {
+// Whether anything of `last` can still be valid under `now`: not after a geometry change, a
+// full invalidation, or a different light count or atlas resolution.
+bool layoutsComparable(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes) {
+    return !changes.all && !changes.geometry() && last.lights.size() == now.lights.size() &&
+           last.resolution == now.resolution;
+}
+} // namespace
+
 std::vector<bool> cleanShadowLights(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes) {
     std::vector<bool> clean(now.lights.size(), false);
-    if (changes.all || changes.geometry() || last.lights.size() != now.lights.size() ||
-        last.resolution != now.resolution)
+    if (!layoutsComparable(now, last, changes))
         return clean;
     for (uint32_t i = 0; i < now.lights.size(); ++i) {
         const LightShadowPlan& a = now.lights[i];
@@ -125,8 +133,7 @@ std::vector<bool> cleanShadowLights(const ShadowLayout& now, const ShadowLayout&
 std::vector<uint32_t> cleanShadowCascades(const ShadowLayout& now, const ShadowLayout& last,
                                           const SceneChanges& changes) {
     std::vector<uint32_t> clean(now.lights.size(), 0u);
-    if (changes.all || changes.geometry() || last.lights.size() != now.lights.size() ||
-        last.resolution != now.resolution)
+    if (!layoutsComparable(now, last, changes))
         return clean;
     for (uint32_t i = 0; i < now.lights.size(); ++i) {
         const LightShadowPlan& a = now.lights[i];
