@@ -9,6 +9,7 @@
 #include <bit>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "vct/vct_passes.hpp"
@@ -240,8 +241,13 @@ private:
             const float voxel = level.grid->params().originSize.w;
             const glm::ivec3 cell = clipCell(frame.camera.position, voxel, n);
             const bool moved = !level.placed || cell != level.cell;
-            if (moved) { // the whole level again: what the old box held is stale
-                level.grid->setOrigin(glm::vec3(cell) * voxel);
+            std::optional<glm::ivec3> move;
+            if (moved) {
+                // What both corners cover is kept, unless the level was never voxelized
+                // (addVoxelGridPasses decides whether it can be).
+                if (level.placed && level.update == VoxelUpdate::None)
+                    move = cell - level.cell;
+                level.grid->setCell(cell);
                 level.cell = cell;
                 level.placed = true;
                 level.update = VoxelUpdate::Full;
@@ -265,7 +271,10 @@ private:
                 selection.leaveOut("gi.vct.light:emission" + at, LeftOutReason::NotNeeded, "no emissive material");
             }
             graph.setPassNameSuffix(at);
-            VoxelGridData grid = addVoxelGridPasses(graph, *level.grid, handles, update);
+            // A moved static object makes the kept content stale too.
+            if (sceneUpdate == VoxelUpdate::Full)
+                move.reset();
+            VoxelGridData grid = addVoxelGridPasses(graph, *level.grid, handles, update, move);
             level.update = VoxelUpdate::None;
             if (l == 0)
                 in.blackboard.add(grid); // the finest level stands for the grid
