@@ -280,7 +280,8 @@ void addDynamicVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const Voxel
 // what both corners cover is kept (shifted to its new place), only the slabs the grid newly covers
 // are voxelized. The touched list then lists the kept voxels (voxel_mark.comp) and the slabs'
 // (their records, the only nonzero ones, are resolved), so it covers the volumes as a full
-// voxelization's would. The static volumes, unused without dynamic draws, hold the old content
+// voxelization's would (the mark reads the last voxelization's list, which the caller checked
+// covers the volumes: plan.previous). The static volumes, unused without dynamic draws, hold the old content
 // while it is copied back shifted.
 void addShiftedVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHandles& scene,
                             rg::BufferHandle& accum, rg::BufferHandle& bits, rg::BufferHandle& touched,
@@ -288,6 +289,7 @@ void addShiftedVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const Voxel
     const int n = int(grid.resolution());
     VoxelizationPlan plan = grid.beginVoxelization(VoxelDrawSet::All);
     grid.planStaticOverwritten();
+    rg::BufferHandle previous = graph.importBuffer("gi.voxel.touched.previous", grid.listState(plan.previous));
     touched = graph.importBuffer("gi.voxel.touched", grid.listState(plan.next));
     VolumeHandles scratch = importVolumes(graph, grid.staticState(), "gi.voxel.static");
     graph.addPass(
@@ -333,10 +335,10 @@ void addShiftedVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const Voxel
                                ctx.layout(dst[i]), 1, &region);
         });
     rg::ComputePass(graph, "gi.voxel.mark", grid.pipelines().mark)
-        .push(gpu::VoxelGridPush{grid.params()})
-        .read(VOXEL_MARK_BINDING_ALBEDO, target.albedo)
+        .push(gpu::VoxelMarkPush{grid.params(), glm::ivec4(move, 0)})
+        .read(VOXEL_MARK_BINDING_PREVIOUS, previous)
         .write(VOXEL_MARK_BINDING_BITS, bits)
-        .dispatch({uint32_t(n * n * n / 32), 1u, 1u});
+        .dispatchIndirect(previous);
     // Disjoint slabs: along each moved axis the voxels the old corner did not cover, within
     // what the earlier axes kept.
     std::vector<VoxelBox> slabs;

@@ -135,7 +135,7 @@ public:
         Pipeline clearStale;   // voxel_resolve_stale.comp: zeroes voxels the new voxelization left out
         Pipeline resolve;      // voxel_resolve.comp: accumulation -> volumes at a touched list
         Pipeline resolveMerge; // voxel_resolve_merge.comp: dynamic accumulation merged under the static volumes
-        Pipeline mark;         // voxel_mark.comp: occupied voxels of the volumes -> touched bits
+        Pipeline mark;         // voxel_mark.comp: the last touched list, moved -> touched bits of the kept voxels
     };
     const Pipelines& pipelines() const { return m_pipelines; }
     // The accumulation's binding ranges (VOXEL_ACC_BINDING_RECORDS + k, voxel_acc.glsl): range k

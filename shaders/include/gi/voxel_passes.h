@@ -30,11 +30,16 @@ GI_GPU_STRUCT(VoxelizePush) {
 };
 GI_CHECK_SIZE(VoxelizePush, 128);
 
-// voxel_mark.comp (after a clipmap level's content was shifted): sets the touched bit of every
-// occupied voxel of the volumes, one invocation per 32-bit word of bits, so the touched list
-// covers the kept voxels as well as those the slab voxelization adds.
-#define VOXEL_MARK_BINDING_ALBEDO 0 // albedo volume (a = occupancy)
-#define VOXEL_MARK_BINDING_BITS 1   // touched bits, bit x + N (y + N z) (zero before)
+// voxel_mark.comp (a moved clipmap level): sets the touched bit of every voxel of the last
+// voxelization's touched list (indirect over it) at its place after the move, when the level
+// still covers it, so the new touched list covers the kept voxels as well as the slabs' new ones.
+GI_GPU_STRUCT(VoxelMarkPush) {
+    VoxelGridParams grid;
+    ivec4 move; // xyz: the corner's move in voxels (a kept voxel's index decreases by it), w 0
+};
+GI_CHECK_SIZE(VoxelMarkPush, 64);
+#define VOXEL_MARK_BINDING_PREVIOUS 0 // touched list of the last voxelization (holds every nonzero voxel)
+#define VOXEL_MARK_BINDING_BITS 1     // touched bits, bit x + N (y + N z)
 
 // Touched-voxel lists of the grid (VoxelGrid; a pair used in turn for the static or whole-scene
 // voxelization, one for the dynamic draws): voxelize.comp sets a voxel's touched bit when it
