@@ -30,6 +30,26 @@ struct ClipLevel {
     bool lit = false;    // the volumes (and its layers of the clipmap volume) hold its voxel light
 };
 
+// World bounds of the static draws (one per scene instance, same order): the clipmap's levels
+// skip draws that cannot touch the box they voxelize. Dynamic draws move between uploads and
+// keep invalid bounds (never skipped).
+void setStaticDrawBounds(const Scene& scene, std::vector<VoxelDraw>& draws) {
+    std::vector<Aabb> meshBounds(scene.meshes.size());
+    for (size_t m = 0; m < scene.meshes.size(); ++m)
+        for (const glm::vec3& p : scene.meshes[m].positions)
+            meshBounds[m].extend(p);
+    for (size_t i = 0; i < draws.size() && i < scene.instances.size(); ++i) {
+        const Instance& inst = scene.instances[i];
+        if (draws[i].dynamic || inst.mesh >= meshBounds.size() || !meshBounds[inst.mesh].valid())
+            continue;
+        const Aabb& b = meshBounds[inst.mesh];
+        for (int c = 0; c < 8; ++c) {
+            glm::vec3 corner((c & 1) ? b.max.x : b.min.x, (c & 2) ? b.max.y : b.min.y, (c & 4) ? b.max.z : b.min.z);
+            draws[i].bounds.extend(glm::vec3(inst.transform * glm::vec4(corner, 1.0f)));
+        }
+    }
+}
+
 // Min corner (in level voxels of edge `voxel`) of a level of n^3 voxels centred on `eye`: a whole
 // number of 2-voxel blocks, so the level's 2^3 blocks (mip 1) and the next coarser level's voxels
 // cover the same space.
@@ -52,6 +72,7 @@ public:
 
     Result<void> sceneChanged(Context& ctx, const Scene& scene, const GpuScene& gpu, bool uploaded) override {
         m_draws = voxelDraws(gpu);
+        setStaticDrawBounds(scene, m_draws);
         m_lightCount = gpu.lightCount;
         if (!uploaded)
             return {}; // what moved arrives as PassSelection::changes with the next frame

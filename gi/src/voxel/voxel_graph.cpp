@@ -157,6 +157,14 @@ void addVoxelize(rg::RenderGraph& graph, const VoxelGrid& grid, const VoxelScene
         glm::uvec3 groups = shared ? glm::uvec3(d.triangleCount, slices, 1u)
                                    : glm::uvec3(groupCount(d.triangleCount, pipeline.localSize[0]), 1u, 1u);
         for (const VoxelBox& box : boxes) {
+            if (grid.worldVoxels() && d.bounds.valid()) {
+                // The box widened by a voxel (more than the voxelizer's slack and the rounding of
+                // the bounds): a draw outside it has no triangle that could touch the box.
+                const float v = grid.params().originSize.w;
+                const glm::vec3 lo = glm::vec3(grid.cell() + box.lo - 1) * v, hi = glm::vec3(grid.cell() + box.hi + 2) * v;
+                if (glm::any(glm::greaterThan(d.bounds.min, hi)) || glm::any(glm::lessThan(d.bounds.max, lo)))
+                    continue;
+            }
             gpu::VoxelizePush push{
                 grid.params(),
                 glm::uvec4(d.instance, d.firstIndex, d.triangleCount, std::bit_cast<uint32_t>(d.vertexOffset)),

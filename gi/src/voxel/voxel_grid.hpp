@@ -37,6 +37,9 @@ struct VoxelDraw {
     uint32_t triangleCount = 0;
     int32_t vertexOffset = 0;
     bool dynamic = false;
+    // World-space bounds of the draw's triangles, if known (static draws of a clipmap's scene):
+    // a world-voxel grid skips the draw for boxes it cannot touch. Invalid: never skipped.
+    Aabb bounds;
 };
 
 // GPU scene buffers in the engine/scene_types.h layouts.
