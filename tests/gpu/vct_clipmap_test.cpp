@@ -235,6 +235,40 @@ TEST_F(VctClipmap, MovedLevelsVoxelizeOnlyTheNewSlabsAndEqualAFreshSystem) {
     }
 }
 
+// With a dynamic object the static bake is shifted the same way (its own touched list, the grid's
+// volumes as scratch) and the dynamic draws are voxelized and merged as on every frame, also when
+// the object moves in the same frame.
+TEST_F(VctClipmap, MovedLevelsWithADynamicObjectShiftTheStaticBakeAndEqualAFreshSystem) {
+    Scene scene = test::builtinScene("hall");
+    scene.instances.back().dynamic = true;
+    VctSettings vct = clipmapSettings();
+    vct.levels = 2;
+    GiSettings settings = vctSettings(vct);
+    const float v0 = vctFinestVoxel(vct);
+    Camera camera = scene.cameraOrDefault();
+    camera.position = (2.0f * glm::round(camera.position / (2.0f * v0)) + 0.5f) * v0;
+    FrameRequest request;
+    auto system = test::systemWithScene(ctx(), settings, scene);
+    ASSERT_TRUE(system.ok()) << system.error().message;
+    ASSERT_TRUE((*system)->renderFrame(camera, kSize, kSize, request).ok());
+    // The second step also moves the dynamic object.
+    for (glm::vec3 step : {glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(-2.0f, 0.0f, -2.0f)}) {
+        camera.position += step * v0;
+        if (step.z != 0.0f) {
+            scene.instances.back().transform[3].x += 0.05f;
+            ASSERT_TRUE((*system)->updateScene(scene).ok());
+        }
+        auto moved = (*system)->renderFrame(camera, kSize, kSize, request);
+        ASSERT_TRUE(moved.ok()) << moved.error().message;
+        EXPECT_TRUE(ran(*moved, "gi.voxel.voxelize.slab.static@0"));
+        EXPECT_FALSE(ran(*moved, "gi.voxel.voxelize.static@0"));
+        EXPECT_TRUE(ran(*moved, "gi.voxel.merge@0"));
+        auto fresh = test::renderOnce(ctx(), settings, scene, camera, kSize, kSize, request);
+        ASSERT_TRUE(fresh.ok()) << fresh.error().message;
+        EXPECT_EQ(differingPixels(moved->composite, fresh->composite), 0u) << step.x << " " << step.z;
+    }
+}
+
 // Prints (does not assert: timings are the bench's) the GPU time of a frame after a one-voxel
 // camera move against a frame whose move re-voxelizes every level, medians of 5 each.
 TEST_F(VctClipmap, OneVoxelMoveCostsLessThanAFullUpdate) {

@@ -284,24 +284,26 @@ void addDynamicVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const Voxel
     data.changed = true;
 }
 
-// A static scene's voxelization after the grid's corner moved by `move` voxels (each |move| < N):
+// The static or whole-scene voxelization after the grid's corner moved by `move` voxels (|move| < N):
 // what both corners cover is kept (shifted to its new place), only the slabs the grid newly covers
 // are voxelized. The touched list then lists the kept voxels (voxel_mark.comp) and the slabs'
 // (their records, the only nonzero ones, are resolved), so it covers the volumes as a full
 // voxelization's would (the mark reads the last voxelization's list, which the caller checked
-// covers the volumes: plan.previous). The static volumes, unused without dynamic draws, hold the old content
-// while it is copied back shifted.
+// covers the volumes: plan.previous). `scratch` holds the old content while it is copied back
+// shifted: the static volumes of a scene without dynamic draws, the grid's otherwise (the
+// dynamic voxelization overwrites them after). `set`: All into the grid, or Static.
 void addShiftedVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHandles& scene,
                             rg::BufferHandle& accum, rg::BufferHandle& bits, rg::BufferHandle& touched,
-                            VolumeHandles& target, glm::ivec3 move) {
+                            VolumeHandles& target, VolumeHandles& scratch, VoxelDrawSet set, glm::ivec3 move,
+                            bool commit) {
     const int n = int(grid.resolution());
-    VoxelizationPlan plan = grid.beginVoxelization(VoxelDrawSet::All);
-    grid.planStaticOverwritten();
+    const bool isStatic = set == VoxelDrawSet::Static;
+    VoxelizationPlan plan = grid.beginVoxelization(set);
+    grid.planVolumesOverwritten(isStatic ? 0 : 1);
     rg::BufferHandle previous = graph.importBuffer("gi.voxel.touched.previous", grid.listState(plan.previous));
     touched = graph.importBuffer("gi.voxel.touched", grid.listState(plan.next));
-    VolumeHandles scratch = importVolumes(graph, grid.staticState(), "gi.voxel.static");
     graph.addPass(
-        "gi.voxel.shift.save",
+        isStatic ? "gi.voxel.shift.save.static" : "gi.voxel.shift.save",
         [&](rg::PassBuilder& b) {
             for (rg::ImageHandle h : {target.albedo, target.normal, target.emission, target.faces})
                 b.read(h, Access::TransferRead);
@@ -321,9 +323,10 @@ void addShiftedVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const Voxel
     // Grid voxel x at the new corner was x + move at the old one.
     const glm::ivec3 srcOffset = glm::max(move, glm::ivec3(0)), dstOffset = glm::max(-move, glm::ivec3(0));
     const glm::ivec3 extent = glm::ivec3(n) - glm::abs(move);
-    addClear(graph, accum, bits, touched, target, plan.clearAccum, false, "gi.voxel.clear");
+    addClear(graph, accum, bits, touched, target, plan.clearAccum, false,
+             isStatic ? "gi.voxel.clear.static" : "gi.voxel.clear");
     graph.addPass(
-        "gi.voxel.shift",
+        isStatic ? "gi.voxel.shift.static" : "gi.voxel.shift",
         [&](rg::PassBuilder& b) {
             for (rg::ImageHandle h : {scratch.albedo, scratch.normal, scratch.emission, scratch.faces})
                 b.read(h, Access::TransferRead);
@@ -342,7 +345,7 @@ void addShiftedVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const Voxel
                 vkCmdCopyImage(ctx.cmd(), ctx.image(src[i]).image, ctx.layout(src[i]), ctx.image(dst[i]).image,
                                ctx.layout(dst[i]), 1, &region);
         });
-    rg::ComputePass(graph, "gi.voxel.mark", grid.pipelines().mark)
+    rg::ComputePass(graph, isStatic ? "gi.voxel.mark.static" : "gi.voxel.mark", grid.pipelines().mark)
         .push(gpu::VoxelMarkPush{grid.params(), glm::ivec4(move, 0)})
         .read(VOXEL_MARK_BINDING_PREVIOUS, previous)
         .write(VOXEL_MARK_BINDING_BITS, bits)
@@ -364,9 +367,10 @@ void addShiftedVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const Voxel
         }
         slabs.push_back(slab);
     }
-    addVoxelize(graph, grid, scene, accum, bits, VoxelDrawSet::All, "gi.voxel.voxelize.slab", slabs);
-    addTouchedList(graph, grid, bits, touched, "gi.voxel.list");
-    addResolve(graph, grid, accum, touched, target, "gi.voxel.resolve", true);
+    addVoxelize(graph, grid, scene, accum, bits, set, isStatic ? "gi.voxel.voxelize.slab.static" : "gi.voxel.voxelize.slab",
+                slabs);
+    addTouchedList(graph, grid, bits, touched, isStatic ? "gi.voxel.list.static" : "gi.voxel.list");
+    addResolve(graph, grid, accum, touched, target, isStatic ? "gi.voxel.resolve.static" : "gi.voxel.resolve", commit);
 }
 
 } // namespace
@@ -386,22 +390,37 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
         return data;
     }
     grid.startPlanning();
+    // After a move of the grid, the static (or whole-scene) content is kept where both corners
+    // cover it if the target volumes (0: the grid's, 1: the static ones) hold the last such
+    // voxelization, whose list covers them.
+    auto shiftable = [&](int target) {
+        return update == VoxelUpdate::Full && move && grid.planned().cover[target] >= 0 &&
+               glm::all(glm::lessThan(glm::abs(*move), glm::ivec3(int(grid.resolution()))));
+    };
     rg::BufferHandle accum = graph.importBuffer("gi.voxel.accumulation", grid.accumulationState());
     rg::BufferHandle bits = graph.importBuffer("gi.voxel.touched_bits", grid.touchedBitsState());
     if (!anyDynamic) {
-        // Static scene: one voxelization straight into the grid (no static copy, no merge); after
-        // a move of the grid only of the slabs it newly covers, if the volumes hold its last
-        // voxelization (the list of which covers them).
-        const int n = int(grid.resolution());
-        if (update == VoxelUpdate::Full && move && grid.planned().cover[0] >= 0 &&
-            glm::all(glm::lessThan(glm::abs(*move), glm::ivec3(n))))
-            addShiftedVoxelization(graph, grid, scene, accum, bits, data.touched, out, *move);
-        else
+        // Static scene: one voxelization straight into the grid (no static copy, no merge).
+        if (shiftable(0)) {
+            VolumeHandles scratch = importVolumes(graph, grid.staticState(), "gi.voxel.static");
+            addShiftedVoxelization(graph, grid, scene, accum, bits, data.touched, out, scratch, VoxelDrawSet::All,
+                                   *move, true);
+        } else {
             addVoxelization(graph, grid, scene, accum, bits, data.touched, out, VoxelDrawSet::All, true);
+        }
         return {out.albedo, out.normal, out.emission, out.faces, grid.params(), true, data.touched};
     }
     VolumeHandles st = importVolumes(graph, grid.staticState(), "gi.voxel.static");
-    if (update == VoxelUpdate::Full)
+    if (shiftable(1)) {
+        // The grid's volumes are the scratch: the dynamic voxelization below overwrites them with
+        // the static volumes anyway.
+        addShiftedVoxelization(graph, grid, scene, accum, bits, data.touched, st, out, VoxelDrawSet::Static, *move,
+                               false);
+        data.albedo = out.albedo;
+        data.normal = out.normal;
+        data.emission = out.emission;
+        data.faces = out.faces;
+    } else if (update == VoxelUpdate::Full)
         addVoxelization(graph, grid, scene, accum, bits, data.touched, st, VoxelDrawSet::Static, false);
     else
         data.touched = graph.importBuffer("gi.voxel.touched", grid.touchedState(VoxelDrawSet::Static));

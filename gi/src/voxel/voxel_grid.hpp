@@ -127,8 +127,9 @@ public:
         bool accumZero = false;  // the accumulation and the touched bits are zero
     };
     const State& planned() const { return m_planned; }
-    // The static volumes were used as scratch (a scene without dynamic draws): no list covers them.
-    void planStaticOverwritten() { m_planned.cover[1] = -1; }
+    // Target volumes `target` (0: volumes(), 1: staticVolumes()) were used as scratch: no list
+    // covers them.
+    void planVolumesOverwritten(int target) { m_planned.cover[target] = -1; }
     void commitPlanned(const State& s) { m_state = s; }
 
     // The passes' pipelines (voxel_graph.cpp declares and dispatches them).
