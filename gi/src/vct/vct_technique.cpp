@@ -30,14 +30,19 @@ struct ClipLevel {
     bool lit = false;    // the volumes (and its layers of the clipmap volume) hold its voxel light
 };
 
+// Object-space bounds of each mesh of `scene`.
+std::vector<Aabb> meshBounds(const Scene& scene) {
+    std::vector<Aabb> bounds(scene.meshes.size());
+    for (size_t m = 0; m < scene.meshes.size(); ++m)
+        for (const glm::vec3& p : scene.meshes[m].positions)
+            bounds[m].extend(p);
+    return bounds;
+}
+
 // World bounds of the static draws (one per scene instance, same order): the clipmap's levels
 // skip draws that cannot touch the box they voxelize. Dynamic draws move between uploads and
 // keep invalid bounds (never skipped).
-void setStaticDrawBounds(const Scene& scene, std::vector<VoxelDraw>& draws) {
-    std::vector<Aabb> meshBounds(scene.meshes.size());
-    for (size_t m = 0; m < scene.meshes.size(); ++m)
-        for (const glm::vec3& p : scene.meshes[m].positions)
-            meshBounds[m].extend(p);
+void setStaticDrawBounds(const Scene& scene, const std::vector<Aabb>& meshBounds, std::vector<VoxelDraw>& draws) {
     for (size_t i = 0; i < draws.size() && i < scene.instances.size(); ++i) {
         const Instance& inst = scene.instances[i];
         if (draws[i].dynamic || inst.mesh >= meshBounds.size() || !meshBounds[inst.mesh].valid())
@@ -72,7 +77,9 @@ public:
 
     Result<void> sceneChanged(Context& ctx, const Scene& scene, const GpuScene& gpu, bool uploaded) override {
         m_draws = voxelDraws(gpu);
-        setStaticDrawBounds(scene, m_draws);
+        if (uploaded)
+            m_meshBounds = meshBounds(scene); // the geometry only changes with an upload
+        setStaticDrawBounds(scene, m_meshBounds, m_draws);
         m_lightCount = gpu.lightCount;
         if (!uploaded)
             return {}; // what moved arrives as PassSelection::changes with the next frame
@@ -326,6 +333,7 @@ private:
     std::unique_ptr<VoxelGrid> m_grid;
     std::unique_ptr<VctVolumes> m_volumes;
     std::vector<VoxelDraw> m_draws;
+    std::vector<Aabb> m_meshBounds; // object-space bounds per mesh of the uploaded scene
     uint32_t m_lightCount = 0;
     VoxelUpdate m_update = VoxelUpdate::Full; // Full until a new grid's first frame
     bool m_lit = false;                       // the volumes hold the voxel light of the current grid

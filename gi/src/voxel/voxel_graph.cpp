@@ -161,7 +161,8 @@ void addVoxelize(rg::RenderGraph& graph, const VoxelGrid& grid, const VoxelScene
                 // The box widened by a voxel (more than the voxelizer's slack and the rounding of
                 // the bounds): a draw outside it has no triangle that could touch the box.
                 const float v = grid.params().originSize.w;
-                const glm::vec3 lo = glm::vec3(grid.cell() + box.lo - 1) * v, hi = glm::vec3(grid.cell() + box.hi + 2) * v;
+                const glm::vec3 lo = glm::vec3(grid.cell() + box.lo - 1) * v;
+                const glm::vec3 hi = glm::vec3(grid.cell() + box.hi + 2) * v;
                 if (glm::any(glm::greaterThan(d.bounds.min, hi)) || glm::any(glm::lessThan(d.bounds.max, lo)))
                     continue;
             }
@@ -367,8 +368,8 @@ void addShiftedVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const Voxel
         }
         slabs.push_back(slab);
     }
-    addVoxelize(graph, grid, scene, accum, bits, set, isStatic ? "gi.voxel.voxelize.slab.static" : "gi.voxel.voxelize.slab",
-                slabs);
+    addVoxelize(graph, grid, scene, accum, bits, set,
+                isStatic ? "gi.voxel.voxelize.slab.static" : "gi.voxel.voxelize.slab", slabs);
     addTouchedList(graph, grid, bits, touched, isStatic ? "gi.voxel.list.static" : "gi.voxel.list");
     addResolve(graph, grid, accum, touched, target, isStatic ? "gi.voxel.resolve.static" : "gi.voxel.resolve", commit);
 }
