@@ -9,6 +9,7 @@
 #include <bit>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "vct/vct_passes.hpp"
@@ -28,6 +29,31 @@ struct ClipLevel {
     VoxelUpdate update = VoxelUpdate::Full;
     bool lit = false;    // the volumes (and its layers of the clipmap volume) hold its voxel light
 };
+
+// Object-space bounds of each mesh of `scene`.
+std::vector<Aabb> meshBounds(const Scene& scene) {
+    std::vector<Aabb> bounds(scene.meshes.size());
+    for (size_t m = 0; m < scene.meshes.size(); ++m)
+        for (const glm::vec3& p : scene.meshes[m].positions)
+            bounds[m].extend(p);
+    return bounds;
+}
+
+// World bounds of the static draws (one per scene instance, same order): the clipmap's levels
+// skip draws that cannot touch the box they voxelize. Dynamic draws move between uploads and
+// keep invalid bounds (never skipped).
+void setStaticDrawBounds(const Scene& scene, const std::vector<Aabb>& meshBounds, std::vector<VoxelDraw>& draws) {
+    for (size_t i = 0; i < draws.size() && i < scene.instances.size(); ++i) {
+        const Instance& inst = scene.instances[i];
+        if (draws[i].dynamic || inst.mesh >= meshBounds.size() || !meshBounds[inst.mesh].valid())
+            continue;
+        const Aabb& b = meshBounds[inst.mesh];
+        for (int c = 0; c < 8; ++c) {
+            glm::vec3 corner((c & 1) ? b.max.x : b.min.x, (c & 2) ? b.max.y : b.min.y, (c & 4) ? b.max.z : b.min.z);
+            draws[i].bounds.extend(glm::vec3(inst.transform * glm::vec4(corner, 1.0f)));
+        }
+    }
+}
 
 // Min corner (in level voxels of edge `voxel`) of a level of n^3 voxels centred on `eye`: a whole
 // number of 2-voxel blocks, so the level's 2^3 blocks (mip 1) and the next coarser level's voxels
@@ -51,6 +77,9 @@ public:
 
     Result<void> sceneChanged(Context& ctx, const Scene& scene, const GpuScene& gpu, bool uploaded) override {
         m_draws = voxelDraws(gpu);
+        if (uploaded)
+            m_meshBounds = meshBounds(scene); // the geometry only changes with an upload
+        setStaticDrawBounds(scene, m_meshBounds, m_draws);
         m_lightCount = gpu.lightCount;
         if (!uploaded)
             return {}; // what moved arrives as PassSelection::changes with the next frame
@@ -240,8 +269,13 @@ private:
             const float voxel = level.grid->params().originSize.w;
             const glm::ivec3 cell = clipCell(frame.camera.position, voxel, n);
             const bool moved = !level.placed || cell != level.cell;
-            if (moved) { // the whole level again: what the old box held is stale
-                level.grid->setOrigin(glm::vec3(cell) * voxel);
+            std::optional<glm::ivec3> move;
+            if (moved) {
+                // What both corners cover is kept, unless the level was never voxelized
+                // (addVoxelGridPasses decides whether it can be).
+                if (level.placed && level.update == VoxelUpdate::None)
+                    move = cell - level.cell;
+                level.grid->setCell(cell);
                 level.cell = cell;
                 level.placed = true;
                 level.update = VoxelUpdate::Full;
@@ -265,7 +299,10 @@ private:
                 selection.leaveOut("gi.vct.light:emission" + at, LeftOutReason::NotNeeded, "no emissive material");
             }
             graph.setPassNameSuffix(at);
-            VoxelGridData grid = addVoxelGridPasses(graph, *level.grid, handles, update);
+            // A moved static object makes the kept content stale too.
+            if (sceneUpdate == VoxelUpdate::Full)
+                move.reset();
+            VoxelGridData grid = addVoxelGridPasses(graph, *level.grid, handles, update, move);
             level.update = VoxelUpdate::None;
             if (l == 0)
                 in.blackboard.add(grid); // the finest level stands for the grid
@@ -296,6 +333,7 @@ private:
     std::unique_ptr<VoxelGrid> m_grid;
     std::unique_ptr<VctVolumes> m_volumes;
     std::vector<VoxelDraw> m_draws;
+    std::vector<Aabb> m_meshBounds; // object-space bounds per mesh of the uploaded scene
     uint32_t m_lightCount = 0;
     VoxelUpdate m_update = VoxelUpdate::Full; // Full until a new grid's first frame
     bool m_lit = false;                       // the volumes hold the voxel light of the current grid

@@ -1,6 +1,7 @@
 #include "voxel/voxel_graph.hpp"
 
 #include <bit>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -125,10 +126,16 @@ void addResolve(rg::RenderGraph& graph, VoxelGrid& grid, rg::BufferHandle& accum
         });
 }
 
+// A box of grid voxels, inclusive.
+struct VoxelBox {
+    glm::ivec3 lo, hi;
+};
+
 // Voxelizes the draws `set` into the accumulation and the touched bits: one dispatch per draw
-// (rg::ComputePass records one dispatch), binding ranges of the accumulation (appendRecords).
+// and box of `boxes` (the whole grid if empty; boxes must be disjoint), binding ranges of the
+// accumulation (appendRecords).
 void addVoxelize(rg::RenderGraph& graph, const VoxelGrid& grid, const VoxelSceneHandles& scene, rg::BufferHandle& accum,
-                 rg::BufferHandle& bits, VoxelDrawSet set, const char* name) {
+                 rg::BufferHandle& bits, VoxelDrawSet set, const char* name, std::vector<VoxelBox> boxes = {}) {
     struct Draw {
         glm::uvec3 groups;
         gpu::VoxelizePush push;
@@ -140,18 +147,34 @@ void addVoxelize(rg::RenderGraph& graph, const VoxelGrid& grid, const VoxelScene
     const Pipeline& pipeline = grid.pipelines().voxelize;
     const uint32_t slices = std::max(1u, grid.resolution() / 8u);
     std::vector<Draw> draws;
+    if (boxes.empty())
+        boxes.push_back({glm::ivec3(0), glm::ivec3(int(grid.resolution()) - 1)});
     for (const VoxelDraw& d : scene.draws) {
         if (d.triangleCount == 0 || (set == VoxelDrawSet::Static && d.dynamic) ||
             (set == VoxelDrawSet::Dynamic && !d.dynamic))
             continue;
         bool shared = d.triangleCount <= pipeline.localSize[0];
-        gpu::VoxelizePush push{
-            grid.params(),
-            glm::uvec4(d.instance, d.firstIndex, d.triangleCount, std::bit_cast<uint32_t>(d.vertexOffset)),
-            glm::uvec4(shared ? 1u : 0u, 0u, 0u, 0u)};
         glm::uvec3 groups = shared ? glm::uvec3(d.triangleCount, slices, 1u)
                                    : glm::uvec3(groupCount(d.triangleCount, pipeline.localSize[0]), 1u, 1u);
-        draws.push_back({groups, push});
+        for (const VoxelBox& box : boxes) {
+            if (grid.worldVoxels() && d.bounds.valid()) {
+                // The box widened by a voxel (more than the voxelizer's slack and the rounding of
+                // the bounds): a draw outside it has no triangle that could touch the box.
+                const float v = grid.params().originSize.w;
+                const glm::vec3 lo = glm::vec3(grid.cell() + box.lo - 1) * v;
+                const glm::vec3 hi = glm::vec3(grid.cell() + box.hi + 2) * v;
+                if (glm::any(glm::greaterThan(d.bounds.min, hi)) || glm::any(glm::lessThan(d.bounds.max, lo)))
+                    continue;
+            }
+            gpu::VoxelizePush push{
+                grid.params(),
+                glm::uvec4(d.instance, d.firstIndex, d.triangleCount, std::bit_cast<uint32_t>(d.vertexOffset)),
+                glm::uvec4(shared ? 1u : 0u, grid.worldVoxels() ? 1u : 0u, 0u, 0u),
+                glm::ivec4(grid.worldVoxels() ? grid.cell() : glm::ivec3(0), 0),
+                glm::ivec4(box.lo, 0),
+                glm::ivec4(box.hi, 0)};
+            draws.push_back({groups, push});
+        }
     }
     VoxelSceneHandles s = scene;
     s.draws.clear();
@@ -262,10 +285,99 @@ void addDynamicVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const Voxel
     data.changed = true;
 }
 
+// The static or whole-scene voxelization after the grid's corner moved by `move` voxels (|move| < N):
+// what both corners cover is kept (shifted to its new place), only the slabs the grid newly covers
+// are voxelized. The touched list then lists the kept voxels (voxel_mark.comp) and the slabs'
+// (their records, the only nonzero ones, are resolved), so it covers the volumes as a full
+// voxelization's would (the mark reads the last voxelization's list, which the caller checked
+// covers the volumes: plan.previous). `scratch` holds the old content while it is copied back
+// shifted: the static volumes of a scene without dynamic draws, the grid's otherwise (the
+// dynamic voxelization overwrites them after). `set`: All into the grid, or Static.
+void addShiftedVoxelization(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHandles& scene,
+                            rg::BufferHandle& accum, rg::BufferHandle& bits, rg::BufferHandle& touched,
+                            VolumeHandles& target, VolumeHandles& scratch, VoxelDrawSet set, glm::ivec3 move,
+                            bool commit) {
+    const int n = int(grid.resolution());
+    const bool isStatic = set == VoxelDrawSet::Static;
+    VoxelizationPlan plan = grid.beginVoxelization(set);
+    grid.planVolumesOverwritten(isStatic ? 0 : 1);
+    rg::BufferHandle previous = graph.importBuffer("gi.voxel.touched.previous", grid.listState(plan.previous));
+    touched = graph.importBuffer("gi.voxel.touched", grid.listState(plan.next));
+    graph.addPass(
+        isStatic ? "gi.voxel.shift.save.static" : "gi.voxel.shift.save",
+        [&](rg::PassBuilder& b) {
+            for (rg::ImageHandle h : {target.albedo, target.normal, target.emission, target.faces})
+                b.read(h, Access::TransferRead);
+            for (rg::ImageHandle* h : {&scratch.albedo, &scratch.normal, &scratch.emission, &scratch.faces})
+                *h = b.write(*h, Access::TransferWrite);
+        },
+        [n, from = target, to = scratch](rg::PassContext& ctx) {
+            VkImageCopy region{};
+            region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.extent = {uint32_t(n), uint32_t(n), uint32_t(n)};
+            rg::ImageHandle src[] = {from.albedo, from.normal, from.emission, from.faces};
+            rg::ImageHandle dst[] = {to.albedo, to.normal, to.emission, to.faces};
+            for (int i = 0; i < 4; ++i)
+                vkCmdCopyImage(ctx.cmd(), ctx.image(src[i]).image, ctx.layout(src[i]), ctx.image(dst[i]).image,
+                               ctx.layout(dst[i]), 1, &region);
+        });
+    // Grid voxel x at the new corner was x + move at the old one.
+    const glm::ivec3 srcOffset = glm::max(move, glm::ivec3(0)), dstOffset = glm::max(-move, glm::ivec3(0));
+    const glm::ivec3 extent = glm::ivec3(n) - glm::abs(move);
+    addClear(graph, accum, bits, touched, target, plan.clearAccum, false,
+             isStatic ? "gi.voxel.clear.static" : "gi.voxel.clear");
+    graph.addPass(
+        isStatic ? "gi.voxel.shift.static" : "gi.voxel.shift",
+        [&](rg::PassBuilder& b) {
+            for (rg::ImageHandle h : {scratch.albedo, scratch.normal, scratch.emission, scratch.faces})
+                b.read(h, Access::TransferRead);
+            for (rg::ImageHandle* h : {&target.albedo, &target.normal, &target.emission, &target.faces})
+                *h = b.write(*h, Access::TransferWrite);
+        },
+        [from = scratch, to = target, srcOffset, dstOffset, extent](rg::PassContext& ctx) {
+            VkImageCopy region{};
+            region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.srcOffset = {srcOffset.x, srcOffset.y, srcOffset.z};
+            region.dstOffset = {dstOffset.x, dstOffset.y, dstOffset.z};
+            region.extent = {uint32_t(extent.x), uint32_t(extent.y), uint32_t(extent.z)};
+            rg::ImageHandle src[] = {from.albedo, from.normal, from.emission, from.faces};
+            rg::ImageHandle dst[] = {to.albedo, to.normal, to.emission, to.faces};
+            for (int i = 0; i < 4; ++i)
+                vkCmdCopyImage(ctx.cmd(), ctx.image(src[i]).image, ctx.layout(src[i]), ctx.image(dst[i]).image,
+                               ctx.layout(dst[i]), 1, &region);
+        });
+    rg::ComputePass(graph, isStatic ? "gi.voxel.mark.static" : "gi.voxel.mark", grid.pipelines().mark)
+        .push(gpu::VoxelMarkPush{grid.params(), glm::ivec4(move, 0)})
+        .read(VOXEL_MARK_BINDING_PREVIOUS, previous)
+        .write(VOXEL_MARK_BINDING_BITS, bits)
+        .dispatchIndirect(previous);
+    // Disjoint slabs: along each moved axis the voxels the old corner did not cover, within
+    // what the earlier axes kept.
+    std::vector<VoxelBox> slabs;
+    VoxelBox rest{glm::ivec3(0), glm::ivec3(n - 1)};
+    for (int a = 0; a < 3; ++a) {
+        if (move[a] == 0)
+            continue;
+        VoxelBox slab = rest;
+        if (move[a] > 0) {
+            slab.lo[a] = n - move[a];
+            rest.hi[a] = n - move[a] - 1;
+        } else {
+            slab.hi[a] = -move[a] - 1;
+            rest.lo[a] = -move[a];
+        }
+        slabs.push_back(slab);
+    }
+    addVoxelize(graph, grid, scene, accum, bits, set,
+                isStatic ? "gi.voxel.voxelize.slab.static" : "gi.voxel.voxelize.slab", slabs);
+    addTouchedList(graph, grid, bits, touched, isStatic ? "gi.voxel.list.static" : "gi.voxel.list");
+    addResolve(graph, grid, accum, touched, target, isStatic ? "gi.voxel.resolve.static" : "gi.voxel.resolve", commit);
+}
+
 } // namespace
 
 VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHandles& scene,
-                                 VoxelUpdate update) {
+                                 VoxelUpdate update, std::optional<glm::ivec3> move) {
     VolumeHandles out = importVolumes(graph, grid.volumesState(), "gi.voxel.grid");
     VoxelGridData data{out.albedo, out.normal, out.emission, out.faces, grid.params()};
     bool anyDynamic = false;
@@ -279,15 +391,37 @@ VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const 
         return data;
     }
     grid.startPlanning();
+    // After a move of the grid, the static (or whole-scene) content is kept where both corners
+    // cover it if the target volumes (0: the grid's, 1: the static ones) hold the last such
+    // voxelization, whose list covers them.
+    auto shiftable = [&](int target) {
+        return update == VoxelUpdate::Full && move && grid.planned().cover[target] >= 0 &&
+               glm::all(glm::lessThan(glm::abs(*move), glm::ivec3(int(grid.resolution()))));
+    };
     rg::BufferHandle accum = graph.importBuffer("gi.voxel.accumulation", grid.accumulationState());
     rg::BufferHandle bits = graph.importBuffer("gi.voxel.touched_bits", grid.touchedBitsState());
     if (!anyDynamic) {
         // Static scene: one voxelization straight into the grid (no static copy, no merge).
-        addVoxelization(graph, grid, scene, accum, bits, data.touched, out, VoxelDrawSet::All, true);
+        if (shiftable(0)) {
+            VolumeHandles scratch = importVolumes(graph, grid.staticState(), "gi.voxel.static");
+            addShiftedVoxelization(graph, grid, scene, accum, bits, data.touched, out, scratch, VoxelDrawSet::All,
+                                   *move, true);
+        } else {
+            addVoxelization(graph, grid, scene, accum, bits, data.touched, out, VoxelDrawSet::All, true);
+        }
         return {out.albedo, out.normal, out.emission, out.faces, grid.params(), true, data.touched};
     }
     VolumeHandles st = importVolumes(graph, grid.staticState(), "gi.voxel.static");
-    if (update == VoxelUpdate::Full)
+    if (shiftable(1)) {
+        // The grid's volumes are the scratch: the dynamic voxelization below overwrites them with
+        // the static volumes anyway.
+        addShiftedVoxelization(graph, grid, scene, accum, bits, data.touched, st, out, VoxelDrawSet::Static, *move,
+                               false);
+        data.albedo = out.albedo;
+        data.normal = out.normal;
+        data.emission = out.emission;
+        data.faces = out.faces;
+    } else if (update == VoxelUpdate::Full)
         addVoxelization(graph, grid, scene, accum, bits, data.touched, st, VoxelDrawSet::Static, false);
     else
         data.touched = graph.importBuffer("gi.voxel.touched", grid.touchedState(VoxelDrawSet::Static));

@@ -3,6 +3,7 @@
 // imported into every frame's graph; passes only run when their content changes. Techniques
 // get the grid from the blackboard as VoxelGridData (VCT, LPV multi-bounce).
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "vkgi/rg/render_graph.hpp"
@@ -43,8 +44,11 @@ enum class VoxelUpdate {
              // without dynamic draws is voxelized straight into the grid)
 };
 
-// Imports the grid and adds "gi.voxel.*" passes for `update`.
+// Imports the grid and adds "gi.voxel.*" passes for `update`. `move`: the grid's corner moved by
+// that many voxels (VoxelGrid::setCell) since its last voxelization, which a Full update of a
+// scene without dynamic draws then keeps where both corners cover it, voxelizing only the slabs
+// the grid newly covers ("gi.voxel.voxelize.slab"; docs/vct.md "Clipmap").
 VoxelGridData addVoxelGridPasses(rg::RenderGraph& graph, VoxelGrid& grid, const VoxelSceneHandles& scene,
-                                 VoxelUpdate update);
+                                 VoxelUpdate update, std::optional<glm::ivec3> move = std::nullopt);
 
 } // namespace vkgi::gi

@@ -108,7 +108,8 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
                    {&g->m_pipelines.resolve, "gi/voxel/voxel_resolve.comp"},
                    {&g->m_pipelines.resolveMerge, "gi/voxel/voxel_resolve_merge.comp"},
                    {&g->m_pipelines.clearStale, "gi/voxel/voxel_resolve_stale.comp"},
-                   {&g->m_pipelines.touchedList, "gi/voxel/voxel_touched_list.comp"}};
+                   {&g->m_pipelines.touchedList, "gi/voxel/voxel_touched_list.comp"},
+                   {&g->m_pipelines.mark, "gi/voxel/voxel_mark.comp"}};
     // Records in slabs (voxel_acc.glsl's kVoxelAccSlabs) only where one range cannot hold them.
     const std::vector<SpecConstant> slabs{{0, gpu::voxelAccSlabLayers(n) < n ? 1u : 0u}};
     for (const Named& s : shaders) {
@@ -137,7 +138,7 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
 
 VoxelGrid::~VoxelGrid() {
     for (Pipeline* p : {&m_pipelines.voxelize, &m_pipelines.resolve, &m_pipelines.resolveMerge, &m_pipelines.clearStale,
-                        &m_pipelines.touchedList})
+                        &m_pipelines.touchedList, &m_pipelines.mark})
         destroyPipeline(m_ctx, *p);
     destroyVolumes(m_ctx, m_volumes);
     destroyVolumes(m_ctx, m_static);

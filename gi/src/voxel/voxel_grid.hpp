@@ -37,6 +37,9 @@ struct VoxelDraw {
     uint32_t triangleCount = 0;
     int32_t vertexOffset = 0;
     bool dynamic = false;
+    // World-space bounds of the draw's triangles, if known (static draws of a clipmap's scene):
+    // a world-voxel grid skips the draw for boxes it cannot touch. Invalid: never skipped.
+    Aabb bounds;
 };
 
 // GPU scene buffers in the engine/scene_types.h layouts.
@@ -75,10 +78,18 @@ public:
 
     const gpu::VoxelGridParams& params() const { return m_params; }
     uint32_t resolution() const { return m_params.dims.x; }
-    // Moves the grid (a clipmap level following the camera). What the volumes hold belongs to
-    // the old box until the caller re-voxelizes in full (VoxelUpdate::Full), which zeroes what
-    // went stale as for a moved object.
-    void setOrigin(glm::vec3 origin) { m_params.originSize = glm::vec4(origin, m_params.originSize.w); }
+    // Places the grid's min corner at world voxel `cell` (a clipmap level following the camera)
+    // and voxelizes it in world voxels from then on (VoxelizePush::info.y), so that a voxel's
+    // content does not depend on where the corner is. What the volumes hold belongs to the old
+    // corner until the caller re-voxelizes (VoxelUpdate::Full, given the move to keep what both
+    // corners cover: addVoxelGridPasses).
+    void setCell(glm::ivec3 cell) {
+        m_cell = cell;
+        m_worldVoxels = true;
+        m_params.originSize = glm::vec4(glm::vec3(cell) * m_params.originSize.w, m_params.originSize.w);
+    }
+    glm::ivec3 cell() const { return m_cell; }
+    bool worldVoxels() const { return m_worldVoxels; }
     // The grid every consumer reads (static and dynamic geometry merged).
     const VoxelVolumes& volumes() const { return m_volumes; }
     // Static geometry only, voxelized once (the flag volume is staticVolumes().albedo.a).
@@ -116,6 +127,9 @@ public:
         bool accumZero = false;  // the accumulation and the touched bits are zero
     };
     const State& planned() const { return m_planned; }
+    // Target volumes `target` (0: volumes(), 1: staticVolumes()) were used as scratch: no list
+    // covers them.
+    void planVolumesOverwritten(int target) { m_planned.cover[target] = -1; }
     void commitPlanned(const State& s) { m_state = s; }
 
     // The passes' pipelines (voxel_graph.cpp declares and dispatches them).
@@ -125,6 +139,7 @@ public:
         Pipeline clearStale;   // voxel_resolve_stale.comp: zeroes voxels the new voxelization left out
         Pipeline resolve;      // voxel_resolve.comp: accumulation -> volumes at a touched list
         Pipeline resolveMerge; // voxel_resolve_merge.comp: dynamic accumulation merged under the static volumes
+        Pipeline mark;         // voxel_mark.comp: the last touched list, moved -> touched bits of the kept voxels
     };
     const Pipelines& pipelines() const { return m_pipelines; }
     // The accumulation's binding ranges (VOXEL_ACC_BINDING_RECORDS + k, voxel_acc.glsl): range k
@@ -138,6 +153,8 @@ private:
     int listIndex(VoxelDrawSet set) const { return set == VoxelDrawSet::Dynamic ? 2 : m_state.current; }
     Context& m_ctx;
     gpu::VoxelGridParams m_params{};
+    glm::ivec3 m_cell{0};       // setCell: the min corner in world voxels
+    bool m_worldVoxels = false; // setCell was called: voxelize in world voxels
     VoxelVolumes m_volumes, m_static;
     rg::PersistentBuffer m_accum, m_bits;
     // 0, 1: the All / Static lists, used in turn; 2: the Dynamic list.

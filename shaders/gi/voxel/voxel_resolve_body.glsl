@@ -30,13 +30,17 @@ void main() {
     // Words 0..12: count, albedo rgb, faces +x -x +y -y +z -z, emission rgb (gi/voxel_grid.h).
     uvec4 w0 = voxelAccLoad(slab, rec), w1 = voxelAccLoad(slab, rec + 1u), w2 = voxelAccLoad(slab, rec + 2u),
           w3 = voxelAccLoad(slab, rec + 3u);
+    // A voxel listed without a contribution is one a moved clipmap level kept (voxel_mark.comp):
+    // its volumes already hold it, and its record is zero.
+    if (w0.x == 0u)
+        return;
     for (uint k = 0u; k < 4u; ++k)
         voxelAccStore(slab, rec + k, uvec4(0u));
 #ifdef GI_VOXEL_MERGE
     if (imageLoad(staticAlbedo, c).a > 0.0)
         return; // the static voxel copied into the target stays
 #endif
-    uint count = min(w0.x, GI_VOXEL_MAX_CONTRIBUTIONS); // >= 1: it was touched
+    uint count = min(w0.x, GI_VOXEL_MAX_CONTRIBUTIONS);
     float inv = 1.0 / (float(count) * GI_VOXEL_FIXED_ONE);
     vec3 albedo = vec3(w0.yzw) * inv;
     uvec3 p = uvec3(w1.x, w1.z, w2.x), m = uvec3(w1.y, w1.w, w2.y);

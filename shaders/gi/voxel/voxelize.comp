@@ -88,9 +88,11 @@ void main() {
     uint base = pc.draw.y + 3u * tri;
     vec3 p[3];
     vec3 shadingSum = vec3(0.0);
+    // World-voxel positions (clipmap levels) subtract no origin: see VoxelizePush.
+    vec3 origin = pc.info.y != 0u ? vec3(0.0) : pc.grid.originSize.xyz;
     for (int i = 0; i < 3; ++i) {
         GpuVertex v = vertices[indices[base + uint(i)] + pc.draw.w];
-        p[i] = ((inst.model * vec4(v.positionU.xyz, 1.0)).xyz - pc.grid.originSize.xyz) * pc.grid.scales.x;
+        p[i] = ((inst.model * vec4(v.positionU.xyz, 1.0)).xyz - origin) * pc.grid.scales.x;
         shadingSum += v.normalV.xyz;
     }
     GpuMaterial mat = materials[inst.info.x];
@@ -117,11 +119,22 @@ void main() {
         faceNormal = -faceNormal;
 
     int res = int(pc.grid.dims.x);
+    // Voxel coordinates below are those of p (world voxels with info.y = 1); the box is the part
+    // of the grid voxelized, in the same coordinates.
+    ivec3 boxLo = pc.cell.xyz + pc.boxLo.xyz, boxHi = pc.cell.xyz + pc.boxHi.xyz;
     vec3 lo = min(p[0], min(p[1], p[2])), hi = max(p[0], max(p[1], p[2]));
-    if (any(greaterThan(lo, vec3(res))) || any(lessThan(hi, vec3(0.0))) || any(isnan(lo + hi)))
+    if (any(isnan(lo + hi)))
         return;
-    ivec3 vlo = clamp(ivec3(floor(lo - kSatSlack)), ivec3(0), ivec3(res - 1));
-    ivec3 vhi = clamp(ivec3(floor(hi + kSatSlack)), ivec3(0), ivec3(res - 1));
+    ivec3 vlo = ivec3(floor(lo - kSatSlack)), vhi = ivec3(floor(hi + kSatSlack));
+    // World voxels: a triangle is skipped exactly when none of the voxels it may graze lies in
+    // the box, so a voxel on a box face gets the same triangles whichever box held it. A fitted
+    // grid keeps its original test (its images are the goldens').
+    bool outside = pc.info.y != 0u ? any(greaterThan(vlo, boxHi)) || any(lessThan(vhi, boxLo))
+                                   : any(greaterThan(lo, vec3(boxHi + 1))) || any(lessThan(hi, vec3(boxLo)));
+    if (outside)
+        return;
+    vlo = clamp(vlo, boxLo, boxHi);
+    vhi = clamp(vhi, boxLo, boxHi);
 
     // Walk the two axes in which the triangle is widest; along the third (the dominant normal
     // axis) only the voxels between the plane's heights at the column corners can overlap.
@@ -152,7 +165,7 @@ void main() {
             c[w] = cw;
             vec3 centre = vec3(c) + 0.5;
             if (overlapsUnitBox(p[0] - centre, p[1] - centre, p[2] - centre, n))
-                splat(c, res, albedo, faceNormal, emission, emissive);
+                splat(c - pc.cell.xyz, res, albedo, faceNormal, emission, emissive);
         }
         cw += dw;
         cu += du;

@@ -15,12 +15,31 @@ GI_CHECK_SIZE(VoxelGridPush, 48);
 
 // voxelize.comp: one dispatch per draw. info.x = 0: one invocation per triangle; info.x = 1:
 // one work group per triangle (and row slice), its invocations sharing the triangle's columns.
+// info.y = 1: positions in world voxels (world position / voxel edge, no origin subtracted), the
+// grid's min corner at world voxel `cell`: a clipmap level then makes the same float decisions
+// for a voxel whatever its corner, so content kept across a move equals a fresh voxelization.
+// Only voxels in [boxLo, boxHi] (grid voxels, inclusive) receive contributions: the whole grid,
+// or the slab a moved level newly covers.
 GI_GPU_STRUCT(VoxelizePush) {
     VoxelGridParams grid;
-    uvec4 draw; // x instance index, y first index, z triangle count, w vertex offset
-    uvec4 info; // x 1 = a work group per triangle, y, z, w 0
+    uvec4 draw;  // x instance index, y first index, z triangle count, w vertex offset
+    uvec4 info;  // x 1 = a work group per triangle, y 1 = world-voxel positions, z, w 0
+    ivec4 cell;  // xyz: the grid's min corner in world voxels (info.y = 1; else 0), w 0
+    ivec4 boxLo; // xyz: first grid voxel voxelized, w 0
+    ivec4 boxHi; // xyz: last grid voxel voxelized, w 0
 };
-GI_CHECK_SIZE(VoxelizePush, 80);
+GI_CHECK_SIZE(VoxelizePush, 128);
+
+// voxel_mark.comp (a moved clipmap level): sets the touched bit of every voxel of the last
+// voxelization's touched list (indirect over it) at its place after the move, when the level
+// still covers it, so the new touched list covers the kept voxels as well as the slabs' new ones.
+GI_GPU_STRUCT(VoxelMarkPush) {
+    VoxelGridParams grid;
+    ivec4 move; // xyz: the corner's move in voxels (a kept voxel's index decreases by it), w 0
+};
+GI_CHECK_SIZE(VoxelMarkPush, 64);
+#define VOXEL_MARK_BINDING_PREVIOUS 0 // touched list of the last voxelization (holds every nonzero voxel)
+#define VOXEL_MARK_BINDING_BITS 1     // touched bits, bit x + N (y + N z)
 
 // Touched-voxel lists of the grid (VoxelGrid; a pair used in turn for the static or whole-scene
 // voxelization, one for the dynamic draws): voxelize.comp sets a voxel's touched bit when it
