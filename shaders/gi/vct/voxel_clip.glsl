@@ -98,18 +98,5 @@ vec4 traceConeClip(vec3 origin, vec3 dir, float rise, float tanHalf, float stepF
     return acc;
 }
 
-// diffuseGather through the clipmap.
-vec3 diffuseGatherClip(vec3 origin, vec3 normal, ConeParams cp, float start, out float occlusion) {
-    mat3 frame = tangentFrame(normal);
-    vec3 sum = vec3(0.0);
-    occlusion = 0.0;
-    uint count = cp.info.x;
-    for (uint i = 0u; i < count; ++i) {
-        float occ;
-        vec3 d = frame * hemisphereCone(i, count);
-        sum += traceConeClip(origin, d, dot(d, normal), cp.cone.x, cp.cone.y, cp.cone.z, start, occ).rgb;
-        occlusion += occ;
-    }
-    occlusion /= float(count);
-    return sum / float(count);
-}
+// diffuseGather through the clipmap (`extra` = the cones' start).
+VCT_DEFINE_DIFFUSE_GATHER(diffuseGatherClip, traceConeClip)

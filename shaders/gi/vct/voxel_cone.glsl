@@ -231,18 +231,24 @@ mat3 tangentFrame(vec3 n) {
     return mat3(t, cross(n, t), n);
 }
 
-// (1/n) sum over the diffuse cones of their radiance, and the mean AO occlusion.
-vec3 diffuseGather(vec3 origin, vec3 normal, ConeParams cp, float n, out float occlusion) {
-    mat3 frame = tangentFrame(normal);
-    vec3 sum = vec3(0.0);
-    occlusion = 0.0;
-    uint count = cp.info.x;
-    for (uint i = 0u; i < count; ++i) {
-        float occ;
-        vec3 d = frame * hemisphereCone(i, count);
-        sum += traceCone(origin, d, dot(d, normal), cp.cone.x, cp.cone.y, cp.cone.z, n, occ).rgb;
-        occlusion += occ;
+// Defines NAME(origin, normal, cp, extra, out occlusion): (1/n) sum over the diffuse cones of
+// their radiance and the mean AO occlusion, each cone traced by TRACE (traceCone's signature;
+// `extra` is its last float: the grid size for traceCone, the start for the clipmap's tracer).
+// A macro because GLSL has no function parameters: one gather serves the grid and the clipmap.
+#define VCT_DEFINE_DIFFUSE_GATHER(NAME, TRACE)                                                   \
+    vec3 NAME(vec3 origin, vec3 normal, ConeParams cp, float extra, out float occlusion) {       \
+        mat3 frame = tangentFrame(normal);                                                       \
+        vec3 sum = vec3(0.0);                                                                    \
+        occlusion = 0.0;                                                                         \
+        uint count = cp.info.x;                                                                  \
+        for (uint i = 0u; i < count; ++i) {                                                      \
+            float occ;                                                                           \
+            vec3 d = frame * hemisphereCone(i, count);                                           \
+            sum += TRACE(origin, d, dot(d, normal), cp.cone.x, cp.cone.y, cp.cone.z, extra, occ).rgb; \
+            occlusion += occ;                                                                    \
+        }                                                                                        \
+        occlusion /= float(count);                                                               \
+        return sum / float(count);                                                               \
     }
-    occlusion /= float(count);
-    return sum / float(count);
-}
+
+VCT_DEFINE_DIFFUSE_GATHER(diffuseGather, traceCone)
