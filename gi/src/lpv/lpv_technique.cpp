@@ -177,6 +177,9 @@ private:
     // up every frame, the coarser levels adding to what the finer ones wrote.
     rg::ImageHandle addCascadePasses(rg::RenderGraph& graph, const TechniqueInputs& in,
                                      const std::vector<gpu::LpvGrid>& grids, const FrameSources& sources) {
+        // The kept single-grid volume does not see this frame's changes: when the automatic
+        // setting returns to it (the camera left the lit region), it must be propagated again.
+        m_cache.valid = false;
         lpv::VoxelInput voxels = addVoxelPasses(graph, in);
         const lpv::RsmInput rsm = reducedRsm(graph, sources.rsm);
         rg::ImageHandle indirect;
