@@ -9,9 +9,8 @@ namespace vkgi::gi {
 
 struct LpvSettings {
     // Cells per axis, 1..128; memory and time grow as gridSize^3. With `iterations` = gridSize
-    // light crosses the whole grid: the bench's sweep (docs/bench/lpv-128) puts 16^3 x 16 on or
-    // near every built-in scene's error front, below 32^3 x 8 everywhere and at a quarter of its
-    // propagation cost (docs/lpv.md "Defaults").
+    // light crosses the whole grid. The default pair is the bench's choice from its sweep over
+    // every built-in scene (docs/lpv.md "Defaults", docs/bench/lpv-128).
     uint32_t gridSize = 16;
     uint32_t iterations = 16; // propagation steps = how many cells light travels, 0..4096
     bool occlusion = true;    // attenuate by the geometry volume (fuzzy blocking) while propagating

@@ -50,8 +50,8 @@ struct VctSettings {
     // Clipmap levels (0..8). 1: one grid fitted to the scene bounds or gridBox. 2..8: camera-centred
     // levels of gridResolution^3 voxels each, level l with voxels of `voxel` * 2^l metres, so what
     // the grid resolves does not depend on how far the scene extends (docs/vct.md "Clipmap").
-    // Memory grows as levels * gridResolution^3: the clipmap is meant for gridResolution 32 (4
-    // levels of 32^3 stay within the module's 64 MiB; 64^3 levels do not).
+    // Memory grows as levels * gridResolution^3, so a clipmap wants a smaller gridResolution than
+    // the fitted grid (the memory of each choice: docs/vct.md "Clipmap").
     // 0 (default) = automatic, decided when a scene is set: kVctAutoLevels levels of
     // kVctAutoLevelResolution^3 when the scene's camera is inside its bounds and the fitted grid's
     // voxels would be coarser than the clipmap's coarsest level (a viewer inside a level much
