@@ -56,6 +56,13 @@ size_t differingPixels(const HdrImage& a, const HdrImage& b) {
     return n;
 }
 
+// `camera` moved onto the centre of a 2-voxel block of the finest level (voxel edge `v0`), so
+// that a one-voxel step always moves level 0.
+Camera onBlockCentre(Camera camera, float v0) {
+    camera.position = (2.0f * glm::round(camera.position / (2.0f * v0)) + 0.5f) * v0;
+    return camera;
+}
+
 class VctClipmap : public test::GpuTest {
 protected:
     // relMSE (epsilon 0.01) of the composite against the path tracer at 64^2, 256 spp, with the
@@ -206,8 +213,7 @@ TEST_F(VctClipmap, MovedLevelsVoxelizeOnlyTheNewSlabsAndEqualAFreshSystem) {
     vct.levels = 3;
     GiSettings settings = vctSettings(vct);
     const float v0 = vctFinestVoxel(vct);
-    Camera camera = scene.cameraOrDefault();
-    camera.position = (2.0f * glm::round(camera.position / (2.0f * v0)) + 0.5f) * v0;
+    Camera camera = onBlockCentre(scene.cameraOrDefault(), v0);
     FrameRequest request;
     auto system = test::systemWithScene(ctx(), settings, scene);
     ASSERT_TRUE(system.ok()) << system.error().message;
@@ -245,8 +251,7 @@ TEST_F(VctClipmap, MovedLevelsWithADynamicObjectShiftTheStaticBakeAndEqualAFresh
     vct.levels = 2;
     GiSettings settings = vctSettings(vct);
     const float v0 = vctFinestVoxel(vct);
-    Camera camera = scene.cameraOrDefault();
-    camera.position = (2.0f * glm::round(camera.position / (2.0f * v0)) + 0.5f) * v0;
+    Camera camera = onBlockCentre(scene.cameraOrDefault(), v0);
     FrameRequest request;
     auto system = test::systemWithScene(ctx(), settings, scene);
     ASSERT_TRUE(system.ok()) << system.error().message;
