@@ -150,7 +150,7 @@ protected:
                      g.importImage("rsm.normal", *rsmNrm, rg::Access::TransferWrite),
                      g.importImage("rsm.flux", *rsmFlux, rg::Access::TransferWrite), kRsm, 1};
         if (reduce > 1)
-            rsm = addRsmReducePass(g, m_injector, rsm, reduce);
+            rsm = addRsmReducePass(g, m_injector, rsm, reduce, m_mergeRadius);
         ShHandles wave, acc;
         for (int c = 0; c < 3; ++c) {
             wave.channel[c] = g.importImage("wave", m_volumes[0][c]);
@@ -226,6 +226,7 @@ protected:
     }
 
     Injector m_injector;
+    float m_mergeRadius = 0.5f; // half of grid()'s cell
     std::unique_ptr<rg::TransientPool> m_pool;
     bool m_ready = false;
     VkFormat m_format = VK_FORMAT_R32G32B32A32_SFLOAT;
@@ -329,6 +330,59 @@ TEST_F(LpvInject, ReducedRsmInjectsTheSameLight) {
     EXPECT_NEAR(full[0][cellIndex(2, 3, 2)].x, b0, 1e-5f * b0);
     EXPECT_LE(worst0, 1e-5f * b0);
     EXPECT_LE(worst1, 1e-3f * b0);
+    EXPECT_EQ(validation().count(), 0u);
+}
+
+TEST_F(LpvInject, ReducedRsmSplitsBlocksOneSurfelCannotStandFor) {
+    // Block (0, 0) of a 2x2 reduction sees a ground at y = 0.2 and a roof at y = 5.2 (a depth
+    // discontinuity in one block); block (1, 0) a 150-degree fold at one spot (normals +y and
+    // (sin 150, cos 150, 0)). Merged, the first would inject its light at y = 2.7 + 0.5 (cell y
+    // 3), where none of its texels are, and the second with one offset for both faces. The first
+    // lies 2.5 m off its mean plane (more than a quarter cell), the second folds too sharply (mean
+    // normal 0.26 long), so both are injected texel by texel from the full RSM: the reduced
+    // injection must equal
+    // the full-resolution one. With an unbounded merge radius the first block is merged and its
+    // light appears in cell y 3 (the control: the split is what keeps it out).
+    const glm::vec3 fold(0.5f, -0.8660254f, 0.0f);
+    const std::vector<Surfel> surfels = {
+        {{0, 0}, {2.2f, 0.2f, 2.2f, 1.0f}, {0, 1, 0}, {1, 1, 1}},
+        {{1, 0}, {2.4f, 0.2f, 2.2f, 1.0f}, {0, 1, 0}, {1, 1, 1}},
+        {{0, 1}, {2.2f, 5.2f, 2.4f, 1.0f}, {0, 1, 0}, {1, 1, 1}},
+        {{1, 1}, {2.4f, 5.2f, 2.4f, 1.0f}, {0, 1, 0}, {1, 1, 1}},
+        {{2, 0}, {5.5f, 5.5f, 5.5f, 1.0f}, {0, 1, 0}, {2, 2, 2}},
+        {{3, 0}, {5.5f, 5.5f, 5.5f, 1.0f}, fold, {2, 2, 2}},
+    };
+    std::vector<glm::vec4> full[3], split[3];
+    run(surfels, VK_FORMAT_R32G32B32A32_SFLOAT, 1.0f);
+    const float fullM = maxTexelFlux();
+    for (int c = 0; c < 3; ++c) {
+        full[c] = accumulated(c);
+        for (glm::vec4& v : full[c])
+            v *= fullM;
+    }
+    run(surfels, VK_FORMAT_R32G32B32A32_SFLOAT, 1.0f, nullptr, 0, 0.0f, 2);
+    const float reducedM = maxTexelFlux();
+    EXPECT_EQ(reducedM, 4.0f); // the blocks' sums, though neither is injected as one surfel
+    for (int c = 0; c < 3; ++c) {
+        split[c] = accumulated(c);
+        for (glm::vec4& v : split[c])
+            v *= reducedM;
+    }
+    const float b0 = 1.0f / kPi * gpu::kShCosineBand0; // one texel's band 0
+    float worst = 0.0f;
+    for (int c = 0; c < 3; ++c)
+        for (size_t i = 0; i < full[c].size(); ++i)
+            worst = std::max(worst, glm::length(full[c][i] - split[c][i]));
+    EXPECT_NEAR(full[0][cellIndex(2, 0, 2)].x, 2.0f * b0, 1e-5f * b0); // the ground's two texels
+    EXPECT_NEAR(full[0][cellIndex(2, 5, 2)].x, 2.0f * b0, 1e-5f * b0); // the roof's
+    EXPECT_EQ(full[0][cellIndex(2, 3, 2)].x, 0.0f);
+    EXPECT_LE(worst, 1e-5f * b0);
+
+    // The control: merged regardless, the discontinuous block's light lands between its texels.
+    m_mergeRadius = 1e9f;
+    run(surfels, VK_FORMAT_R32G32B32A32_SFLOAT, 1.0f, nullptr, 0, 0.0f, 2);
+    EXPECT_NEAR(accumulated(0)[cellIndex(2, 3, 2)].x * maxTexelFlux(), 4.0f * b0, 1e-5f * b0);
+    m_mergeRadius = 0.5f;
     EXPECT_EQ(validation().count(), 0u);
 }
 

@@ -27,9 +27,11 @@ struct LpvSettings {
     float cellSize = 1.0f;    // metres: cell edge of the finest cascade (doubling per level), (0, 1e4]
     bool halfFloat = true;    // RGBA16F SH storage (half the bandwidth); false = RGBA32F reference
     uint32_t rsmReduce = 4;   // 1, 2 or 4: inject (and build the geometry volume) from the RSM reduced by this
-                              // factor per axis, one flux-weighted surfel per block, energy conserved. 4 by
-                              // default: factor^2 fewer texels to read, and against converged references
-                              // it is as accurate as 1 or better (docs/lpv.md "Reduced RSM")
+                              // factor per axis, one flux-weighted surfel per block, energy conserved; a
+                              // block spanning two levels (a roof's edge over the ground)
+                              // or sharply folded is injected texel by texel instead. 4 by default: factor^2 fewer texels to
+                              // read where blocks merge, and against converged references it is as
+                              // accurate as 1 (docs/lpv.md "Injection")
 
     bool operator==(const LpvSettings&) const = default;
 };

@@ -75,10 +75,15 @@ void addClearPass(rg::RenderGraph& graph, const std::string& name, rg::BufferHan
 } // namespace
 
 RsmInput addRsmReducePass(rg::RenderGraph& graph, const Injector& injector, const RsmInput& rsm, uint32_t factor,
-                          const std::string& prefix) {
+                          float mergeRadius, const std::string& prefix) {
     RsmInput reduced;
     reduced.resolution = (rsm.resolution + factor - 1) / factor;
     reduced.layers = rsm.layers;
+    reduced.sourcePosition = rsm.position;
+    reduced.sourceNormal = rsm.normal;
+    reduced.sourceFlux = rsm.flux;
+    reduced.sourceResolution = rsm.resolution;
+    reduced.factor = factor;
     ImageDesc desc;
     desc.width = desc.height = reduced.resolution;
     desc.arrayLayers = std::max(rsm.layers, 2u); // more than one layer: the view is a 2D array
@@ -90,6 +95,7 @@ RsmInput addRsmReducePass(rg::RenderGraph& graph, const Injector& injector, cons
     reduced.normal = graph.createImage(prefix + ".rsm.normal", desc);
     gpu::LpvInjectPush push{};
     push.rsm = glm::ivec4(int(rsm.resolution), int(rsm.layers), int(factor), int(reduced.resolution));
+    push.params.y = mergeRadius;
     rg::ComputePass(graph, prefix + ".inject.reduce", injector.rsmReduce[factor == 4])
         .push(push)
         .read(LPV_INJECT_BINDING_POSITION, rsm.position)
@@ -111,7 +117,7 @@ InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injec
                                     {injectionBufferBytes(cells), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
     gpu::LpvInjectPush push{};
     push.grid = grid;
-    push.rsm = glm::ivec4(int(rsm.resolution), int(rsm.layers), 0, 0);
+    push.rsm = glm::ivec4(int(rsm.resolution), int(rsm.layers), int(rsm.factor), int(rsm.sourceResolution));
     push.params = glm::vec4(gpu::lpvFixedPointScale(float(rsm.resolution) * float(rsm.resolution) * float(rsm.layers)),
                             0.0f, 0.0f, 0.0f);
     addClearPass(graph, prefix + ".inject.clear", buffer);
@@ -123,11 +129,16 @@ InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injec
         .dispatch({rsm.resolution, rsm.resolution, rsm.layers});
     // One invocation per run of LPV_INJECT_RUN texels of a row.
     const uint32_t runs = (rsm.resolution + LPV_INJECT_RUN - 1) / LPV_INJECT_RUN;
+    // Without reduction the source bindings take the RSM itself (the shader never reads them then).
+    const bool reduced = rsm.factor > 1;
     rg::ComputePass(graph, prefix + ".inject", injector.inject)
         .push(push)
         .read(LPV_INJECT_BINDING_POSITION, rsm.position)
         .read(LPV_INJECT_BINDING_NORMAL, rsm.normal)
         .read(LPV_INJECT_BINDING_FLUX, rsm.flux)
+        .read(LPV_INJECT_BINDING_SOURCE_POSITION, reduced ? rsm.sourcePosition : rsm.position)
+        .read(LPV_INJECT_BINDING_SOURCE_NORMAL, reduced ? rsm.sourceNormal : rsm.normal)
+        .read(LPV_INJECT_BINDING_SOURCE_FLUX, reduced ? rsm.sourceFlux : rsm.flux)
         .write(LPV_INJECT_BINDING_BUFFER, buffer)
         .dispatch({runs, rsm.resolution, rsm.layers});
     rg::ComputePass(graph, prefix + ".inject.resolve", injector.resolve[format == VK_FORMAT_R32G32B32A32_SFLOAT])
@@ -158,15 +169,21 @@ uint32_t cameraSampleStride(const gpu::LpvGrid& grid, const GBufferInput& gbuffe
 
 // One source's surfels (every `stride`-th texel per axis of `texels`) added to the slot
 // `push.rsm.z` of the geometry volume sums.
+// The RSM pass also binds the full RSM behind a reduced one (`source`; the RSM itself otherwise).
 void addSurfelPass(rg::RenderGraph& graph, const std::string& name, const Pipeline& pipeline,
                    const gpu::LpvInjectPush& push, rg::ImageHandle position, rg::ImageHandle normal, glm::uvec3 threads,
-                   rg::BufferHandle& sums) {
-    rg::ComputePass(graph, name, pipeline)
-        .push(push)
+                   rg::BufferHandle& sums, const RsmInput* source = nullptr) {
+    rg::ComputePass pass(graph, name, pipeline);
+    pass.push(push)
         .read(LPV_GEOMETRY_VOLUME_BINDING_POSITION, position)
         .read(LPV_GEOMETRY_VOLUME_BINDING_NORMAL, normal)
-        .write(LPV_GEOMETRY_VOLUME_BINDING_SUMS, sums)
-        .dispatch(threads);
+        .write(LPV_GEOMETRY_VOLUME_BINDING_SUMS, sums);
+    if (source) {
+        const bool reduced = source->factor > 1;
+        pass.read(LPV_GEOMETRY_VOLUME_BINDING_SOURCE_POSITION, reduced ? source->sourcePosition : position)
+            .read(LPV_GEOMETRY_VOLUME_BINDING_SOURCE_NORMAL, reduced ? source->sourceNormal : normal);
+    }
+    pass.dispatch(threads);
 }
 
 } // namespace
@@ -193,8 +210,11 @@ rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& 
     if (rsm.position.valid()) {
         push.rsm = glm::ivec4(int(rsm.resolution), int(rsm.layers), 0, int(rsm.resolution)); // slot 0
         push.params.y = 1.0f;
+        push.params.z = float(rsm.factor);
+        push.params.w = float(rsm.sourceResolution);
         addSurfelPass(graph, prefix + ".gv.rsm", injector.geometryFromRsm, push, rsm.position, rsm.normal,
-                      {rsm.resolution, rsm.resolution, rsm.layers}, sums);
+                      {rsm.resolution, rsm.resolution, rsm.layers}, sums, &rsm);
+        push.params.z = push.params.w = 0.0f;
     }
     if (gbuffer.position.valid()) {
         const uint32_t stride = cameraSampleStride(grid, gbuffer);

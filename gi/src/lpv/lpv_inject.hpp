@@ -42,6 +42,11 @@ struct RsmInput {
     rg::ImageHandle position, normal, flux;
     uint32_t resolution = 0;
     uint32_t layers = 0;
+    // A reduced RSM (addRsmReducePass) keeps the full one it came from: blocks that one surfel
+    // cannot stand for are read from it texel by texel. factor = 1: not reduced (no source).
+    rg::ImageHandle sourcePosition, sourceNormal, sourceFlux;
+    uint32_t sourceResolution = 0;
+    uint32_t factor = 1;
 };
 
 struct GBufferInput {
@@ -57,10 +62,12 @@ struct InjectionResult {
 
 // The RSM reduced by `factor` per axis (gi.lpv.inject.reduce, inject_reduce.comp): one surfel per
 // factor x factor block, flux summed, position and normal flux-weighted means (the normal not
-// renormalised). Injection and the geometry volume then read factor^2 fewer texels. Returns
-// transient images in the RSM's formats.
+// renormalised). Injection and the geometry volume then read factor^2 fewer texels. A block
+// whose texels lie off their mean plane by an RMS distance above mergeRadius / 2 (world units;
+// mergeRadius is half the finest cell: a roof's edge over the ground), or whose unit normals'
+// mean is shorter than 1/2 (a sharp fold), is marked split and read texel by texel from `rsm`. Returns transient images in the RSM's formats.
 RsmInput addRsmReducePass(rg::RenderGraph& graph, const Injector& injector, const RsmInput& rsm, uint32_t factor,
-                          const std::string& prefix = "gi.lpv");
+                          float mergeRadius, const std::string& prefix = "gi.lpv");
 
 // Injects every RSM texel into `grid`, writing (fully) the given wavefront and accumulation
 // volumes. `buffer` is the injection buffer, e.g. an imported one kept for the lookup of later

@@ -135,7 +135,7 @@ private:
         KeptVolumes kept = importCache(graph);
         if (fresh || needsPropagation(grid, in.selection.changes)) {
             lpv::VoxelInput voxels = addVoxelPasses(graph, in);
-            const lpv::RsmInput rsm = reducedRsm(graph, sources.rsm);
+            const lpv::RsmInput rsm = reducedRsm(graph, sources.rsm, grid.origin.w);
             lpv::InjectionResult propagated =
                 addGridPasses(graph, grid, sources, rsm, voxels, "gi.lpv", kept.accumulation, kept.injectionBuffer);
             kept.accumulation = propagated.accumulation;
@@ -181,7 +181,7 @@ private:
         // setting returns to it (the camera left the lit region), it must be propagated again.
         m_cache.valid = false;
         lpv::VoxelInput voxels = addVoxelPasses(graph, in);
-        const lpv::RsmInput rsm = reducedRsm(graph, sources.rsm);
+        const lpv::RsmInput rsm = reducedRsm(graph, sources.rsm, grids.front().origin.w);
         rg::ImageHandle indirect;
         for (size_t k = 0; k < grids.size(); ++k) {
             const gpu::LpvGrid& grid = grids[k];
@@ -232,10 +232,12 @@ private:
     }
 
     // The RSM injection and the geometry volume read (gi.lpv.inject.reduce when rsmReduce > 1).
-    lpv::RsmInput reducedRsm(rg::RenderGraph& graph, const lpv::RsmInput& rsm) const {
+    // A block merges into one surfel only within half of `finestCell`, the finest grid's cell:
+    // there it lands where its texels would.
+    lpv::RsmInput reducedRsm(rg::RenderGraph& graph, const lpv::RsmInput& rsm, float finestCell) const {
         if (m_settings.rsmReduce <= 1)
             return rsm;
-        return lpv::addRsmReducePass(graph, m_injector, rsm, m_settings.rsmReduce);
+        return lpv::addRsmReducePass(graph, m_injector, rsm, m_settings.rsmReduce, 0.5f * finestCell);
     }
 
     // No lit region or no light in the shadow atlas: nothing to inject, a black indirect image.

@@ -15,6 +15,9 @@ layout(push_constant) uniform PushBlock { LpvInjectPush pc; };
 layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_POSITION, rgba32f) uniform readonly image2DArray surfelPosition;
 layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_NORMAL, rgba16f) uniform readonly image2DArray surfelNormal;
 #define SURFEL_TEXEL(t) (t)
+// The full RSM behind a reduced one: blocks marked LPV_REDUCE_SPLIT add their texels one by one.
+layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_SOURCE_POSITION, rgba32f) uniform readonly image2DArray sourcePosition;
+layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_SOURCE_NORMAL, rgba16f) uniform readonly image2DArray sourceNormal;
 #else
 layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_POSITION, rgba32f) uniform readonly image2D surfelPosition;
 layout(set = 1, binding = LPV_GEOMETRY_VOLUME_BINDING_NORMAL, rgba16f) uniform readonly image2D surfelNormal;
@@ -41,6 +44,40 @@ vec3 edge(ivec3 t, ivec3 step, vec3 p, float cell) {
     return vec3(0.0);
 }
 
+#if SURFEL_ARRAY
+// edge() in the full RSM (texels per row and rows: pc.params.w).
+vec3 sourceEdge(ivec3 t, ivec3 step, vec3 p, float cell) {
+    int size = int(pc.params.w);
+    for (int side = 0; side < 2; ++side) {
+        ivec3 u = side == 0 ? t + step : t - step;
+        if (u.x < 0 || u.y < 0 || u.x >= size || u.y >= size)
+            continue;
+        vec4 q = imageLoad(sourcePosition, u);
+        vec3 e = q.xyz - p;
+        if (q.w > 0.0 && finite3(q.xyz) && dot(e, e) < cell * cell)
+            return e;
+    }
+    return vec3(0.0);
+}
+#endif
+
+// Adds the blocking potential of a surfel with unit normal n and edge vectors a, b.
+void addBlocker(vec3 position, vec3 n, vec3 a, vec3 b) {
+    float cell = pc.grid.origin.w;
+    float coverage = min(length(cross(a, b)) / (cell * cell), 1.0);
+    if (!(coverage > 0.0))
+        return;
+    ivec3 g = ivec3(round((position - pc.grid.origin.xyz) / cell));
+    ivec3 size = pc.grid.size.xyz + 1;
+    if (any(lessThan(g, ivec3(0))) || any(greaterThanEqual(g, size)))
+        return;
+    ivec4 q = ivec4(round(coverage * shCosineLobe(-n) * pc.params.x));
+    int base = LPV_INJECT_HEADER_INTS + 4 * (g.x + size.x * (g.y + size.y * (g.z + size.z * pc.rsm.z)));
+    for (int k = 0; k < 4; ++k)
+        if (q[k] != 0)
+            atomicAdd(sums.data[base + k], q[k]);
+}
+
 void main() {
     // Every `stride`-th texel per axis (pc.params.y; the camera G-buffer at high resolution): the
     // area estimate below then spans stride texels, so the summed coverage stays the same.
@@ -53,19 +90,27 @@ void main() {
     float nn = dot(n, n);
     if (position.w <= 0.0 || !finite3(position.xyz) || !(nn > 1e-12 && nn < 1e30))
         return;
-    n *= inversesqrt(nn);
     float cell = pc.grid.origin.w;
-    vec3 a = edge(t, ivec3(stride, 0, 0), position.xyz, cell), b = edge(t, ivec3(0, stride, 0), position.xyz, cell);
-    float coverage = min(length(cross(a, b)) / (cell * cell), 1.0);
-    if (!(coverage > 0.0))
+#if SURFEL_ARRAY
+    if (position.w >= LPV_REDUCE_SPLIT) {
+        int f = max(int(pc.params.z), 1);
+        for (int y = 0; y < f; ++y)
+            for (int x = 0; x < f; ++x) {
+                ivec3 u = ivec3(t.xy * f + ivec2(x, y), t.z);
+                if (u.x >= int(pc.params.w) || u.y >= int(pc.params.w))
+                    continue;
+                vec4 up = imageLoad(sourcePosition, u);
+                vec3 un = imageLoad(sourceNormal, u).xyz;
+                float unn = dot(un, un);
+                if (up.w <= 0.0 || !finite3(up.xyz) || !(unn > 1e-12 && unn < 1e30))
+                    continue;
+                addBlocker(up.xyz, un * inversesqrt(unn), sourceEdge(u, ivec3(1, 0, 0), up.xyz, cell),
+                           sourceEdge(u, ivec3(0, 1, 0), up.xyz, cell));
+            }
         return;
-    ivec3 g = ivec3(round((position.xyz - pc.grid.origin.xyz) / cell));
-    ivec3 size = pc.grid.size.xyz + 1;
-    if (any(lessThan(g, ivec3(0))) || any(greaterThanEqual(g, size)))
-        return;
-    ivec4 q = ivec4(round(coverage * shCosineLobe(-n) * pc.params.x));
-    int base = LPV_INJECT_HEADER_INTS + 4 * (g.x + size.x * (g.y + size.y * (g.z + size.z * pc.rsm.z)));
-    for (int k = 0; k < 4; ++k)
-        if (q[k] != 0)
-            atomicAdd(sums.data[base + k], q[k]);
+    }
+#endif
+    n *= inversesqrt(nn);
+    addBlocker(position.xyz, n, edge(t, ivec3(stride, 0, 0), position.xyz, cell),
+               edge(t, ivec3(0, stride, 0), position.xyz, cell));
 }

@@ -12,6 +12,9 @@ layout(set = 1, binding = LPV_INJECT_BINDING_POSITION, rgba32f) uniform readonly
 layout(set = 1, binding = LPV_INJECT_BINDING_NORMAL, rgba16f) uniform readonly image2DArray rsmNormal;
 layout(set = 1, binding = LPV_INJECT_BINDING_FLUX, rgba32f) uniform readonly image2DArray rsmFlux;
 layout(set = 1, binding = LPV_INJECT_BINDING_BUFFER, std430) buffer Injection { int data[]; } injection;
+layout(set = 1, binding = LPV_INJECT_BINDING_SOURCE_POSITION, rgba32f) uniform readonly image2DArray sourcePosition;
+layout(set = 1, binding = LPV_INJECT_BINDING_SOURCE_NORMAL, rgba16f) uniform readonly image2DArray sourceNormal;
+layout(set = 1, binding = LPV_INJECT_BINDING_SOURCE_FLUX, rgba32f) uniform readonly image2DArray sourceFlux;
 
 void flush(ivec3 cell, vec4 r, vec4 g, vec4 b) {
     ivec3 size = pc.grid.size.xyz;
@@ -25,6 +28,34 @@ void flush(ivec3 cell, vec4 r, vec4 g, vec4 b) {
                 atomicAdd(injection.data[base + 4 * c + k], q[c][k]);
 }
 
+// The run being summed: the cell it lands in and its SH per channel.
+ivec3 runCell = ivec3(-1);
+vec4 runR = vec4(0.0), runG = vec4(0.0), runB = vec4(0.0);
+
+// Adds one surfel (flux already divided by M) to the run, flushing the run when the cell changes.
+void addSurfel(vec3 p, vec3 n, vec3 flux) {
+    float nn = dot(n, n);
+    // Bad input (zero-length normal, NaN/Inf anywhere) is skipped rather than spread.
+    if (!(nn > 1e-12 && nn < 1e30) || !(abs(flux.r) + abs(flux.g) + abs(flux.b) < 1e30) ||
+        !(abs(p.x) + abs(p.y) + abs(p.z) < 1e30))
+        return;
+    // A reduced RSM's normal is a mean of unit normals (inject_reduce.comp): shorter than 1,
+    // and the lobe of that length is the exact sum of its texels' lobes. The cell offset uses
+    // the unit normal.
+    vec3 lobeNormal = n * min(inversesqrt(nn), 1.0);
+    n *= inversesqrt(nn);
+    ivec3 c = lpvInjectionCell(pc.grid, p, n);
+    if (c != runCell) {
+        flush(runCell, runR, runG, runB);
+        runCell = c;
+        runR = runG = runB = vec4(0.0);
+    }
+    vec4 lobe = shCosineLobe(lobeNormal) * (1.0 / kShPi);
+    runR += flux.r * lobe;
+    runG += flux.g * lobe;
+    runB += flux.b * lobe;
+}
+
 void main() {
     float m = uintBitsToFloat(uint(injection.data[0]));
     if (!(m > 0.0))
@@ -32,35 +63,24 @@ void main() {
     ivec3 start = ivec3(gl_GlobalInvocationID.x * LPV_INJECT_RUN, gl_GlobalInvocationID.yz);
     if (start.x >= pc.rsm.x || start.y >= pc.rsm.x || start.z >= pc.rsm.y)
         return;
-    ivec3 cell = ivec3(-1);
-    vec4 r = vec4(0.0), g = vec4(0.0), b = vec4(0.0);
     int end = min(start.x + LPV_INJECT_RUN, pc.rsm.x);
+    int f = max(pc.rsm.z, 1);
     for (ivec3 t = start; t.x < end; ++t.x) {
-        if (imageLoad(rsmPosition, t).w <= 0.0)
+        float w = imageLoad(rsmPosition, t).w;
+        if (w <= 0.0)
             continue;
-        vec3 p = imageLoad(rsmPosition, t).xyz;
-        vec3 n = imageLoad(rsmNormal, t).xyz;
-        vec3 flux = imageLoad(rsmFlux, t).rgb / m;
-        float nn = dot(n, n);
-        // Bad input (zero-length normal, NaN/Inf anywhere) is skipped rather than spread.
-        if (!(nn > 1e-12 && nn < 1e30) || !(abs(flux.r) + abs(flux.g) + abs(flux.b) < 1e30) ||
-            !(abs(p.x) + abs(p.y) + abs(p.z) < 1e30))
+        if (w < LPV_REDUCE_SPLIT) {
+            addSurfel(imageLoad(rsmPosition, t).xyz, imageLoad(rsmNormal, t).xyz, imageLoad(rsmFlux, t).rgb / m);
             continue;
-        // A reduced RSM's normal is a mean of unit normals (inject_reduce.comp): shorter than 1,
-        // and the lobe of that length is the exact sum of its texels' lobes. The cell offset uses
-        // the unit normal.
-        vec3 lobeNormal = n * min(inversesqrt(nn), 1.0);
-        n *= inversesqrt(nn);
-        ivec3 c = lpvInjectionCell(pc.grid, p, n);
-        if (c != cell) {
-            flush(cell, r, g, b);
-            cell = c;
-            r = g = b = vec4(0.0);
         }
-        vec4 lobe = shCosineLobe(lobeNormal) * (1.0 / kShPi);
-        r += flux.r * lobe;
-        g += flux.g * lobe;
-        b += flux.b * lobe;
+        for (int y = 0; y < f; ++y)
+            for (int x = 0; x < f; ++x) {
+                ivec3 u = ivec3(t.xy * f + ivec2(x, y), t.z);
+                if (u.x >= pc.rsm.w || u.y >= pc.rsm.w || imageLoad(sourcePosition, u).w <= 0.0)
+                    continue;
+                addSurfel(imageLoad(sourcePosition, u).xyz, imageLoad(sourceNormal, u).xyz,
+                          imageLoad(sourceFlux, u).rgb / m);
+            }
     }
-    flush(cell, r, g, b);
+    flush(runCell, runR, runG, runB);
 }

@@ -8,6 +8,13 @@
 // the same weights (inject.comp keeps normals shorter than 1 as they are). Weights are the sum of
 // the 3 flux channels; a block without flux weights its valid texels equally. w = 1 where the
 // block has a valid texel, 0 elsewhere. Bad texels are skipped as inject.comp skips them.
+//
+// A block is merged only where one surfel can stand for it: its valid texels within an RMS
+// distance of half pc.params.y (a quarter of the finest LPV cell) of their mean plane, and the
+// mean of their unit normals at least 1/2 long. A block across a depth discontinuity (a roof's edge over the ground beside a
+// wall) or a sharp corner would put its light where none of its texels are, e.g. inside the
+// building; such a block gets w = 2 and the injection and the geometry volume read its texels
+// one by one from the full RSM (LPV_REDUCE_SPLIT).
 #extension GL_GOOGLE_include_directive : require
 #include "gi/lpv_passes.h"
 
@@ -30,6 +37,9 @@ void main() {
     const int f = kFactor;
     float weight = 0.0, count = 0.0;
     vec3 flux = vec3(0.0), wp = vec3(0.0), wn = vec3(0.0), p = vec3(0.0), n = vec3(0.0);
+    // Second moments of the valid texels' positions about the first one (small numbers: no
+    // cancellation far from the origin), for their spread across the block's mean plane.
+    vec3 origin = vec3(0.0), d1 = vec3(0.0), d2 = vec3(0.0), dx = vec3(0.0); // dx: (xy, xz, yz)
     for (int y = 0; y < f; ++y)
         for (int x = 0; x < f; ++x) {
             ivec3 t = ivec3(o.xy * f + ivec2(x, y), o.z);
@@ -51,10 +61,35 @@ void main() {
             count += 1.0;
             p += tp.xyz;
             n += tn;
+            if (count == 1.0)
+                origin = tp.xyz;
+            vec3 d = tp.xyz - origin;
+            d1 += d;
+            d2 += d * d;
+            dx += vec3(d.x * d.y, d.x * d.z, d.y * d.z);
         }
     bool byFlux = weight > 0.0;
     float inv = byFlux ? 1.0 / weight : 1.0 / max(count, 1.0);
-    imageStore(outPosition, o, vec4((byFlux ? wp : p) * inv, count > 0.0 ? 1.0 : 0.0));
-    imageStore(outNormal, o, vec4((byFlux ? wn : n) * inv, 0.0));
+    vec3 mean = (byFlux ? wp : p) * inv;
+    vec3 meanNormal = (byFlux ? wn : n) * inv;
+    // Does the merged surfel stand for every texel? Its light is injected at the merged position,
+    // inside the texels' convex hull, so merging cannot carry light across a wall unless the
+    // texels lie on different levels: a roof's edge and the ground beside the building. Those
+    // spread across the block's mean plane: split when the RMS distance from it exceeds half the
+    // merge radius. A mean of unit normals shorter than 1/2 is a fold so sharp that the lobes
+    // mostly cancel and the offset along the mean normal points nowhere in particular.
+    float radius = pc.params.y;
+    bool split = false;
+    float nl = dot(n, n);
+    if (radius > 0.0 && count > 1.0) {
+        vec3 u = nl > 1e-12 ? n * inversesqrt(nl) : vec3(0.0);
+        vec3 m1 = d1 / count;
+        float second = dot(u * u, d2 / count) + 2.0 * dot(vec3(u.x * u.y, u.x * u.z, u.y * u.z), dx / count);
+        float variance = second - dot(u, m1) * dot(u, m1);
+        split = variance > 0.25 * radius * radius || nl < 0.25 * count * count;
+    }
+    float w = count > 0.0 ? (split ? LPV_REDUCE_SPLIT : 1.0) : 0.0;
+    imageStore(outPosition, o, vec4(mean, w));
+    imageStore(outNormal, o, vec4(meanNormal, 0.0));
     imageStore(outFlux, o, vec4(flux, 0.0));
 }

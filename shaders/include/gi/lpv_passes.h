@@ -25,6 +25,14 @@
 #define LPV_REDUCE_BINDING_POSITION 4 // reduced RSM written by inject_reduce.comp (same formats as the RSM)
 #define LPV_REDUCE_BINDING_NORMAL 5
 #define LPV_REDUCE_BINDING_FLUX 6
+// The full-resolution RSM behind a reduced one (inject.comp): the texels of blocks marked
+// LPV_REDUCE_SPLIT are injected one by one from it. Without reduction, the RSM itself.
+#define LPV_INJECT_BINDING_SOURCE_POSITION 7
+#define LPV_INJECT_BINDING_SOURCE_NORMAL 8
+#define LPV_INJECT_BINDING_SOURCE_FLUX 9
+// Position w of a reduced texel whose block one surfel cannot stand for (inject_reduce.comp):
+// its texels are read one by one from the full RSM.
+#define LPV_REDUCE_SPLIT 2.0
 // Specialization constant id of inject_reduce.comp: the reduction factor per axis (2 or 4).
 #define LPV_REDUCE_SPEC_FACTOR 0
 
@@ -59,6 +67,8 @@
 #define LPV_GEOMETRY_VOLUME_BINDING_NORMAL 1   // surfel normals
 #define LPV_GEOMETRY_VOLUME_BINDING_SUMS 2     // fixed-point sums: header, then 2 slots (RSM, camera) of (N+1)^3 x 4 ints
 #define LPV_GEOMETRY_VOLUME_BINDING_OUTPUT 3   // geometry volume (RGBA16F, (N+1)^3)
+#define LPV_GEOMETRY_VOLUME_BINDING_SOURCE_POSITION 4 // gv_inject_rsm.comp: the full RSM behind a reduced one
+#define LPV_GEOMETRY_VOLUME_BINDING_SOURCE_NORMAL 5
 // Fixed-point scale of the geometry volume sums: a surfel adds at most 1.0233 per coefficient
 // (full coverage), so 2^16 keeps 1.5e-5 resolution and room for 32768 full-coverage surfels per cell.
 #define LPV_GEOMETRY_VOLUME_FIXED_SCALE 65536.0
@@ -80,7 +90,10 @@ GI_CHECK_SIZE(LpvGrid, 32);
 GI_GPU_STRUCT(LpvInjectPush) {
     LpvGrid grid;
     ivec4 rsm;    // x: texels per row, y: layers, z: GV source slot (0 RSM, 1 camera), w: rows
-    vec4 params;  // x: fixed-point scale (ints per unit of normalised SH or of blocking potential)
+                  // (inject.comp: z = reduction factor F >= 1, w = the full RSM's texels per row)
+    vec4 params;  // x: fixed-point scale (ints per unit of normalised SH or of blocking potential);
+                  // y: inject_reduce.comp's merge radius (world units), the GV's camera stride;
+                  // z, w: gv_inject_rsm.comp's reduction factor F and the full RSM's texels per row
 };
 GI_CHECK_SIZE(LpvInjectPush, 64);
 
