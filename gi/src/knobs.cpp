@@ -117,7 +117,7 @@ std::vector<Knob> makeKnobs() {
         enumKnob("vpl.visibility", {"off", "on", "auto"}, vpl,
                  "VPL light stopped by a voxel grid's occupancy (off = none, as in the paper; auto = on with a "
                  "directional light)",
-                 [](GiSettings& s) -> VplVisibility& { return s.vpl.visibility; }),
+                 [](GiSettings& s) -> VplVisibilityMode& { return s.vpl.visibility; }),
         uintKnob("vpl.visibility_grid", 16, 256, vpl,
                  "voxels per axis of the visibility (and bounce) grid, a power of two",
                  [](GiSettings& s) -> uint32_t& { return s.vpl.visibilityGrid; }),

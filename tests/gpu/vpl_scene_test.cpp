@@ -400,7 +400,7 @@ TEST_F(VplScene, DirectionalLightVplsSampleItsWindowWithExactFlux) {
     Scene scene = test::planeScene(0.5f, sun);
     VplSettings v;
     v.vplCount = 1024;
-    v.visibility = VplVisibility::Off; // one generation, the window's VPLs alone
+    v.visibility = VplVisibilityMode::Off; // one generation, the window's VPLs alone
     v.bounces = 1;
     auto sys = makeSystem(v);
     ASSERT_TRUE(sys && sys->setScene(scene));
@@ -437,7 +437,7 @@ TEST_F(VplScene, FocusedSunVplsGatherAroundTheCameraAndStayUnbiased) {
     VplSettings v;
     v.vplCount = 1024;
     v.focusRadius = 1.5f;
-    v.visibility = VplVisibility::Off;
+    v.visibility = VplVisibilityMode::Off;
     v.bounces = 1;
     auto sys = makeSystem(v);
     ASSERT_TRUE(sys && sys->setScene(scene));

@@ -119,7 +119,7 @@ protected:
         for (bool visibility : {false, true}) {
             GiSettings settings;
             settings.technique = Technique::Vpl;
-            settings.vpl.visibility = visibility ? VplVisibility::On : VplVisibility::Off;
+            settings.vpl.visibility = visibility ? VplVisibilityMode::On : VplVisibilityMode::Off;
             settings.vpl.bounces = 1; // the one bounce the matched reference has
             settings.vpl.visibilityGrid = grid;
             FrameRequest request;

@@ -159,7 +159,7 @@ TEST(VplSampling, SettingsValidation) {
     s.negativeVplCount = kMaxNegativeVpls;
     s.lowResFactor = 4;
     s.interleave = kMaxVplInterleave;
-    s.visibility = VplVisibility::On;
+    s.visibility = VplVisibilityMode::On;
     s.visibilityGrid = 256;
     s.bounces = kMaxVplBounces;
     EXPECT_TRUE(validateVplSettings(s));
@@ -174,18 +174,18 @@ TEST(VplSampling, SettingsValidation) {
 // in; explicit values are kept.
 TEST(VplSampling, AutomaticSettingsFollowTheDirectionalLight) {
     const VplSettings automatic;
-    EXPECT_EQ(automatic.visibility, VplVisibility::Auto);
+    EXPECT_EQ(automatic.visibility, VplVisibilityMode::Auto);
     EXPECT_EQ(automatic.bounces, 0u);
     VplSettings sun = resolveVplSettings(automatic, true), lamp = resolveVplSettings(automatic, false);
-    EXPECT_EQ(sun.visibility, VplVisibility::On);
+    EXPECT_EQ(sun.visibility, VplVisibilityMode::On);
     EXPECT_EQ(sun.bounces, 2u);
-    EXPECT_EQ(lamp.visibility, VplVisibility::Off);
+    EXPECT_EQ(lamp.visibility, VplVisibilityMode::Off);
     EXPECT_EQ(lamp.bounces, 1u);
     VplSettings fixed;
-    fixed.visibility = VplVisibility::Off;
+    fixed.visibility = VplVisibilityMode::Off;
     fixed.bounces = 3;
     EXPECT_EQ(resolveVplSettings(fixed, true), fixed);
-    fixed.visibility = VplVisibility::On;
+    fixed.visibility = VplVisibilityMode::On;
     fixed.bounces = 0;
     EXPECT_EQ(resolveVplSettings(fixed, false).bounces, 2u);
 }

@@ -35,7 +35,7 @@ constexpr uint32_t kMaxVplBounces = 4;
 constexpr uint32_t kMaxHaltonSearch = 1u << 22;
 
 // Visibility between VPLs and receivers (VplSettings::visibility).
-enum class VplVisibility : uint32_t {
+enum class VplVisibilityMode : uint32_t {
     Off,  // none, as in the paper
     On,   // each VPL's light marched through the voxel grid's occupancy
     Auto, // On when the scene has a directional light, else Off (resolveVplSettings)
@@ -76,7 +76,7 @@ struct VplSettings {
     // (docs/vpl.md). Auto by default: on where a directional light shines in, whose light
     // reaches interiors through openings and whose VPLs otherwise light them through the walls
     // (resolveVplSettings; the measurements behind it in docs/vpl.md, "Defaults").
-    VplVisibility visibility = VplVisibility::Auto;
+    VplVisibilityMode visibility = VplVisibilityMode::Auto;
     uint32_t visibilityGrid = 64; // voxels per axis, a power of two 16..256 (also the bounces' grid)
     // Indirect bounces the VPLs model, 1..kMaxVplBounces (instant radiosity, Keller 1997): 1 is
     // the paper's one bounce; each further one traces one ray per VPL of the last generation,

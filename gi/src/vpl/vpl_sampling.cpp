@@ -34,7 +34,7 @@ Result<void> validateVplSettings(const VplSettings& s) {
     if (s.bounces > kMaxVplBounces)
         return bad("bounces " + std::to_string(s.bounces) + " is outside 0.." + std::to_string(kMaxVplBounces) +
                    " (0 = automatic)");
-    if (uint32_t(s.visibility) > uint32_t(VplVisibility::Auto))
+    if (uint32_t(s.visibility) > uint32_t(VplVisibilityMode::Auto))
         return bad("visibility " + std::to_string(uint32_t(s.visibility)) + " is not off, on or auto");
     if (!std::isfinite(s.interleaveTolerance) || s.interleaveTolerance <= 0.0f || s.interleaveTolerance > 1.0f)
         return bad("interleaveTolerance " + std::to_string(s.interleaveTolerance) + " must be in (0, 1]");
@@ -72,10 +72,10 @@ std::vector<glm::vec3> windowSamplePoints(uint32_t count) {
 
 VplSettings resolveVplSettings(const VplSettings& s, bool directionalLight) {
     VplSettings r = s;
-    if (r.visibility == VplVisibility::Auto)
-        r.visibility = directionalLight ? VplVisibility::On : VplVisibility::Off;
+    if (r.visibility == VplVisibilityMode::Auto)
+        r.visibility = directionalLight ? VplVisibilityMode::On : VplVisibilityMode::Off;
     if (r.bounces == 0)
-        r.bounces = r.visibility == VplVisibility::On ? 2 : 1;
+        r.bounces = r.visibility == VplVisibilityMode::On ? 2 : 1;
     return r;
 }
 

@@ -72,7 +72,7 @@ Result<void> checkInputs(const VplInputs& in, const VplSettings& settings) {
     if (in.spots.size() > kMaxVplLights)
         return makeError("VplTechnique: " + std::to_string(in.spots.size()) + " lights exceed the maximum " +
                          std::to_string(kMaxVplLights));
-    if (settings.visibility == VplVisibility::On && (!in.occupancy.valid() || in.occupancyResolution == 0 || !(in.occupancyOriginSize.w > 0.0f)))
+    if (settings.visibility == VplVisibilityMode::On && (!in.occupancy.valid() || in.occupancyResolution == 0 || !(in.occupancyOriginSize.w > 0.0f)))
         return makeError("VplTechnique: visibility is on but the inputs carry no occupancy volume");
     if (settings.bounces > 1 && (!in.occupancy.valid() || !in.faces.valid() || in.occupancyResolution == 0 ||
                                  !(in.occupancyOriginSize.w > 0.0f)))
@@ -169,8 +169,8 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
     push.params = glm::vec4(settings.clampDistance * settings.clampDistance, settings.refineThreshold, settings.interleaveTolerance,
                             settings.negativeVplCount > 0 ? 1.0f : 0.0f);
     push.interleave = glm::uvec4(settings.interleave, sources, settings.vplCount,
-                                 settings.visibility == VplVisibility::On ? in.occupancyResolution : 0u);
-    push.grid = settings.visibility == VplVisibility::On ? in.occupancyOriginSize : glm::vec4(0.0f);
+                                 settings.visibility == VplVisibilityMode::On ? in.occupancyResolution : 0u);
+    push.grid = settings.visibility == VplVisibilityMode::On ? in.occupancyOriginSize : glm::vec4(0.0f);
     return push;
 }
 

@@ -97,7 +97,7 @@ public:
         m_resolved = resolveVplSettings(m_settings, directional);
         // The grid exists only while visibility or bounces need it (leave out what a scene does
         // not need).
-        if (m_resolved.visibility == VplVisibility::On || m_resolved.bounces > 1)
+        if (m_resolved.visibility == VplVisibilityMode::On || m_resolved.bounces > 1)
             return m_voxels.sceneChanged(ctx, gpu, uploaded, m_resolved.visibilityGrid);
         m_voxels.reset(); // a new scene that needs no grid keeps none
         return {};
@@ -126,7 +126,7 @@ public:
             in.occupancyOriginSize = grid.params.originSize;
             in.occupancyResolution = grid.params.dims.x;
         } else {
-            settings.visibility = VplVisibility::Off; // no geometry, no grid: nothing can occlude
+            settings.visibility = VplVisibilityMode::Off; // no geometry, no grid: nothing can occlude
             settings.bounces = 1;        // nor reflect a bounced ray
         }
         auto out = m_technique->addPasses(graph, in, settings);
