@@ -146,8 +146,9 @@ GI_GPU_STRUCT(VplPixelPush) {
                       // VPL's footprint radius, flux.w), y refine threshold, z interleave filter's plane tolerance
                       // (fraction of the distance to the camera), w 1 when the filter passes must
                       // also filter the travel directions (negative VPLs read them), else 0
-    uvec4 interleave; // x tile side n (1 = every pixel gathers every VPL), y lights, z VPLs per light,
-                      // w voxels per axis of the visibility grid (0 without visibility)
+    uvec4 interleave; // x tile side n (1 = every pixel gathers every VPL), y sources of the subset
+                      // layout (lights x VPL generations), z VPLs per source, w voxels per axis of
+                      // the visibility grid (0 without visibility)
     vec4 grid;        // visibility: xyz the voxel grid's min corner (world), w voxel edge (m)
 };
 GI_CHECK_SIZE(VplPixelPush, 96);
