@@ -161,7 +161,7 @@ int main(int argc, char** argv) {
             }
             // The bounce count each technique models, but at least one indirect bounce: then "none" shows
             // the error of having no GI, and the techniques share one reference and one Pareto front.
-            int bounces = gi::modelledBounces(s);
+            int bounces = gi::modelledBounces(s, scene);
             bounces = bounces < 0 ? -1 : std::max(bounces, 2);
             auto matched = reference(bounces);
             auto all = matched ? reference(-1) : matched;

@@ -52,7 +52,9 @@ std::vector<std::string> sweepFor(const std::string& technique, bool quick) {
         for (const char* t : {"vpl.interleave=3", "vpl.negative=100", "vpl.negative=200", "vpl.lowres=2",
                               "vpl.lowres=2 vpl.interleave=1", "vpl.lowres=4 vpl.interleave=1",
                               "vpl.lowres=2 vpl.interleave=1 vpl.threshold=0.05", "vpl.interleave_tolerance=0.05",
-                              "vpl.visibility=on", "vpl.visibility=on vpl.visibility_grid=32"})
+                              "vpl.visibility=off vpl.bounces=1", "vpl.visibility=on vpl.bounces=1",
+                              "vpl.visibility=on vpl.visibility_grid=32", "vpl.visibility=off vpl.bounces=2",
+                              "vpl.visibility=on vpl.bounces=2", "vpl.visibility=on vpl.bounces=3"})
             s.push_back(std::string("vpl.count=256 ") + t);
     }
     if (quick && s.size() > 1)

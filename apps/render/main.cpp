@@ -241,7 +241,7 @@ int main(int argc, char** argv) {
     auto settings = giSettings(o, *technique);
     if (!settings)
         return fail(2, settings.error().message);
-    int bounces = o.bounces.value_or(pathTraced ? -1 : gi::modelledBounces(*settings));
+    int bounces = o.bounces.value_or(pathTraced ? -1 : gi::modelledBounces(*settings, &*scene));
 
     if (pathTraced && !(o.glossyOutputs.empty() && o.aoOutputs.empty()))
         return fail(2, std::string(o.glossyOutputs.empty() ? "--out-ao" : "--out-glossy") +

@@ -1,4 +1,5 @@
 // Technique names and module construction: the one place a new technique registers itself.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -17,7 +18,8 @@ struct TechniqueName {
     int bounces; // reflections the technique models before its bounce knobs (see modelledBounces)
 };
 // vct: direct light plus VctSettings::bounces voxel bounces (added in modelledBounces); lpv: one
-// indirect bounce, plus one when LpvSettings::bounces reflects at the voxel grid.
+// indirect bounce, plus one when LpvSettings::bounces reflects at the voxel grid; vpl: one
+// indirect bounce per VPL generation (VplSettings::bounces).
 constexpr std::array kTechniques = {TechniqueName{Technique::None, "none", 1}, TechniqueName{Technique::Lpv, "lpv", 2},
                                     TechniqueName{Technique::Vpl, "vpl", 2}, TechniqueName{Technique::Vct, "vct", 1}};
 } // namespace
@@ -29,13 +31,19 @@ const char* toString(Technique technique) {
     return "unknown";
 }
 
-int modelledBounces(const GiSettings& settings) {
+int modelledBounces(const GiSettings& settings, const Scene* scene) {
     for (const TechniqueName& t : kTechniques) {
         if (t.technique != settings.technique)
             continue;
         switch (settings.technique) {
         case Technique::Vct: return t.bounces + int(settings.vct.bounces);
         case Technique::Lpv: return t.bounces + (settings.lpv.bounces ? 1 : 0);
+        case Technique::Vpl: {
+            const bool directional =
+                scene && std::any_of(scene->lights.begin(), scene->lights.end(),
+                                     [](const Light& l) { return l.type == LightType::Directional; });
+            return t.bounces + int(resolveVplSettings(settings.vpl, directional).bounces) - 1;
+        }
         default: return t.bounces;
         }
     }

@@ -400,6 +400,8 @@ TEST_F(VplScene, DirectionalLightVplsSampleItsWindowWithExactFlux) {
     Scene scene = test::planeScene(0.5f, sun);
     VplSettings v;
     v.vplCount = 1024;
+    v.visibility = VplVisibilityMode::Off; // one generation, the window's VPLs alone
+    v.bounces = 1;
     auto sys = makeSystem(v);
     ASSERT_TRUE(sys && sys->setScene(scene));
     std::vector<gpu::VplRecord> vpls = vplRecords(*sys, *scene.camera);
@@ -435,6 +437,8 @@ TEST_F(VplScene, FocusedSunVplsGatherAroundTheCameraAndStayUnbiased) {
     VplSettings v;
     v.vplCount = 1024;
     v.focusRadius = 1.5f;
+    v.visibility = VplVisibilityMode::Off;
+    v.bounces = 1;
     auto sys = makeSystem(v);
     ASSERT_TRUE(sys && sys->setScene(scene));
     std::vector<gpu::VplRecord> vpls = vplRecords(*sys, *scene.camera);

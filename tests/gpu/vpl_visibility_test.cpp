@@ -119,7 +119,8 @@ protected:
         for (bool visibility : {false, true}) {
             GiSettings settings;
             settings.technique = Technique::Vpl;
-            settings.vpl.visibility = visibility;
+            settings.vpl.visibility = visibility ? VplVisibilityMode::On : VplVisibilityMode::Off;
+            settings.vpl.bounces = 1; // the one bounce the matched reference has
             settings.vpl.visibilityGrid = grid;
             FrameRequest request;
             request.direct = true;

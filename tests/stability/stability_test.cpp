@@ -346,7 +346,7 @@ TEST_F(Stability, LightWithoutGeometryRendersBlack) {
             if (visibility && t != Technique::Vpl)
                 continue;
             GiSettings s = smallSettings(t);
-            s.vpl.visibility = visibility;
+            s.vpl.visibility = visibility ? VplVisibilityMode::On : VplVisibilityMode::Off;
             const std::string what = std::string(toString(t)) + (visibility ? " + visibility" : "");
             auto f = render(s, lit);
             ASSERT_TRUE(f) << what << ": " << f.error().message;

@@ -159,9 +159,52 @@ TEST(VplSampling, SettingsValidation) {
     s.negativeVplCount = kMaxNegativeVpls;
     s.lowResFactor = 4;
     s.interleave = kMaxVplInterleave;
-    s.visibility = true;
+    s.visibility = VplVisibilityMode::On;
     s.visibilityGrid = 256;
+    s.bounces = kMaxVplBounces;
     EXPECT_TRUE(validateVplSettings(s));
+    s = {};
+    s.bounces = kMaxVplBounces + 1;
+    r = validateVplSettings(s);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("bounces 5"), std::string::npos) << r.error().message;
+}
+
+// The automatic rule: visibility (and with it a second bounce) where a directional light shines
+// in; explicit values are kept.
+TEST(VplSampling, AutomaticSettingsFollowTheDirectionalLight) {
+    const VplSettings automatic;
+    EXPECT_EQ(automatic.visibility, VplVisibilityMode::Auto);
+    EXPECT_EQ(automatic.bounces, 0u);
+    VplSettings sun = resolveVplSettings(automatic, true), lamp = resolveVplSettings(automatic, false);
+    EXPECT_EQ(sun.visibility, VplVisibilityMode::On);
+    EXPECT_EQ(sun.bounces, 2u);
+    EXPECT_EQ(lamp.visibility, VplVisibilityMode::Off);
+    EXPECT_EQ(lamp.bounces, 1u);
+    VplSettings fixed;
+    fixed.visibility = VplVisibilityMode::Off;
+    fixed.bounces = 3;
+    EXPECT_EQ(resolveVplSettings(fixed, true), fixed);
+    fixed.visibility = VplVisibilityMode::On;
+    fixed.bounces = 0;
+    EXPECT_EQ(resolveVplSettings(fixed, false).bounces, 2u);
+}
+
+// Halton cosine-lobe bounce directions: unit, in the upper hemisphere, mean cosine 2/3 (the
+// cosine-weighted mean of cos), different from one generation to the next.
+TEST(VplSampling, BounceDirectionsAreCosineDistributed) {
+    for (uint32_t g : {1u, 2u, 3u}) {
+        const std::vector<glm::vec3> d = bounceSampleDirections(1024, g);
+        ASSERT_EQ(d.size(), 1024u);
+        double meanCos = 0.0;
+        for (const glm::vec3& v : d) {
+            EXPECT_NEAR(glm::length(v), 1.0f, 1e-5f);
+            EXPECT_GE(v.z, 0.0f);
+            meanCos += v.z;
+        }
+        EXPECT_NEAR(meanCos / 1024.0, 2.0 / 3.0, 0.01) << g;
+    }
+    EXPECT_NE(bounceSampleDirections(4, 1)[1], bounceSampleDirections(4, 2)[1]);
 }
 
 namespace {

@@ -27,9 +27,19 @@ constexpr uint32_t kMaxNegativeVpls = 4096;
 constexpr uint32_t kMaxVplLights = 8;
 // Largest interleave tile side: the filter reads (2n - 1)^2 neighbours (mirrors GI_VPL_MAX_INTERLEAVE).
 constexpr uint32_t kMaxVplInterleave = 4;
+// Most VPL generations (VplSettings::bounces): each costs one more gather of N VPLs per light,
+// and the fourth bounce already carries rho^3 of the first's light.
+constexpr uint32_t kMaxVplBounces = 4;
 // Halton indices searched for the points of one cone before giving up: 2^22 bounds the CPU
 // search and still serves 4096 VPLs in a cone of half-angle >= ~3.6 degrees.
 constexpr uint32_t kMaxHaltonSearch = 1u << 22;
+
+// Visibility between VPLs and receivers (VplSettings::visibility).
+enum class VplVisibilityMode : uint32_t {
+    Off,  // none, as in the paper
+    On,   // each VPL's light marched through the voxel grid's occupancy
+    Auto, // On when the scene has a directional light, else Off (resolveVplSettings)
+};
 
 // The knobs of the VPL technique (what vkgi-bench sweeps).
 struct VplSettings {
@@ -62,16 +72,32 @@ struct VplSettings {
     float interleaveTolerance = 0.02f;
     // Visibility between VPLs and receivers: each VPL's light is marched through the occupancy
     // of a voxel grid of visibilityGrid^3 fitted to the scene (the grid VCT and LPV share,
-    // built only when this is on), so light does not pass through walls (docs/vpl.md). Off as
-    // in the paper.
-    bool visibility = false;
-    uint32_t visibilityGrid = 64; // voxels per axis, a power of two 16..256
+    // built only when this or bounces need it), so light does not pass through walls
+    // (docs/vpl.md). Auto by default: on where a directional light shines in, whose light
+    // reaches interiors through openings and whose VPLs otherwise light them through the walls
+    // (resolveVplSettings; the measurements behind it in docs/vpl.md, "Defaults").
+    VplVisibilityMode visibility = VplVisibilityMode::Auto;
+    uint32_t visibilityGrid = 64; // voxels per axis, a power of two 16..256 (also the bounces' grid)
+    // Indirect bounces the VPLs model, 1..kMaxVplBounces (instant radiosity, Keller 1997): 1 is
+    // the paper's one bounce; each further one traces one ray per VPL of the last generation,
+    // cosine-distributed about its normal, through the voxel grid's occupancy to the first
+    // occupied voxel, where a VPL of the next generation sits with the parent's flux times the
+    // albedo there (docs/vpl.md, "Multi-bounce VPLs"). The grid is the visibility one
+    // (visibilityGrid), built when either needs it. 0 = automatic: 2 where visibility is on
+    // (the grid exists anyway and the bounced light then no longer leaks), else 1
+    // (resolveVplSettings).
+    uint32_t bounces = 0;
 
     bool operator==(const VplSettings&) const = default;
 };
 
 // Checks every knob; the error names the knob, its value and the allowed range.
 Result<void> validateVplSettings(const VplSettings& settings);
+
+// The automatic settings made explicit for a scene with (`directionalLight`) or without a
+// directional light: visibility Auto becomes On with one, Off without; bounces 0 becomes 2
+// when visibility is then On, else 1. Explicit values are kept.
+VplSettings resolveVplSettings(const VplSettings& settings, bool directionalLight);
 
 // The `count` first Halton points (bases 2 and 3, index 1, 2, ...) on the unit sphere whose
 // angle to +Z is within the cone of cosine `cosOuter`, in order: exactly the paper's
@@ -105,6 +131,11 @@ struct VplSpot {
 // as (x, y, 0): where a directional light's VPLs sample its orthographic RSM window.
 std::vector<glm::vec3> windowSamplePoints(uint32_t count);
 
+// The `count` first Halton points (index 1, 2, ...) of generation `generation` >= 1's bounce
+// bases (5, 7; then 11, 13; then 17, 19) mapped to the cosine-weighted hemisphere about +Z
+// (pdf cos / pi): the local directions of one generation's bounce rays.
+std::vector<glm::vec3> bounceSampleDirections(uint32_t count, uint32_t generation);
+
 // What the VPL passes read. Image layouts as documented in vkgi/frame_data.hpp.
 struct VplInputs {
     rg::ImageHandle gPosition; // RGBA32F world position, w = 1 where geometry was drawn
@@ -121,6 +152,7 @@ struct VplInputs {
     // With VplSettings::visibility: the voxel grid's albedo volume (RGBA8 3D, a = occupancy,
     // gi/voxel_grid.h), its min corner and voxel edge, and its voxels per axis.
     rg::ImageHandle occupancy;
+    rg::ImageHandle faces; // with VplSettings::bounces > 1: the grid's faces volume (R32UI, voxelFacesPack)
     glm::vec4 occupancyOriginSize{0.0f};
     uint32_t occupancyResolution = 0;
 };
@@ -128,7 +160,8 @@ struct VplInputs {
 struct VplOutputs {
     rg::ImageHandle indirect;     // RGBA32F indirect radiance (nits) at the G-buffer size
     rg::BufferHandle vpls;        // VplRecord per positive VPL, in the interleaved subset order
-                                  // (gi/vpl.h); spot after spot when interleave = 1
+                                  // (gi/vpl.h; with bounces > 1 each light's generations are
+                                  // sources of their own); spot after spot when interleave = 1
     rg::BufferHandle negativeVpls; // VplRecord per negative VPL (invalid when off)
     rg::BufferHandle refineList;  // gi/vpl_refine_list.h (invalid when lowResFactor = interleave = 1)
     uint32_t vplCount = 0;        // records in `vpls`
@@ -144,7 +177,8 @@ public:
     VplTechnique(const VplTechnique&) = delete;
     VplTechnique& operator=(const VplTechnique&) = delete;
 
-    // Adds the VPL passes (upload, generate, gather, [negative VPLs], [upsample + refine]).
+    // Adds the VPL passes (upload, generate, [bounces], gather, [negative VPLs], [upsample +
+    // refine]). Automatic settings are resolved here for `inputs.spots` (resolveVplSettings).
     // Without spots it adds one pass that clears `indirect` (GiSystem does not call it then: a
     // scene with no light gets no VPL pass at all). Errors: bad settings, too many spots, a cone
     // too narrow for the requested VPL count.

@@ -1,4 +1,5 @@
 // CPU side of the VPL placement: the Halton directions inside a spot cone and the spot frame.
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -30,6 +31,11 @@ Result<void> validateVplSettings(const VplSettings& s) {
                    std::to_string(kMaxVplInterleave));
     if (s.visibilityGrid < 16 || s.visibilityGrid > 256 || (s.visibilityGrid & (s.visibilityGrid - 1)) != 0)
         return bad("visibilityGrid " + std::to_string(s.visibilityGrid) + " must be a power of two in 16..256");
+    if (s.bounces > kMaxVplBounces)
+        return bad("bounces " + std::to_string(s.bounces) + " is outside 0.." + std::to_string(kMaxVplBounces) +
+                   " (0 = automatic)");
+    if (uint32_t(s.visibility) > uint32_t(VplVisibilityMode::Auto))
+        return bad("visibility " + std::to_string(uint32_t(s.visibility)) + " is not off, on or auto");
     if (!std::isfinite(s.interleaveTolerance) || s.interleaveTolerance <= 0.0f || s.interleaveTolerance > 1.0f)
         return bad("interleaveTolerance " + std::to_string(s.interleaveTolerance) + " must be in (0, 1]");
     return {};
@@ -62,6 +68,31 @@ std::vector<glm::vec3> windowSamplePoints(uint32_t count) {
         points.emplace_back(2.0f * gpu::vplRadicalInverse(i, 2u) - 1.0f, 2.0f * gpu::vplRadicalInverse(i, 3u) - 1.0f,
                             0.0f);
     return points;
+}
+
+VplSettings resolveVplSettings(const VplSettings& s, bool directionalLight) {
+    VplSettings r = s;
+    if (r.visibility == VplVisibilityMode::Auto)
+        r.visibility = directionalLight ? VplVisibilityMode::On : VplVisibilityMode::Off;
+    if (r.bounces == 0)
+        r.bounces = r.visibility == VplVisibilityMode::On ? 2 : 1;
+    return r;
+}
+
+std::vector<glm::vec3> bounceSampleDirections(uint32_t count, uint32_t generation) {
+    // Primes the placement (2, 3) does not use, a new pair per generation: a VPL's bounce
+    // direction must not repeat the pattern of where it sits.
+    static constexpr uint32_t kBases[][2] = {{5, 7}, {11, 13}, {17, 19}};
+    const uint32_t* bases = kBases[std::min<uint32_t>(std::max<uint32_t>(generation, 1u), 3u) - 1u];
+    std::vector<glm::vec3> dirs;
+    dirs.reserve(count);
+    for (uint32_t i = 1; i <= count; ++i) {
+        // Malley: uniform points of the unit disc lifted to the hemisphere have pdf cos / pi.
+        const float u = gpu::vplRadicalInverse(i, bases[0]), v = gpu::vplRadicalInverse(i, bases[1]);
+        const float r = std::sqrt(u), phi = 6.28318530718f * v;
+        dirs.emplace_back(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - u)));
+    }
+    return dirs;
 }
 
 glm::mat3 spotFrame(const glm::vec3& direction) {

@@ -72,8 +72,12 @@ Result<void> checkInputs(const VplInputs& in, const VplSettings& settings) {
     if (in.spots.size() > kMaxVplLights)
         return makeError("VplTechnique: " + std::to_string(in.spots.size()) + " lights exceed the maximum " +
                          std::to_string(kMaxVplLights));
-    if (settings.visibility && (!in.occupancy.valid() || in.occupancyResolution == 0 || !(in.occupancyOriginSize.w > 0.0f)))
+    if (settings.visibility == VplVisibilityMode::On && (!in.occupancy.valid() || in.occupancyResolution == 0 || !(in.occupancyOriginSize.w > 0.0f)))
         return makeError("VplTechnique: visibility is on but the inputs carry no occupancy volume");
+    if (settings.bounces > 1 && (!in.occupancy.valid() || !in.faces.valid() || in.occupancyResolution == 0 ||
+                                 !(in.occupancyOriginSize.w > 0.0f)))
+        return makeError("VplTechnique: bounces " + std::to_string(settings.bounces) +
+                         " need the voxel grid's albedo and faces volumes, which the inputs do not carry");
     for (const VplSpot& spot : in.spots) {
         if (spot.layerCount != 1 && spot.layerCount != 6)
             return makeError("VplTechnique: a light's RSM layer count must be 1 or 6, got " +
@@ -153,9 +157,9 @@ glm::uvec3 interleavedGrid(uint32_t width, uint32_t height, uint32_t n) {
     return {axis(width), axis(height), 1};
 }
 
-// Push constants shared by the per-pixel passes.
-gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, uint32_t lightCount) {
-    const uint32_t vplCount = lightCount * settings.vplCount;
+// Push constants shared by the per-pixel passes. `sources` = lights x generations (gi/vpl.h).
+gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, uint32_t sources) {
+    const uint32_t vplCount = sources * settings.vplCount;
     const uint32_t factor = settings.lowResFactor;
     const uint32_t lowResWidth = (in.width + factor - 1) / factor, lowResHeight = (in.height + factor - 1) / factor;
     gpu::VplPixelPush push{};
@@ -164,9 +168,9 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
     push.camera = glm::vec4(in.camera.position, 0.0f);
     push.params = glm::vec4(settings.clampDistance * settings.clampDistance, settings.refineThreshold, settings.interleaveTolerance,
                             settings.negativeVplCount > 0 ? 1.0f : 0.0f);
-    push.interleave = glm::uvec4(settings.interleave, lightCount, settings.vplCount,
-                                 settings.visibility ? in.occupancyResolution : 0u);
-    push.grid = settings.visibility ? in.occupancyOriginSize : glm::vec4(0.0f);
+    push.interleave = glm::uvec4(settings.interleave, sources, settings.vplCount,
+                                 settings.visibility == VplVisibilityMode::On ? in.occupancyResolution : 0u);
+    push.grid = settings.visibility == VplVisibilityMode::On ? in.occupancyOriginSize : glm::vec4(0.0f);
     return push;
 }
 
@@ -174,7 +178,7 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
 
 struct VplTechnique::Impl {
     Context& ctx;
-    Pipeline generate, gather, gatherVisible, interleaveRows, interleaveColumns, negativeGenerate, negativeGather, upsample, refine,
+    Pipeline generate, bounce, gather, gatherVisible, interleaveRows, interleaveColumns, negativeGenerate, negativeGather, upsample, refine,
         refineVisible;
     VkSampler pointSampler = VK_NULL_HANDLE; // texelFetch-only, but sampled bindings need one
     // Halton directions per (count, cosOuter bits): the CPU search is the only costly CPU step.
@@ -187,6 +191,9 @@ struct VplTechnique::Impl {
 
     rg::BufferHandle addGeneratePass(rg::RenderGraph& graph, const VplInputs& in, const LightTableHandles& tables,
                                      uint32_t lightCount, uint32_t vplCount);
+    void addBouncePasses(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& settings,
+                         const LightTableHandles& tables, uint32_t lightCount, uint32_t vplCount,
+                         rg::BufferHandle& vpls);
     GatherImages addGatherPass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
                                const gpu::VplPixelPush& push, const char* indirectName);
     GatherImages addInterleaveFilterPasses(rg::RenderGraph& graph, const VplInputs& in,
@@ -223,6 +230,7 @@ Result<const std::vector<glm::vec3>*> VplTechnique::Impl::directions(uint32_t co
 Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& spots, const VplSettings& settings,
                                                     const Camera& camera) {
     const uint32_t vplCount = settings.vplCount, interleave = settings.interleave;
+    const uint32_t lightCount = uint32_t(spots.size());
     LightTables tables;
     std::vector<std::vector<glm::vec3>> samples; // per light, in Halton order
     for (uint32_t l = 0; l < spots.size(); ++l) {
@@ -254,8 +262,15 @@ Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& 
         }
         tables.lights.push_back(light);
     }
-    // Subset-major order (gi/vpl.h): subset s holds each light's block of Halton samples
-    // [s N / n^2, (s + 1) N / n^2). With interleave 1 this is light after light.
+    // Each bounced generation g >= 1 is L more sources g L + l, whose entries hold the local
+    // cosine-lobe directions of the rays their parents trace (vpl_bounce.comp).
+    for (uint32_t g = 1; g < settings.bounces; ++g) {
+        std::vector<glm::vec3> rays = bounceSampleDirections(vplCount, g);
+        for (uint32_t l = 0; l < lightCount; ++l)
+            samples.push_back(rays);
+    }
+    // Subset-major order (gi/vpl.h): subset s holds each source's block of Halton samples
+    // [s N / n^2, (s + 1) N / n^2). With interleave 1 this is source after source.
     const uint32_t subsets = interleave * interleave;
     for (uint32_t s = 0; s < subsets; ++s)
         for (uint32_t l = 0; l < samples.size(); ++l)
@@ -282,6 +297,27 @@ rg::BufferHandle VplTechnique::Impl::addGeneratePass(rg::RenderGraph& graph, con
         .overwrite(VPL_GENERATE_BINDING_VPLS, vpls)
         .dispatch({vplCount, 1, 1});
     return vpls;
+}
+
+// One pass per bounced generation: each VPL of generation g - 1 traces its ray and writes its
+// child of generation g (vpl_bounce.comp); the graph orders them and derives the barriers.
+void VplTechnique::Impl::addBouncePasses(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& settings,
+                                         const LightTableHandles& tables, uint32_t lightCount, uint32_t vplCount,
+                                         rg::BufferHandle& vpls) {
+    for (uint32_t g = 1; g < settings.bounces; ++g) {
+        gpu::VplBouncePush push{};
+        push.info = glm::uvec4(vplCount, lightCount, g, settings.interleave);
+        push.grid = glm::uvec4(settings.vplCount, in.occupancyResolution, lightCount * settings.bounces, 0);
+        push.origin = in.occupancyOriginSize;
+        const std::string name = "vpl.bounce[" + std::to_string(g) + "]";
+        rg::ComputePass(graph, name.c_str(), bounce)
+            .push(push)
+            .read(VPL_BOUNCE_BINDING_DIRECTIONS, tables.directions)
+            .sample(VPL_BOUNCE_BINDING_ALBEDO, in.occupancy, pointSampler)
+            .read(VPL_BOUNCE_BINDING_FACES, in.faces)
+            .write(VPL_BOUNCE_BINDING_VPLS, vpls)
+            .dispatch({vplCount, 1, 1});
+    }
 }
 
 GatherImages VplTechnique::Impl::addGatherPass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
@@ -419,7 +455,7 @@ VplTechnique::VplTechnique(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
 
 VplTechnique::~VplTechnique() {
     Context& ctx = m->ctx;
-    for (Pipeline* p : {&m->generate, &m->gather, &m->interleaveRows, &m->interleaveColumns, &m->negativeGenerate,
+    for (Pipeline* p : {&m->generate, &m->bounce, &m->gather, &m->interleaveRows, &m->interleaveColumns, &m->negativeGenerate,
                         &m->negativeGather, &m->upsample, &m->refine, &m->gatherVisible, &m->refineVisible})
         destroyPipeline(ctx, *p);
     if (m->pointSampler)
@@ -432,6 +468,7 @@ Result<std::unique_ptr<VplTechnique>> VplTechnique::create(Context& ctx) {
     Impl& m = *technique->m;
     const std::pair<Pipeline*, const char*> shaders[] = {
         {&m.generate, "gi/vpl/vpl_generate.comp"},
+        {&m.bounce, "gi/vpl/vpl_bounce.comp"},
         {&m.gather, "gi/vpl/vpl_gather.comp"},
         {&m.interleaveRows, "gi/vpl/vpl_interleave_rows.comp"},
         {&m.interleaveColumns, "gi/vpl/vpl_interleave_columns.comp"},
@@ -455,7 +492,12 @@ Result<std::unique_ptr<VplTechnique>> VplTechnique::create(Context& ctx) {
     return technique;
 }
 
-Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& settings) {
+Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& requested) {
+    if (auto ok = validateVplSettings(requested); !ok)
+        return ok.error();
+    const bool directional =
+        std::any_of(in.spots.begin(), in.spots.end(), [](const VplSpot& spot) { return spot.directional; });
+    const VplSettings settings = resolveVplSettings(requested, directional);
     if (auto ok = checkInputs(in, settings); !ok)
         return ok.error();
     if (in.spots.empty())
@@ -469,12 +511,14 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
     out.vplCount = uint32_t(tables->directions.size());
     const LightTableHandles uploaded = addUploadPass(graph, std::move(tables.value()));
     out.vpls = m->addGeneratePass(graph, in, uploaded, lightCount, out.vplCount);
+    if (settings.bounces > 1)
+        m->addBouncePasses(graph, in, settings, uploaded, lightCount, out.vplCount, out.vpls);
 
     // Each step's image carries the output's name when it is the last to create one.
     const bool lowRes = settings.lowResFactor > 1;
     const bool negative = settings.negativeVplCount > 0;
     const bool interleaved = settings.interleave > 1;
-    const gpu::VplPixelPush push = pixelPush(in, settings, lightCount);
+    const gpu::VplPixelPush push = pixelPush(in, settings, lightCount * settings.bounces);
     // Pixels gathered again with every VPL: the upsample's discontinuities (low resolution) or
     // the pixels the interleave filter could not give every subset (full resolution).
     if (lowRes || interleaved)

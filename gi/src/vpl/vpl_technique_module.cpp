@@ -72,7 +72,7 @@ VplInputs vplInputs(const TechniqueInputs& inputs, const RsmData& rsm) {
 class VplTechniqueModule final : public TechniqueModule {
 public:
     VplTechniqueModule(std::unique_ptr<VplTechnique> technique, const VplSettings& settings)
-        : m_technique(std::move(technique)), m_settings(settings) {}
+        : m_technique(std::move(technique)), m_settings(settings), m_resolved(resolveVplSettings(settings, false)) {}
 
     // Without a light there is nothing to bounce: the light passes then leave the RSM out.
     bool needsRsm() const override { return m_lights > 0; }
@@ -92,8 +92,14 @@ public:
             return makeError("scene '" + scene.name + "': " + std::to_string(lights) +
                              " lights exceed the VPL technique's maximum of " + std::to_string(kMaxVplLights));
         m_lights = lights;
-        if (m_settings.visibility)
-            return m_voxels.sceneChanged(ctx, gpu, uploaded, m_settings.visibilityGrid);
+        const bool directional = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                             [](const Light& l) { return l.type == LightType::Directional; });
+        m_resolved = resolveVplSettings(m_settings, directional);
+        // The grid exists only while visibility or bounces need it (leave out what a scene does
+        // not need).
+        if (m_resolved.visibility == VplVisibilityMode::On || m_resolved.bounces > 1)
+            return m_voxels.sceneChanged(ctx, gpu, uploaded, m_resolved.visibilityGrid);
+        m_voxels.reset(); // a new scene that needs no grid keeps none
         return {};
     }
 
@@ -112,14 +118,16 @@ public:
                                       "no light has shadow-atlas layers (past maxShadowLayers)");
             return {};
         }
-        VplSettings settings = m_settings;
+        VplSettings settings = m_resolved;
         if (m_voxels.exists()) {
             VoxelGridData grid = m_voxels.addPasses(graph, inputs.scene, inputs.selection.changes);
             in.occupancy = grid.albedo;
+            in.faces = grid.faces;
             in.occupancyOriginSize = grid.params.originSize;
             in.occupancyResolution = grid.params.dims.x;
         } else {
-            settings.visibility = false; // no geometry, no grid: nothing can occlude
+            settings.visibility = VplVisibilityMode::Off; // no geometry, no grid: nothing can occlude
+            settings.bounces = 1;        // nor reflect a bounced ray
         }
         auto out = m_technique->addPasses(graph, in, settings);
         VKGI_ASSERT(out.ok(), "VplTechniqueModule::addPasses: inputs were validated in sceneChanged");
@@ -129,9 +137,10 @@ public:
 
 private:
     std::unique_ptr<VplTechnique> m_technique;
-    VplSettings m_settings;
+    VplSettings m_settings; // as requested (automatic values unresolved)
+    VplSettings m_resolved; // resolved for the current scene (resolveVplSettings)
     uint32_t m_lights = 0; // lights of the current scene
-    SceneVoxelGrid m_voxels; // the visibility grid (vpl.visibility on)
+    SceneVoxelGrid m_voxels; // the visibility and bounce grid (vpl.visibility on or vpl.bounces > 1)
 };
 
 } // namespace

@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // One thread per VPL: a light's Halton direction (local frame, precomputed on the CPU, with the
-// light's index in w; the table is in the interleaved subset order of gi/vpl.h)
+// light's index in w; the table is in the interleaved subset order of gi/vpl.h; slots of bounced
+// generations, source index >= the light count, are left empty for vpl_bounce.comp)
 // is turned into world space, projected into the light's RSM layer, and the surface found there
 // becomes the VPL: position on that surface's plane along the exact Halton ray (so it moves
 // continuously with the light), its normal, and the flux of the solid angle it stands for,
@@ -38,7 +39,13 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.info.y)
         return;
-    VplLight light = lights[uint(directions[i].w)];
+    uint source = uint(directions[i].w);
+    if (source >= pc.info.x) {
+        // A bounced generation's slot (vpl.bounces > 1): vpl_bounce.comp writes it.
+        vpls[i] = VplRecord(vec4(0.0), vec4(0.0, 0.0, 1.0, 0.0), vec4(0.0));
+        return;
+    }
+    VplLight light = lights[source];
     vec3 local = directions[i].xyz;
     uint layer = light.info.z;
     GpuShadowView view = shadowViews[layer];

@@ -87,6 +87,12 @@
 #define VPL_REFINE_BINDING_REFINE_LIST 5   // refine list (gi/vpl_refine_list.h), also the dispatch's command
 #define VPL_REFINE_BINDING_INDIRECT 6      // output: the upsampled indirect radiance, refined pixels rewritten
 #define VPL_REFINE_BINDING_OCCUPANCY 7     // vpl_refine_visible.comp only: the voxel grid's albedo volume
+// vpl_bounce.comp: one more diffuse bounce, each VPL of generation g - 1 tracing one ray through
+// the voxel grid to where a VPL of generation g sits (instant radiosity, Keller 1997).
+#define VPL_BOUNCE_BINDING_DIRECTIONS 0 // the generation table: xyz local cosine-lobe direction, w source index
+#define VPL_BOUNCE_BINDING_ALBEDO 1     // the voxel grid's albedo volume (rgb albedo, a = occupancy, gi/voxel_grid.h)
+#define VPL_BOUNCE_BINDING_FACES 2      // the voxel grid's faces volume (R32UI, voxelFacesPack)
+#define VPL_BOUNCE_BINDING_VPLS 3       // VplRecord buffer: reads generation g - 1, writes generation g
 
 // Refine list (layout in gi/vpl_refine_list.h): a uint count and the refine pass's indirect
 // dispatch command, then one packed pixel (x | y << 16) per entry.
@@ -140,11 +146,20 @@ GI_GPU_STRUCT(VplPixelPush) {
                       // VPL's footprint radius, flux.w), y refine threshold, z interleave filter's plane tolerance
                       // (fraction of the distance to the camera), w 1 when the filter passes must
                       // also filter the travel directions (negative VPLs read them), else 0
-    uvec4 interleave; // x tile side n (1 = every pixel gathers every VPL), y lights, z VPLs per light,
-                      // w voxels per axis of the visibility grid (0 without visibility)
+    uvec4 interleave; // x tile side n (1 = every pixel gathers every VPL), y sources of the subset
+                      // layout (lights x VPL generations), z VPLs per source, w voxels per axis of
+                      // the visibility grid (0 without visibility)
     vec4 grid;        // visibility: xyz the voxel grid's min corner (world), w voxel edge (m)
 };
 GI_CHECK_SIZE(VplPixelPush, 96);
+
+// Push constants of vpl_bounce.comp.
+GI_GPU_STRUCT(VplBouncePush) {
+    uvec4 info;  // x total records, y lights, z the generation written (1 = first bounced one), w interleave n
+    uvec4 grid;  // x VPLs per light and generation (N), y voxels per axis, z sources (lights x generations), w 0
+    vec4 origin; // xyz the voxel grid's min corner (world), w voxel edge (m)
+};
+GI_CHECK_SIZE(VplBouncePush, 48);
 
 // Interleaved sampling (Keller & Heidrich; Segovia et al.): pixel (x, y) of the gather image
 // gathers subset s = (y mod n) n + (x mod n) of the n^2 subsets. The VPL buffer is laid out
@@ -154,6 +169,23 @@ GI_CHECK_SIZE(VplPixelPush, 96);
 // subset s (s = n^2 gives the total).
 GI_INLINE uint vplSubsetStart(uint s, uint n, uint lights, uint perLight) {
     return lights * ((s * perLight) / (n * n));
+}
+
+// Multi-bounce VPLs (VplSettings::bounces = B): generation g of light l (g = 0 the VPLs the RSM
+// gives, g >= 1 those one more bounce away) is "source" g L + l of the subset layout above, with
+// L lights and L B sources of N records each. Each subset then holds the same Halton run of every
+// source, so a subset still estimates the full sum, bounce by bounce. Record i's parent (the VPL
+// of generation g - 1 whose ray placed it) is the record of the same subset and Halton index one
+// generation back, `lights` blocks earlier; this returns it, or ~0u for generation 0.
+GI_INLINE uint vplParentRecord(uint i, uint n, uint lights, uint sources, uint perSource) {
+    uint s = 0u;
+    while (s + 1u < n * n && vplSubsetStart(s + 1u, n, sources, perSource) <= i)
+        s += 1u;
+    uint first = vplSubsetStart(s, n, sources, perSource);
+    uint block = (vplSubsetStart(s + 1u, n, sources, perSource) - first) / sources; // records per source here
+    if (block == 0u || (i - first) / block < lights)
+        return ~0u;
+    return i - lights * block;
 }
 
 // Radical inverse of `i` in `base`: the i-th element of the van der Corput sequence, the
