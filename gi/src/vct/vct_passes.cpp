@@ -15,10 +15,6 @@ using rg::Access;
 
 namespace {
 
-// The filter's tangent-plane tolerance, a fraction of the distance to the camera: the VPL
-// reconstruction's default (VplSettings::interleaveTolerance).
-constexpr float kVctFilterTolerance = 0.02f;
-
 // Adds one pass per level k >= 1 of the directional volume, built from level k - 1, up to the
 // tail, and one for the tail's levels ("prefix[t-L]"); returns the newest version. Level 1 is
 // written at the listed occupied blocks only and keeps the zeros elsewhere (gi.vct.list.clear /
@@ -363,6 +359,9 @@ rg::ImageHandle addClipmapCopyPass(rg::RenderGraph& graph, rg::ImageHandle direc
 
 rg::ImageHandle addVctFilterPasses(rg::RenderGraph& graph, const Pipeline& pipeline, const VctGBufferHandles& g,
                                    rg::ImageHandle light, rg::ImageHandle glossy, uint32_t f, uint32_t side) {
+    // The tangent-plane tolerance, a fraction of the distance to the camera: the VPL
+    // reconstruction's default (VplSettings::interleaveTolerance).
+    constexpr float kVctFilterTolerance = 0.02f;
     const uint32_t w = (g.width + f - 1) / f, h = (g.height + f - 1) / f;
     gpu::VctFilterPush push{glm::vec4(g.eye, kVctFilterTolerance), glm::uvec4(w, h, f, side),
                             glm::uvec4(0u, 0u, g.width, g.height)};
