@@ -44,7 +44,8 @@ std::vector<std::string> sweepFor(const std::string& technique, bool quick) {
         s.push_back("lpv.grid=16 lpv.iterations=16 lpv.bounces=on");
     } else if (technique == "vct") {
         s = product("vct.grid", {"32", "64", "128"}, "vct.cones", {"4", "6", "16"});
-        for (const char* t : {"vct.step=0.5", "vct.step=2", "vct.bounces=1", "vct.lowres=1", "vct.lowres=2"})
+        for (const char* t :
+             {"vct.step=0.5", "vct.step=2", "vct.bounces=1", "vct.lowres=1", "vct.lowres=2", "vct.filter=1"})
             s.push_back(std::string("vct.grid=64 vct.cones=6 ") + t);
     } else if (technique == "vpl") {
         // The count at every interleave tile side, then the other knobs beside the defaults.

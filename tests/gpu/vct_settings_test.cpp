@@ -1,6 +1,7 @@
 // VctSettings validation and grid fitting (CPU only; lives with the VCT tests).
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -43,6 +44,11 @@ TEST(VctSettings, BadValuesAreReadableErrors) {
     s = {};
     s.lowResFactor = 3;
     expectError(s, "lowResFactor 3");
+    s = {};
+    s.filter = 0;
+    expectError(s, "filter 0");
+    s.filter = kVctMaxFilter + 1;
+    expectError(s, ("filter " + std::to_string(kVctMaxFilter + 1)).c_str());
     s = {};
     s.refineThreshold = std::numeric_limits<float>::quiet_NaN();
     expectError(s, "refineThreshold");

@@ -38,6 +38,12 @@ struct VctSettings {
     // 2 within 1% (docs/vct.md) for fewer traced pixels.
     uint32_t lowResFactor = 4;
     float refineThreshold = 0.1f;
+    // Side n of the geometry-aware tent (the VPL reconstruction's, docs/vct.md "Filter") over the
+    // full-resolution incoming diffuse light, before the albedo: offsets |d| < n pixels along rows
+    // and columns, cut where the pixel's surface ends. 1 = off, at most kVctMaxFilter. Smooths
+    // the blotches the coarse voxels leave on curved surfaces; the default is the bench's choice
+    // (docs/vct.md).
+    uint32_t filter = 4;
     bool glossy = true;          // glossy cone whose aperture follows the roughness
     bool ambientOcclusion = true;
     float aoDistance = 0.0f;     // Villegas' AO decay distance in metres; 0 = 1/8 of the grid
@@ -67,6 +73,9 @@ struct VctSettings {
 // Span (metres) of the finest clipmap level when VctSettings::voxel is 0: a room around the
 // camera, so that the finest voxels are about those of a 64^3 grid fitted to a 16 m hall.
 inline constexpr float kVctAutoFinestSpan = 8.0f;
+// Largest VctSettings::filter side: each pass reads 2n - 1 texels per pixel, and a tent 15
+// pixels wide already spans several voxels at the bench's sizes.
+inline constexpr uint32_t kVctMaxFilter = 8;
 // Most clipmap levels (VctSettings::levels).
 inline constexpr uint32_t kVctMaxLevels = 8;
 // The clipmap the automatic setting (levels = 0) picks: the bench's choice (docs/vct.md).

@@ -357,6 +357,37 @@ rg::ImageHandle addClipmapCopyPass(rg::RenderGraph& graph, rg::ImageHandle direc
     return clipmap;
 }
 
+rg::ImageHandle addVctFilterPasses(rg::RenderGraph& graph, const Pipeline& pipeline, const VctGBufferHandles& g,
+                                   rg::ImageHandle light, rg::ImageHandle glossy, uint32_t f, uint32_t side) {
+    // The tangent-plane tolerance, a fraction of the distance to the camera: the VPL
+    // reconstruction's default (VplSettings::interleaveTolerance).
+    constexpr float kVctFilterTolerance = 0.02f;
+    const uint32_t w = (g.width + f - 1) / f, h = (g.height + f - 1) / f;
+    gpu::VctFilterPush push{glm::vec4(g.eye, kVctFilterTolerance), glm::uvec4(w, h, f, side),
+                            glm::uvec4(0u, 0u, g.width, g.height)};
+    ImageDesc desc;
+    desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+    desc.width = w;
+    desc.height = h;
+    auto pass = [&](const char* name, rg::ImageHandle input, const char* outputName) {
+        rg::ImageHandle output = graph.createImage(outputName, desc);
+        rg::ComputePass(graph, name, pipeline)
+            .push(push)
+            .read(VCT_FILTER_BINDING_POSITION, g.position)
+            .read(VCT_FILTER_BINDING_NORMAL, g.normal)
+            .read(VCT_FILTER_BINDING_ALBEDO, g.albedo)
+            .read(VCT_FILTER_BINDING_INPUT, input)
+            .read(VCT_FILTER_BINDING_GLOSSY, glossy)
+            .overwrite(VCT_FILTER_BINDING_OUTPUT, output)
+            .dispatch({w, h, 1u});
+        return output;
+    };
+    rg::ImageHandle rows = pass("gi.vct.filter.rows", light, "gi.vct.filter.rows");
+    push.info.x = 1u;
+    push.info.y = f == 1 ? 1u : 0u;
+    return pass("gi.vct.filter.columns", rows, f == 1 ? "gi.vct.indirect" : "gi.vct.incoming.filtered");
+}
+
 VctOutputs addVctClipmapTracePasses(rg::RenderGraph& graph, const VctVolumes& level0, const VctClipmapHandles& clip,
                                     const VctSettings& settings, const VctGBufferHandles& gbuffer, bool glossyImage) {
     VctOutputs out;
@@ -376,6 +407,9 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, Vct
     if (glossyImage)
         cones.info.y |= GI_VCT_FLAG_GLOSSY_IMAGE;
     const uint32_t f = settings.lowResFactor;
+    const bool filter = settings.filter > 1;
+    if (filter) // the trace, upsample and refine write the incoming light; the filter applies the albedo
+        cones.info.y |= GI_VCT_FLAG_INCOMING;
     gpu::VctTracePush push{volumes.grid().params(), cones, glm::vec4(g.eye, settings.refineThreshold),
                            glm::uvec4(f, (g.width + f - 1) / f, (g.height + f - 1) / f, g.width * g.height)};
     push.cones.info.z = g.width;
@@ -388,7 +422,8 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, Vct
         return d;
     };
     ImageDesc lowDesc = image(push.lowRes.y, push.lowRes.z);
-    rg::ImageHandle indirect = graph.createImage(f == 1 ? "gi.vct.indirect" : "gi.vct.indirect.low", lowDesc);
+    const char* traceName = f > 1 ? "gi.vct.indirect.low" : (filter ? "gi.vct.incoming" : "gi.vct.indirect");
+    rg::ImageHandle indirect = graph.createImage(traceName, lowDesc);
     rg::ImageHandle glossy = graph.createImage(f == 1 ? "gi.vct.glossy" : "gi.vct.glossy.low", lowDesc);
     // The refine list of the upsample and refine, whose header the trace zeroes (at f = 1 the
     // header alone, unused: one shader for both).
@@ -409,13 +444,14 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, Vct
         trace.read(VCT_TRACE_BINDING_CLIPMAP, clip->params);
     trace.dispatch({push.lowRes.y, push.lowRes.z, 1u});
     if (f == 1) {
-        out.indirect = indirect;
+        out.indirect = filter ? addVctFilterPasses(graph, p.filter, g, indirect, glossy, 1u, settings.filter)
+                              : indirect;
         out.glossy = glossy;
         return out;
     }
     // Low-res: upsample + refine list, then the listed pixels at full resolution.
     ImageDesc fullDesc = image(g.width, g.height);
-    out.indirect = graph.createImage("gi.vct.indirect", fullDesc);
+    out.indirect = graph.createImage(filter ? "gi.vct.incoming" : "gi.vct.indirect", fullDesc);
     out.glossy = graph.createImage("gi.vct.glossy", fullDesc);
     // 4x4 pixel blocks from -f / 2 on (vctRefineBlockOrigin in vct_refine.glsl).
     auto blocks = [shift = f / 2u](uint32_t size) { return (size + shift + 3u) / 4u; };
@@ -443,6 +479,8 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, Vct
     if (clip)
         refine.read(VCT_TRACE_BINDING_CLIPMAP, clip->params);
     refine.dispatchIndirect(refineList, sizeof(uint32_t));
+    if (filter) // at full resolution, so that the refined pixels are filtered too
+        out.indirect = addVctFilterPasses(graph, p.filter, g, out.indirect, out.glossy, 1u, settings.filter);
     return out;
 }
 

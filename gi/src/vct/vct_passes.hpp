@@ -56,6 +56,14 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                         uint32_t lightCount, const VctSettings& settings, const VctGBufferHandles* gbuffer,
                         VctPassOptions options = {});
 
+// "gi.vct.filter.rows", "gi.vct.filter.columns" (vct_filter.comp, docs/vct.md "Filter"): the
+// geometry-aware tent of side `side` (VctSettings::filter > 1) over `light`, the trace's incoming
+// diffuse light (a = AO) at 1/f of the G-buffer's resolution. Returns the filtered incoming light
+// at f > 1 (the upsample applies the albedo); at f = 1 the indirect radiance, the albedo and
+// metallic applied with the unfiltered incoming glossy light `glossy`.
+rg::ImageHandle addVctFilterPasses(rg::RenderGraph& graph, const Pipeline& pipeline, const VctGBufferHandles& g,
+                                   rg::ImageHandle light, rg::ImageHandle glossy, uint32_t f, uint32_t side);
+
 // The clipmap (VctSettings::levels > 1, vct_passes.h): the levels' directional volumes stacked
 // in one volume, and its parameters.
 struct VctClipmapHandles {

@@ -29,6 +29,9 @@ Result<void> validateVctSettings(const VctSettings& s) {
         return makeError("vct: stepFactor must be finite and in (0, 4]");
     if (s.lowResFactor != 1 && s.lowResFactor != 2 && s.lowResFactor != 4)
         return makeError("vct: lowResFactor " + std::to_string(s.lowResFactor) + " must be 1, 2 or 4");
+    if (s.filter < 1 || s.filter > kVctMaxFilter)
+        return makeError("vct: filter " + std::to_string(s.filter) + " must be in [1, " +
+                         std::to_string(kVctMaxFilter) + "] (1 = off)");
     if (!std::isfinite(s.refineThreshold) || s.refineThreshold < 0.0f)
         return makeError("vct: refineThreshold must be finite and >= 0");
     if (s.bounces < 1 || s.bounces > 2)

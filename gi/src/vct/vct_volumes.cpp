@@ -48,6 +48,7 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
                    {&v->m_pipelines.trace, "gi/vct/vct_trace.comp"},
                    {&v->m_pipelines.traceRefine, "gi/vct/vct_trace_refine.comp"},
                    {&v->m_pipelines.upsample, "gi/vct/vct_upsample.comp"},
+                   {&v->m_pipelines.filter, "gi/vct/vct_filter.comp"},
                    {&v->m_pipelines.softShadow, "gi/vct/vct_soft_shadow.comp"},
                    {&v->m_pipelines.traceClip, "gi/vct/vct_trace_clip.comp"},
                    {&v->m_pipelines.traceRefineClip, "gi/vct/vct_trace_refine_clip.comp"}};
@@ -112,8 +113,8 @@ VctVolumes::~VctVolumes() {
     Pipelines& p = m_pipelines;
     for (Pipeline* pipeline : {&p.compact, &p.listAppend, &p.listStale, &p.light, &p.lightSoft, &p.lightShadowMap,
                                &p.mip, &p.mipList, &p.mipListJobs, &p.mipTail, &p.bounce, &p.bounceMisfits,
-                               &p.bounceApply, &p.trace, &p.traceRefine, &p.upsample, &p.softShadow, &p.traceClip,
-                               &p.traceRefineClip})
+                               &p.bounceApply, &p.trace, &p.traceRefine, &p.upsample, &p.filter, &p.softShadow,
+                               &p.traceClip, &p.traceRefineClip})
         destroyPipeline(m_ctx, *pipeline);
     destroyImage(m_ctx, m_directional.image);
     for (VkSampler sampler : {m_sampler, m_occupancySampler})

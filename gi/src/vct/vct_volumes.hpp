@@ -72,6 +72,7 @@ public:
         Pipeline trace;          // vct_trace.comp: per-pixel cones (every f-th pixel)
         Pipeline traceRefine;    // vct_trace_refine.comp: the refine list's pixels at full resolution
         Pipeline upsample;       // vct_upsample.comp: low resolution -> full, refine list appended
+        Pipeline filter;         // vct_filter.comp: one axis of the incoming diffuse light's tent
         Pipeline softShadow;     // vct_soft_shadow.comp: direct light with cone-traced visibility
         Pipeline traceClip;      // vct_trace_clip.comp: the trace through the clipmap (levels > 1)
         Pipeline traceRefineClip; // vct_trace_refine_clip.comp: the refine through the clipmap

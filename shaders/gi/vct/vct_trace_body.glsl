@@ -44,7 +44,9 @@ layout(set = 1, binding = VCT_TRACE_BINDING_REFINE_LIST, std430) writeonly buffe
 
 void main() {
     ivec2 full = ivec2(pc.cones.info.zw);
-    bool glossyImage = (pc.cones.info.y & GI_VCT_FLAG_GLOSSY_IMAGE) != 0u;
+    bool incoming = (pc.cones.info.y & GI_VCT_FLAG_INCOMING) != 0u;
+    // The filter's column pass reads the glossy light too.
+    bool glossyImage = (pc.cones.info.y & GI_VCT_FLAG_GLOSSY_IMAGE) != 0u || incoming;
 #ifdef GI_VCT_REFINE
     if (gl_GlobalInvocationID.x >= min(refineCount, pc.lowRes.w))
         return;
@@ -102,15 +104,16 @@ void main() {
     vec3 indirect = am.rgb * mix(diffuse, glossy, metallic) * pc.grid.scales.z;
     float ao = (pc.cones.info.y & GI_VCT_FLAG_AO) != 0u ? 1.0 - occlusion : 1.0;
 #ifndef GI_VCT_REFINE
-    if (pc.lowRes.x > 1u) {
+    if (pc.lowRes.x > 1u || incoming) {
         // Low resolution: the incoming light without the sample's albedo and metallic, which the
-        // upsample applies per full-resolution pixel (a checkered floor stays sharp).
+        // upsample applies per full-resolution pixel (a checkered floor stays sharp); with the
+        // filter, its column pass applies them (vct_filter.comp).
         imageStore(outIndirect, dst, vec4(diffuse * pc.grid.scales.z, ao));
         imageStore(outGlossy, dst, vec4(glossy * pc.grid.scales.z, 1.0));
         return;
     }
 #endif
-    imageStore(outIndirect, dst, vec4(indirect, ao));
+    imageStore(outIndirect, dst, incoming ? vec4(diffuse * pc.grid.scales.z, ao) : vec4(indirect, ao));
     if (glossyImage)
         imageStore(outGlossy, dst, vec4(glossy * pc.grid.scales.z, 1.0));
 #ifdef GI_VCT_REFINE
@@ -123,7 +126,8 @@ void main() {
         serves &= serves - 1u;
         ivec2 q = base + ivec2(k & 3, k >> 2);
         vec4 aq = imageLoad(gAlbedo, q);
-        vec3 iq = aq.rgb * mix(diffuse, glossy, clamp(aq.w, 0.0, 1.0)) * pc.grid.scales.z;
+        vec3 iq = incoming ? diffuse * pc.grid.scales.z
+                           : aq.rgb * mix(diffuse, glossy, clamp(aq.w, 0.0, 1.0)) * pc.grid.scales.z;
         imageStore(outIndirect, q, vec4(iq, ao));
         if (glossyImage)
             imageStore(outGlossy, q, vec4(glossy * pc.grid.scales.z, 1.0));

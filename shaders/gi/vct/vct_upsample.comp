@@ -42,8 +42,11 @@ layout(set = 1, binding = VCT_UPSAMPLE_BINDING_REFINE_LIST, std430) buffer Refin
 const int kSlots = 6;
 
 // The indirect radiance (a = AO) of pixel px from the incoming diffuse light `d` (a = AO) and
-// glossy light `g` the low-res trace stored: the pixel's own albedo and metallic applied.
+// glossy light `g` the low-res trace stored: the pixel's own albedo and metallic applied. With
+// the filter (GI_VCT_FLAG_INCOMING) the incoming diffuse light itself: vct_filter.comp applies them.
 vec4 radianceAt(ivec2 px, vec4 d, vec4 g) {
+    if ((pc.cones.info.y & GI_VCT_FLAG_INCOMING) != 0u)
+        return d;
     vec4 albedo = imageLoad(gAlbedo, px);
     return vec4(albedo.rgb * mix(d.rgb, g.rgb, clamp(albedo.w, 0.0, 1.0)), d.a);
 }
@@ -95,7 +98,8 @@ void main() {
     ivec2 block = ivec2(gl_WorkGroupID.xy) * 8 +
                   ivec2((lane & 3u) | ((lane >> 1u) & 4u), ((lane >> 2u) & 1u) | ((lane >> 3u) & 6u));
     ivec2 base = vctRefineBlockOrigin(block, f);
-    bool glossyImage = (pc.cones.info.y & GI_VCT_FLAG_GLOSSY_IMAGE) != 0u;
+    // The filter's column pass reads the glossy light too.
+    bool glossyImage = (pc.cones.info.y & (GI_VCT_FLAG_GLOSSY_IMAGE | GI_VCT_FLAG_INCOMING)) != 0u;
     if (any(greaterThanEqual(base, full)))
         return;
     // The block's first kSlots traced pixels: position, normal, index in the block, pixels

@@ -109,6 +109,8 @@ GI_GPU_STRUCT(ConeParams) {
 #define GI_VCT_FLAG_GLOSSY 1u
 #define GI_VCT_FLAG_AO 2u
 #define GI_VCT_FLAG_GLOSSY_IMAGE 4u // the glossy images are written (FrameRequest::glossy)
+// The trace writes the incoming light (no albedo) at f = 1 too: vct_filter.comp applies it.
+#define GI_VCT_FLAG_INCOMING 8u
 
 // Second bounce (voxel_bounce*.comp, docs/vct.md "Second bounce"): one diffuse gather per
 // (occupied block of bounceBlockSide()^3 voxels, normal class), a class being one of the 26 directions of a cube's faces,
@@ -178,6 +180,15 @@ GI_GPU_STRUCT(VctTracePush) {
     uvec4 lowRes; // x factor f, y, z low-res width, height, w refine-list capacity (pixels)
 };
 GI_CHECK_SIZE(VctTracePush, 112);
+
+// vct_filter.comp: one axis of the geometry-aware tent (gi/surface_filter.h) over the trace's
+// incoming diffuse light (a = AO) at the trace's resolution (docs/vct.md "Filter").
+GI_GPU_STRUCT(VctFilterPush) {
+    vec4 eye;   // xyz camera position (world), w tangent-plane tolerance (fraction of the depth)
+    uvec4 size; // x, y trace-image width, height; z factor f; w tent side n
+    uvec4 info; // x axis (0 rows, 1 columns); y 1: apply albedo and metallic (f = 1, columns); z, w full-res size
+};
+GI_CHECK_SIZE(VctFilterPush, 48);
 
 // vct_soft_shadow.comp: direct light of the punctual lights over the G-buffer with cone-traced
 // visibility (cones.cone.w = tan(shadow half-angle)) instead of the shadow atlas.
@@ -276,6 +287,12 @@ GI_CHECK_SIZE(VctClipmapParams, 144);
 #define VCT_UPSAMPLE_BINDING_GLOSSY 5      // out: full-resolution glossy
 #define VCT_UPSAMPLE_BINDING_REFINE_LIST 6 // the refine list (pixels appended)
 #define VCT_UPSAMPLE_BINDING_ALBEDO 7      // G-buffer albedo (w = metallic)
+#define VCT_FILTER_BINDING_POSITION 0      // G-buffer position
+#define VCT_FILTER_BINDING_NORMAL 1        // G-buffer normal
+#define VCT_FILTER_BINDING_ALBEDO 2        // G-buffer albedo (w = metallic)
+#define VCT_FILTER_BINDING_INPUT 3         // the trace's (or the row pass's) incoming diffuse light, a = AO
+#define VCT_FILTER_BINDING_GLOSSY 4        // the trace's incoming glossy light (applied with the albedo)
+#define VCT_FILTER_BINDING_OUTPUT 5        // out: filtered incoming light, or the indirect radiance
 
 GI_NAMESPACE_END
 #endif
