@@ -56,6 +56,43 @@ size_t differingPixels(const HdrImage& a, const HdrImage& b) {
     return n;
 }
 
+// How far a moved system's indirect image is from a fresh system's at the same camera: relMSE
+// (epsilon 0.01) and the largest difference of a pixel channel over the fresh image's mean.
+struct Gap {
+    double relMse = 0.0;
+    double maxOverMean = 0.0;
+};
+Gap indirectGap(const FrameResult& moved, const FrameResult& fresh) {
+    Gap g;
+    auto metrics = compareImages(moved.indirect, fresh.indirect);
+    EXPECT_TRUE(metrics.ok()) << metrics.error().message;
+    if (!metrics.ok())
+        return {1e30, 1e30};
+    g.relMse = metrics->relMse;
+    double mean = 0.0, largest = 0.0;
+    for (size_t i = 0; i < fresh.indirect.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            mean += fresh.indirect.pixels[i][c];
+            largest = std::max(largest, double(std::abs(moved.indirect.pixels[i][c] - fresh.indirect.pixels[i][c])));
+        }
+    mean /= 3.0 * double(fresh.indirect.pixels.size());
+    g.maxOverMean = mean > 0.0 ? largest / mean : largest;
+    std::printf("indirect against a fresh system: relMSE %.3g, max difference / mean %.3g\n", g.relMse,
+                g.maxOverMean);
+    return g;
+}
+
+// A moved level keeps the voxel light of the voxels both corners cover whose marches to the
+// lights stay clear of what the move changed, lights the others, and gathers its second bounce
+// again (docs/vct.md "Clipmap"). The kept light is the one the last relight computed at the old
+// corner: equal to a fresh system's up to the rounding of a voxel centre's world position (the
+// tests below measure 0 on every move). The bounds leave room for that rounding and still
+// fail a level that keeps every voxel it covers: then the 6-voxel move of
+// MovingTheCameraUpdatesTheMovedLevelsAndStaysNearAFreshSystem measured relMSE 0.017 and a
+// largest difference of 0.77 times the mean.
+constexpr double kMovedRelMse = 1e-6;
+constexpr double kMovedMaxOverMean = 1e-2;
+
 // `camera` moved onto the centre of a 2-voxel block of the finest level (voxel edge `v0`), so
 // that a one-voxel step always moves level 0.
 Camera onBlockCentre(Camera camera, float v0) {
@@ -149,9 +186,9 @@ TEST_F(VctClipmap, LargeWorldErrorMatchesTheSmallScene) {
 }
 
 // A camera move of one finest voxel re-voxelizes and relights the finest level only; several
-// voxels move more levels. Either way the image is bit for bit that of a new system rendering
-// at the new camera, and the levels whose origin stayed are left out as not dirty.
-TEST_F(VctClipmap, MovingTheCameraUpdatesTheMovedLevelsAndEqualsAFreshSystem) {
+// voxels move more levels. Either way the image stays within the moved-level tolerance of a new
+// system rendering at the new camera, and the levels whose origin stayed are left out as not dirty.
+TEST_F(VctClipmap, MovingTheCameraUpdatesTheMovedLevelsAndStaysNearAFreshSystem) {
     Scene scene = test::builtinScene("hall");
     VctSettings vct = clipmapSettings();
     vct.levels = 3;
@@ -162,6 +199,7 @@ TEST_F(VctClipmap, MovingTheCameraUpdatesTheMovedLevelsAndEqualsAFreshSystem) {
     // every coarser level's at even ones): one voxel along x moves level 0 only.
     camera.position.x = (2.0f * std::round(camera.position.x / (2.0f * v0)) + 0.5f) * v0;
     FrameRequest request;
+    request.indirect = true;
     auto system = test::systemWithScene(ctx(), settings, scene);
     ASSERT_TRUE(system.ok()) << system.error().message;
     auto first = (*system)->renderFrame(camera, kSize, kSize, request);
@@ -189,7 +227,9 @@ TEST_F(VctClipmap, MovingTheCameraUpdatesTheMovedLevelsAndEqualsAFreshSystem) {
         ASSERT_TRUE(moved.ok()) << moved.error().message;
         auto fresh = test::renderOnce(ctx(), settings, scene, camera, kSize, kSize, request);
         ASSERT_TRUE(fresh.ok()) << fresh.error().message;
-        EXPECT_EQ(differingPixels(moved->composite, fresh->composite), 0u) << move.voxels << " voxels";
+        const Gap gap = indirectGap(*moved, *fresh);
+        EXPECT_LE(gap.relMse, kMovedRelMse) << move.voxels << " voxels";
+        EXPECT_LE(gap.maxOverMean, kMovedMaxOverMean) << move.voxels << " voxels";
         EXPECT_GT(differingPixels(moved->composite, first->composite), 0u);
         for (uint32_t l = 0; l < vct.levels; ++l) {
             const std::string at = "@" + std::to_string(l);
@@ -198,6 +238,7 @@ TEST_F(VctClipmap, MovingTheCameraUpdatesTheMovedLevelsAndEqualsAFreshSystem) {
             EXPECT_EQ(ran(*moved, "gi.voxel.voxelize" + at) || ran(*moved, "gi.voxel.voxelize.slab" + at), expectMoved)
                 << move.voxels << " voxels, level " << l;
             EXPECT_EQ(ran(*moved, "gi.vct.light" + at), expectMoved) << move.voxels << " voxels, level " << l;
+            EXPECT_EQ(ran(*moved, "gi.vct.shift" + at), expectMoved) << move.voxels << " voxels, level " << l;
             EXPECT_EQ(hasLeftOut(*moved, "gi.voxel.*" + at), !expectMoved) << move.voxels << " voxels, level " << l;
             EXPECT_EQ(hasLeftOut(*moved, "gi.vct.light" + at), !expectMoved) << move.voxels << " voxels, level " << l;
         }
@@ -205,9 +246,12 @@ TEST_F(VctClipmap, MovingTheCameraUpdatesTheMovedLevelsAndEqualsAFreshSystem) {
 }
 
 // A moved level keeps what its old and new boxes both cover and voxelizes only the slabs it newly
-// covers ("gi.voxel.voxelize.slab", no full "gi.voxel.voxelize"), along one axis or several, either
-// way: the image stays bit for bit that of a new system rendering at the new camera.
-TEST_F(VctClipmap, MovedLevelsVoxelizeOnlyTheNewSlabsAndEqualAFreshSystem) {
+// covers ("gi.voxel.voxelize.slab", no full "gi.voxel.voxelize"), along one axis or several; it
+// shifts its saved voxel light the same way ("gi.vct.shift") and lights only the new voxels. Each
+// move stays within the moved-level tolerance of a new system rendering at the new camera, and a
+// light change after the moves relights every level whole: then the image equals the new
+// system's bit for bit (the shifted records of what each level stores are exact).
+TEST_F(VctClipmap, MovedLevelsUpdateOnlyTheNewSlabsAndStayNearAFreshSystem) {
     Scene scene = test::builtinScene("hall");
     VctSettings vct = clipmapSettings();
     vct.levels = 3;
@@ -215,6 +259,7 @@ TEST_F(VctClipmap, MovedLevelsVoxelizeOnlyTheNewSlabsAndEqualAFreshSystem) {
     const float v0 = vctFinestVoxel(vct);
     Camera camera = onBlockCentre(scene.cameraOrDefault(), v0);
     FrameRequest request;
+    request.indirect = true;
     auto system = test::systemWithScene(ctx(), settings, scene);
     ASSERT_TRUE(system.ok()) << system.error().message;
     ASSERT_TRUE((*system)->renderFrame(camera, kSize, kSize, request).ok());
@@ -234,17 +279,34 @@ TEST_F(VctClipmap, MovedLevelsVoxelizeOnlyTheNewSlabsAndEqualAFreshSystem) {
             EXPECT_EQ(ran(*moved, "gi.voxel.voxelize.slab" + at), levelMoved) << step.x << " " << step.y << " " << l;
             EXPECT_EQ(ran(*moved, "gi.voxel.mark" + at), levelMoved) << step.x << " " << step.y << " " << l;
             EXPECT_FALSE(ran(*moved, "gi.voxel.voxelize" + at)) << "level " << l << " re-voxelized whole";
+            EXPECT_EQ(ran(*moved, "gi.vct.shift" + at), levelMoved) << step.x << " " << step.y << " " << l;
+            EXPECT_FALSE(ran(*moved, "gi.vct.list.stale" + at)) << "level " << l;
         }
         auto fresh = test::renderOnce(ctx(), settings, scene, camera, kSize, kSize, request);
         ASSERT_TRUE(fresh.ok()) << fresh.error().message;
-        EXPECT_EQ(differingPixels(moved->composite, fresh->composite), 0u) << step.x << " " << step.y << " " << step.z;
+        const Gap gap = indirectGap(*moved, *fresh);
+        EXPECT_LE(gap.relMse, kMovedRelMse) << step.x << " " << step.y << " " << step.z;
+        EXPECT_LE(gap.maxOverMean, kMovedMaxOverMean) << step.x << " " << step.y << " " << step.z;
     }
+    scene.lights[0].intensity *= 1.5f;
+    ASSERT_TRUE((*system)->updateScene(scene).ok());
+    auto relit = (*system)->renderFrame(camera, kSize, kSize, request);
+    ASSERT_TRUE(relit.ok()) << relit.error().message;
+    for (uint32_t l = 0; l < vct.levels; ++l) {
+        EXPECT_TRUE(ran(*relit, "gi.vct.light@" + std::to_string(l)));
+        EXPECT_FALSE(ran(*relit, "gi.vct.shift@" + std::to_string(l)));
+    }
+    auto fresh = test::renderOnce(ctx(), settings, scene, camera, kSize, kSize, request);
+    ASSERT_TRUE(fresh.ok()) << fresh.error().message;
+    EXPECT_EQ(differingPixels(relit->composite, fresh->composite), 0u);
 }
 
 // With a dynamic object the static bake is shifted the same way (its own touched list, the grid's
-// volumes as scratch) and the dynamic draws are voxelized and merged as on every frame, also when
-// the object moves in the same frame.
-TEST_F(VctClipmap, MovedLevelsWithADynamicObjectShiftTheStaticBakeAndEqualAFreshSystem) {
+// volumes as scratch) and the dynamic draws are voxelized and merged as on every frame. A move
+// alone keeps the kept voxels' light (within the moved-level tolerance of a fresh system); a
+// move in the frame the object moves relights the levels whole, which then equal a fresh
+// system bit for bit; the next move keeps light again.
+TEST_F(VctClipmap, MovedLevelsWithADynamicObjectShiftTheStaticBakeAndStayNearAFreshSystem) {
     Scene scene = test::builtinScene("hall");
     scene.instances.back().dynamic = true;
     VctSettings vct = clipmapSettings();
@@ -253,13 +315,15 @@ TEST_F(VctClipmap, MovedLevelsWithADynamicObjectShiftTheStaticBakeAndEqualAFresh
     const float v0 = vctFinestVoxel(vct);
     Camera camera = onBlockCentre(scene.cameraOrDefault(), v0);
     FrameRequest request;
+    request.indirect = true;
     auto system = test::systemWithScene(ctx(), settings, scene);
     ASSERT_TRUE(system.ok()) << system.error().message;
     ASSERT_TRUE((*system)->renderFrame(camera, kSize, kSize, request).ok());
     // The second step also moves the dynamic object.
-    for (glm::vec3 step : {glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(-2.0f, 0.0f, -2.0f)}) {
+    for (glm::vec3 step : {glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(-2.0f, 0.0f, -2.0f), glm::vec3(2.0f, 0.0f, 1.0f)}) {
         camera.position += step * v0;
-        if (step.z != 0.0f) {
+        const bool objectMoved = step.x < 0.0f;
+        if (objectMoved) {
             scene.instances.back().transform[3].x += 0.05f;
             ASSERT_TRUE((*system)->updateScene(scene).ok());
         }
@@ -268,9 +332,16 @@ TEST_F(VctClipmap, MovedLevelsWithADynamicObjectShiftTheStaticBakeAndEqualAFresh
         EXPECT_TRUE(ran(*moved, "gi.voxel.voxelize.slab.static@0"));
         EXPECT_FALSE(ran(*moved, "gi.voxel.voxelize.static@0"));
         EXPECT_TRUE(ran(*moved, "gi.voxel.merge@0"));
+        EXPECT_EQ(ran(*moved, "gi.vct.shift@0"), !objectMoved);
         auto fresh = test::renderOnce(ctx(), settings, scene, camera, kSize, kSize, request);
         ASSERT_TRUE(fresh.ok()) << fresh.error().message;
-        EXPECT_EQ(differingPixels(moved->composite, fresh->composite), 0u) << step.x << " " << step.z;
+        if (objectMoved) {
+            EXPECT_EQ(differingPixels(moved->composite, fresh->composite), 0u) << step.x << " " << step.z;
+            continue;
+        }
+        const Gap gap = indirectGap(*moved, *fresh);
+        EXPECT_LE(gap.relMse, kMovedRelMse) << step.x << " " << step.z;
+        EXPECT_LE(gap.maxOverMean, kMovedMaxOverMean) << step.x << " " << step.z;
     }
 }
 

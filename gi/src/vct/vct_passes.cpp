@@ -78,33 +78,40 @@ rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::Im
 // the rest must read empty: the first voxelization zeroes levels 0 and 1 (and the record of
 // what they hold) by transfer clears, later ones only what went stale (gi.vct.list.stale, after
 // the list is built). The list header and bits are zeroed here.
+// `shifted` (VctPassOptions::shift): the grid moved and its saved level 0 is copied back
+// shifted after the list (addShiftPass). The clear then zeroes levels 0 and 1 and the written
+// record as at the first voxelization, and there is no stale pass, which would compare the last
+// list's bits (at the old corner) with the new ones: the written bits are left unknown, and the
+// next relight without a shift starts from the cleared state again (writtenKnown false).
 void addListPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid, rg::BufferHandle& list,
-                   rg::ImageHandle& directional, rg::ImageHandle& written) {
+                   rg::ImageHandle& directional, rg::ImageHandle& written, bool shifted) {
     const VctVolumes::Pipelines& p = volumes.pipelines();
     const uint32_t n = volumes.grid().resolution();
     const gpu::VoxelGridPush push{volumes.grid().params()};
     rg::BufferHandle writtenBits = graph.importBuffer("gi.vct.written_bits", volumes.writtenBitsState());
     const rg::SubresourceRange levels01{0, 2, 0, rg::kAll};
-    bool first = !volumes.writtenKnown();
+    const bool first = !volumes.writtenKnown(), clearLevels = first || shifted;
     graph.addPass(
         "gi.vct.list.clear",
         [&](rg::PassBuilder& b) {
             list = b.write(list, Access::TransferWrite);
-            if (first) {
+            if (clearLevels) {
                 directional = b.write(directional, Access::TransferWrite, levels01);
                 written = b.write(written, Access::TransferWrite);
-                writtenBits = b.write(writtenBits, Access::TransferWrite);
             }
+            if (first)
+                writtenBits = b.write(writtenBits, Access::TransferWrite);
         },
-        [n, list, directional, written, writtenBits, first](rg::PassContext& ctx) {
+        [n, list, directional, written, writtenBits, first, clearLevels](rg::PassContext& ctx) {
             VkCommandBuffer cmd = ctx.cmd();
             VkBuffer l = ctx.buffer(list).buffer;
             VkDeviceSize slots = VkDeviceSize(n) * n * n + (n / 2) * (n / 2) * (n / 2);
             vkCmdFillBuffer(cmd, l, 0, GI_VOXEL_LIST_HEADER * sizeof(uint32_t), 0);
             vkCmdFillBuffer(cmd, l, (GI_VOXEL_LIST_HEADER + slots) * sizeof(uint32_t), VK_WHOLE_SIZE, 0);
-            if (!first)
+            if (first)
+                vkCmdFillBuffer(cmd, ctx.buffer(writtenBits).buffer, 0, VK_WHOLE_SIZE, 0);
+            if (!clearLevels)
                 return;
-            vkCmdFillBuffer(cmd, ctx.buffer(writtenBits).buffer, 0, VK_WHOLE_SIZE, 0);
             VkClearColorValue zero{};
             VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
             vkCmdClearColorImage(cmd, ctx.image(written).image, ctx.layout(written), &zero, 1, &all);
@@ -133,6 +140,11 @@ void addListPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridD
         .push(push)
         .write(VCT_APPEND_BINDING_LIST, list)
         .dispatch({words, 1u, 1u});
+    volumes.setListBuilt(true);
+    if (shifted) {
+        volumes.setWrittenKnown(false);
+        return;
+    }
     rg::ImageHandle level1 = directional; // both levels become this pass's version
     rg::ComputePass(graph, "gi.vct.list.stale", p.listStale)
         .push(push)
@@ -146,6 +158,62 @@ void addListPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridD
     volumes.setWrittenKnown(true);
 }
 
+// "gi.vct.shift", a moved clipmap level (VctPassOptions::shift = d): the saved level 0
+// (VctVolumes::litState) copied back into level 0 of the directional volume, which the list's
+// clear zeroed, moved by -d: grid voxel c at the new corner was c + d at the old one. The voxel
+// light then restores the kept voxels' written record and lights the new ones; level 1 is
+// rebuilt at the listed blocks from the zeros.
+void addShiftPass(rg::RenderGraph& graph, const VctVolumes& volumes, glm::ivec3 d, rg::ImageHandle lit,
+                  rg::ImageHandle& directional) {
+    const uint32_t n = volumes.grid().resolution();
+    graph.addPass(
+        "gi.vct.shift",
+        [&](rg::PassBuilder& b) {
+            b.read(lit, Access::TransferRead);
+            directional = b.write(directional, Access::TransferWrite, rg::SubresourceRange::mip(0));
+        },
+        [n, d, lit, directional](rg::PassContext& ctx) {
+            const glm::ivec3 src = glm::max(d, glm::ivec3(0)), dst = glm::max(-d, glm::ivec3(0));
+            const glm::ivec3 extent = glm::ivec3(int(n)) - glm::abs(d);
+            // View v of axis k: layer v N + c_k, 2D coordinates the other two axes in order
+            // (vctDirectionalTexel).
+            VkImageCopy regions[GI_VCT_DIRECTIONS];
+            for (uint32_t v = 0; v < GI_VCT_DIRECTIONS; ++v) {
+                const int k = int(v >> 1u), a = k == 0 ? 1 : 0, b = k == 2 ? 1 : 2;
+                regions[v] = {{VK_IMAGE_ASPECT_COLOR_BIT, 0, v * n + uint32_t(src[k]), uint32_t(extent[k])},
+                              {src[a], src[b], 0},
+                              {VK_IMAGE_ASPECT_COLOR_BIT, 0, v * n + uint32_t(dst[k]), uint32_t(extent[k])},
+                              {dst[a], dst[b], 0},
+                              {uint32_t(extent[a]), uint32_t(extent[b]), 1}};
+            }
+            vkCmdCopyImage(ctx.cmd(), ctx.image(lit).image, ctx.layout(lit), ctx.image(directional).image,
+                           ctx.layout(directional), GI_VCT_DIRECTIONS, regions);
+        });
+}
+
+// "gi.vct.lit.save": level 0 of the directional volume as the voxel light left it into the saved
+// copy a later move shifts (VctVolumes::litState).
+void addLitSavePass(rg::RenderGraph& graph, VctVolumes& volumes, rg::ImageHandle directional, rg::ImageHandle lit) {
+    const uint32_t n = volumes.grid().resolution();
+    graph.addPass(
+        "gi.vct.lit.save",
+        [&](rg::PassBuilder& b) {
+            b.read(directional, Access::TransferRead, rg::SubresourceRange::mip(0));
+            lit = b.write(lit, Access::TransferWrite);
+        },
+        [n, lit, directional](rg::PassContext& ctx) {
+            const uint32_t layers = GI_VCT_DIRECTIONS * n;
+            VkImageCopy region{{VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, layers},
+                               {0, 0, 0},
+                               {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, layers},
+                               {0, 0, 0},
+                               {n, n, 1}};
+            vkCmdCopyImage(ctx.cmd(), ctx.image(directional).image, ctx.layout(directional), ctx.image(lit).image,
+                           ctx.layout(lit), 1, &region);
+        });
+    volumes.setLitKnown(true);
+}
+
 // "gi.vct.light": grid volumes + lights (+ the emission volume unless `options.emission` is
 // false) -> the six level-0 views of the directional volume at the listed voxels (indirect over
 // the list); reads and updates the written volume. The shadow-atlas variant with
@@ -157,8 +225,18 @@ void addLightPass(rg::RenderGraph& graph, const VctVolumes& volumes, const Voxel
     bool useShadowMap = settings.occlusion == VctOcclusion::ShadowMap && options.shadowAtlas.valid();
     bool soft = !useShadowMap && settings.occlusion == VctOcclusion::RayMarchSoft;
     uint32_t mode = settings.occlusion == VctOcclusion::RayMarchSoft ? GI_VCT_OCCLUSION_SOFT : GI_VCT_OCCLUSION_HARD;
+    // The voxels both corners cover may keep their shifted views (VctPassOptions::shift;
+    // voxel_light_body.glsl); none otherwise (lo > hi), nor with the shadow atlas, which follows
+    // the camera.
+    const int n = int(volumes.grid().resolution());
+    glm::ivec3 keepLo(n), keepHi(-1);
+    if (options.shifted && !useShadowMap) {
+        keepLo = glm::max(-options.shift, glm::ivec3(0));
+        keepHi = glm::ivec3(n - 1) - glm::max(options.shift, glm::ivec3(0));
+    }
     gpu::VoxelLightPush push{volumes.grid().params(),
-                             glm::uvec4(lightCount, mode, options.emission ? GI_VOXEL_LIGHT_EMISSION : 0u, 0u)};
+                             glm::uvec4(lightCount, mode, options.emission ? GI_VOXEL_LIGHT_EMISSION : 0u, 0u),
+                             glm::ivec4(keepLo, 0), glm::ivec4(keepHi, 0)};
     rg::ComputePass pass(graph, "gi.vct.light", useShadowMap ? p.lightShadowMap : soft ? p.lightSoft : p.light);
     pass.push(push);
     if (useShadowMap)
@@ -282,9 +360,21 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     // The axes whose level-0 views each voxel last stored (gi/vct_passes.h): the voxel light
     // zeroes those its faces no longer cover, gi.vct.list.stale those of emptied voxels.
     rg::ImageHandle written = graph.importImage("gi.vct.written", volumes.writtenState());
+    if (options.shifted && !(volumes.litKnown() && grid.changed))
+        options.shifted = false; // nothing saved to shift (or no new list): relight whole
     if (grid.changed || !volumes.listBuilt())
-        addListPasses(graph, volumes, grid, list, out.directional, written);
+        addListPasses(graph, volumes, grid, list, out.directional, written, options.shifted);
+    // The saved level 0, imported once (the graph tracks its layout across both uses).
+    rg::ImageHandle lit;
+    if (options.saveLit || options.shifted)
+        lit = graph.importImage("gi.vct.lit", volumes.litState());
+    if (options.shifted)
+        addShiftPass(graph, volumes, options.shift, lit, out.directional);
     addLightPass(graph, volumes, grid, lights, lightCount, settings, options, list, out.directional, written);
+    if (options.saveLit)
+        addLitSavePass(graph, volumes, out.directional, lit);
+    else
+        volumes.setLitKnown(false);
     // The second bounce's jobs: the level-1 mip lists them after this clear of the header, class
     // masks and misfit bits (gi/vct_passes.h).
     rg::BufferHandle jobs;

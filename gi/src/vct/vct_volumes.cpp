@@ -106,6 +106,8 @@ VctVolumes::~VctVolumes() {
     destroyBuffer(m_ctx, m_list.buffer);
     destroyBuffer(m_ctx, m_writtenBits.buffer);
     destroyImage(m_ctx, m_written.image);
+    if (m_lit.image.image)
+        destroyImage(m_ctx, m_lit.image);
     for (rg::PersistentBuffer* b : {&m_jobBuffer, &m_resultBuffer})
         if (b->buffer.buffer)
             destroyBuffer(m_ctx, b->buffer);
@@ -122,7 +124,8 @@ VctVolumes::~VctVolumes() {
 }
 
 VkDeviceSize VctVolumes::bytes() const {
-    return imageBytes(m_directional.image.desc) + imageBytes(m_written.image.desc) + m_list.buffer.desc.size +
+    return imageBytes(m_directional.image.desc) + imageBytes(m_written.image.desc) +
+           (m_lit.image.image ? imageBytes(m_lit.image.desc) : 0) + m_list.buffer.desc.size +
            m_writtenBits.buffer.desc.size + m_jobBuffer.buffer.desc.size + m_resultBuffer.buffer.desc.size;
 }
 
@@ -156,6 +159,12 @@ void createOnce(Context& ctx, rg::PersistentBuffer& b, uint32_t words, const cha
 rg::PersistentBuffer& VctVolumes::bounceJobsState() {
     createOnce(m_ctx, m_jobBuffer, GI_BOUNCE_HEADER + gpu::bounceJobWords(m_grid.resolution()), "vct.bounce_jobs");
     return m_jobBuffer;
+}
+
+rg::PersistentImage& VctVolumes::litState() {
+    if (!m_lit.image.image)
+        m_lit.image = createDirectionalVolume(m_ctx, m_grid.resolution(), 1, "vct.lit");
+    return m_lit;
 }
 
 rg::PersistentBuffer& VctVolumes::bounceResultsState() {

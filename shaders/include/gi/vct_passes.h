@@ -84,12 +84,16 @@ GI_INLINE uint voxelWrittenBitsWords(uint n) { return voxelListBitsOffset(n) / 3
 #define GI_VCT_OCCLUSION_SOFT 1u
 #define GI_VCT_OCCLUSION_SHADOW_MAP 2u
 
-// voxel_light.comp: direct light + emission per occupied voxel.
+// voxel_light.comp: direct light + emission per occupied voxel. The voxels in the box keepLo ..
+// keepHi (inclusive, grid voxels; empty when lo > hi) kept their views across a clipmap level's
+// move (shifted in by gi.vct.shift): they only restore their "written" record.
 GI_GPU_STRUCT(VoxelLightPush) {
     VoxelGridParams grid;
     uvec4 info; // x light count, y occlusion mode (GI_VCT_OCCLUSION_*), z flags (GI_VOXEL_LIGHT_*), w 0
+    ivec4 keepLo;
+    ivec4 keepHi;
 };
-GI_CHECK_SIZE(VoxelLightPush, 64);
+GI_CHECK_SIZE(VoxelLightPush, 96);
 #define GI_VOXEL_LIGHT_EMISSION 1u // add the emission volume (the voxels' emission injection)
 
 // voxel_mip.comp: builds level `info.x` >= 1 of the directional volume from level info.x - 1;
