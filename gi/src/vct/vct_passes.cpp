@@ -15,15 +15,32 @@ using rg::Access;
 
 namespace {
 
+// The voxels a moved clipmap level keeps (VctPassOptions::shift): lo .. hi inclusive, empty
+// (lo > hi) when the level did not move.
+struct KeepBox {
+    glm::ivec4 lo{1 << 20, 1 << 20, 1 << 20, 0};
+    glm::ivec4 hi{-1, -1, -1, 0};
+};
+
+KeepBox keepBox(const VctPassOptions& options, uint32_t n) {
+    KeepBox box;
+    if (options.shifted) {
+        box.lo = glm::ivec4(glm::max(-options.shift, glm::ivec3(0)), 0);
+        box.hi = glm::ivec4(glm::ivec3(int(n) - 1) - glm::max(options.shift, glm::ivec3(0)), 0);
+    }
+    return box;
+}
+
 // Adds one pass per level k >= 1 of the directional volume, built from level k - 1, up to the
 // tail, and one for the tail's levels ("prefix[t-L]"); returns the newest version. Level 1 is
 // written at the listed occupied blocks only and keeps the zeros elsewhere (gi.vct.list.clear /
 // .stale; no discard).
 // With `jobs` (and the grid's normal volume) the level-1 pass also lists the second bounce's
 // jobs into it.
+// `keep`: the bounce blocks around kept voxels list no job (VoxelMipPush).
 rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::ImageHandle directional,
                              rg::BufferHandle list, const char* prefix, rg::BufferHandle* jobs = nullptr,
-                             rg::ImageHandle normal = {}) {
+                             rg::ImageHandle normal = {}, KeepBox keep = {}) {
     const VctVolumes::Pipelines& p = v.pipelines();
     const gpu::VoxelGridParams& params = v.grid().params();
     uint32_t tail = v.mipTailLevel(), last = v.directionalLevels() - 1;
@@ -32,7 +49,7 @@ rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::Im
         std::string name = std::string(prefix) + "[" + std::to_string(level) +
                            (count > 1 ? "-" + std::to_string(last) : std::string()) + "]";
         uint32_t size = std::max(1u, v.grid().resolution() >> level);
-        gpu::VoxelMipPush push{params, glm::uvec4(level, size, 0u, 0u)};
+        gpu::VoxelMipPush push{params, glm::uvec4(level, size, 0u, 0u), keep.lo, keep.hi};
         const rg::SubresourceRange source = rg::SubresourceRange::mip(level - 1);
         if (level == 1 && jobs) { // the listed occupied blocks, and the bounce jobs (voxel_mip_body.glsl)
             rg::ComputePass(graph, name, p.mipListJobs)
@@ -225,18 +242,12 @@ void addLightPass(rg::RenderGraph& graph, const VctVolumes& volumes, const Voxel
     bool useShadowMap = settings.occlusion == VctOcclusion::ShadowMap && options.shadowAtlas.valid();
     bool soft = !useShadowMap && settings.occlusion == VctOcclusion::RayMarchSoft;
     uint32_t mode = settings.occlusion == VctOcclusion::RayMarchSoft ? GI_VCT_OCCLUSION_SOFT : GI_VCT_OCCLUSION_HARD;
-    // The voxels both corners cover may keep their shifted views (VctPassOptions::shift;
-    // voxel_light_body.glsl); none otherwise (lo > hi), nor with the shadow atlas, which follows
-    // the camera.
-    const int n = int(volumes.grid().resolution());
-    glm::ivec3 keepLo(n), keepHi(-1);
-    if (options.shifted && !useShadowMap) {
-        keepLo = glm::max(-options.shift, glm::ivec3(0));
-        keepHi = glm::ivec3(n - 1) - glm::max(options.shift, glm::ivec3(0));
-    }
+    // The voxels both corners cover may keep their shifted views (voxel_light_body.glsl), but
+    // not with the shadow atlas, which follows the camera.
+    const KeepBox keep = useShadowMap ? KeepBox{} : keepBox(options, volumes.grid().resolution());
     gpu::VoxelLightPush push{volumes.grid().params(),
-                             glm::uvec4(lightCount, mode, options.emission ? GI_VOXEL_LIGHT_EMISSION : 0u, 0u),
-                             glm::ivec4(keepLo, 0), glm::ivec4(keepHi, 0)};
+                             glm::uvec4(lightCount, mode, options.emission ? GI_VOXEL_LIGHT_EMISSION : 0u, 0u), keep.lo,
+                             keep.hi};
     rg::ComputePass pass(graph, "gi.vct.light", useShadowMap ? p.lightShadowMap : soft ? p.lightSoft : p.light);
     pass.push(push);
     if (useShadowMap)
@@ -261,9 +272,13 @@ void addLightPass(rg::RenderGraph& graph, const VctVolumes& volumes, const Voxel
 // Second bounce: one gather per (block, normal class), its misfit voxels one each
 // (gi/vct_passes.h), into level 0 of the directional volume at the listed voxels, then its mips
 // again; `jobs` is the job list the level-1 mip built.
+// With `options.saveLit` (clipmap levels) every listed voxel's bounce is kept for the next move
+// (VctVolumes::bounceState); a moved level (`keep` not empty) copies it back shifted
+// ("gi.vct.bounce.shift") and its kept voxels take it instead of the gathers, whose blocks around
+// them list no job (addMipPasses).
 rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
                                 const gpu::ConeParams& cones, rg::BufferHandle list, rg::BufferHandle jobs,
-                                rg::ImageHandle directional) {
+                                rg::ImageHandle directional, const VctPassOptions& options, KeepBox keep) {
     const VctVolumes::Pipelines& p = volumes.pipelines();
     const gpu::VoxelBouncePush push{volumes.grid().params(), cones};
     rg::BufferHandle results = graph.importBuffer("gi.vct.bounce.results", volumes.bounceResultsState());
@@ -291,8 +306,35 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
         .overwrite(VCT_MISFITS_BINDING_OUTPUT, light)
         .read(VCT_MISFITS_BINDING_JOBS, jobs)
         .dispatchIndirect(jobs, GI_BOUNCE_MISFITS * sizeof(uint32_t));
+    // Each voxel's bounce: kept in the clipmap levels, a transient the single grid drops.
+    rg::ImageHandle voxelBounce = options.saveLit ? graph.importImage("gi.vct.bounce.voxels", volumes.bounceState())
+                                                  : graph.createImage("gi.vct.bounce.voxels", bounceDesc);
+    rg::ImageHandle kept = light; // not read unless `keep` holds voxels
+    if (keep.lo.x <= keep.hi.x) {
+        kept = graph.createImage("gi.vct.bounce.kept", bounceDesc);
+        const glm::ivec3 d = options.shift, n = glm::ivec3(int(volumes.grid().resolution()));
+        graph.addPass(
+            "gi.vct.bounce.shift",
+            [&](rg::PassBuilder& b) {
+                b.read(voxelBounce, Access::TransferRead);
+                kept = b.write(kept, Access::TransferWrite);
+            },
+            [voxelBounce, kept, d, n](rg::PassContext& ctx) {
+                const glm::ivec3 src = glm::max(d, glm::ivec3(0)), dst = glm::max(-d, glm::ivec3(0)),
+                                 extent = n - glm::abs(d);
+                VkImageCopy region{};
+                region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                region.srcOffset = {src.x, src.y, src.z};
+                region.dstOffset = {dst.x, dst.y, dst.z};
+                region.extent = {uint32_t(extent.x), uint32_t(extent.y), uint32_t(extent.z)};
+                vkCmdCopyImage(ctx.cmd(), ctx.image(voxelBounce).image, ctx.layout(voxelBounce), ctx.image(kept).image,
+                               ctx.layout(kept), 1, &region);
+            });
+    }
     rg::ComputePass(graph, "gi.vct.bounce", p.bounceApply)
-        .push(gpu::VoxelGridPush{volumes.grid().params()})
+        .push(gpu::VoxelApplyPush{volumes.grid().params(), keep.lo, keep.hi})
+        .read(VCT_APPLY_BINDING_KEPT, kept)
+        .write(VCT_APPLY_BINDING_BOUNCE, voxelBounce)
         .read(VCT_APPLY_BINDING_ALBEDO, grid.albedo)
         .read(VCT_APPLY_BINDING_NORMAL, grid.normal)
         .read(VCT_APPLY_BINDING_JOBS, jobs)
@@ -396,13 +438,19 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                                 VkDeviceSize(n * n * n / 32 + gpu::bounceGeometryWords(n)) * sizeof(uint32_t), 0);
             });
     }
-    out.directional =
-        addMipPasses(graph, volumes, out.directional, list, "gi.vct.mip", jobs.valid() ? &jobs : nullptr, grid.normal);
+    // A moved level's kept voxels keep their second bounce when the last relight kept it.
+    const KeepBox keepBounce = options.saveLit && volumes.bounceKnown() && settings.bounces >= 2
+                                   ? keepBox(options, volumes.grid().resolution())
+                                   : KeepBox{};
+    out.directional = addMipPasses(graph, volumes, out.directional, list, "gi.vct.mip", jobs.valid() ? &jobs : nullptr,
+                                   grid.normal, keepBounce);
     if (settings.bounces >= 2) {
         gpu::ConeParams cones =
             volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
-        out.directional = addBouncePasses(graph, volumes, grid, cones, list, jobs, out.directional);
+        out.directional =
+            addBouncePasses(graph, volumes, grid, cones, list, jobs, out.directional, options, keepBounce);
     }
+    volumes.setBounceKnown(options.saveLit && settings.bounces >= 2);
     return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage);
 }
 

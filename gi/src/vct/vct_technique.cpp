@@ -221,7 +221,8 @@ private:
             if (!volumes)
                 return volumes.error();
             level.volumes = std::move(*volumes);
-            level.volumes->litState(); // created now, so that the memory report counts it from the start
+            level.volumes->litState(); // created now, so that the memory report counts them from the start
+            level.volumes->bounceState();
             m_levels.push_back(std::move(level));
         }
         ImageDesc d;

@@ -51,6 +51,12 @@ public:
     rg::PersistentImage& litState();
     bool litKnown() const { return m_litKnown; }
     void setLitKnown(bool known) { m_litKnown = known; }
+    // Clipmap levels: each listed voxel's second bounce (RGBA16F N^3, rgb) from the last relight
+    // (created at the first call); a moved level's kept voxels keep it. `bounceKnown` says whether
+    // it holds the last relight's.
+    rg::PersistentImage& bounceState();
+    bool bounceKnown() const { return m_bounceKnown; }
+    void setBounceKnown(bool known) { m_bounceKnown = known; }
     const VoxelGrid& grid() const { return m_grid; }
     uint32_t directionalLevels() const { return m_levels; }
     // First level of the mip tail (mipTail builds it and all coarser ones in one dispatch):
@@ -102,6 +108,8 @@ private:
     rg::PersistentImage m_written;
     rg::PersistentBuffer m_writtenBits;
     rg::PersistentImage m_lit;
+    rg::PersistentImage m_bounce;
+    bool m_bounceKnown = false;
     bool m_listBuilt = false;
     bool m_writtenKnown = false;
     bool m_litKnown = false;
