@@ -56,6 +56,48 @@ size_t differingPixels(const HdrImage& a, const HdrImage& b) {
     return n;
 }
 
+// How far a moved system's indirect image is from a fresh system's at the same camera: relMSE
+// (epsilon 0.01) and the largest difference of a pixel channel over the fresh image's mean.
+struct Gap {
+    double relMse = 0.0;
+    double maxOverMean = 0.0;
+};
+Gap indirectGap(const FrameResult& moved, const FrameResult& fresh) {
+    Gap g;
+    auto metrics = compareImages(moved.indirect, fresh.indirect);
+    EXPECT_TRUE(metrics.ok()) << metrics.error().message;
+    if (!metrics.ok())
+        return {1e30, 1e30};
+    g.relMse = metrics->relMse;
+    double mean = 0.0, largest = 0.0;
+    for (size_t i = 0; i < fresh.indirect.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            mean += fresh.indirect.pixels[i][c];
+            largest = std::max(largest, double(std::abs(moved.indirect.pixels[i][c] - fresh.indirect.pixels[i][c])));
+        }
+    mean /= 3.0 * double(fresh.indirect.pixels.size());
+    g.maxOverMean = mean > 0.0 ? largest / mean : largest;
+    std::printf("indirect against a fresh system: relMSE %.3g, max difference / mean %.3g\n", g.relMse,
+                g.maxOverMean);
+    return g;
+}
+
+// A moved level keeps the voxel light of the voxels both corners cover whose marches to the
+// lights stay clear of what the move changed and lights the others (docs/vct.md "Clipmap"): with
+// one bounce the image equals a fresh system's up to the rounding of a voxel centre's world
+// position (0 measured on every move below). kExact* leave room for that rounding and still
+// fail a level that keeps every covered voxel's light: the 6-voxel move of
+// MovingTheCameraUpdatesTheMovedLevelsAndStaysNearAFreshSystem then measured relMSE 0.017 and a
+// largest difference of 0.77 times the mean (with the second bounce gathered whole).
+constexpr double kExactRelMse = 1e-6;
+constexpr double kExactMaxOverMean = 1e-2;
+// With two bounces the kept voxels also keep their second bounce, gathered at the old corner,
+// where a fresh system gathers it at the new one (other bounce blocks, other mip alignment, the
+// level's new content). Measured on the moves below: relMSE up to 0.046, largest difference up
+// to 0.98 times the mean (the 6-voxel move and the all-axes move); bounds with margin.
+constexpr double kKeptBounceRelMse = 0.08;
+constexpr double kKeptBounceMaxOverMean = 1.5;
+
 // `camera` moved onto the centre of a 2-voxel block of the finest level (voxel edge `v0`), so
 // that a one-voxel step always moves level 0.
 Camera onBlockCentre(Camera camera, float v0) {
@@ -149,9 +191,9 @@ TEST_F(VctClipmap, LargeWorldErrorMatchesTheSmallScene) {
 }
 
 // A camera move of one finest voxel re-voxelizes and relights the finest level only; several
-// voxels move more levels. Either way the image is bit for bit that of a new system rendering
-// at the new camera, and the levels whose origin stayed are left out as not dirty.
-TEST_F(VctClipmap, MovingTheCameraUpdatesTheMovedLevelsAndEqualsAFreshSystem) {
+// voxels move more levels. Either way the image stays within the moved-level tolerance of a new
+// system rendering at the new camera, and the levels whose origin stayed are left out as not dirty.
+TEST_F(VctClipmap, MovingTheCameraUpdatesTheMovedLevelsAndStaysNearAFreshSystem) {
     Scene scene = test::builtinScene("hall");
     VctSettings vct = clipmapSettings();
     vct.levels = 3;
@@ -162,6 +204,7 @@ TEST_F(VctClipmap, MovingTheCameraUpdatesTheMovedLevelsAndEqualsAFreshSystem) {
     // every coarser level's at even ones): one voxel along x moves level 0 only.
     camera.position.x = (2.0f * std::round(camera.position.x / (2.0f * v0)) + 0.5f) * v0;
     FrameRequest request;
+    request.indirect = true;
     auto system = test::systemWithScene(ctx(), settings, scene);
     ASSERT_TRUE(system.ok()) << system.error().message;
     auto first = (*system)->renderFrame(camera, kSize, kSize, request);
@@ -189,7 +232,9 @@ TEST_F(VctClipmap, MovingTheCameraUpdatesTheMovedLevelsAndEqualsAFreshSystem) {
         ASSERT_TRUE(moved.ok()) << moved.error().message;
         auto fresh = test::renderOnce(ctx(), settings, scene, camera, kSize, kSize, request);
         ASSERT_TRUE(fresh.ok()) << fresh.error().message;
-        EXPECT_EQ(differingPixels(moved->composite, fresh->composite), 0u) << move.voxels << " voxels";
+        const Gap gap = indirectGap(*moved, *fresh);
+        EXPECT_LE(gap.relMse, kKeptBounceRelMse) << move.voxels << " voxels";
+        EXPECT_LE(gap.maxOverMean, kKeptBounceMaxOverMean) << move.voxels << " voxels";
         EXPECT_GT(differingPixels(moved->composite, first->composite), 0u);
         for (uint32_t l = 0; l < vct.levels; ++l) {
             const std::string at = "@" + std::to_string(l);
@@ -198,6 +243,7 @@ TEST_F(VctClipmap, MovingTheCameraUpdatesTheMovedLevelsAndEqualsAFreshSystem) {
             EXPECT_EQ(ran(*moved, "gi.voxel.voxelize" + at) || ran(*moved, "gi.voxel.voxelize.slab" + at), expectMoved)
                 << move.voxels << " voxels, level " << l;
             EXPECT_EQ(ran(*moved, "gi.vct.light" + at), expectMoved) << move.voxels << " voxels, level " << l;
+            EXPECT_EQ(ran(*moved, "gi.vct.shift" + at), expectMoved) << move.voxels << " voxels, level " << l;
             EXPECT_EQ(hasLeftOut(*moved, "gi.voxel.*" + at), !expectMoved) << move.voxels << " voxels, level " << l;
             EXPECT_EQ(hasLeftOut(*moved, "gi.vct.light" + at), !expectMoved) << move.voxels << " voxels, level " << l;
         }
@@ -205,46 +251,74 @@ TEST_F(VctClipmap, MovingTheCameraUpdatesTheMovedLevelsAndEqualsAFreshSystem) {
 }
 
 // A moved level keeps what its old and new boxes both cover and voxelizes only the slabs it newly
-// covers ("gi.voxel.voxelize.slab", no full "gi.voxel.voxelize"), along one axis or several, either
-// way: the image stays bit for bit that of a new system rendering at the new camera.
-TEST_F(VctClipmap, MovedLevelsVoxelizeOnlyTheNewSlabsAndEqualAFreshSystem) {
-    Scene scene = test::builtinScene("hall");
-    VctSettings vct = clipmapSettings();
-    vct.levels = 3;
-    GiSettings settings = vctSettings(vct);
-    const float v0 = vctFinestVoxel(vct);
-    Camera camera = onBlockCentre(scene.cameraOrDefault(), v0);
-    FrameRequest request;
-    auto system = test::systemWithScene(ctx(), settings, scene);
-    ASSERT_TRUE(system.ok()) << system.error().message;
-    ASSERT_TRUE((*system)->renderFrame(camera, kSize, kSize, request).ok());
-    // Level l's corner (clipCell in vct_technique.cpp), in 2-voxel blocks of that level.
-    auto corner = [&](glm::vec3 p, uint32_t l) { return glm::floor(p / (2.0f * v0 * float(1u << l)) + 0.5f); };
-    // One finest voxel along x (level 0 moves 2 voxels), then back along x and z at once, then
-    // 5 voxels along all three axes (coarser levels move too).
-    for (glm::vec3 step : {glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(-2.0f, 0.0f, -2.0f), glm::vec3(5.0f, 5.0f, 5.0f)}) {
-        const glm::vec3 before = camera.position;
-        camera.position += step * v0;
-        auto moved = (*system)->renderFrame(camera, kSize, kSize, request);
-        ASSERT_TRUE(moved.ok()) << moved.error().message;
-        EXPECT_NE(corner(before, 0), corner(camera.position, 0)) << "every step moves level 0";
+// covers ("gi.voxel.voxelize.slab", no full "gi.voxel.voxelize"), along one axis or several; it
+// shifts its saved voxel light the same way ("gi.vct.shift") and lights only the new voxels. Each
+// move stays within the moved-level tolerance of a new system rendering at the new camera, and a
+// light change after the moves relights every level whole: then the image equals the new
+// system's bit for bit (the shifted records of what each level stores are exact).
+TEST_F(VctClipmap, MovedLevelsUpdateOnlyTheNewSlabsAndStayNearAFreshSystem) {
+    for (uint32_t bounces : {1u, 2u}) {
+        Scene scene = test::builtinScene("hall");
+        VctSettings vct = clipmapSettings();
+        vct.levels = 3;
+        vct.bounces = bounces;
+        GiSettings settings = vctSettings(vct);
+        const double boundRelMse = bounces == 1 ? kExactRelMse : kKeptBounceRelMse;
+        const double boundMax = bounces == 1 ? kExactMaxOverMean : kKeptBounceMaxOverMean;
+        const float v0 = vctFinestVoxel(vct);
+        Camera camera = onBlockCentre(scene.cameraOrDefault(), v0);
+        FrameRequest request;
+        request.indirect = true;
+        auto system = test::systemWithScene(ctx(), settings, scene);
+        ASSERT_TRUE(system.ok()) << system.error().message;
+        ASSERT_TRUE((*system)->renderFrame(camera, kSize, kSize, request).ok());
+        // Level l's corner (clipCell in vct_technique.cpp), in 2-voxel blocks of that level.
+        auto corner = [&](glm::vec3 p, uint32_t l) { return glm::floor(p / (2.0f * v0 * float(1u << l)) + 0.5f); };
+        // One finest voxel along x (level 0 moves 2 voxels), then back along x and z at once, then
+        // 5 voxels along all three axes (coarser levels move too).
+        for (glm::vec3 step :
+             {glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(-2.0f, 0.0f, -2.0f), glm::vec3(5.0f, 5.0f, 5.0f)}) {
+            const glm::vec3 before = camera.position;
+            camera.position += step * v0;
+            auto moved = (*system)->renderFrame(camera, kSize, kSize, request);
+            ASSERT_TRUE(moved.ok()) << moved.error().message;
+            EXPECT_NE(corner(before, 0), corner(camera.position, 0)) << "every step moves level 0";
+            for (uint32_t l = 0; l < vct.levels; ++l) {
+                const std::string at = "@" + std::to_string(l);
+                const bool levelMoved = corner(before, l) != corner(camera.position, l);
+                EXPECT_EQ(ran(*moved, "gi.voxel.voxelize.slab" + at), levelMoved)
+                    << step.x << " " << step.y << " " << l;
+                EXPECT_EQ(ran(*moved, "gi.voxel.mark" + at), levelMoved) << step.x << " " << step.y << " " << l;
+                EXPECT_FALSE(ran(*moved, "gi.voxel.voxelize" + at)) << "level " << l << " re-voxelized whole";
+                EXPECT_EQ(ran(*moved, "gi.vct.shift" + at), levelMoved) << step.x << " " << step.y << " " << l;
+                EXPECT_FALSE(ran(*moved, "gi.vct.list.stale" + at)) << "level " << l;
+            }
+            auto fresh = test::renderOnce(ctx(), settings, scene, camera, kSize, kSize, request);
+            ASSERT_TRUE(fresh.ok()) << fresh.error().message;
+            const Gap gap = indirectGap(*moved, *fresh);
+            EXPECT_LE(gap.relMse, boundRelMse) << bounces << " bounces, " << step.x << " " << step.y << " " << step.z;
+            EXPECT_LE(gap.maxOverMean, boundMax) << bounces << " bounces, " << step.x << " " << step.y << " " << step.z;
+        }
+        scene.lights[0].intensity *= 1.5f;
+        ASSERT_TRUE((*system)->updateScene(scene).ok());
+        auto relit = (*system)->renderFrame(camera, kSize, kSize, request);
+        ASSERT_TRUE(relit.ok()) << relit.error().message;
         for (uint32_t l = 0; l < vct.levels; ++l) {
-            const std::string at = "@" + std::to_string(l);
-            const bool levelMoved = corner(before, l) != corner(camera.position, l);
-            EXPECT_EQ(ran(*moved, "gi.voxel.voxelize.slab" + at), levelMoved) << step.x << " " << step.y << " " << l;
-            EXPECT_EQ(ran(*moved, "gi.voxel.mark" + at), levelMoved) << step.x << " " << step.y << " " << l;
-            EXPECT_FALSE(ran(*moved, "gi.voxel.voxelize" + at)) << "level " << l << " re-voxelized whole";
+            EXPECT_TRUE(ran(*relit, "gi.vct.light@" + std::to_string(l)));
+            EXPECT_FALSE(ran(*relit, "gi.vct.shift@" + std::to_string(l)));
         }
         auto fresh = test::renderOnce(ctx(), settings, scene, camera, kSize, kSize, request);
         ASSERT_TRUE(fresh.ok()) << fresh.error().message;
-        EXPECT_EQ(differingPixels(moved->composite, fresh->composite), 0u) << step.x << " " << step.y << " " << step.z;
+        EXPECT_EQ(differingPixels(relit->composite, fresh->composite), 0u) << bounces << " bounces";
     }
 }
 
 // With a dynamic object the static bake is shifted the same way (its own touched list, the grid's
-// volumes as scratch) and the dynamic draws are voxelized and merged as on every frame, also when
-// the object moves in the same frame.
-TEST_F(VctClipmap, MovedLevelsWithADynamicObjectShiftTheStaticBakeAndEqualAFreshSystem) {
+// volumes as scratch) and the dynamic draws are voxelized and merged as on every frame. A move
+// alone keeps the kept voxels' light (within the moved-level tolerance of a fresh system); a
+// move in the frame the object moves relights the levels whole, which then equal a fresh
+// system bit for bit; the next move keeps light again.
+TEST_F(VctClipmap, MovedLevelsWithADynamicObjectShiftTheStaticBakeAndStayNearAFreshSystem) {
     Scene scene = test::builtinScene("hall");
     scene.instances.back().dynamic = true;
     VctSettings vct = clipmapSettings();
@@ -253,13 +327,15 @@ TEST_F(VctClipmap, MovedLevelsWithADynamicObjectShiftTheStaticBakeAndEqualAFresh
     const float v0 = vctFinestVoxel(vct);
     Camera camera = onBlockCentre(scene.cameraOrDefault(), v0);
     FrameRequest request;
+    request.indirect = true;
     auto system = test::systemWithScene(ctx(), settings, scene);
     ASSERT_TRUE(system.ok()) << system.error().message;
     ASSERT_TRUE((*system)->renderFrame(camera, kSize, kSize, request).ok());
     // The second step also moves the dynamic object.
-    for (glm::vec3 step : {glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(-2.0f, 0.0f, -2.0f)}) {
+    for (glm::vec3 step : {glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(-2.0f, 0.0f, -2.0f), glm::vec3(2.0f, 0.0f, 1.0f)}) {
         camera.position += step * v0;
-        if (step.z != 0.0f) {
+        const bool objectMoved = step.x < 0.0f;
+        if (objectMoved) {
             scene.instances.back().transform[3].x += 0.05f;
             ASSERT_TRUE((*system)->updateScene(scene).ok());
         }
@@ -268,9 +344,16 @@ TEST_F(VctClipmap, MovedLevelsWithADynamicObjectShiftTheStaticBakeAndEqualAFresh
         EXPECT_TRUE(ran(*moved, "gi.voxel.voxelize.slab.static@0"));
         EXPECT_FALSE(ran(*moved, "gi.voxel.voxelize.static@0"));
         EXPECT_TRUE(ran(*moved, "gi.voxel.merge@0"));
+        EXPECT_EQ(ran(*moved, "gi.vct.shift@0"), !objectMoved);
         auto fresh = test::renderOnce(ctx(), settings, scene, camera, kSize, kSize, request);
         ASSERT_TRUE(fresh.ok()) << fresh.error().message;
-        EXPECT_EQ(differingPixels(moved->composite, fresh->composite), 0u) << step.x << " " << step.z;
+        if (objectMoved) {
+            EXPECT_EQ(differingPixels(moved->composite, fresh->composite), 0u) << step.x << " " << step.z;
+            continue;
+        }
+        const Gap gap = indirectGap(*moved, *fresh);
+        EXPECT_LE(gap.relMse, kKeptBounceRelMse) << step.x << " " << step.z;
+        EXPECT_LE(gap.maxOverMean, kKeptBounceMaxOverMean) << step.x << " " << step.z;
     }
 }
 

@@ -15,15 +15,32 @@ using rg::Access;
 
 namespace {
 
+// The voxels a moved clipmap level keeps (VctPassOptions::shift): lo .. hi inclusive, empty
+// (lo > hi) when the level did not move.
+struct KeepBox {
+    glm::ivec4 lo{1 << 20, 1 << 20, 1 << 20, 0};
+    glm::ivec4 hi{-1, -1, -1, 0};
+};
+
+KeepBox keepBox(const VctPassOptions& options, uint32_t n) {
+    KeepBox box;
+    if (options.shifted) {
+        box.lo = glm::ivec4(glm::max(-options.shift, glm::ivec3(0)), 0);
+        box.hi = glm::ivec4(glm::ivec3(int(n) - 1) - glm::max(options.shift, glm::ivec3(0)), 0);
+    }
+    return box;
+}
+
 // Adds one pass per level k >= 1 of the directional volume, built from level k - 1, up to the
 // tail, and one for the tail's levels ("prefix[t-L]"); returns the newest version. Level 1 is
 // written at the listed occupied blocks only and keeps the zeros elsewhere (gi.vct.list.clear /
 // .stale; no discard).
 // With `jobs` (and the grid's normal volume) the level-1 pass also lists the second bounce's
 // jobs into it.
+// `keep`: the bounce blocks around kept voxels list no job (VoxelMipPush).
 rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::ImageHandle directional,
                              rg::BufferHandle list, const char* prefix, rg::BufferHandle* jobs = nullptr,
-                             rg::ImageHandle normal = {}) {
+                             rg::ImageHandle normal = {}, KeepBox keep = {}) {
     const VctVolumes::Pipelines& p = v.pipelines();
     const gpu::VoxelGridParams& params = v.grid().params();
     uint32_t tail = v.mipTailLevel(), last = v.directionalLevels() - 1;
@@ -32,7 +49,7 @@ rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::Im
         std::string name = std::string(prefix) + "[" + std::to_string(level) +
                            (count > 1 ? "-" + std::to_string(last) : std::string()) + "]";
         uint32_t size = std::max(1u, v.grid().resolution() >> level);
-        gpu::VoxelMipPush push{params, glm::uvec4(level, size, 0u, 0u)};
+        gpu::VoxelMipPush push{params, glm::uvec4(level, size, 0u, 0u), keep.lo, keep.hi};
         const rg::SubresourceRange source = rg::SubresourceRange::mip(level - 1);
         if (level == 1 && jobs) { // the listed occupied blocks, and the bounce jobs (voxel_mip_body.glsl)
             rg::ComputePass(graph, name, p.mipListJobs)
@@ -78,33 +95,40 @@ rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::Im
 // the rest must read empty: the first voxelization zeroes levels 0 and 1 (and the record of
 // what they hold) by transfer clears, later ones only what went stale (gi.vct.list.stale, after
 // the list is built). The list header and bits are zeroed here.
+// `shifted` (VctPassOptions::shift): the grid moved and its saved level 0 is copied back
+// shifted after the list (addShiftPass). The clear then zeroes levels 0 and 1 and the written
+// record as at the first voxelization, and there is no stale pass, which would compare the last
+// list's bits (at the old corner) with the new ones: the written bits are left unknown, and the
+// next relight without a shift starts from the cleared state again (writtenKnown false).
 void addListPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid, rg::BufferHandle& list,
-                   rg::ImageHandle& directional, rg::ImageHandle& written) {
+                   rg::ImageHandle& directional, rg::ImageHandle& written, bool shifted) {
     const VctVolumes::Pipelines& p = volumes.pipelines();
     const uint32_t n = volumes.grid().resolution();
     const gpu::VoxelGridPush push{volumes.grid().params()};
     rg::BufferHandle writtenBits = graph.importBuffer("gi.vct.written_bits", volumes.writtenBitsState());
     const rg::SubresourceRange levels01{0, 2, 0, rg::kAll};
-    bool first = !volumes.writtenKnown();
+    const bool first = !volumes.writtenKnown(), clearLevels = first || shifted;
     graph.addPass(
         "gi.vct.list.clear",
         [&](rg::PassBuilder& b) {
             list = b.write(list, Access::TransferWrite);
-            if (first) {
+            if (clearLevels) {
                 directional = b.write(directional, Access::TransferWrite, levels01);
                 written = b.write(written, Access::TransferWrite);
-                writtenBits = b.write(writtenBits, Access::TransferWrite);
             }
+            if (first)
+                writtenBits = b.write(writtenBits, Access::TransferWrite);
         },
-        [n, list, directional, written, writtenBits, first](rg::PassContext& ctx) {
+        [n, list, directional, written, writtenBits, first, clearLevels](rg::PassContext& ctx) {
             VkCommandBuffer cmd = ctx.cmd();
             VkBuffer l = ctx.buffer(list).buffer;
             VkDeviceSize slots = VkDeviceSize(n) * n * n + (n / 2) * (n / 2) * (n / 2);
             vkCmdFillBuffer(cmd, l, 0, GI_VOXEL_LIST_HEADER * sizeof(uint32_t), 0);
             vkCmdFillBuffer(cmd, l, (GI_VOXEL_LIST_HEADER + slots) * sizeof(uint32_t), VK_WHOLE_SIZE, 0);
-            if (!first)
+            if (first)
+                vkCmdFillBuffer(cmd, ctx.buffer(writtenBits).buffer, 0, VK_WHOLE_SIZE, 0);
+            if (!clearLevels)
                 return;
-            vkCmdFillBuffer(cmd, ctx.buffer(writtenBits).buffer, 0, VK_WHOLE_SIZE, 0);
             VkClearColorValue zero{};
             VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
             vkCmdClearColorImage(cmd, ctx.image(written).image, ctx.layout(written), &zero, 1, &all);
@@ -133,6 +157,11 @@ void addListPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridD
         .push(push)
         .write(VCT_APPEND_BINDING_LIST, list)
         .dispatch({words, 1u, 1u});
+    volumes.setListBuilt(true);
+    if (shifted) {
+        volumes.setWrittenKnown(false);
+        return;
+    }
     rg::ImageHandle level1 = directional; // both levels become this pass's version
     rg::ComputePass(graph, "gi.vct.list.stale", p.listStale)
         .push(push)
@@ -146,6 +175,62 @@ void addListPasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridD
     volumes.setWrittenKnown(true);
 }
 
+// "gi.vct.shift", a moved clipmap level (VctPassOptions::shift = d): the saved level 0
+// (VctVolumes::litState) copied back into level 0 of the directional volume, which the list's
+// clear zeroed, moved by -d: grid voxel c at the new corner was c + d at the old one. The voxel
+// light then restores the kept voxels' written record and lights the new ones; level 1 is
+// rebuilt at the listed blocks from the zeros.
+void addShiftPass(rg::RenderGraph& graph, const VctVolumes& volumes, glm::ivec3 d, rg::ImageHandle lit,
+                  rg::ImageHandle& directional) {
+    const uint32_t n = volumes.grid().resolution();
+    graph.addPass(
+        "gi.vct.shift",
+        [&](rg::PassBuilder& b) {
+            b.read(lit, Access::TransferRead);
+            directional = b.write(directional, Access::TransferWrite, rg::SubresourceRange::mip(0));
+        },
+        [n, d, lit, directional](rg::PassContext& ctx) {
+            const glm::ivec3 src = glm::max(d, glm::ivec3(0)), dst = glm::max(-d, glm::ivec3(0));
+            const glm::ivec3 extent = glm::ivec3(int(n)) - glm::abs(d);
+            // View v of axis k: layer v N + c_k, 2D coordinates the other two axes in order
+            // (vctDirectionalTexel).
+            VkImageCopy regions[GI_VCT_DIRECTIONS];
+            for (uint32_t v = 0; v < GI_VCT_DIRECTIONS; ++v) {
+                const int k = int(v >> 1u), a = k == 0 ? 1 : 0, b = k == 2 ? 1 : 2;
+                regions[v] = {{VK_IMAGE_ASPECT_COLOR_BIT, 0, v * n + uint32_t(src[k]), uint32_t(extent[k])},
+                              {src[a], src[b], 0},
+                              {VK_IMAGE_ASPECT_COLOR_BIT, 0, v * n + uint32_t(dst[k]), uint32_t(extent[k])},
+                              {dst[a], dst[b], 0},
+                              {uint32_t(extent[a]), uint32_t(extent[b]), 1}};
+            }
+            vkCmdCopyImage(ctx.cmd(), ctx.image(lit).image, ctx.layout(lit), ctx.image(directional).image,
+                           ctx.layout(directional), GI_VCT_DIRECTIONS, regions);
+        });
+}
+
+// "gi.vct.lit.save": level 0 of the directional volume as the voxel light left it into the saved
+// copy a later move shifts (VctVolumes::litState).
+void addLitSavePass(rg::RenderGraph& graph, VctVolumes& volumes, rg::ImageHandle directional, rg::ImageHandle lit) {
+    const uint32_t n = volumes.grid().resolution();
+    graph.addPass(
+        "gi.vct.lit.save",
+        [&](rg::PassBuilder& b) {
+            b.read(directional, Access::TransferRead, rg::SubresourceRange::mip(0));
+            lit = b.write(lit, Access::TransferWrite);
+        },
+        [n, lit, directional](rg::PassContext& ctx) {
+            const uint32_t layers = GI_VCT_DIRECTIONS * n;
+            VkImageCopy region{{VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, layers},
+                               {0, 0, 0},
+                               {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, layers},
+                               {0, 0, 0},
+                               {n, n, 1}};
+            vkCmdCopyImage(ctx.cmd(), ctx.image(directional).image, ctx.layout(directional), ctx.image(lit).image,
+                           ctx.layout(lit), 1, &region);
+        });
+    volumes.setLitKnown(true);
+}
+
 // "gi.vct.light": grid volumes + lights (+ the emission volume unless `options.emission` is
 // false) -> the six level-0 views of the directional volume at the listed voxels (indirect over
 // the list); reads and updates the written volume. The shadow-atlas variant with
@@ -157,8 +242,12 @@ void addLightPass(rg::RenderGraph& graph, const VctVolumes& volumes, const Voxel
     bool useShadowMap = settings.occlusion == VctOcclusion::ShadowMap && options.shadowAtlas.valid();
     bool soft = !useShadowMap && settings.occlusion == VctOcclusion::RayMarchSoft;
     uint32_t mode = settings.occlusion == VctOcclusion::RayMarchSoft ? GI_VCT_OCCLUSION_SOFT : GI_VCT_OCCLUSION_HARD;
+    // The voxels both corners cover may keep their shifted views (voxel_light_body.glsl), but
+    // not with the shadow atlas, which follows the camera.
+    const KeepBox keep = useShadowMap ? KeepBox{} : keepBox(options, volumes.grid().resolution());
     gpu::VoxelLightPush push{volumes.grid().params(),
-                             glm::uvec4(lightCount, mode, options.emission ? GI_VOXEL_LIGHT_EMISSION : 0u, 0u)};
+                             glm::uvec4(lightCount, mode, options.emission ? GI_VOXEL_LIGHT_EMISSION : 0u, 0u), keep.lo,
+                             keep.hi};
     rg::ComputePass pass(graph, "gi.vct.light", useShadowMap ? p.lightShadowMap : soft ? p.lightSoft : p.light);
     pass.push(push);
     if (useShadowMap)
@@ -183,9 +272,13 @@ void addLightPass(rg::RenderGraph& graph, const VctVolumes& volumes, const Voxel
 // Second bounce: one gather per (block, normal class), its misfit voxels one each
 // (gi/vct_passes.h), into level 0 of the directional volume at the listed voxels, then its mips
 // again; `jobs` is the job list the level-1 mip built.
+// With `options.saveLit` (clipmap levels) every listed voxel's bounce is kept for the next move
+// (VctVolumes::bounceState); a moved level (`keep` not empty) copies it back shifted
+// ("gi.vct.bounce.shift") and its kept voxels take it instead of the gathers, whose blocks around
+// them list no job (addMipPasses).
 rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
                                 const gpu::ConeParams& cones, rg::BufferHandle list, rg::BufferHandle jobs,
-                                rg::ImageHandle directional) {
+                                rg::ImageHandle directional, const VctPassOptions& options, KeepBox keep) {
     const VctVolumes::Pipelines& p = volumes.pipelines();
     const gpu::VoxelBouncePush push{volumes.grid().params(), cones};
     rg::BufferHandle results = graph.importBuffer("gi.vct.bounce.results", volumes.bounceResultsState());
@@ -213,8 +306,35 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
         .overwrite(VCT_MISFITS_BINDING_OUTPUT, light)
         .read(VCT_MISFITS_BINDING_JOBS, jobs)
         .dispatchIndirect(jobs, GI_BOUNCE_MISFITS * sizeof(uint32_t));
+    // Each voxel's bounce: kept in the clipmap levels, a transient the single grid drops.
+    rg::ImageHandle voxelBounce = options.saveLit ? graph.importImage("gi.vct.bounce.voxels", volumes.bounceState())
+                                                  : graph.createImage("gi.vct.bounce.voxels", bounceDesc);
+    rg::ImageHandle kept = light; // not read unless `keep` holds voxels
+    if (keep.lo.x <= keep.hi.x) {
+        kept = graph.createImage("gi.vct.bounce.kept", bounceDesc);
+        const glm::ivec3 d = options.shift, n = glm::ivec3(int(volumes.grid().resolution()));
+        graph.addPass(
+            "gi.vct.bounce.shift",
+            [&](rg::PassBuilder& b) {
+                b.read(voxelBounce, Access::TransferRead);
+                kept = b.write(kept, Access::TransferWrite);
+            },
+            [voxelBounce, kept, d, n](rg::PassContext& ctx) {
+                const glm::ivec3 src = glm::max(d, glm::ivec3(0)), dst = glm::max(-d, glm::ivec3(0)),
+                                 extent = n - glm::abs(d);
+                VkImageCopy region{};
+                region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                region.srcOffset = {src.x, src.y, src.z};
+                region.dstOffset = {dst.x, dst.y, dst.z};
+                region.extent = {uint32_t(extent.x), uint32_t(extent.y), uint32_t(extent.z)};
+                vkCmdCopyImage(ctx.cmd(), ctx.image(voxelBounce).image, ctx.layout(voxelBounce), ctx.image(kept).image,
+                               ctx.layout(kept), 1, &region);
+            });
+    }
     rg::ComputePass(graph, "gi.vct.bounce", p.bounceApply)
-        .push(gpu::VoxelGridPush{volumes.grid().params()})
+        .push(gpu::VoxelApplyPush{volumes.grid().params(), keep.lo, keep.hi})
+        .read(VCT_APPLY_BINDING_KEPT, kept)
+        .write(VCT_APPLY_BINDING_BOUNCE, voxelBounce)
         .read(VCT_APPLY_BINDING_ALBEDO, grid.albedo)
         .read(VCT_APPLY_BINDING_NORMAL, grid.normal)
         .read(VCT_APPLY_BINDING_JOBS, jobs)
@@ -282,9 +402,21 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     // The axes whose level-0 views each voxel last stored (gi/vct_passes.h): the voxel light
     // zeroes those its faces no longer cover, gi.vct.list.stale those of emptied voxels.
     rg::ImageHandle written = graph.importImage("gi.vct.written", volumes.writtenState());
+    if (options.shifted && !(volumes.litKnown() && grid.changed))
+        options.shifted = false; // nothing saved to shift (or no new list): relight whole
     if (grid.changed || !volumes.listBuilt())
-        addListPasses(graph, volumes, grid, list, out.directional, written);
+        addListPasses(graph, volumes, grid, list, out.directional, written, options.shifted);
+    // The saved level 0, imported once (the graph tracks its layout across both uses).
+    rg::ImageHandle lit;
+    if (options.saveLit || options.shifted)
+        lit = graph.importImage("gi.vct.lit", volumes.litState());
+    if (options.shifted)
+        addShiftPass(graph, volumes, options.shift, lit, out.directional);
     addLightPass(graph, volumes, grid, lights, lightCount, settings, options, list, out.directional, written);
+    if (options.saveLit)
+        addLitSavePass(graph, volumes, out.directional, lit);
+    else
+        volumes.setLitKnown(false);
     // The second bounce's jobs: the level-1 mip lists them after this clear of the header, class
     // masks and misfit bits (gi/vct_passes.h).
     rg::BufferHandle jobs;
@@ -306,13 +438,19 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                                 VkDeviceSize(n * n * n / 32 + gpu::bounceGeometryWords(n)) * sizeof(uint32_t), 0);
             });
     }
-    out.directional =
-        addMipPasses(graph, volumes, out.directional, list, "gi.vct.mip", jobs.valid() ? &jobs : nullptr, grid.normal);
+    // A moved level's kept voxels keep their second bounce when the last relight kept it.
+    const KeepBox keepBounce = options.saveLit && volumes.bounceKnown() && settings.bounces >= 2
+                                   ? keepBox(options, volumes.grid().resolution())
+                                   : KeepBox{};
+    out.directional = addMipPasses(graph, volumes, out.directional, list, "gi.vct.mip", jobs.valid() ? &jobs : nullptr,
+                                   grid.normal, keepBounce);
     if (settings.bounces >= 2) {
         gpu::ConeParams cones =
             volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
-        out.directional = addBouncePasses(graph, volumes, grid, cones, list, jobs, out.directional);
+        out.directional =
+            addBouncePasses(graph, volumes, grid, cones, list, jobs, out.directional, options, keepBounce);
     }
+    volumes.setBounceKnown(options.saveLit && settings.bounces >= 2);
     return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage);
 }
 

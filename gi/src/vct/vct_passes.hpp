@@ -48,6 +48,16 @@ struct VctPassOptions {
     // false: the glossy image is not asked for; the trace passes leave it unwritten (the
     // indirect image holds the glossy cone's share either way).
     bool glossyImage = true;
+    // Clipmap levels: keep level 0 as the voxel light wrote it (VctVolumes::litState), so that
+    // a later move can shift it ("gi.vct.lit.save").
+    bool saveLit = false;
+    // `shifted`: the grid's corner moved by `shift` voxels (|shift| < N) since its last relight,
+    // which saved level 0, and no light or object changed: the saved level 0 is shifted in
+    // ("gi.vct.shift") and the voxel light keeps the kept voxels whose marches the move cannot
+    // change, lighting the others; the mips and the second bounce are rebuilt whole
+    // (docs/vct.md "Clipmap").
+    bool shifted = false;
+    glm::ivec3 shift{0};
 };
 // "gi.vct.list*" (once per voxelization), "gi.vct.light", "gi.vct.mip[k]", optionally
 // "gi.vct.bounce*" + "gi.vct.bounce.mip[k]", "gi.vct.shadow" with soft shadows, and "gi.vct.trace"

@@ -221,6 +221,8 @@ private:
             if (!volumes)
                 return volumes.error();
             level.volumes = std::move(*volumes);
+            level.volumes->litState(); // created now, so that the memory report counts them from the start
+            level.volumes->bounceState();
             m_levels.push_back(std::move(level));
         }
         ImageDesc d;
@@ -307,8 +309,17 @@ private:
             if (l == 0)
                 in.blackboard.add(grid); // the finest level stands for the grid
             if (relight) {
+                // A move alone keeps the light of the voxels both corners cover; a light or an
+                // object change relights the level whole.
+                VctPassOptions levelOptions = options;
+                levelOptions.saveLit = true;
+                if (move && sceneUpdate == VoxelUpdate::None && !changes.anyLight() && level.lit &&
+                    glm::all(glm::lessThan(glm::abs(*move), glm::ivec3(int(n))))) {
+                    levelOptions.shifted = true;
+                    levelOptions.shift = *move;
+                }
                 VctOutputs lit = addVctPasses(graph, *level.volumes, grid, in.scene.lights, m_lightCount, settings,
-                                              nullptr, options);
+                                              nullptr, levelOptions);
                 clipmap = addClipmapCopyPass(graph, lit.directional, clipmap, l, n,
                                              level.volumes->directionalLevels());
                 level.lit = true;

@@ -107,6 +107,9 @@ VctVolumes::~VctVolumes() {
     destroyBuffer(m_ctx, m_list.buffer);
     destroyBuffer(m_ctx, m_writtenBits.buffer);
     destroyImage(m_ctx, m_written.image);
+    for (rg::PersistentImage* image : {&m_lit, &m_bounce})
+        if (image->image.image)
+            destroyImage(m_ctx, image->image);
     for (rg::PersistentBuffer* b : {&m_jobBuffer, &m_resultBuffer})
         if (b->buffer.buffer)
             destroyBuffer(m_ctx, b->buffer);
@@ -123,7 +126,9 @@ VctVolumes::~VctVolumes() {
 }
 
 VkDeviceSize VctVolumes::bytes() const {
-    return imageBytes(m_directional.image.desc) + imageBytes(m_written.image.desc) + m_list.buffer.desc.size +
+    return imageBytes(m_directional.image.desc) + imageBytes(m_written.image.desc) +
+           (m_lit.image.image ? imageBytes(m_lit.image.desc) : 0) +
+           (m_bounce.image.image ? imageBytes(m_bounce.image.desc) : 0) + m_list.buffer.desc.size +
            m_writtenBits.buffer.desc.size + m_jobBuffer.buffer.desc.size + m_resultBuffer.buffer.desc.size;
 }
 
@@ -157,6 +162,24 @@ void createOnce(Context& ctx, rg::PersistentBuffer& b, uint32_t words, const cha
 rg::PersistentBuffer& VctVolumes::bounceJobsState() {
     createOnce(m_ctx, m_jobBuffer, GI_BOUNCE_HEADER + gpu::bounceJobWords(m_grid.resolution()), "vct.bounce_jobs");
     return m_jobBuffer;
+}
+
+rg::PersistentImage& VctVolumes::litState() {
+    if (!m_lit.image.image)
+        m_lit.image = createDirectionalVolume(m_ctx, m_grid.resolution(), 1, "vct.lit");
+    return m_lit;
+}
+
+rg::PersistentImage& VctVolumes::bounceState() {
+    if (!m_bounce.image.image) {
+        ImageDesc d;
+        d.type = VK_IMAGE_TYPE_3D;
+        d.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+        d.width = d.height = d.depth = m_grid.resolution();
+        d.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+        m_bounce.image = createImage(m_ctx, d, "vct.bounce");
+    }
+    return m_bounce;
 }
 
 rg::PersistentBuffer& VctVolumes::bounceResultsState() {

@@ -44,6 +44,19 @@ public:
     rg::PersistentBuffer& writtenBitsState() { return m_writtenBits; }
     bool writtenKnown() const { return m_writtenKnown; }
     void setWrittenKnown(bool known) { m_writtenKnown = known; }
+    // Clipmap levels: level 0 of the directional volume as the voxel light left it, before the
+    // second bounce joins it (one mip, same layout; created at the first call). A moved level
+    // shifts it back in and relights only the voxels it newly covers (docs/vct.md "Clipmap").
+    // `litKnown` says whether it holds the last relight of the grid's voxels.
+    rg::PersistentImage& litState();
+    bool litKnown() const { return m_litKnown; }
+    void setLitKnown(bool known) { m_litKnown = known; }
+    // Clipmap levels: each listed voxel's second bounce (RGBA16F N^3, rgb) from the last relight
+    // (created at the first call); a moved level's kept voxels keep it. `bounceKnown` says whether
+    // it holds the last relight's.
+    rg::PersistentImage& bounceState();
+    bool bounceKnown() const { return m_bounceKnown; }
+    void setBounceKnown(bool known) { m_bounceKnown = known; }
     const VoxelGrid& grid() const { return m_grid; }
     uint32_t directionalLevels() const { return m_levels; }
     // First level of the mip tail (mipTail builds it and all coarser ones in one dispatch):
@@ -95,8 +108,12 @@ private:
     rg::PersistentBuffer m_jobBuffer, m_resultBuffer;
     rg::PersistentImage m_written;
     rg::PersistentBuffer m_writtenBits;
+    rg::PersistentImage m_lit;
+    rg::PersistentImage m_bounce;
+    bool m_bounceKnown = false;
     bool m_listBuilt = false;
     bool m_writtenKnown = false;
+    bool m_litKnown = false;
     uint32_t m_levels = 0;
     VkSampler m_sampler = VK_NULL_HANDLE;          // directional volume: clamp to edge (sampleDirectional)
     VkSampler m_occupancySampler = VK_NULL_HANDLE; // soft voxel-light march: transparent border

@@ -12,7 +12,7 @@
 #include "gi/vct_passes.h"
 
 layout(local_size_x = GI_VOXEL_LIST_GROUP) in; // one invocation per occupied voxel (indirect)
-layout(push_constant) uniform Push { VoxelGridPush pc; };
+layout(push_constant) uniform Push { VoxelApplyPush pc; };
 layout(set = 1, binding = VCT_APPLY_BINDING_ALBEDO, rgba8) uniform readonly image3D albedoVol;
 layout(set = 1, binding = VCT_APPLY_BINDING_NORMAL, rgba8) uniform readonly image3D normalVol;
 layout(set = 1, binding = VCT_APPLY_BINDING_JOBS, std430) readonly buffer Jobs { uint header[GI_BOUNCE_HEADER]; uint words[]; };
@@ -21,6 +21,8 @@ layout(set = 1, binding = VCT_APPLY_BINDING_LIST, std430) readonly buffer List {
 layout(set = 1, binding = VCT_APPLY_BINDING_RESULTS, std430) readonly buffer Results { uint results[]; };
 layout(set = 1, binding = VCT_APPLY_BINDING_FACES, r32ui) uniform readonly uimage3D facesVol;
 layout(set = 1, binding = VCT_APPLY_BINDING_DIRECTIONAL, rgba16f) uniform image2DArray directionalLevel0;
+layout(set = 1, binding = VCT_APPLY_BINDING_KEPT, rgba16f) uniform readonly image3D keptBounce;
+layout(set = 1, binding = VCT_APPLY_BINDING_BOUNCE, rgba16f) uniform writeonly image3D bounceOut;
 #include "voxel_block.glsl"
 
 void main() {
@@ -30,11 +32,16 @@ void main() {
     ivec3 c = ivec3(voxelListUnpack(entries[gl_GlobalInvocationID.x]));
     vec3 normal;
     uint k;
-    if (!voxelNormalOf(c, normal, k))
+    if (!voxelNormalOf(c, normal, k)) {
+        imageStore(bounceOut, c, vec4(0.0));
         return; // no hemisphere: no second bounce
+    }
     vec3 b;
     uvec2 bit = bounceMisfitBit(uvec3(c), n);
-    if ((words[bounceMisfitBitsOffset(n) + bit.x] & (1u << bit.y)) != 0u) {
+    if (all(greaterThanEqual(c, pc.keepLo.xyz)) && all(lessThanEqual(c, pc.keepHi.xyz))) {
+        // A moved clipmap level's kept voxel: its bounce of before the move (docs/vct.md "Clipmap").
+        b = imageLoad(keptBounce, c).rgb;
+    } else if ((words[bounceMisfitBitsOffset(n) + bit.x] & (1u << bit.y)) != 0u) {
         b = imageLoad(misfitBounce, c).rgb;
     } else {
         // Bilinear (linear for an edge class, none for a corner) over the gathers of class k at
@@ -67,6 +74,7 @@ void main() {
         e /= weights;
         b = imageLoad(albedoVol, c).rgb * e;
     }
+    imageStore(bounceOut, c, vec4(b, 0.0));
     if (b == vec3(0.0))
         return;
     uint faces = imageLoad(facesVol, c).x;

@@ -170,35 +170,41 @@ float visibility(vec3 p, vec3 dir, float tMax) {
 }
 #endif
 
+// Light i at voxel centre pWorld: the unit direction towards it, its distance (1e30 for a
+// directional light) and its illuminance e on a surface facing it (before visibility).
+void lightAt(uint i, vec3 pWorld, out vec3 toLight, out float dist, out float e) {
+    GpuLight light = lights[i];
+    uint type = uint(light.positionType.w);
+    if (type == GI_LIGHT_DIRECTIONAL) {
+        toLight = -light.directionRange.xyz;
+        dist = 1e30;
+        e = light.colorIntensity.w;
+        return;
+    }
+    vec3 d = light.positionType.xyz - pWorld;
+    // A voxel stands for a patch of area a^2, not for its centre: its mean irradiance is
+    // I Omega / a^2, Omega the solid angle of the patch. For a disc of that area facing
+    // the light at distance h, Omega = 2 pi (1 - h / sqrt(h^2 + a^2 / pi)): I / h^2 far
+    // away, 2 pi I / a^2 at h = 0. I / (h^2 + a^2 / (2 pi)) has both limits (within 8%
+    // between them), where the centre value I / h^2 overshoots near a light (a light
+    // 1 cm under a ceiling of 1.8 cm voxels: 1.7x).
+    float a2 = pc.grid.originSize.w * pc.grid.originSize.w;
+    float d2 = dot(d, d);
+    dist = sqrt(d2);
+    toLight = d / max(dist, 1e-20);
+    e = light.colorIntensity.w / (d2 + a2 * (0.5 / kPi)) * lightRangeWindow(dist, light.directionRange.w);
+    if (type == GI_LIGHT_SPOT)
+        e *= spotConeAttenuation(dot(light.directionRange.xyz, -toLight), light.cone.x, light.cone.y);
+}
+
 // Irradiance (rgb) of a surface with unit normal `normal` at voxel centre pGrid / pWorld.
 vec3 irradianceAt(vec3 pGrid, vec3 pWorld, vec3 normal) {
     vec3 pMarch = pGrid + normal * kShadowStart;
     vec3 irradiance = vec3(0.0);
     for (uint i = 0u; i < pc.info.x; ++i) {
-        GpuLight light = lights[i];
-        uint type = uint(light.positionType.w);
         vec3 toLight;
         float dist, e;
-        if (type == GI_LIGHT_DIRECTIONAL) {
-            toLight = -light.directionRange.xyz;
-            dist = 1e30;
-            e = light.colorIntensity.w;
-        } else {
-            vec3 d = light.positionType.xyz - pWorld;
-            // A voxel stands for a patch of area a^2, not for its centre: its mean irradiance is
-            // I Omega / a^2, Omega the solid angle of the patch. For a disc of that area facing
-            // the light at distance h, Omega = 2 pi (1 - h / sqrt(h^2 + a^2 / pi)): I / h^2 far
-            // away, 2 pi I / a^2 at h = 0. I / (h^2 + a^2 / (2 pi)) has both limits (within 8%
-            // between them), where the centre value I / h^2 overshoots near a light (a light
-            // 1 cm under a ceiling of 1.8 cm voxels: 1.7x).
-            float a2 = pc.grid.originSize.w * pc.grid.originSize.w;
-            float d2 = dot(d, d);
-            dist = sqrt(d2);
-            toLight = d / max(dist, 1e-20);
-            e = light.colorIntensity.w / (d2 + a2 * (0.5 / kPi)) * lightRangeWindow(dist, light.directionRange.w);
-            if (type == GI_LIGHT_SPOT)
-                e *= spotConeAttenuation(dot(light.directionRange.xyz, -toLight), light.cone.x, light.cone.y);
-        }
+        lightAt(i, pWorld, toLight, dist, e);
         float cosine = max(dot(normal, toLight), 0.0);
         if (e * cosine <= 0.0)
             continue;
@@ -207,9 +213,47 @@ vec3 irradianceAt(vec3 pGrid, vec3 pWorld, vec3 normal) {
 #else
         float v = visibility(pMarch, toLight, dot(pGrid + dist * pc.grid.scales.x * toLight - pMarch, toLight));
 #endif
-        irradiance += light.colorIntensity.rgb * (e * cosine * v);
+        irradiance += lights[i].colorIntensity.rgb * (e * cosine * v);
     }
     return irradiance;
+}
+
+// Whether a kept voxel's light, for the surface with unit normal `normal`, is what the level's
+// last relight computed (docs/vct.md "Clipmap", moving a level: the light). The march of each
+// light that reaches the surface samples p + t dir for t in [kShadowStart, tEnd), tEnd at the
+// light or where the ray leaves the grid across an axis the level did not move along (both
+// corners' grids end there). If those samples stay a voxel (rounding; the soft march's filter)
+// inside the kept box along the moved axes, they read the same occupancy as before the move; a
+// march that reaches the new slabs, or left through the slices that left the level, may not.
+// (The shadow-map variant keeps no voxel: its atlas follows the camera.)
+bool marchesUnchanged(vec3 pGrid, vec3 pWorld, vec3 normal) {
+#ifdef GI_VOXEL_LIGHT_SHADOW_MAP
+    return false;
+#else
+    const float kMargin = 1.0;
+    float n = float(pc.grid.dims.x);
+    vec3 lo = vec3(pc.keepLo.xyz), hi = vec3(pc.keepHi.xyz + 1);
+    bvec3 moved = bvec3(vec3(greaterThan(lo, vec3(0.0))) + vec3(lessThan(hi, vec3(n))));
+    vec3 pMarch = pGrid + normal * kShadowStart;
+    for (uint i = 0u; i < pc.info.x; ++i) {
+        vec3 dir;
+        float dist, e;
+        lightAt(i, pWorld, dir, dist, e);
+        if (e * max(dot(normal, dir), 0.0) <= 0.0)
+            continue;
+        float tEnd = dot(pGrid + dist * pc.grid.scales.x * dir - pMarch, dir);
+        for (int k = 0; k < 3; ++k)
+            if (!moved[k] && abs(dir[k]) > 1e-20)
+                tEnd = min(tEnd, ((dir[k] > 0.0 ? n : 0.0) - pMarch[k]) / dir[k]);
+        if (tEnd <= kShadowStart)
+            continue; // no sample
+        vec3 first = pMarch + kShadowStart * dir, last = pMarch + tEnd * dir;
+        for (int k = 0; k < 3; ++k)
+            if (moved[k] && (min(first[k], last[k]) < lo[k] + kMargin || max(first[k], last[k]) > hi[k] - kMargin))
+                return false;
+    }
+    return true;
+#endif
 }
 
 // Stores view v (0..5) of voxel c: what a ray travelling along v sees, the radiance of the faces
@@ -229,8 +273,8 @@ void main() {
     if (gl_GlobalInvocationID.x >= header[3])
         return;
     ivec3 c = ivec3(voxelListUnpack(voxels[gl_GlobalInvocationID.x]));
-    vec3 albedo = albedoAt(c).rgb;
     uint faces = imageLoad(facesVol, c).x;
+    vec3 albedo = albedoAt(c).rgb;
     // Coverage of the faces looking towards +X, +Y, +Z (pos) and -X, -Y, -Z (neg).
     vec3 coverPos = vec3(voxelFaceCoverage(faces, 0u), voxelFaceCoverage(faces, 2u), voxelFaceCoverage(faces, 4u));
     vec3 coverNeg = vec3(voxelFaceCoverage(faces, 1u), voxelFaceCoverage(faces, 3u), voxelFaceCoverage(faces, 5u));
@@ -255,6 +299,21 @@ void main() {
     uvec3 meanPos = uvec3(greaterThan(mean, vec3(0.0))), meanNeg = uvec3(lessThan(mean, vec3(0.0)));
     uint meanDirs = present & (meanPos.x | (meanNeg.x << 1u) | (meanPos.y << 2u) | (meanNeg.y << 3u) | (meanPos.z << 4u) | (meanNeg.z << 5u));
     uint todo = (present & ~meanDirs) | (meanDirs != 0u ? 64u : 0u);
+    // A voxel a moved clipmap level kept holds its views from before the move (shifted in). If
+    // none of its marches can read what the move changed, they stay: the list's clear zeroed its
+    // record of stored axes, which its unchanged faces restore. Otherwise it is lit as a new voxel.
+    if (all(greaterThanEqual(c, pc.keepLo.xyz)) && all(lessThanEqual(c, pc.keepHi.xyz))) {
+        bool unchanged = true;
+        for (uint left = todo; left != 0u; left &= left - 1u) {
+            uint j = uint(findLSB(left)), k = j >> 1u;
+            vec3 axis = mix(vec3(0.0), vec3((j & 1u) == 0u ? 1.0 : -1.0), equal(uvec3(k), uvec3(0u, 1u, 2u)));
+            unchanged = unchanged && marchesUnchanged(pGrid, pWorld, j == 6u ? mean : axis);
+        }
+        if (unchanged) {
+            imageStore(writtenVol, c, uvec4(voxelViewAxes(faces)));
+            return;
+        }
+    }
     vec3 r0 = vec3(0.0), r1 = vec3(0.0), r2 = vec3(0.0), r3 = vec3(0.0), r4 = vec3(0.0), r5 = vec3(0.0);
     while (todo != 0u) {
         uint j = uint(findLSB(todo));

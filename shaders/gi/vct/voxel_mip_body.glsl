@@ -54,6 +54,12 @@ void addSums(uint record, uint count, uvec3 offsets, uint largest, uint smallest
 void appendJobs(ivec3 c, uint n) {
     uint side = n / bounceBlockSide(n);
     uvec3 q = uvec3(2 * c) / bounceBlockSide(n);
+    // A bounce block whose voxels and neighbour blocks (the apply interpolates between them) all
+    // lie in the kept box gathers nothing: those voxels keep their second bounce.
+    int s = int(bounceBlockSide(n));
+    ivec3 near0 = max(ivec3(q) * s - s, ivec3(0)), near1 = min(ivec3(q) * s + 2 * s - 1, ivec3(n - 1u));
+    if (all(greaterThanEqual(near0, pc.keepLo.xyz)) && all(lessThanEqual(near1, pc.keepHi.xyz)))
+        return;
     uint b = q.x + side * (q.y + side * q.z);
     uint records = bounceGeometryOffset(n) + GI_BOUNCE_GEOMETRY * GI_BOUNCE_CLASSES * b;
     uvec3 origin = q * bounceBlockSide(n);

@@ -84,22 +84,39 @@ GI_INLINE uint voxelWrittenBitsWords(uint n) { return voxelListBitsOffset(n) / 3
 #define GI_VCT_OCCLUSION_SOFT 1u
 #define GI_VCT_OCCLUSION_SHADOW_MAP 2u
 
-// voxel_light.comp: direct light + emission per occupied voxel.
+// voxel_light.comp: direct light + emission per occupied voxel. The voxels in the box keepLo ..
+// keepHi (inclusive, grid voxels; empty when lo > hi) kept their views across a clipmap level's
+// move (shifted in by gi.vct.shift): they only restore their "written" record.
 GI_GPU_STRUCT(VoxelLightPush) {
     VoxelGridParams grid;
     uvec4 info; // x light count, y occlusion mode (GI_VCT_OCCLUSION_*), z flags (GI_VOXEL_LIGHT_*), w 0
+    ivec4 keepLo;
+    ivec4 keepHi;
 };
-GI_CHECK_SIZE(VoxelLightPush, 64);
+GI_CHECK_SIZE(VoxelLightPush, 96);
 #define GI_VOXEL_LIGHT_EMISSION 1u // add the emission volume (the voxels' emission injection)
 
 // voxel_mip.comp: builds level `info.x` >= 1 of the directional volume from level info.x - 1;
 // voxel_mip_tail.comp levels info.x .. info.x + info.z - 1 (the last ones, info.y <= 8) in one
 // work group.
+// voxel_mip_list_jobs.comp also skips the bounce blocks whose voxels and neighbour blocks all lie
+// in the box keepLo .. keepHi (inclusive grid voxels; empty when lo > hi): the voxels a moved
+// clipmap level kept, which keep their second bounce (voxel_bounce_apply.comp).
 GI_GPU_STRUCT(VoxelMipPush) {
     VoxelGridParams grid;
     uvec4 info; // x (first) destination level, y its resolution, z level count (tail), w 0
+    ivec4 keepLo;
+    ivec4 keepHi;
 };
-GI_CHECK_SIZE(VoxelMipPush, 64);
+GI_CHECK_SIZE(VoxelMipPush, 96);
+// voxel_bounce_apply.comp: the voxels in keepLo .. keepHi (empty when lo > hi) take their second
+// bounce from the kept one (VCT_APPLY_BINDING_KEPT) instead of the gathers.
+GI_GPU_STRUCT(VoxelApplyPush) {
+    VoxelGridParams grid;
+    ivec4 keepLo;
+    ivec4 keepHi;
+};
+GI_CHECK_SIZE(VoxelApplyPush, 80);
 
 // Cone parameters shared by the per-voxel bounce and the per-pixel trace.
 GI_GPU_STRUCT(ConeParams) {
@@ -265,6 +282,8 @@ GI_CHECK_SIZE(VctClipmapParams, 144);
 #define VCT_APPLY_BINDING_RESULTS 5        // the gathers' results
 #define VCT_APPLY_BINDING_FACES 6          // the grid's faces volume
 #define VCT_APPLY_BINDING_DIRECTIONAL 7    // level 0 of the directional volume (the bounce added)
+#define VCT_APPLY_BINDING_KEPT 8           // a moved clipmap level's second bounce of before the move, shifted
+#define VCT_APPLY_BINDING_BOUNCE 9         // every listed voxel's second bounce (rgb), kept for the next move
 // Per-pixel passes (vct_trace*.comp, vct_soft_shadow.comp, vct_upsample.comp).
 #define VCT_TRACE_BINDING_POSITION 2       // G-buffer position (RGBA32F)
 #define VCT_TRACE_BINDING_NORMAL 3         // G-buffer normal (RGBA16F, w = roughness)
