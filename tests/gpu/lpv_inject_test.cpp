@@ -338,7 +338,7 @@ TEST_F(LpvInject, ReducedRsmSplitsBlocksOneSurfelCannotStandFor) {
     // discontinuity in one block); block (1, 0) a 150-degree fold at one spot (normals +y and
     // (sin 150, cos 150, 0)). Merged, the first would inject its light at y = 2.7 + 0.5 (cell y
     // 3), where none of its texels are, and the second with one offset for both faces. The first
-    // lies 2.5 m off its mean plane (more than a quarter cell), the second folds too sharply (mean
+    // lies 2.5 m off its mean plane (more than half a cell), the second folds too sharply (mean
     // normal 0.26 long), so both are injected texel by texel from the full RSM: the reduced
     // injection must equal
     // the full-resolution one. With an unbounded merge radius the first block is merged and its

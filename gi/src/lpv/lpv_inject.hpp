@@ -63,9 +63,10 @@ struct InjectionResult {
 // The RSM reduced by `factor` per axis (gi.lpv.inject.reduce, inject_reduce.comp): one surfel per
 // factor x factor block, flux summed, position and normal flux-weighted means (the normal not
 // renormalised). Injection and the geometry volume then read factor^2 fewer texels. A block
-// whose texels lie off their mean plane by an RMS distance above mergeRadius / 2 (world units;
+// whose texels lie off their mean plane by an RMS distance above mergeRadius (world units;
 // mergeRadius is half the finest cell: a roof's edge over the ground), or whose unit normals'
-// mean is shorter than 1/2 (a sharp fold), is marked split and read texel by texel from `rsm`. Returns transient images in the RSM's formats.
+// mean is shorter than 1/2 (a sharp fold), is marked split and read texel by texel from `rsm`.
+// Returns transient images in the RSM's formats.
 RsmInput addRsmReducePass(rg::RenderGraph& graph, const Injector& injector, const RsmInput& rsm, uint32_t factor,
                           float mergeRadius, const std::string& prefix = "gi.lpv");
 

@@ -10,8 +10,8 @@
 // block has a valid texel, 0 elsewhere. Bad texels are skipped as inject.comp skips them.
 //
 // A block is merged only where one surfel can stand for it: its valid texels within an RMS
-// distance of half pc.params.y (a quarter of the finest LPV cell) of their mean plane, and the
-// mean of their unit normals at least 1/2 long. A block across a depth discontinuity (a roof's edge over the ground beside a
+// distance of pc.params.y (half the finest LPV cell) of their mean plane, and the mean of their
+// unit normals at least 1/2 long. A block across a depth discontinuity (a roof's edge over the ground beside a
 // wall) or a sharp corner would put its light where none of its texels are, e.g. inside the
 // building; such a block gets w = 2 and the injection and the geometry volume read its texels
 // one by one from the full RSM (LPV_REDUCE_SPLIT).
@@ -75,9 +75,10 @@ void main() {
     // Does the merged surfel stand for every texel? Its light is injected at the merged position,
     // inside the texels' convex hull, so merging cannot carry light across a wall unless the
     // texels lie on different levels: a roof's edge and the ground beside the building. Those
-    // spread across the block's mean plane: split when the RMS distance from it exceeds half the
-    // merge radius. A mean of unit normals shorter than 1/2 is a fold so sharp that the lobes
-    // mostly cancel and the offset along the mean normal points nowhere in particular.
+    // spread across the block's mean plane: split when the RMS distance from it exceeds the merge
+    // radius (half a cell: less moves no texel's light out of the cell it would reach anyway). A
+    // mean of unit normals shorter than 1/2 is a fold so sharp that the lobes mostly cancel and
+    // the offset along the mean normal points nowhere in particular.
     float radius = pc.params.y;
     bool split = false;
     float nl = dot(n, n);
@@ -86,7 +87,7 @@ void main() {
         vec3 m1 = d1 / count;
         float second = dot(u * u, d2 / count) + 2.0 * dot(vec3(u.x * u.y, u.x * u.z, u.y * u.z), dx / count);
         float variance = second - dot(u, m1) * dot(u, m1);
-        split = variance > 0.25 * radius * radius || nl < 0.25 * count * count;
+        split = variance > radius * radius || nl < 0.25 * count * count;
     }
     float w = count > 0.0 ? (split ? LPV_REDUCE_SPLIT : 1.0) : 0.0;
     imageStore(outPosition, o, vec4(mean, w));
