@@ -306,9 +306,12 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
         .overwrite(VCT_MISFITS_BINDING_OUTPUT, light)
         .read(VCT_MISFITS_BINDING_JOBS, jobs)
         .dispatchIndirect(jobs, GI_BOUNCE_MISFITS * sizeof(uint32_t));
-    // Each voxel's bounce: kept in the clipmap levels, a transient the single grid drops.
+    // Each voxel's bounce: kept in the clipmap levels; the single grid keeps none and binds a
+    // 1^3 stand-in the apply does not write (VoxelApplyPush::keepHi.w = 0).
+    ImageDesc standIn = bounceDesc;
+    standIn.width = standIn.height = standIn.depth = 1;
     rg::ImageHandle voxelBounce = options.saveLit ? graph.importImage("gi.vct.bounce.voxels", volumes.bounceState())
-                                                  : graph.createImage("gi.vct.bounce.voxels", bounceDesc);
+                                                  : graph.createImage("gi.vct.bounce.voxels", standIn);
     rg::ImageHandle kept = light; // not read unless `keep` holds voxels
     if (keep.lo.x <= keep.hi.x) {
         kept = graph.createImage("gi.vct.bounce.kept", bounceDesc);
@@ -332,7 +335,8 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
             });
     }
     rg::ComputePass(graph, "gi.vct.bounce", p.bounceApply)
-        .push(gpu::VoxelApplyPush{volumes.grid().params(), keep.lo, keep.hi})
+        .push(gpu::VoxelApplyPush{volumes.grid().params(), keep.lo,
+                                  glm::ivec4(glm::ivec3(keep.hi), options.saveLit ? 1 : 0)})
         .read(VCT_APPLY_BINDING_KEPT, kept)
         .write(VCT_APPLY_BINDING_BOUNCE, voxelBounce)
         .read(VCT_APPLY_BINDING_ALBEDO, grid.albedo)

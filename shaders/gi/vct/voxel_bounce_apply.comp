@@ -32,8 +32,10 @@ void main() {
     ivec3 c = ivec3(voxelListUnpack(entries[gl_GlobalInvocationID.x]));
     vec3 normal;
     uint k;
+    bool store = pc.keepHi.w != 0;
     if (!voxelNormalOf(c, normal, k)) {
-        imageStore(bounceOut, c, vec4(0.0));
+        if (store)
+            imageStore(bounceOut, c, vec4(0.0));
         return; // no hemisphere: no second bounce
     }
     vec3 b;
@@ -74,7 +76,8 @@ void main() {
         e /= weights;
         b = imageLoad(albedoVol, c).rgb * e;
     }
-    imageStore(bounceOut, c, vec4(b, 0.0));
+    if (store)
+        imageStore(bounceOut, c, vec4(b, 0.0));
     if (b == vec3(0.0))
         return;
     uint faces = imageLoad(facesVol, c).x;

@@ -109,8 +109,10 @@ GI_GPU_STRUCT(VoxelMipPush) {
     ivec4 keepHi;
 };
 GI_CHECK_SIZE(VoxelMipPush, 96);
-// voxel_bounce_apply.comp: the voxels in keepLo .. keepHi (empty when lo > hi) take their second
-// bounce from the kept one (VCT_APPLY_BINDING_KEPT) instead of the gathers.
+// voxel_bounce_apply.comp: the voxels in keepLo.xyz .. keepHi.xyz (empty when lo > hi) take their
+// second bounce from the kept one (VCT_APPLY_BINDING_KEPT) instead of the gathers; keepHi.w != 0
+// stores every voxel's bounce (VCT_APPLY_BINDING_BOUNCE: a clipmap level keeps it for its next
+// move), 0 leaves that binding unwritten (the fitted grid binds a 1^3 stand-in).
 GI_GPU_STRUCT(VoxelApplyPush) {
     VoxelGridParams grid;
     ivec4 keepLo;
