@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "direct/cascades.hpp"
 #include "direct/direct_passes.hpp"
@@ -141,7 +142,7 @@ TEST(ShadowCascades, SnappedTranslationStaysOnTheTexelLattice) {
     EXPECT_GT(unchanged, 20);
 }
 
-// planShadows: cascades only where they are all finer than the whole-scene layer, counted in
+// planShadows: the cascades finer than the whole-scene layer (the near slices' first), counted in
 // maxShadowLayers after every light's own layer, never in the RSM's layers.
 TEST(ShadowCascades, PlanShadowsSpendsLayersOnCascadesOnlyWhereTheyHelp) {
     Scene scene;
@@ -164,10 +165,22 @@ TEST(ShadowCascades, PlanShadowsSpendsLayersOnCascadesOnlyWhereTheyHelp) {
     for (uint32_t i = 1; i < 5; ++i)
         EXPECT_LT(world.views[i].texel.x, world.views[0].texel.x);
 
-    // The courtyard alone: the camera sees most of it, the whole-scene layer stays.
-    ShadowLayout small = planShadows(scene, box({-7.3f, -0.2f, -14.3f}, {7.3f, 9.6f, 14.3f}), 256, 64, req);
-    EXPECT_EQ(small.lights[0].cascadeCount, 0u);
-    EXPECT_EQ(small.views.size(), 1u);
+    // The courtyard alone: the camera sees most of it. Only the near slices' cascades are finer
+    // than the whole-scene layer; they are kept and the far slices keep the whole-scene layer.
+    const Aabb courtyard = box({-7.3f, -0.2f, -14.3f}, {7.3f, 9.6f, 14.3f});
+    ShadowLayout small = planShadows(scene, courtyard, 256, 64, req);
+    const uint32_t kept = small.lights[0].cascadeCount;
+    EXPECT_GE(kept, 1u);
+    EXPECT_LT(kept, 4u);
+    EXPECT_EQ(small.lights[0].cascadeFirst, 1u);
+    EXPECT_EQ(small.views.size(), 1u + kept);
+    for (uint32_t i = 1; i <= kept; ++i)
+        EXPECT_LT(small.views[i].texel.x, small.views[0].texel.x);
+    CascadeSet all = planCascades(cascadeFrustum(req.camera, req.aspect), glm::normalize(kSun), courtyard, 4, 256,
+                                  req.marginTexels);
+    ASSERT_EQ(all.views.size(), 4u);
+    EXPECT_GE(all.views[kept].texel.x, small.views[0].texel.x) << "the first slice left out is not finer";
+    std::printf("courtyard: %u of 4 cascades finer than the whole-scene layer\n", kept);
 
     // No room for the cascades: the light keeps its own layer, shadowed as before.
     ShadowLayout tight = planShadows(scene, kWorld, 256, 4, req);

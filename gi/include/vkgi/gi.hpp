@@ -56,8 +56,9 @@ struct GiSettings {
     // layers fitted to slices of the camera's view depth, which the deferred direct pass reads
     // instead of the light's whole-scene layer, so shadow texels do not grow with the scene.
     // They count against maxShadowLayers after every light's own layers, are re-rendered when the
-    // camera moves by a texel or more, and are used only where all of them have finer texels than
-    // the whole-scene layer (a camera that sees most of the scene keeps the single layer).
+    // camera moves by a texel or more. Only the cascades with finer texels than the whole-scene
+    // layer are kept (the near ones where the camera sees most of the scene); receivers beyond
+    // them use the whole-scene layer.
     uint32_t shadowCascades = 4;
     // PCF kernel (2r+1)^2 of bilinear compares; 1 = 3x3 softens the 1-texel stair steps.
     uint32_t pcfRadius = 1;

@@ -66,9 +66,9 @@ struct CascadeRequest {
     float marginTexels = 0.0f; // the deferred pass's PCF reach plus normal offset, in texels
 };
 // Every light's own layers first (lights past `maxLayers` stay unshadowed, as without cascades);
-// then cascades for directional lights while the atlas has room. A light gets its cascades only
-// when every cascade has finer texels than its whole-scene layer: where the camera sees most of
-// the scene the whole-scene layer is kept and the image does not change.
+// then cascades for directional lights while the atlas has room. A light keeps the leading
+// cascades whose texels are finer than its whole-scene layer (all of them in a large world, the
+// near slices where the camera sees most of the scene); receivers beyond them use that layer.
 ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers,
                          const CascadeRequest& cascades = {});
 

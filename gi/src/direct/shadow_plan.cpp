@@ -138,14 +138,14 @@ ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolu
         CascadeSet set = planCascades(frustum, glm::normalize(l.direction), bounds, cascades.count, resolution,
                                       cascades.marginTexels);
         const float wholeTexel = layout.views[plan.firstLayer].texel.x;
-        bool finer = !set.views.empty();
-        for (const gpu::GpuShadowView& v : set.views)
-            finer = finer && v.texel.x < wholeTexel;
-        if (!finer)
+        uint32_t finer = 0;
+        while (finer < set.views.size() && set.views[finer].texel.x < wholeTexel)
+            ++finer;
+        if (finer == 0)
             continue;
         plan.cascadeFirst = uint32_t(layout.views.size());
-        plan.cascadeCount = cascades.count;
-        layout.views.insert(layout.views.end(), set.views.begin(), set.views.end());
+        plan.cascadeCount = finer;
+        layout.views.insert(layout.views.end(), set.views.begin(), set.views.begin() + finer);
     }
     return layout;
 }
