@@ -280,17 +280,23 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
                                 const gpu::ConeParams& cones, rg::BufferHandle list, rg::BufferHandle jobs,
                                 rg::ImageHandle directional, const VctPassOptions& options, KeepBox keep) {
     const VctVolumes::Pipelines& p = volumes.pipelines();
-    const gpu::VoxelBouncePush push{volumes.grid().params(), cones};
+    const gpu::VoxelBouncePush push{volumes.grid().params(), cones, glm::uvec4(options.clipLevel, 0u, 0u, 0u)};
+    // A clipmap level's gathers read the clipmap volume, into which the caller copied this level's
+    // first bounce (addVctPasses), and its parameters.
+    const bool clip = options.clipmap != nullptr;
+    const rg::ImageHandle source = clip ? *options.clipmap : directional;
     rg::BufferHandle results = graph.importBuffer("gi.vct.bounce.results", volumes.bounceResultsState());
     rg::BufferHandle gatherArgs = jobs; // the gathers' dispatch, before they append the misfits
-    rg::ComputePass(graph, "gi.vct.bounce.blocks", p.bounce)
-        .push(push)
-        .sample(VCT_CONE_BINDING_DIRECTIONAL, directional, volumes.sampler())
+    rg::ComputePass gathers(graph, "gi.vct.bounce.blocks", clip ? p.bounceClip : p.bounce);
+    gathers.push(push)
+        .sample(VCT_CONE_BINDING_DIRECTIONAL, source, volumes.sampler())
         .read(VCT_BOUNCE_BINDING_NORMAL, grid.normal)
         .write(VCT_BOUNCE_BINDING_JOBS, jobs) // the misfit list
         .write(VCT_BOUNCE_BINDING_RESULTS, results)
-        .read(VCT_BOUNCE_BINDING_LIST, list)
-        .dispatchIndirect(gatherArgs);
+        .read(VCT_BOUNCE_BINDING_LIST, list);
+    if (clip)
+        gathers.read(VCT_TRACE_BINDING_CLIPMAP, options.clipParams);
+    gathers.dispatchIndirect(gatherArgs);
     ImageDesc bounceDesc;
     bounceDesc.type = VK_IMAGE_TYPE_3D;
     bounceDesc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
@@ -298,14 +304,16 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
     // The misfits first: they read level 0 of the first bounce, which the apply then adds to.
     // Only the misfit voxels are written; the apply reads no others.
     rg::ImageHandle light = graph.createImage("gi.vct.bounce.light", bounceDesc);
-    rg::ComputePass(graph, "gi.vct.bounce.misfits", p.bounceMisfits)
-        .push(push)
-        .sample(VCT_CONE_BINDING_DIRECTIONAL, directional, volumes.sampler())
+    rg::ComputePass misfits(graph, "gi.vct.bounce.misfits", clip ? p.bounceMisfitsClip : p.bounceMisfits);
+    misfits.push(push)
+        .sample(VCT_CONE_BINDING_DIRECTIONAL, source, volumes.sampler())
         .read(VCT_MISFITS_BINDING_ALBEDO, grid.albedo)
         .read(VCT_MISFITS_BINDING_NORMAL, grid.normal)
         .overwrite(VCT_MISFITS_BINDING_OUTPUT, light)
-        .read(VCT_MISFITS_BINDING_JOBS, jobs)
-        .dispatchIndirect(jobs, GI_BOUNCE_MISFITS * sizeof(uint32_t));
+        .read(VCT_MISFITS_BINDING_JOBS, jobs);
+    if (clip)
+        misfits.read(VCT_TRACE_BINDING_CLIPMAP, options.clipParams);
+    misfits.dispatchIndirect(jobs, GI_BOUNCE_MISFITS * sizeof(uint32_t));
     // Each voxel's bounce: kept in the clipmap levels; the single grid keeps none and binds a
     // 1^3 stand-in the apply does not write (VoxelApplyPush::keepHi.w = 0).
     ImageDesc standIn = bounceDesc;
@@ -451,6 +459,10 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     if (settings.bounces >= 2) {
         gpu::ConeParams cones =
             volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
+        if (options.clipmap)
+            *options.clipmap = addClipmapCopyPass(graph, out.directional, *options.clipmap, options.clipLevel,
+                                                  volumes.grid().resolution(), volumes.directionalLevels(),
+                                                  "gi.vct.clip.lit");
         out.directional =
             addBouncePasses(graph, volumes, grid, cones, list, jobs, out.directional, options, keepBounce);
     }
@@ -472,11 +484,11 @@ rg::BufferHandle addClipmapParamsPass(rg::RenderGraph& graph, const gpu::VctClip
 }
 
 rg::ImageHandle addClipmapCopyPass(rg::RenderGraph& graph, rg::ImageHandle directional, rg::ImageHandle clipmap,
-                                   uint32_t level, uint32_t n, uint32_t mips) {
+                                   uint32_t level, uint32_t n, uint32_t mips, const char* name) {
     const uint32_t layers = GI_VCT_DIRECTIONS * n;
     const rg::SubresourceRange target{0, mips, level * layers, layers};
     graph.addPass(
-        "gi.vct.clip.copy",
+        name,
         [&](rg::PassBuilder& b) {
             b.read(directional, Access::TransferRead);
             clipmap = b.write(clipmap, Access::TransferWrite, target);

@@ -58,6 +58,13 @@ struct VctPassOptions {
     // (docs/vct.md "Clipmap").
     bool shifted = false;
     glm::ivec3 shift{0};
+    // Clipmap levels with two bounces (`clipmap` set): once the level's first bounce and its
+    // mips are built, "gi.vct.clip.lit" copies them into the level's layers of *clipmap (the
+    // handle advances), and the second bounce's gathers trace through the clipmap (`clipParams`)
+    // from level `clipLevel` on, so that cones leaving the level's box go on in the coarser levels.
+    rg::ImageHandle* clipmap = nullptr;
+    rg::BufferHandle clipParams;
+    uint32_t clipLevel = 0;
 };
 // "gi.vct.list*" (once per voxelization), "gi.vct.light", "gi.vct.mip[k]", optionally
 // "gi.vct.bounce*" + "gi.vct.bounce.mip[k]", "gi.vct.shadow" with soft shadows, and "gi.vct.trace"
@@ -84,10 +91,10 @@ struct VctClipmapHandles {
 // "gi.vct.clip.params": a transient uniform buffer holding `params`.
 rg::BufferHandle addClipmapParamsPass(rg::RenderGraph& graph, const gpu::VctClipmapParams& params);
 
-// "gi.vct.clip.copy": `level`'s directional volume (all mips) into its layers of `clipmap`
-// (returned: the new version). `n` = the levels' resolution, `mips` their mip count.
+// `name` (default "gi.vct.clip.copy"): `level`'s directional volume (all mips) into its layers of
+// `clipmap` (returned: the new version). `n` = the levels' resolution, `mips` their mip count.
 rg::ImageHandle addClipmapCopyPass(rg::RenderGraph& graph, rg::ImageHandle directional, rg::ImageHandle clipmap,
-                                   uint32_t level, uint32_t n, uint32_t mips);
+                                   uint32_t level, uint32_t n, uint32_t mips, const char* name = "gi.vct.clip.copy");
 
 // The per-pixel passes ("gi.vct.trace", and at low resolution the upsample and refine) through the
 // clipmap; `level0` (the finest level) gives the grid parameters and the pipelines.

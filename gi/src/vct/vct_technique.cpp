@@ -267,6 +267,14 @@ private:
         params.info = glm::uvec4(uint32_t(m_levels.size()), n, 0u, 0u);
         const glm::ivec3 cell0 = clipCell(frame.camera.position, m_levels[0].grid->params().originSize.w, n);
         for (uint32_t l = 0; l < m_levels.size(); ++l) {
+            const glm::ivec3 cell = clipCell(frame.camera.position, m_levels[l].grid->params().originSize.w, n);
+            params.level[l] = glm::vec4(glm::vec3(cell * (1 << l) - cell0), float(1u << l));
+        }
+        // The second bounce of a level gathers through the clipmap volume into the coarser levels,
+        // so the levels are lit coarsest first: a level's gathers find the coarser levels' layers
+        // complete (first and second bounce) and its own first bounce, copied in before them.
+        const rg::BufferHandle clipParams = addClipmapParamsPass(graph, params);
+        for (uint32_t l = uint32_t(m_levels.size()); l-- > 0;) {
             ClipLevel& level = m_levels[l];
             const float voxel = level.grid->params().originSize.w;
             const glm::ivec3 cell = clipCell(frame.camera.position, voxel, n);
@@ -282,7 +290,6 @@ private:
                 level.placed = true;
                 level.update = VoxelUpdate::Full;
             }
-            params.level[l] = glm::vec4(glm::vec3(cell * (1 << l) - cell0), float(1u << l));
             const std::string at = "@" + std::to_string(l);
             const VoxelUpdate update = std::max(level.update, sceneUpdate);
             if (update == VoxelUpdate::None)
@@ -294,8 +301,9 @@ private:
             if (!relight) {
                 std::string why = "level " + std::to_string(l) +
                                   " did not move and no light or object changed since it was lit";
-                for (const char* pass : {"gi.vct.light", "gi.vct.mip[*]", "gi.vct.bounce*", "gi.vct.clip.copy"})
-                    if (settings.bounces >= 2 || std::string(pass) != "gi.vct.bounce*")
+                for (const std::string pass :
+                     {"gi.vct.light", "gi.vct.mip[*]", "gi.vct.bounce*", "gi.vct.clip.lit", "gi.vct.clip.copy"})
+                    if (settings.bounces >= 2 || (pass != "gi.vct.bounce*" && pass != "gi.vct.clip.lit"))
                         selection.leaveOut(pass + at, LeftOutReason::NotDirty, why);
             } else if (!selection.features.emissive) {
                 selection.leaveOut("gi.vct.light:emission" + at, LeftOutReason::NotNeeded, "no emissive material");
@@ -313,6 +321,9 @@ private:
                 // object change relights the level whole.
                 VctPassOptions levelOptions = options;
                 levelOptions.saveLit = true;
+                levelOptions.clipmap = &clipmap;
+                levelOptions.clipParams = clipParams;
+                levelOptions.clipLevel = l;
                 if (move && sceneUpdate == VoxelUpdate::None && !changes.anyLight() && level.lit &&
                     glm::all(glm::lessThan(glm::abs(*move), glm::ivec3(int(n))))) {
                     levelOptions.shifted = true;
@@ -328,7 +339,7 @@ private:
         }
         if (m_settings.bounces < 2)
             selection.leaveOut("gi.vct.bounce*", LeftOutReason::NotNeeded, "vct.bounces = 1");
-        VctClipmapHandles clip{clipmap, addClipmapParamsPass(graph, params)};
+        VctClipmapHandles clip{clipmap, clipParams};
         VctGBufferHandles g{gbuffer.position, gbuffer.normal, gbuffer.albedo,       gbuffer.emission,
                             frame.width,      frame.height,   frame.camera.position};
         VctOutputs out =

@@ -45,6 +45,8 @@ Result<std::unique_ptr<VctVolumes>> VctVolumes::create(Context& ctx, const Voxel
                    {&v->m_pipelines.bounce, "gi/vct/voxel_bounce.comp"},
                    {&v->m_pipelines.bounceApply, "gi/vct/voxel_bounce_apply.comp"},
                    {&v->m_pipelines.bounceMisfits, "gi/vct/voxel_bounce_misfits.comp"},
+                   {&v->m_pipelines.bounceClip, "gi/vct/voxel_bounce_clip.comp"},
+                   {&v->m_pipelines.bounceMisfitsClip, "gi/vct/voxel_bounce_misfits_clip.comp"},
                    {&v->m_pipelines.trace, "gi/vct/vct_trace.comp"},
                    {&v->m_pipelines.traceRefine, "gi/vct/vct_trace_refine.comp"},
                    {&v->m_pipelines.upsample, "gi/vct/vct_upsample.comp"},
@@ -117,7 +119,7 @@ VctVolumes::~VctVolumes() {
     for (Pipeline* pipeline : {&p.compact, &p.listAppend, &p.listStale, &p.light, &p.lightSoft, &p.lightShadowMap,
                                &p.mip, &p.mipList, &p.mipListJobs, &p.mipTail, &p.bounce, &p.bounceMisfits,
                                &p.bounceApply, &p.trace, &p.traceRefine, &p.upsample, &p.filter, &p.softShadow,
-                               &p.traceClip, &p.traceRefineClip})
+                               &p.traceClip, &p.traceRefineClip, &p.bounceClip, &p.bounceMisfitsClip})
         destroyPipeline(m_ctx, *pipeline);
     destroyImage(m_ctx, m_directional.image);
     for (VkSampler sampler : {m_sampler, m_occupancySampler})

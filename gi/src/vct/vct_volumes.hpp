@@ -89,6 +89,8 @@ public:
         Pipeline softShadow;     // vct_soft_shadow.comp: direct light with cone-traced visibility
         Pipeline traceClip;      // vct_trace_clip.comp: the trace through the clipmap (levels > 1)
         Pipeline traceRefineClip; // vct_trace_refine_clip.comp: the refine through the clipmap
+        Pipeline bounceClip;        // voxel_bounce_clip.comp: a clipmap level's gathers through the clipmap
+        Pipeline bounceMisfitsClip; // voxel_bounce_misfits_clip.comp: its misfits' gathers through the clipmap
     };
     const Pipelines& pipelines() const { return m_pipelines; }
     // The occupied-voxel list as R32_UINT texels (the hard voxel-light march reads its bits).

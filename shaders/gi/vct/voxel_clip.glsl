@@ -9,6 +9,10 @@ layout(set = 1, binding = VCT_TRACE_BINDING_CLIPMAP, std140) uniform ClipmapBloc
 // camera moves the levels).
 const float kClipBlend = 4.0;
 
+// The finest level a cone reads: 0 for the per-pixel cones; a clipmap level's second-bounce
+// gathers (clipLevelGather) read their own level and, beyond its box, the coarser ones.
+int clipFloor = 0;
+
 // Level voxels from u to the nearest face of level l's box.
 float clipInset(vec3 u, int l) {
     vec3 q = (u - clip.level[l].xyz) / clip.level[l].w;
@@ -24,7 +28,7 @@ float clipInset(vec3 u, int l) {
 int clipLevel(vec3 u, float d, out float keep) {
     int levels = int(clip.info.x);
     keep = 1.0;
-    for (int k = 0; k < levels - 1; ++k) {
+    for (int k = clipFloor; k < levels - 1; ++k) {
         float need = 2.0 * max(d / clip.level[k].w, 1.0) + 1.0;
         float w = clamp((clipInset(u, k) - need) / kClipBlend, 0.0, 1.0);
         if (w > 0.0) {
@@ -63,7 +67,10 @@ vec4 clipSample(ConeFrame f, vec3 u, float d, float reach, int l, out float step
 // its faces.
 vec4 sampleClip(ConeFrame f, vec3 u, float d, float reach, out float stepWidth) {
     float keep;
-    int l = clipLevel(u, d, keep);
+    // The level follows the texel the sample reads: the diameter, or the largest power of two
+    // within `reach` where the level cap is finer (coneLevel). From the diameter alone, the
+    // capped samples near a surface went to coarse levels whose voxels reach back to it.
+    int l = clipLevel(u, min(d, intBitsToFloat(floatBitsToInt(max(reach, 1.0)) & 0x7F800000)), keep);
     vec4 s = clipSample(f, u, d, reach, l, stepWidth);
     if (keep < 1.0) {
         float coarseStep;
@@ -85,7 +92,7 @@ vec4 traceConeClip(vec3 origin, vec3 dir, float rise, float tanHalf, float stepF
     vec4 acc = vec4(0.0);
     occlusion = 0.0;
     for (float t = start; t < tMax && acc.a < kConeOpaque;) {
-        float diameter = max(1.0, 2.0 * tanHalf * t);
+        float diameter = max(clip.level[clipFloor].w, 2.0 * tanHalf * t);
         float stepWidth;
         vec4 s = sampleClip(f, origin + t * dir, diameter, rise * t / 1.5, stepWidth);
         float stepLength = stepFactor * stepWidth;
@@ -100,3 +107,13 @@ vec4 traceConeClip(vec3 origin, vec3 dir, float rise, float tanHalf, float stepF
 
 // diffuseGather through the clipmap (`extra` = the cones' start).
 VCT_DEFINE_DIFFUSE_GATHER(diffuseGatherClip, traceConeClip)
+
+// Level l's diffuse gather from p (level-l voxels, one voxel off the surface, as diffuseGather's
+// origin) through the clipmap: the same cones in finest voxels, from one level-l voxel on and at
+// least one level-l voxel wide, reading level l and, where their footprint leaves its box, the
+// coarser levels (which hold their own second bounce: the levels are lit coarsest first).
+vec3 clipLevelGather(int l, vec3 p, vec3 normal, ConeParams cp, out float occlusion) {
+    clipFloor = l;
+    float voxel = clip.level[l].w;
+    return diffuseGatherClip(clip.level[l].xyz + p * voxel, normal, cp, kConeStart * voxel, occlusion);
+}

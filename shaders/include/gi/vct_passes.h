@@ -187,8 +187,9 @@ GI_INLINE uint bounceResultWords(uint n) { return 2u * GI_BOUNCE_CLASSES * bounc
 GI_GPU_STRUCT(VoxelBouncePush) {
     VoxelGridParams grid;
     ConeParams cones;
+    uvec4 clip; // clipmap variants (voxel_bounce*_clip.comp): x the gathering level, yzw 0
 };
-GI_CHECK_SIZE(VoxelBouncePush, 80);
+GI_CHECK_SIZE(VoxelBouncePush, 96);
 
 // vct_trace*.comp, vct_upsample.comp: per-pixel cones over the G-buffer (cones.info.zw =
 // full-res size), optionally at 1/f resolution with a discontinuity refine.
@@ -293,7 +294,7 @@ GI_CHECK_SIZE(VctClipmapParams, 144);
 #define VCT_TRACE_BINDING_INDIRECT 5       // out: rgb indirect radiance, a = AO (RGBA32F)
 #define VCT_TRACE_BINDING_GLOSSY 6         // out: glossy cone radiance (RGBA32F)
 #define VCT_TRACE_BINDING_REFINE_LIST 7    // the refine list: header zeroed (trace) or traced (refine)
-#define VCT_TRACE_BINDING_CLIPMAP 8        // clipmap variants: VctClipmapParams (uniform block)
+#define VCT_TRACE_BINDING_CLIPMAP 8        // clipmap variants (trace, refine, bounce gathers): VctClipmapParams (uniform block)
 #define VCT_SHADOW_BINDING_POSITION 2      // G-buffer position
 #define VCT_SHADOW_BINDING_NORMAL 3        // G-buffer normal
 #define VCT_SHADOW_BINDING_ALBEDO 4        // G-buffer albedo
