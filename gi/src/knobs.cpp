@@ -121,6 +121,10 @@ std::vector<Knob> makeKnobs() {
         uintKnob("vpl.visibility_grid", 16, 256, vpl,
                  "voxels per axis of the visibility (and bounce) grid, a power of two",
                  [](GiSettings& s) -> uint32_t& { return s.vpl.visibilityGrid; }),
+        enumKnob("vpl.visibility_placement", {"auto", "fitted", "camera"}, vpl,
+                 "where the visibility (and bounce) grid goes: fitted to the scene, centred on the camera (64 m "
+                 "per axis), or auto = camera-centred where the fitted voxels would be much coarser",
+                 [](GiSettings& s) -> VplGridPlacement& { return s.vpl.visibilityPlacement; }),
         uintKnob("vpl.bounces", 0, kMaxVplBounces, vpl,
                  "indirect bounces: VPL generations, each further one a ray per VPL through the voxel grid "
                  "(0 = automatic: 2 with visibility on, else 1)",

@@ -4,7 +4,9 @@
 // technique's error against its own scene's path-traced reference (all bounces) in the big
 // world must stay within 15% of the hall's, at no more than 64 MiB of technique memory; and
 // what the technique did before (a volume or a constant sized by the scene's bounds) must miss
-// that bar, so the test fails without the feature.
+// that bar, so the test fails without the feature. `atrium_world` is the sun-lit atrium in the
+// same kind of world: its VPL indirect image (visibility and two bounces, the sun-lit defaults)
+// is compared against the all-bounce reference's indirect part, the column.
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -12,8 +14,10 @@
 #include "vkgi/gi.hpp"
 #include "vkgi/image_metrics.hpp"
 #include "vkgi/reference.hpp"
+#include "vkgi/vpl.hpp"
 #include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
+#include "voxel/scene_voxel_grid.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi;
@@ -24,7 +28,8 @@ constexpr uint32_t kSize = 64;
 constexpr uint64_t kMaxTechniqueBytes = 64ull << 20;
 
 struct Measured {
-    double relMse = 0.0;
+    double relMse = 0.0;         // composite against the all-bounce reference
+    double relMseIndirect = 0.0; // composite - direct against the reference's paths of 2+ reflections
     uint64_t techniqueBytes = 0;
 };
 
@@ -38,16 +43,23 @@ protected:
         rs.progress = false;
         auto ref = renderReferenceCached(scene, *scene.camera, kSize, kSize, rs);
         EXPECT_TRUE(ref) << (ref ? "" : ref.error().message);
-        auto frame = test::renderOnce(ctx(), settings, scene, *scene.camera, kSize, kSize, FrameRequest{});
+        FrameRequest request;
+        request.direct = true;
+        auto frame = test::renderOnce(ctx(), settings, scene, *scene.camera, kSize, kSize, request);
         EXPECT_TRUE(frame) << (frame ? "" : frame.error().message);
         if (!ref || !frame)
             return {};
-        auto e = compareImages(frame->composite, ref->full);
+        auto full = compareImages(frame->composite, ref->full);
+        auto indirect = subtract(frame->composite, frame->direct);
+        EXPECT_TRUE(full && indirect);
+        if (!full || !indirect)
+            return {};
+        auto e = compareImages(*indirect, ref->indirect);
         EXPECT_TRUE(e) << (e ? "" : e.error().message);
         if (!e)
             return {};
-        EXPECT_EQ(e->nonFinite, 0u) << name;
-        return {e->relMse, frame->persistentByOwner.technique};
+        EXPECT_EQ(full->nonFinite + e->nonFinite, 0u) << name;
+        return {full->relMse, e->relMse, frame->persistentByOwner.technique};
     }
 
     // The technique's error in hall_world within 15% of the hall's; returns the two.
@@ -82,6 +94,29 @@ TEST_F(LargeWorld, LpvCascadesKeepTheHallsErrorInA400mWorld) {
     EXPECT_GT(world.relMse, 1.15 * hall.relMse) << "a grid fitted to the world's bounds fails the bar";
 }
 
+// LPV's multi-bounce reads the shared voxel grid too: in hall_world the rule centres it on the
+// camera (the fitted one would have 6.3 m voxels), and the light the bounce reflects at its
+// occupied voxels must still bring the composite closer to the all-bounce reference, and leave
+// the world no worse than the hall. Measured at 64^2: hall 0.248 -> 0.232, hall_world (three
+// camera-centred cascades) 0.233 -> 0.180; bounds with margin.
+TEST_F(LargeWorld, LpvBouncesReadTheCameraCentredGrid) {
+    GiSettings settings;
+    settings.technique = Technique::Lpv;
+    GiSettings bounces = settings;
+    bounces.lpv.bounces = true;
+    double withBounces[2] = {0.0, 0.0};
+    int k = 0;
+    for (const char* name : {"hall", "hall_world"}) {
+        const Measured one = measure(name, settings);
+        const Measured two = measure(name, bounces);
+        std::printf("[large world] lpv in %s: relMSE %.4f without bounces, %.4f with\n", name, one.relMse, two.relMse);
+        EXPECT_LT(two.relMse, 0.97 * one.relMse) << name;
+        EXPECT_LE(two.techniqueBytes, kMaxTechniqueBytes) << name;
+        withBounces[k++] = two.relMse;
+    }
+    EXPECT_LE(withBounces[1], 1.15 * withBounces[0]);
+}
+
 // VPL at its defaults: the lamp's VPLs land inside the hall in both scenes, and the 1/d^2 clamp
 // follows each VPL's footprint. A clamp set as a fraction of the scene's diagonal grows 27x in
 // the world (from 0.4 m to 11 m at the former 2%), which the second half checks would fail.
@@ -101,39 +136,19 @@ TEST_F(LargeWorld, VplKeepsTheHallsErrorInA400mWorld) {
 
 namespace {
 
-struct VctMeasured {
-    double relMse = 0.0;         // composite against the all-bounce reference
-    double relMseIndirect = 0.0; // indirect part against the reference's paths of 2+ reflections
-    uint64_t techniqueBytes = 0;
-    uint32_t levels = 0;         // clipmap levels the automatic choice made (1 = the fitted grid)
+struct VctMeasured : Measured {
+    uint32_t levels = 0; // clipmap levels the automatic choice made (1 = the fitted grid)
 };
 
-class LargeWorldVct : public test::GpuTest {
+class LargeWorldVct : public LargeWorld {
 protected:
-    VctMeasured measure(const std::string& name) {
-        Scene scene = test::builtinScene(name);
-        ReferenceSettings rs;
-        rs.spp = 256;
-        rs.maxBounces = -1;
-        rs.progress = false;
-        auto ref = renderReferenceCached(scene, *scene.camera, kSize, kSize, rs);
-        EXPECT_TRUE(ref) << (ref ? "" : ref.error().message);
+    VctMeasured measureVct(const std::string& name) {
         GiSettings settings;
         settings.technique = Technique::Vct;
-        FrameRequest request;
-        request.indirect = true;
-        auto frame = test::renderOnce(ctx(), settings, scene, *scene.camera, kSize, kSize, request);
-        EXPECT_TRUE(frame) << (frame ? "" : frame.error().message);
-        if (!ref || !frame)
-            return {};
-        auto full = compareImages(frame->composite, ref->full);
-        auto indirect = compareImages(frame->indirect, ref->indirect);
-        EXPECT_TRUE(full && indirect);
-        if (!full || !indirect)
-            return {};
-        EXPECT_EQ(full->nonFinite + indirect->nonFinite, 0u) << name;
-        const VctSettings resolved = resolveVctLevels(settings.vct, scene.bounds(), *scene.camera);
-        VctMeasured m{full->relMse, indirect->relMse, frame->persistentByOwner.technique, resolved.levels};
+        VctMeasured m;
+        static_cast<Measured&>(m) = measure(name, settings);
+        Scene scene = test::builtinScene(name);
+        m.levels = resolveVctLevels(settings.vct, scene.bounds(), *scene.camera).levels;
         std::printf("[large world] vct defaults, %s: %u level(s), relMSE %.4f, indirect relMSE %.4f, technique "
                     "memory %.2f MiB\n",
                     name.c_str(), m.levels, m.relMse, m.relMseIndirect, double(m.techniqueBytes) / 1048576.0);
@@ -148,11 +163,11 @@ protected:
 // clipmap's second bounce gathers on into the coarser levels beyond each level's box, and each
 // sample's level follows the footprint the level cap lets it read (docs/vct.md "Clipmap"):
 // with both, the world's error is within 15% of the hall's, composite and indirect alike, at
-// under 64 MiB. Control: without them (the parent commit) this test measured hall_world at
+// under 64 MiB. Control: without them this test measured hall_world at
 // relMSE 0.2246 (1.31x the hall's 0.1710) and indirect 0.3661 (1.39x 0.2642), and failed.
 TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
-    VctMeasured hall = measure("hall");
-    VctMeasured world = measure("hall_world");
+    VctMeasured hall = measureVct("hall");
+    VctMeasured world = measureVct("hall_world");
     EXPECT_EQ(hall.levels, 1u);
     EXPECT_EQ(world.levels, kVctAutoLevels);
     EXPECT_GT(hall.relMse, 0.0);
@@ -167,14 +182,100 @@ TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
 // clipmap's 1 m and 2 m levels, where the arcades' sub-voxel columns and slabs become opaque
 // voxels, against the fitted grid's 0.46 m over the whole atrium; the world's indirect light is
 // too dark there (docs/vct.md "Clipmap", limits). What is asserted is what the changes reach:
-// the indirect error within 1.8x the atrium's (the parent commit: 0.2927, 1.86x 0.1574), under
+// the indirect error within 1.8x the atrium's (without them: 0.2927, 1.86x 0.1574), under
 // 64 MiB.
 TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorWithin80PercentOfTheAtriums) {
-    VctMeasured atrium = measure("atrium");
-    VctMeasured world = measure("atrium_world");
+    VctMeasured atrium = measureVct("atrium");
+    VctMeasured world = measureVct("atrium_world");
     EXPECT_EQ(atrium.levels, 1u);
     EXPECT_EQ(world.levels, kVctAutoLevels);
     EXPECT_GT(atrium.relMseIndirect, 0.0);
     EXPECT_LE(world.relMseIndirect, 1.8 * atrium.relMseIndirect);
     EXPECT_LE(world.techniqueBytes, kMaxTechniqueBytes);
+}
+
+// VPL at its defaults in the sun-lit atrium: visibility and two bounces through the shared voxel
+// grid. The atrium keeps its fitted grid (0.45 m voxels); fitted to atrium_world's 400 m bounds
+// the grid's voxels would be 6.3 m, which close the courtyard and stop nearly all VPL light (the
+// indirect image is then about black: the fitted grid misses the 15% bar by far), so the
+// automatic rule centres a 64 m grid of 1 m voxels on the camera instead (docs/vpl.md,
+// "Visibility"). The 15% bar itself is not met, for two reasons this test separates:
+// - the voxels: the atrium alone with the same camera-centred 1 m grid (forced) is the best a
+//   64^3 grid of 64 m can do; measured 0.38 at 128^2 (the bench) against 0.24 with its 0.45 m
+//   fitted voxels (1 m conservative voxels half close the 2.4 m arcade openings, and the march
+//   starts 1.5 m off each surface);
+// - the VPLs: in the 400 m sun window they concentrate around the camera (vpl.focus), so fewer
+//   land in the courtyard than in the atrium's own window, which covers only the atrium.
+// Measured at 64^2: atrium 0.242, atrium with the 1 m camera grid 0.376, atrium_world 0.463
+// (1.9x the atrium, 1.2x the atrium with the same grid), fitted in the world 0.870. Bounds: the
+// world within 1.35x the atrium with the same grid and 2.2x the atrium, and below 0.65x the
+// fitted grid's error, which itself stays beyond the 15% bar.
+TEST_F(LargeWorld, VplVisibilityKeepsTheAtriumsErrorInA400mWorld) {
+    const Scene atriumWorld = test::builtinScene("atrium_world");
+    EXPECT_TRUE(sharedGridFollowsCamera(atriumWorld.bounds(), 64, atriumWorld.cameraOrDefault().position));
+    const Scene atriumScene = test::builtinScene("atrium");
+    EXPECT_FALSE(sharedGridFollowsCamera(atriumScene.bounds(), 64, atriumScene.cameraOrDefault().position));
+    GiSettings settings;
+    settings.technique = Technique::Vpl;
+    GiSettings camera = settings, fitted = settings;
+    camera.vpl.visibilityPlacement = VplGridPlacement::Camera;
+    fitted.vpl.visibilityPlacement = VplGridPlacement::Fitted;
+    const Measured atrium = measure("atrium", settings);
+    const Measured atriumCamera = measure("atrium", camera);
+    const Measured world = measure("atrium_world", settings);
+    const Measured worldFitted = measure("atrium_world", fitted);
+    std::printf("[large world] vpl defaults, indirect against all bounces: relMSE atrium %.4f, atrium with the "
+                "camera grid %.4f, atrium_world %.4f (%.3fx the atrium, %.3fx with the same grid), fitted to the "
+                "world %.4f; technique memory %.2f / %.2f MiB\n",
+                atrium.relMseIndirect, atriumCamera.relMseIndirect, world.relMseIndirect, world.relMseIndirect / atrium.relMseIndirect,
+                world.relMseIndirect / atriumCamera.relMseIndirect, worldFitted.relMseIndirect, double(atrium.techniqueBytes) / 1048576.0,
+                double(world.techniqueBytes) / 1048576.0);
+    EXPECT_GT(atrium.relMseIndirect, 0.0);
+    EXPECT_LE(world.relMseIndirect, 1.35 * atriumCamera.relMseIndirect);
+    EXPECT_LE(world.relMseIndirect, 2.2 * atrium.relMseIndirect);
+    EXPECT_LT(world.relMseIndirect, 0.65 * worldFitted.relMseIndirect);
+    EXPECT_GT(worldFitted.relMseIndirect, 1.15 * atrium.relMseIndirect) << "a grid fitted to the world's bounds fails the bar";
+    EXPECT_LE(world.techniqueBytes, kMaxTechniqueBytes);
+    EXPECT_EQ(world.techniqueBytes, atrium.techniqueBytes) << "the same 64^3 grid, placed elsewhere";
+}
+
+// The camera-centred grid moves in quarter-grid steps (16 m at 64^3): a camera moved across a
+// step re-voxelizes only the slabs the grid newly covers and keeps the rest, in world voxels, so
+// the moved system's VPL image equals a fresh system's at the new camera (the occupancy, albedo
+// and faces of a voxel do not depend on where the grid's corner is); a move within a step
+// voxelizes nothing.
+TEST_F(LargeWorld, VplCameraGridMovesInStepsLikeAFreshGrid) {
+    const Scene scene = test::builtinScene("atrium_world");
+    GiSettings settings;
+    settings.technique = Technique::Vpl;
+    Camera camera = scene.cameraOrDefault();
+    FrameRequest request;
+    request.indirect = true;
+    auto system = test::systemWithScene(ctx(), settings, scene);
+    ASSERT_TRUE(system.ok()) << system.error().message;
+    auto ran = [](const FrameResult& f, const std::string& prefix) {
+        for (const rg::PassTiming& p : f.passes)
+            if (p.name.rfind(prefix, 0) == 0)
+                return true;
+        return false;
+    };
+    auto first = (*system)->renderFrame(camera, kSize, kSize, request);
+    ASSERT_TRUE(first.ok()) << first.error().message;
+    EXPECT_TRUE(ran(*first, "gi.voxel.voxelize"));
+    // Within the step (the camera at z = -12.5 m snaps to the centre -16 m until it passes -8 m).
+    camera.position.z += 1.0f;
+    auto still = (*system)->renderFrame(camera, kSize, kSize, request);
+    ASSERT_TRUE(still.ok()) << still.error().message;
+    EXPECT_FALSE(ran(*still, "gi.voxel.")) << "a move within a step voxelizes nothing";
+    // Across a step: the centre snaps to 0 m.
+    camera.position.z += 6.0f;
+    auto moved = (*system)->renderFrame(camera, kSize, kSize, request);
+    ASSERT_TRUE(moved.ok()) << moved.error().message;
+    EXPECT_TRUE(ran(*moved, "gi.voxel.voxelize.slab")) << "only the newly covered slab is voxelized";
+    auto fresh = test::renderOnce(ctx(), settings, scene, camera, kSize, kSize, request);
+    ASSERT_TRUE(fresh.ok()) << fresh.error().message;
+    auto e = compareImages(moved->indirect, fresh->indirect);
+    ASSERT_TRUE(e.ok());
+    std::printf("[large world] vpl grid moved a step: indirect relMSE against a fresh system %.3g\n", e->relMse);
+    EXPECT_LT(e->relMse, 1e-6);
 }

@@ -174,9 +174,13 @@ TEST_F(VplVisibility, HallBeatsTheBestConstant) {
 
 // The two-room test: the far wall of room B, which faces the lit floor of room A
 // through the dividing wall, gets only what comes through the door. The grid's conservative
-// voxels narrow the 0.6 m doorway by about a voxel (6 cm at 64^3 over the 4 m scene), so the
-// light through it approaches the path tracer's as the grid refines (measured 0.72, 0.83,
-// 0.97 of it at 32^3, 64^3, 128^3; without visibility 2.2). Within 10 % at 128^3.
+// voxels narrow the 0.6 m doorway by about a voxel on each side (6 cm at 64^3 over the 4 m
+// scene), so the light through it approaches the path tracer's as the grid refines (measured
+// 0.72, 0.83, 0.89 of it at 32^3, 64^3, 128^3; without visibility 2.2). At 128^3 a doorway
+// narrowed by a 3 cm voxel on each side passes 0.9 of the light. (Before the march sampled
+// every segment inside the grid every 0.75 voxel, a segment longer than 48 voxels got 64
+// samples spread over it, which at 128^3 skipped voxels of the door's jambs and let 0.97
+// through.) Within 15 % at 128^3.
 TEST_F(VplVisibility, TwoRoomsLightOnlyThroughTheDoor) {
     std::vector<double> ratio;
     for (uint32_t grid : {32u, 64u, 128u}) {
@@ -187,5 +191,5 @@ TEST_F(VplVisibility, TwoRoomsLightOnlyThroughTheDoor) {
     }
     EXPECT_LT(ratio[0], ratio[1]);
     EXPECT_LT(ratio[1], ratio[2]);
-    EXPECT_NEAR(ratio[2], 1.0, 0.1);
+    EXPECT_NEAR(ratio[2], 1.0, 0.15);
 }

@@ -8,6 +8,7 @@
 
 #include "gi/vpl.h"
 #include "vkgi/vpl.hpp"
+#include "voxel/scene_voxel_grid.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi;
@@ -188,6 +189,44 @@ TEST(VplSampling, AutomaticSettingsFollowTheDirectionalLight) {
     fixed.visibility = VplVisibilityMode::On;
     fixed.bounces = 0;
     EXPECT_EQ(resolveVplSettings(fixed, false).bounces, 2u);
+}
+
+// The shared grid's placement rule (docs/vpl.md, "Visibility"): camera-centred only where the
+// camera is inside the bounds and the fitted voxel would be more than twice the camera grid's
+// (64 m / N); the corner snaps to quarter-grid steps and keeps the camera at least N/4 voxels
+// from every face.
+TEST(VplSampling, SharedGridFollowsTheCameraOnlyInLargeScenes) {
+    auto box = [](glm::vec3 lo, glm::vec3 hi) {
+        Aabb b;
+        b.extend(lo);
+        b.extend(hi);
+        return b;
+    };
+    const Aabb atrium = box({-7.3f, -0.2f, -14.3f}, {7.3f, 9.6f, 14.3f});
+    const Aabb world = box({-200.0f, -0.2f, -200.0f}, {200.0f, 20.0f, 200.0f});
+    const glm::vec3 eye(0.0f, 1.7f, -12.5f);
+    EXPECT_FALSE(sharedGridFollowsCamera(atrium, 64, eye)); // 0.45 m fitted voxels
+    EXPECT_TRUE(sharedGridFollowsCamera(world, 64, eye));   // 6.3 m against 1 m
+    EXPECT_FALSE(sharedGridFollowsCamera(world, 64, glm::vec3(0.0f, 50.0f, 0.0f))) << "camera outside";
+    EXPECT_FALSE(sharedGridFollowsCamera(Aabb{}, 64, eye));
+    // 2 x 64 m / N against 400 m / (N - 1): the switch sits between N = 64 and N = 256 at any N
+    // for the world; a 100 m scene (1.6 m fitted voxels at 64^3) keeps its fitted grid.
+    EXPECT_TRUE(sharedGridFollowsCamera(world, 256, eye));
+    EXPECT_FALSE(sharedGridFollowsCamera(box({-50.0f, 0.0f, -50.0f}, {50.0f, 10.0f, 50.0f}), 64, eye));
+    const uint32_t n = 64;
+    const float voxel = kSharedGridSpan / float(n);
+    for (glm::vec3 p : {eye, glm::vec3(7.9f, 0.0f, -8.1f), glm::vec3(-123.4f, 5.0f, 77.7f)}) {
+        const glm::ivec3 cell = sharedGridCell(p, voxel, n);
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_EQ(((cell[a] + int(n / 2)) % int(n / 4) + int(n / 4)) % int(n / 4), 0) << "quarter-grid steps";
+            EXPECT_GE(p[a] - float(cell[a]) * voxel, float(n / 4) * voxel - 1e-3f);
+            EXPECT_LE(p[a] - float(cell[a]) * voxel, float(3 * n / 4) * voxel + 1e-3f);
+        }
+    }
+    // Within a step the corner stays; across one it moves by a step.
+    EXPECT_EQ(sharedGridCell(eye, voxel, n), sharedGridCell(eye + glm::vec3(0.0f, 0.0f, 4.0f), voxel, n));
+    EXPECT_EQ(sharedGridCell(eye + glm::vec3(0.0f, 0.0f, 7.0f), voxel, n).z,
+              sharedGridCell(eye, voxel, n).z + int(n / 4));
 }
 
 // Halton cosine-lobe bounce directions: unit, in the upper hemisphere, mean cosine 2/3 (the

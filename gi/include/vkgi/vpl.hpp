@@ -41,6 +41,13 @@ enum class VplVisibilityMode : uint32_t {
     Auto, // On when the scene has a directional light, else Off (resolveVplSettings)
 };
 
+// Where the visibility (and bounce) grid goes (VplSettings::visibilityPlacement).
+enum class VplGridPlacement : uint32_t {
+    Auto,   // fitted, or centred on the camera in a large world (the rule in docs/vpl.md, "Visibility")
+    Fitted, // fitted to the scene's bounds, whatever their size
+    Camera, // centred on the camera, its voxels set in metres
+};
+
 // The knobs of the VPL technique (what vkgi-bench sweeps).
 struct VplSettings {
     // Positive VPLs per light, 1..kMaxVplsPerLight. 256 = 16 per subset of the default 4 x 4
@@ -71,13 +78,18 @@ struct VplSettings {
     // pixel's distance to the camera off the pixel's tangent plane is another surface.
     float interleaveTolerance = 0.02f;
     // Visibility between VPLs and receivers: each VPL's light is marched through the occupancy
-    // of a voxel grid of visibilityGrid^3 fitted to the scene (the grid VCT and LPV share,
+    // of a voxel grid of visibilityGrid^3 around the scene or the camera (the grid LPV shares,
     // built only when this or bounces need it), so light does not pass through walls
     // (docs/vpl.md). Auto by default: on where a directional light shines in, whose light
     // reaches interiors through openings and whose VPLs otherwise light them through the walls
     // (resolveVplSettings; the measurements behind it in docs/vpl.md, "Defaults").
     VplVisibilityMode visibility = VplVisibilityMode::Auto;
     uint32_t visibilityGrid = 64; // voxels per axis, a power of two 16..256 (also the bounces' grid)
+    // Where that grid goes. Auto: fitted to the scene, except where the camera is inside the
+    // scene's bounds and a fitted voxel would be much coarser than a metre-scale one (a level
+    // hundreds of metres wide, whose fitted voxels close every doorway): then a box of 64 m per
+    // axis centred on the camera, moved in quarter-grid steps (docs/vpl.md, "Visibility").
+    VplGridPlacement visibilityPlacement = VplGridPlacement::Auto;
     // Indirect bounces the VPLs model, 1..kMaxVplBounces (instant radiosity, Keller 1997): 1 is
     // the paper's one bounce; each further one traces one ray per VPL of the last generation,
     // cosine-distributed about its normal, through the voxel grid's occupancy to the first

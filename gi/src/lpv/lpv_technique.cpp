@@ -72,7 +72,8 @@ public:
         if (auto fitted = fitGrid(scene, gpu); !fitted)
             return fitted.error();
         if (m_settings.bounces) // the grid of the bounce
-            return m_voxels.sceneChanged(ctx, gpu, uploaded, voxelResolutionFor(m_settings.gridSize));
+            return m_voxels.sceneChanged(ctx, gpu, uploaded, voxelResolutionFor(m_settings.gridSize),
+                                         scene.cameraOrDefault().position);
         return {};
     }
 
@@ -81,6 +82,8 @@ public:
             return {addUnlitPasses(graph, in), {}, {}, {}};
         const FrameData& frame = in.frame;
         const RsmData& rsm = *in.rsm;
+        // A camera-centred bounce grid that moves a step needs propagating again (needsPropagation).
+        m_voxels.follow(frame.camera.position);
         FrameSources sources;
         sources.format = m_settings.halfFloat ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
         sources.rsm = {rsm.position, rsm.normal, rsm.flux, rsm.resolution, uint32_t(rsm.layers.size())};
@@ -227,7 +230,7 @@ private:
     lpv::VoxelInput addVoxelPasses(rg::RenderGraph& graph, const TechniqueInputs& in) {
         if (!m_voxels.exists())
             return {};
-        VoxelGridData grid = m_voxels.addPasses(graph, in.scene, in.selection.changes);
+        VoxelGridData grid = m_voxels.addPasses(graph, in.scene, in.selection.changes, in.frame.camera.position);
         return {grid.albedo, grid.normal, grid.params.originSize, grid.params.dims.x};
     }
 

@@ -36,6 +36,9 @@ Result<void> validateVplSettings(const VplSettings& s) {
                    " (0 = automatic)");
     if (uint32_t(s.visibility) > uint32_t(VplVisibilityMode::Auto))
         return bad("visibility " + std::to_string(uint32_t(s.visibility)) + " is not off, on or auto");
+    if (uint32_t(s.visibilityPlacement) > uint32_t(VplGridPlacement::Camera))
+        return bad("visibilityPlacement " + std::to_string(uint32_t(s.visibilityPlacement)) +
+                   " is not auto, fitted or camera");
     if (!std::isfinite(s.interleaveTolerance) || s.interleaveTolerance <= 0.0f || s.interleaveTolerance > 1.0f)
         return bad("interleaveTolerance " + std::to_string(s.interleaveTolerance) + " must be in (0, 1]");
     return {};

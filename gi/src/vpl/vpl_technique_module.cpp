@@ -51,6 +51,18 @@ std::vector<VplSpot> spotsWithRsmLayers(const Scene& scene, const RsmData& rsm) 
     return spots;
 }
 
+SharedGridPlacement sharedGridPlacement(const VplSettings& s) {
+    switch (s.visibilityPlacement) {
+    case VplGridPlacement::Fitted:
+        return SharedGridPlacement::Fitted;
+    case VplGridPlacement::Camera:
+        return SharedGridPlacement::Camera;
+    case VplGridPlacement::Auto:
+        break;
+    }
+    return SharedGridPlacement::Auto;
+}
+
 VplInputs vplInputs(const TechniqueInputs& inputs, const RsmData& rsm) {
     const FrameData& frame = inputs.frame;
     VplInputs in;
@@ -98,7 +110,8 @@ public:
         // The grid exists only while visibility or bounces need it (leave out what a scene does
         // not need).
         if (m_resolved.visibility == VplVisibilityMode::On || m_resolved.bounces > 1)
-            return m_voxels.sceneChanged(ctx, gpu, uploaded, m_resolved.visibilityGrid);
+            return m_voxels.sceneChanged(ctx, gpu, uploaded, m_resolved.visibilityGrid,
+                                         scene.cameraOrDefault().position, sharedGridPlacement(m_resolved));
         m_voxels.reset(); // a new scene that needs no grid keeps none
         return {};
     }
@@ -120,7 +133,8 @@ public:
         }
         VplSettings settings = m_resolved;
         if (m_voxels.exists()) {
-            VoxelGridData grid = m_voxels.addPasses(graph, inputs.scene, inputs.selection.changes);
+            VoxelGridData grid =
+                m_voxels.addPasses(graph, inputs.scene, inputs.selection.changes, inputs.frame.camera.position);
             in.occupancy = grid.albedo;
             in.faces = grid.faces;
             in.occupancyOriginSize = grid.params.originSize;

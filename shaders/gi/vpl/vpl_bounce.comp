@@ -9,7 +9,11 @@
 // so the parent's reflected flux Phi (a cosine emitter: Phi / pi * cos per steradian) that the ray
 // carries is Phi / pi * cos / pdf = Phi: with one ray per parent the child receives Phi, reflects
 // albedo(hit) * Phi, and the children's sum is an unbiased estimate of the light reflected once
-// more. A ray that leaves the grid leaves an empty child.
+// more. The ray is clipped to the grid's box and walked voxel by voxel (every voxel it crosses is
+// tested, however long the ray); a parent outside the box (a distant sun VPL, when the grid is
+// centred on the camera in a large world) starts its walk where the ray enters the box. A ray
+// that leaves the grid, or never enters it, leaves an empty child: its light, reflected again
+// outside the grid (far from the camera with a camera-centred grid), is lost.
 //
 // The child's normal is the coverage-weighted normal of the voxel's faces that look towards the
 // ray (gi/voxel_grid.h faces volume), or the face the ray entered through when none does. Its
