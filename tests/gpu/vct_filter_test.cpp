@@ -233,10 +233,11 @@ struct SmoothFieldErrors {
 
 class VctFilterReference : public test::GpuTest {
 protected:
-    SmoothFieldErrors measure(const Scene& scene, const ReferenceImages& ref, uint32_t filterSide) {
+    SmoothFieldErrors measure(const Scene& scene, const ReferenceImages& ref, uint32_t filterSide,
+                              uint32_t lowResFactor = 2) { // 64^2 test images: f = 4 traces 16^2 (docs/vct.md)
         GiSettings settings;
         settings.technique = Technique::Vct;
-        settings.vct.lowResFactor = 2; // 64^2 test images: the default 4 would trace 16^2 (docs/vct.md)
+        settings.vct.lowResFactor = lowResFactor;
         settings.vct.filter = filterSide;
         FrameRequest request;
         request.direct = true;
@@ -250,18 +251,21 @@ protected:
         e.hfRatio = laplacianEnergy(*indirect, surface) / laplacianEnergy(ref.indirect, surface);
         e.relMse = compareImages(*indirect, ref.indirect)->relMse;
         e.relMseDark = compareImages(*indirect, ref.indirect, 0.001f)->relMse;
-        std::printf("filter %u: HF ratio %.3f, indirect relMSE %.4f (eps 1e-3: %.4f)\n", filterSide, e.hfRatio,
-                    e.relMse, e.relMseDark);
+        std::printf("f %u, filter %u: HF ratio %.3f, indirect relMSE %.4f (eps 1e-3: %.4f)\n", lowResFactor,
+                    filterSide, e.hfRatio, e.relMse, e.relMseDark);
         return e;
     }
 };
 
 // With the default filter the VCT indirect image's HF energy relative to the path tracer's falls
 // to at most 0.6x the unfiltered one's, and its error against the path tracer's indirect (both
-// epsilons) does not rise (the measured values: the commit that added the test). What remains of
-// the HF energy is not inside the surfaces but along the silhouettes and contact edges, where
-// VCT's indirect light steps between two surfaces by more than the path tracer's (docs/vct.md
-// "Filter"): the filter never crosses those, so issue #15's 1.5x is not reached on this scene.
+// epsilons) does not rise (the measured values: the commits that added the test and the rotated
+// cone sets). The filter averages the rotated cone sets (docs/vct.md "Rotated cone sets"): at the
+// default settings (f = 4) the HF ratio is within issue #15's 1.5x. At f = 2, the resolution the
+// other tests use at 64^2, it stays above 1.5 (1.62 measured, bound 1.65): what remains lies
+// along the silhouettes and contact edges, where VCT's indirect light steps from one surface to
+// the next by more than the path tracer's (an error of the light's level on either side), and
+// the filter never crosses an edge (docs/vct.md "Filter", "Known limits").
 TEST_F(VctFilterReference, SmoothFieldHfEnergyFallsAndErrorDoesNot) {
     const Scene scene = smoothFieldScene();
     ASSERT_TRUE(validateScene(scene).ok());
@@ -275,8 +279,12 @@ TEST_F(VctFilterReference, SmoothFieldHfEnergyFallsAndErrorDoesNot) {
     const SmoothFieldErrors on = measure(scene, *ref, VctSettings{}.filter);
     EXPECT_GT(VctSettings{}.filter, 1u);
     EXPECT_LE(on.hfRatio, 0.6 * off.hfRatio);
+    EXPECT_LE(on.hfRatio, 1.65);
     EXPECT_LE(on.relMse, off.relMse);
     EXPECT_LE(on.relMseDark, off.relMseDark);
+    const SmoothFieldErrors defaults = measure(scene, *ref, VctSettings{}.filter, VctSettings{}.lowResFactor);
+    EXPECT_LE(defaults.hfRatio, 1.5); // issue #15
+    EXPECT_LE(defaults.relMse, off.relMse);
 }
 
 } // namespace

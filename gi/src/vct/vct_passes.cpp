@@ -563,7 +563,7 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, Vct
     const uint32_t f = settings.lowResFactor;
     const bool filter = settings.filter > 1;
     if (filter) // the trace, upsample and refine write the incoming light; the filter applies the albedo
-        cones.info.y |= GI_VCT_FLAG_INCOMING;
+        cones.info.y |= GI_VCT_FLAG_INCOMING | GI_VCT_FLAG_ROTATE; // and averages the cone rotations
     gpu::VctTracePush push{volumes.grid().params(), cones, glm::vec4(g.eye, settings.refineThreshold),
                            glm::uvec4(f, (g.width + f - 1) / f, (g.height + f - 1) / f, g.width * g.height)};
     push.cones.info.z = g.width;

@@ -114,7 +114,7 @@ void main() {
 #ifdef GI_VCT_CLIPMAP
     vec3 gathered = clipLevelGather(int(pc.clip.x), middle + (1.0 + lift) * mean, mean, pc.cones, occlusion);
 #else
-    vec3 gathered = diffuseGather(middle + (1.0 + lift) * mean, mean, pc.cones, float(n), occlusion);
+    vec3 gathered = diffuseGather(middle + (1.0 + lift) * mean, mean, pc.cones, float(n), 0.0, occlusion);
 #endif
     uint r = 2u * (GI_BOUNCE_CLASSES * b + cls);
     results[r] = packHalf2x16(gathered.rg);

@@ -29,7 +29,7 @@ void main() {
 #ifdef GI_VCT_CLIPMAP
     vec3 e = clipLevelGather(int(pc.clip.x), vec3(c) + 0.5 + normal, normal, pc.cones, occlusion);
 #else
-    vec3 e = diffuseGather(vec3(c) + 0.5 + normal, normal, pc.cones, float(n), occlusion);
+    vec3 e = diffuseGather(vec3(c) + 0.5 + normal, normal, pc.cones, float(n), 0.0, occlusion);
 #endif
     imageStore(bounceOut, c, vec4(imageLoad(albedoVol, c).rgb * e, 1.0));
 }

@@ -115,5 +115,5 @@ VCT_DEFINE_DIFFUSE_GATHER(diffuseGatherClip, traceConeClip)
 vec3 clipLevelGather(int l, vec3 p, vec3 normal, ConeParams cp, out float occlusion) {
     clipFloor = l;
     float voxel = clip.level[l].w;
-    return diffuseGatherClip(clip.level[l].xyz + p * voxel, normal, cp, kConeStart * voxel, occlusion);
+    return diffuseGatherClip(clip.level[l].xyz + p * voxel, normal, cp, kConeStart * voxel, 0.0, occlusion);
 }

@@ -231,13 +231,17 @@ mat3 tangentFrame(vec3 n) {
     return mat3(t, cross(n, t), n);
 }
 
-// Defines NAME(origin, normal, cp, extra, out occlusion): (1/n) sum over the diffuse cones of
-// their radiance and the mean AO occlusion, each cone traced by TRACE (traceCone's signature;
+// Defines NAME(origin, normal, cp, extra, turn, out occlusion): (1/n) sum over the diffuse cones
+// of their radiance and the mean AO occlusion, each cone traced by TRACE (traceCone's signature;
 // `extra` is its last float: the grid size for traceCone, the start for the clipmap's tracer).
+// The cone set turns about the normal by `turn` radians (rotated cone sets, vct_trace_body.glsl).
 // A macro because GLSL has no function parameters: one gather serves the grid and the clipmap.
 #define VCT_DEFINE_DIFFUSE_GATHER(NAME, TRACE)                                                   \
-    vec3 NAME(vec3 origin, vec3 normal, ConeParams cp, float extra, out float occlusion) {       \
+    vec3 NAME(vec3 origin, vec3 normal, ConeParams cp, float extra, float turn,                  \
+              out float occlusion) {                                                             \
         mat3 frame = tangentFrame(normal);                                                       \
+        frame[0] = cos(turn) * frame[0] + sin(turn) * frame[1];                                  \
+        frame[1] = cross(normal, frame[0]);                                                      \
         vec3 sum = vec3(0.0);                                                                    \
         occlusion = 0.0;                                                                         \
         uint count = cp.info.x;                                                                  \

@@ -130,6 +130,9 @@ GI_GPU_STRUCT(ConeParams) {
 #define GI_VCT_FLAG_GLOSSY_IMAGE 4u // the glossy images are written (FrameRequest::glossy)
 // The trace writes the incoming light (no albedo) at f = 1 too: vct_filter.comp applies it.
 #define GI_VCT_FLAG_INCOMING 8u
+// The diffuse cone set turns about the normal in a pattern over the traced pixels, which the
+// filter averages (vct_trace_body.glsl, docs/vct.md "Rotated cone sets"); set with the filter.
+#define GI_VCT_FLAG_ROTATE 16u
 
 // Second bounce (voxel_bounce*.comp, docs/vct.md "Second bounce"): one diffuse gather per
 // (occupied block of bounceBlockSide()^3 voxels, normal class), a class being one of the 26 directions of a cube's faces,
