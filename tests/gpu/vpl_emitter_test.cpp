@@ -12,7 +12,6 @@
 #include "vkgi/gi.hpp"
 #include "vkgi/image_metrics.hpp"
 #include "vkgi/reference.hpp"
-#include "vkgi/rg/blackboard.hpp"
 #include "vkgi/vpl.hpp"
 #include "gi/vpl.h"
 #include "support/gi_render.hpp"
@@ -78,25 +77,13 @@ Scene squareOverFloor(float side, float height) {
 
 class VplEmitter : public test::GpuTest {
 protected:
-    // The VPL records of one frame of `scene` with `vpl` (through GiSystem::addPasses).
+    // The VPL records of one frame of `scene` with `vpl`: an emissive scene without lights must
+    // run the VPL passes.
     std::vector<gpu::VplRecord> records(const Scene& scene, const VplSettings& vpl) {
         GiSettings s;
         s.technique = Technique::Vpl;
         s.vpl = vpl;
-        auto sys = test::systemWithScene(ctx(), s, scene);
-        EXPECT_TRUE(sys) << (sys ? "" : sys.error().message);
-        if (!sys)
-            return {};
-        rg::RenderGraph graph;
-        rg::Blackboard bb;
-        auto outputs = (*sys)->addPasses(graph, bb, scene.cameraOrDefault(), kSize, kSize, FrameRequest{});
-        EXPECT_TRUE(outputs) << outputs.error().message;
-        const VplOutputs* vo = bb.tryGet<VplOutputs>();
-        EXPECT_TRUE(vo && vo->vplCount > 0) << "an emissive scene without lights must run the VPL passes";
-        if (!outputs || !vo || vo->vplCount == 0)
-            return {};
-        const VkDeviceSize bytes = VkDeviceSize(vo->vplCount) * sizeof(gpu::VplRecord);
-        return test::asArray<gpu::VplRecord>(test::runAndReadBuffer(ctx(), graph, vo->vpls, bytes));
+        return test::vplRecords(ctx(), s, scene, kSize);
     }
 };
 
