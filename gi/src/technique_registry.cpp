@@ -19,7 +19,8 @@ struct TechniqueName {
 };
 // vct: direct light plus VctSettings::bounces voxel bounces (added in modelledBounces); lpv: one
 // indirect bounce, plus one when LpvSettings::bounces reflects at the voxel grid; vpl: one
-// indirect bounce per VPL generation (VplSettings::bounces).
+// indirect bounce per VPL generation (VplSettings::bounces) of the punctual lights' light, and
+// of the emitters' light their direct illumination plus one bounce fewer (docs/vpl.md).
 constexpr std::array kTechniques = {TechniqueName{Technique::None, "none", 1}, TechniqueName{Technique::Lpv, "lpv", 2},
                                     TechniqueName{Technique::Vpl, "vpl", 2}, TechniqueName{Technique::Vct, "vct", 1}};
 } // namespace
@@ -42,7 +43,14 @@ int modelledBounces(const GiSettings& settings, const Scene* scene) {
             const bool directional =
                 scene && std::any_of(scene->lights.begin(), scene->lights.end(),
                                      [](const Light& l) { return l.type == LightType::Directional; });
-            return t.bounces + int(resolveVplSettings(settings.vpl, directional).bounces) - 1;
+            const bool emission = scene && scene->hasEmission();
+            const int generations = int(resolveVplSettings(settings.vpl, directional || emission).bounces);
+            // Emitter VPLs carry the emitters' direct illumination (one reflection) and their
+            // generations one more each: a scene lit by emission alone is modelled to B
+            // reflections, one lit by punctual lights to B + 1 (the larger count when it has both).
+            if (emission && scene->lights.empty())
+                return generations;
+            return t.bounces + generations - 1;
         }
         default: return t.bounces;
         }

@@ -41,21 +41,8 @@ protected:
         GiSettings s;
         s.technique = Technique::Vpl;
         s.vpl = vpl;
-        auto sys = test::systemWithScene(ctx(), s, scene);
-        EXPECT_TRUE(sys) << (sys ? "" : sys.error().message);
-        if (!sys)
-            return {};
-        rg::RenderGraph graph;
-        rg::Blackboard bb;
-        FrameRequest req;
-        auto outputs = (*sys)->addPasses(graph, bb, scene.cameraOrDefault(), kSize, kSize, req);
-        EXPECT_TRUE(outputs) << outputs.error().message;
-        const VplOutputs* vo = bb.tryGet<VplOutputs>();
-        if (!outputs || !vo || vo->vplCount == 0)
-            return {};
         Generations g;
-        const VkDeviceSize bytes = VkDeviceSize(vo->vplCount) * sizeof(gpu::VplRecord);
-        g.records = test::asArray<gpu::VplRecord>(test::runAndReadBuffer(ctx(), graph, vo->vpls, bytes));
+        g.records = test::vplRecords(ctx(), s, scene, kSize);
         const uint32_t lights = uint32_t(scene.lights.size()), sources = lights * vpl.bounces;
         g.flux.assign(vpl.bounces, glm::dvec3(0.0));
         for (uint32_t i = 0; i < g.records.size(); ++i) {

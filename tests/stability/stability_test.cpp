@@ -208,9 +208,11 @@ TEST_F(Stability, MillimetreAndKilometreScenesRenderLikeTheMetreScene) {
 }
 
 // Closed 1 m box, albedo 0.99, emission Le: the exact radiance is Le / (1 - rho) = 100 Le, and a
-// technique that models B reflections between emitter and eye converges to at most
-// Le (1 + rho + ... + rho^(B-1)). Every technique must stay finite and below that sum (+5% for
-// discretisation), with Le from 1e-6 to 1e9 nits.
+// technique that models B reflections between emitter and eye (modelledBounces for this scene,
+// the path tracer's count) converges to at most the path tracer's image to B reflections,
+// Le (1 + rho + ... + rho^B). Every technique must stay finite and below that sum (+5% for
+// discretisation), with Le from 1e-6 to 1e9 nits. (VPL's emitter VPLs model the emitter's
+// direct light and a bounce: Le (1 + rho + rho^2) at its automatic settings.)
 TEST_F(Stability, FurnaceWithAlbedo099StaysFiniteAndBelowItsBounceSum) {
     for (float le : {1e-6f, 1.0f, 1e9f}) {
         BuiltinSceneParams p;
@@ -220,13 +222,23 @@ TEST_F(Stability, FurnaceWithAlbedo099StaysFiniteAndBelowItsBounceSum) {
         for (Technique t : kTechniques) {
             GiSettings settings = smallSettings(t);
             Frame f = renderOk(settings, furnace);
-            int bounces = std::max(1, modelledBounces(settings));
+            int bounces = std::max(1, modelledBounces(settings, &furnace));
             double bound = 0.0;
-            for (int b = 0; b < bounces; ++b)
+            for (int b = 0; b <= bounces; ++b)
                 bound += std::pow(0.99, b);
             bound *= double(le) * 1.05;
             std::string what = std::string(toString(t)) + " Le=" + std::to_string(le);
-            EXPECT_LE(maxComponent(f.composite), bound) << what;
+            // VPL's emitter VPLs are points clamped at their footprint radius r (a disc of the
+            // area they stand for): one whose disc touches a receiver gives it E = pi Le, the
+            // radiance rho Le, where the disc's neighbours already count. So a pixel may exceed
+            // the converged sum by up to one such VPL per generation (rho^g Le); the image's mean
+            // may not (measured at 32 VPLs: max 1.5x, mean below the sum).
+            double allowance = 0.0;
+            if (t == Technique::Vpl)
+                for (int b = 1; b <= bounces; ++b)
+                    allowance += std::pow(0.99, b) * double(le);
+            EXPECT_LE(maxComponent(f.composite), bound + allowance) << what;
+            EXPECT_LE(meanRgb(f.composite), bound) << what;
             // The emission itself is always seen: at least Le everywhere on average.
             EXPECT_GE(meanRgb(f.composite), 0.99 * le) << what;
         }

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include "vkgi/builtin_scenes.hpp"
+#include "vkgi/rg/blackboard.hpp"
+#include "vkgi/vpl.hpp"
+#include "support/gpu_util.hpp"
 
 namespace vkgi::test {
 
@@ -32,6 +35,23 @@ Result<gi::FrameResult> renderOnce(Context& ctx, const gi::GiSettings& settings,
     if (!system)
         return system.error();
     return (*system)->renderFrame(camera, width, height, request);
+}
+
+std::vector<gpu::VplRecord> vplRecords(Context& ctx, const gi::GiSettings& settings, const Scene& scene, uint32_t size) {
+    auto sys = systemWithScene(ctx, settings, scene);
+    EXPECT_TRUE(sys) << (sys ? "" : sys.error().message);
+    if (!sys)
+        return {};
+    rg::RenderGraph graph;
+    rg::Blackboard bb;
+    auto outputs = (*sys)->addPasses(graph, bb, scene.cameraOrDefault(), size, size, gi::FrameRequest{});
+    EXPECT_TRUE(outputs) << (outputs ? "" : outputs.error().message);
+    const gi::VplOutputs* vo = bb.tryGet<gi::VplOutputs>();
+    EXPECT_TRUE(vo && vo->vplCount > 0) << scene.name << ": the frame has no VPL";
+    if (!outputs || !vo || vo->vplCount == 0)
+        return {};
+    const VkDeviceSize bytes = VkDeviceSize(vo->vplCount) * sizeof(gpu::VplRecord);
+    return asArray<gpu::VplRecord>(runAndReadBuffer(ctx, graph, vo->vpls, bytes));
 }
 
 } // namespace vkgi::test

@@ -2,10 +2,12 @@
 // GiSystem in one call for tests that render whole frames through the public API.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "vkgi/context.hpp"
 #include "vkgi/scene.hpp"
 #include "vkgi/gi.hpp"
+#include "gi/vpl.h"
 
 namespace vkgi::test {
 
@@ -20,5 +22,10 @@ Result<std::unique_ptr<gi::GiSystem>> systemWithScene(Context& ctx, const gi::Gi
 Result<gi::FrameResult> renderOnce(Context& ctx, const gi::GiSettings& settings, const Scene& scene,
                                    const Camera& camera, uint32_t width, uint32_t height,
                                    const gi::FrameRequest& request);
+
+// The positive VPL records (VplOutputs::vpls, in gi/vpl.h's subset order) of one frame of `scene`
+// with `settings` (Technique::Vpl) at size x size, through GiSystem::addPasses; empty, with a
+// test failure, when the frame has no VPL.
+std::vector<gpu::VplRecord> vplRecords(Context& ctx, const gi::GiSettings& settings, const Scene& scene, uint32_t size);
 
 } // namespace vkgi::test

@@ -38,7 +38,7 @@ constexpr uint32_t kMaxHaltonSearch = 1u << 22;
 enum class VplVisibilityMode : uint32_t {
     Off,  // none, as in the paper
     On,   // each VPL's light marched through the voxel grid's occupancy
-    Auto, // On when the scene has a directional light, else Off (resolveVplSettings)
+    Auto, // On when the scene has a directional light or emission, else Off (resolveVplSettings)
 };
 
 // Where the visibility (and bounce) grid goes (VplSettings::visibilityPlacement).
@@ -81,8 +81,10 @@ struct VplSettings {
     // of a voxel grid of visibilityGrid^3 around the scene or the camera (the grid LPV shares,
     // built only when this or bounces need it), so light does not pass through walls
     // (docs/vpl.md). Auto by default: on where a directional light shines in, whose light
-    // reaches interiors through openings and whose VPLs otherwise light them through the walls
-    // (resolveVplSettings; the measurements behind it in docs/vpl.md, "Defaults").
+    // reaches interiors through openings and whose VPLs otherwise light them through the walls,
+    // and where emissive surfaces shine, whose emitter VPLs carry their direct light, which needs
+    // its shadows (resolveVplSettings; the measurements behind it in docs/vpl.md, "Defaults" and
+    // "Emitter VPLs").
     VplVisibilityMode visibility = VplVisibilityMode::Auto;
     uint32_t visibilityGrid = 64; // voxels per axis, a power of two 16..256 (also the bounces' grid)
     // Where that grid goes. Auto: fitted to the scene, except where the camera is inside the
@@ -106,10 +108,10 @@ struct VplSettings {
 // Checks every knob; the error names the knob, its value and the allowed range.
 Result<void> validateVplSettings(const VplSettings& settings);
 
-// The automatic settings made explicit for a scene with (`directionalLight`) or without a
-// directional light: visibility Auto becomes On with one, Off without; bounces 0 becomes 2
-// when visibility is then On, else 1. Explicit values are kept.
-VplSettings resolveVplSettings(const VplSettings& settings, bool directionalLight);
+// The automatic settings made explicit for a scene with (`sunOrEmission`) or without a
+// directional light or emissive surfaces: visibility Auto becomes On with one, Off without;
+// bounces 0 becomes 2 when visibility is then On, else 1. Explicit values are kept.
+VplSettings resolveVplSettings(const VplSettings& settings, bool sunOrEmission);
 
 // The `count` first Halton points (bases 2 and 3, index 1, 2, ...) on the unit sphere whose
 // angle to +Z is within the cone of cosine `cosOuter`, in order: exactly the paper's
@@ -148,6 +150,12 @@ std::vector<glm::vec3> windowSamplePoints(uint32_t count);
 // (pdf cos / pi): the local directions of one generation's bounce rays.
 std::vector<glm::vec3> bounceSampleDirections(uint32_t count, uint32_t generation);
 
+// The emitter source's table entries (docs/vpl.md, "Emitter VPLs"): sample k of `count` takes
+// surfel `x` of as many emissive surfels (y = z = 0), the rank of k's radical inverse (base 2)
+// among the count's, so that every contiguous run of samples (an interleaved subset's block)
+// takes surfels spread over all emitters, as a Halton run spreads over a cone.
+std::vector<glm::vec3> emitterSampleOrder(uint32_t count);
+
 // What the VPL passes read. Image layouts as documented in vkgi/frame_data.hpp.
 struct VplInputs {
     rg::ImageHandle gPosition; // RGBA32F world position, w = 1 where geometry was drawn
@@ -167,6 +175,14 @@ struct VplInputs {
     rg::ImageHandle faces; // with VplSettings::bounces > 1: the grid's faces volume (R32UI, voxelFacesPack)
     glm::vec4 occupancyOriginSize{0.0f};
     uint32_t occupancyResolution = 0;
+    // Emitter VPLs (docs/vpl.md, "Emitter VPLs"): emissive surfels in gi/emissive.h's layout (2D
+    // arrays, layer 0), `emitterSurfels` of them on a side of `emitterResolution` texels; 0
+    // surfels = the scene emits nothing. The emitters are one more source after the spots.
+    rg::ImageHandle emitterPosition;
+    rg::ImageHandle emitterNormal;
+    rg::ImageHandle emitterFlux;
+    uint32_t emitterSurfels = 0;
+    uint32_t emitterResolution = 0;
 };
 
 struct VplOutputs {
@@ -189,10 +205,11 @@ public:
     VplTechnique(const VplTechnique&) = delete;
     VplTechnique& operator=(const VplTechnique&) = delete;
 
-    // Adds the VPL passes (upload, generate, [bounces], gather, [negative VPLs], [upsample +
-    // refine]). Automatic settings are resolved here for `inputs.spots` (resolveVplSettings).
-    // Without spots it adds one pass that clears `indirect` (GiSystem does not call it then: a
-    // scene with no light gets no VPL pass at all). Errors: bad settings, too many spots, a cone
+    // Adds the VPL passes (upload, generate, [emitter], [bounces], gather, [negative VPLs],
+    // [upsample + refine]). Automatic settings are resolved here for `inputs.spots`
+    // (resolveVplSettings). Without spots and emitter surfels it adds one pass that clears
+    // `indirect` (GiSystem does not call it then: a scene with no light and no emission gets no
+    // VPL pass at all). Errors: bad settings, too many spots, a cone
     // too narrow for the requested VPL count.
     Result<VplOutputs> addPasses(rg::RenderGraph& graph, const VplInputs& inputs, const VplSettings& settings);
 

@@ -73,10 +73,25 @@ std::vector<glm::vec3> windowSamplePoints(uint32_t count) {
     return points;
 }
 
-VplSettings resolveVplSettings(const VplSettings& s, bool directionalLight) {
+std::vector<glm::vec3> emitterSampleOrder(uint32_t count) {
+    // Ranks of the van der Corput points of 1..count: a contiguous run of them is spread over
+    // [0, 1), so its ranks are spread over the surfels (which the plan lists side after side).
+    std::vector<uint32_t> byValue(count);
+    for (uint32_t k = 0; k < count; ++k)
+        byValue[k] = k;
+    std::sort(byValue.begin(), byValue.end(), [](uint32_t a, uint32_t b) {
+        return gpu::vplRadicalInverse(a + 1u, 2u) < gpu::vplRadicalInverse(b + 1u, 2u);
+    });
+    std::vector<glm::vec3> order(count);
+    for (uint32_t rank = 0; rank < count; ++rank)
+        order[byValue[rank]] = glm::vec3(float(rank), 0.0f, 0.0f);
+    return order;
+}
+
+VplSettings resolveVplSettings(const VplSettings& s, bool sunOrEmission) {
     VplSettings r = s;
     if (r.visibility == VplVisibilityMode::Auto)
-        r.visibility = directionalLight ? VplVisibilityMode::On : VplVisibilityMode::Off;
+        r.visibility = sunOrEmission ? VplVisibilityMode::On : VplVisibilityMode::Off;
     if (r.bounces == 0)
         r.bounces = r.visibility == VplVisibilityMode::On ? 2 : 1;
     return r;

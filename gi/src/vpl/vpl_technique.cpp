@@ -44,10 +44,11 @@ void updateBuffer(VkCommandBuffer cmd, VkBuffer buffer, const void* data, VkDevi
 }
 
 // What the generation pass reads per light: one VplLight each, and the local Halton directions
-// (or window points) of all lights one after the other.
+// (or window points, or the emitter source's surfel indices) of all sources, subset-major.
 struct LightTables {
     std::vector<gpu::VplLight> lights;
     std::vector<glm::vec4> directions;
+    uint32_t sources = 0; // generation-0 sources: the lights, then the emitters when the scene emits
 };
 
 struct LightTableHandles {
@@ -69,6 +70,11 @@ Result<void> checkInputs(const VplInputs& in, const VplSettings& settings) {
     if (in.width == 0 || in.height == 0 || in.width > 65535 || in.height > 65535)
         return makeError("VplTechnique: image size " + std::to_string(in.width) + "x" + std::to_string(in.height) +
                          " is outside 1..65535 (refine list packs 16-bit coordinates)");
+    if (in.emitterSurfels > 0 && (!in.emitterPosition.valid() || !in.emitterNormal.valid() ||
+                                  !in.emitterFlux.valid() || in.emitterResolution == 0 ||
+                                  uint64_t(in.emitterResolution) * in.emitterResolution < in.emitterSurfels))
+        return makeError("VplTechnique: " + std::to_string(in.emitterSurfels) +
+                         " emitter surfels but no surfel images large enough to hold them");
     if (in.spots.size() > kMaxVplLights)
         return makeError("VplTechnique: " + std::to_string(in.spots.size()) + " lights exceed the maximum " +
                          std::to_string(kMaxVplLights));
@@ -178,7 +184,7 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
 
 struct VplTechnique::Impl {
     Context& ctx;
-    Pipeline generate, bounce, gather, gatherVisible, interleaveRows, interleaveColumns, negativeGenerate, negativeGather, upsample, refine,
+    Pipeline generate, emitter, bounce, gather, gatherVisible, interleaveRows, interleaveColumns, negativeGenerate, negativeGather, upsample, refine,
         refineVisible;
     VkSampler pointSampler = VK_NULL_HANDLE; // texelFetch-only, but sampled bindings need one
     // Halton directions per (count, cosOuter bits): the CPU search is the only costly CPU step.
@@ -186,11 +192,14 @@ struct VplTechnique::Impl {
 
     explicit Impl(Context& c) : ctx(c) {}
     Result<const std::vector<glm::vec3>*> directions(uint32_t count, float cosOuter);
-    Result<LightTables> lightTables(const std::vector<VplSpot>& spots, const VplSettings& settings,
+    Result<LightTables> lightTables(const std::vector<VplSpot>& spots, bool emitters, const VplSettings& settings,
                                     const Camera& camera);
 
-    rg::BufferHandle addGeneratePass(rg::RenderGraph& graph, const VplInputs& in, const LightTableHandles& tables,
-                                     uint32_t lightCount, uint32_t vplCount);
+    void addGeneratePass(rg::RenderGraph& graph, const VplInputs& in, const LightTableHandles& tables,
+                         uint32_t lightCount, uint32_t vplCount, rg::BufferHandle& vpls);
+    void addEmitterPass(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& settings,
+                        const LightTableHandles& tables, uint32_t source, uint32_t vplCount, bool first,
+                        rg::BufferHandle& vpls);
     void addBouncePasses(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& settings,
                          const LightTableHandles& tables, uint32_t lightCount, uint32_t vplCount,
                          rg::BufferHandle& vpls);
@@ -227,10 +236,10 @@ Result<const std::vector<glm::vec3>*> VplTechnique::Impl::directions(uint32_t co
     return &it->second;
 }
 
-Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& spots, const VplSettings& settings,
-                                                    const Camera& camera) {
+Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& spots, bool emitters,
+                                                    const VplSettings& settings, const Camera& camera) {
     const uint32_t vplCount = settings.vplCount, interleave = settings.interleave;
-    const uint32_t lightCount = uint32_t(spots.size());
+    const uint32_t lightCount = uint32_t(spots.size()) + (emitters ? 1u : 0u);
     LightTables tables;
     std::vector<std::vector<glm::vec3>> samples; // per light, in Halton order
     for (uint32_t l = 0; l < spots.size(); ++l) {
@@ -262,6 +271,13 @@ Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& 
         }
         tables.lights.push_back(light);
     }
+    // The emitters: one more source, whose N entries name the surfel each VPL takes
+    // (vpl_emitter.comp). It needs no VplLight; an emission-only scene still binds a table of one.
+    if (emitters)
+        samples.push_back(emitterSampleOrder(vplCount));
+    if (tables.lights.empty())
+        tables.lights.push_back(gpu::VplLight{});
+    tables.sources = lightCount;
     // Each bounced generation g >= 1 is L more sources g L + l, whose entries hold the local
     // cosine-lobe directions of the rays their parents trace (vpl_bounce.comp).
     for (uint32_t g = 1; g < settings.bounces; ++g) {
@@ -279,11 +295,8 @@ Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& 
     return tables;
 }
 
-rg::BufferHandle VplTechnique::Impl::addGeneratePass(rg::RenderGraph& graph, const VplInputs& in,
-                                                     const LightTableHandles& tables, uint32_t lightCount,
-                                                     uint32_t vplCount) {
-    rg::BufferHandle vpls =
-        graph.createBuffer("vpl.vpls", storageBuffer(VkDeviceSize(vplCount) * sizeof(gpu::VplRecord)));
+void VplTechnique::Impl::addGeneratePass(rg::RenderGraph& graph, const VplInputs& in, const LightTableHandles& tables,
+                                         uint32_t lightCount, uint32_t vplCount, rg::BufferHandle& vpls) {
     gpu::VplGeneratePush push{};
     push.info = glm::uvec4(lightCount, vplCount, 0, 0);
     rg::ComputePass(graph, "vpl.generate", generate)
@@ -296,7 +309,29 @@ rg::BufferHandle VplTechnique::Impl::addGeneratePass(rg::RenderGraph& graph, con
         .read(VPL_GENERATE_BINDING_DIRECTIONS, tables.directions)
         .overwrite(VPL_GENERATE_BINDING_VPLS, vpls)
         .dispatch({vplCount, 1, 1});
-    return vpls;
+}
+
+// The emitter source's VPLs on this frame's emissive surfels (vpl_emitter.comp): after
+// vpl.generate, which leaves their slots empty, or as the buffer's first writer in a scene
+// without punctual lights.
+void VplTechnique::Impl::addEmitterPass(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& settings,
+                                        const LightTableHandles& tables, uint32_t source, uint32_t vplCount,
+                                        bool first, rg::BufferHandle& vpls) {
+    gpu::VplEmitterPush push{};
+    push.info = glm::uvec4(source, vplCount, first ? 1u : 0u, 0u);
+    push.surfels = glm::uvec4(in.emitterSurfels, in.emitterResolution, 0u, 0u);
+    push.scale = glm::vec4(float(in.emitterSurfels) / float(settings.vplCount), 0.0f, 0.0f, 0.0f);
+    rg::ComputePass pass(graph, "vpl.emitter", emitter);
+    pass.push(push)
+        .sample(VPL_EMITTER_BINDING_POSITION, in.emitterPosition, pointSampler)
+        .sample(VPL_EMITTER_BINDING_NORMAL, in.emitterNormal, pointSampler)
+        .sample(VPL_EMITTER_BINDING_FLUX, in.emitterFlux, pointSampler)
+        .read(VPL_EMITTER_BINDING_DIRECTIONS, tables.directions);
+    if (first)
+        pass.overwrite(VPL_EMITTER_BINDING_VPLS, vpls);
+    else
+        pass.write(VPL_EMITTER_BINDING_VPLS, vpls);
+    pass.dispatch({vplCount, 1, 1});
 }
 
 // One pass per bounced generation: each VPL of generation g - 1 traces its ray and writes its
@@ -455,7 +490,7 @@ VplTechnique::VplTechnique(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
 
 VplTechnique::~VplTechnique() {
     Context& ctx = m->ctx;
-    for (Pipeline* p : {&m->generate, &m->bounce, &m->gather, &m->interleaveRows, &m->interleaveColumns, &m->negativeGenerate,
+    for (Pipeline* p : {&m->generate, &m->emitter, &m->bounce, &m->gather, &m->interleaveRows, &m->interleaveColumns, &m->negativeGenerate,
                         &m->negativeGather, &m->upsample, &m->refine, &m->gatherVisible, &m->refineVisible})
         destroyPipeline(ctx, *p);
     if (m->pointSampler)
@@ -468,6 +503,7 @@ Result<std::unique_ptr<VplTechnique>> VplTechnique::create(Context& ctx) {
     Impl& m = *technique->m;
     const std::pair<Pipeline*, const char*> shaders[] = {
         {&m.generate, "gi/vpl/vpl_generate.comp"},
+        {&m.emitter, "gi/vpl/vpl_emitter.comp"},
         {&m.bounce, "gi/vpl/vpl_bounce.comp"},
         {&m.gather, "gi/vpl/vpl_gather.comp"},
         {&m.interleaveRows, "gi/vpl/vpl_interleave_rows.comp"},
@@ -497,20 +533,28 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
         return ok.error();
     const bool directional =
         std::any_of(in.spots.begin(), in.spots.end(), [](const VplSpot& spot) { return spot.directional; });
-    const VplSettings settings = resolveVplSettings(requested, directional);
+    const VplSettings settings = resolveVplSettings(requested, directional || in.emitterSurfels > 0);
     if (auto ok = checkInputs(in, settings); !ok)
         return ok.error();
-    if (in.spots.empty())
+    const bool emitters = in.emitterSurfels > 0;
+    if (in.spots.empty() && !emitters)
         return addClearPass(graph, in.width, in.height);
-    auto tables = m->lightTables(in.spots, settings, in.camera);
+    auto tables = m->lightTables(in.spots, emitters, settings, in.camera);
     if (!tables)
         return tables.error();
 
     VplOutputs out;
-    const uint32_t lightCount = uint32_t(tables->lights.size());
+    // Generation-0 sources: the spots, then the emitters (gi/vpl.h); the bounces and the
+    // per-pixel passes count the emitters as one more light.
+    const uint32_t spotCount = uint32_t(in.spots.size());
+    const uint32_t lightCount = tables->sources;
     out.vplCount = uint32_t(tables->directions.size());
     const LightTableHandles uploaded = addUploadPass(graph, std::move(tables.value()));
-    out.vpls = m->addGeneratePass(graph, in, uploaded, lightCount, out.vplCount);
+    out.vpls = graph.createBuffer("vpl.vpls", storageBuffer(VkDeviceSize(out.vplCount) * sizeof(gpu::VplRecord)));
+    if (spotCount > 0)
+        m->addGeneratePass(graph, in, uploaded, spotCount, out.vplCount, out.vpls);
+    if (emitters)
+        m->addEmitterPass(graph, in, settings, uploaded, spotCount, out.vplCount, spotCount == 0, out.vpls);
     if (settings.bounces > 1)
         m->addBouncePasses(graph, in, settings, uploaded, lightCount, out.vplCount, out.vpls);
 

@@ -1,6 +1,7 @@
 // Technique::Vpl inside GiSystem: every light of the scene with RSM layers becomes a VplSpot
 // (spotlights as in the paper; point lights as spots with the whole sphere for a cone;
-// directional lights sample their orthographic RSM window).
+// directional lights sample their orthographic RSM window), and emissive surfaces one more
+// source whose VPLs sit on the emissive surfels (docs/vpl.md, "Emitter VPLs").
 #include "vpl/vpl_technique_module.hpp"
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "vk_check.hpp"
+#include "emissive/emissive_surfels.hpp"
 #include "vkgi/vpl.hpp"
 #include "voxel/scene_voxel_grid.hpp"
 
@@ -63,7 +65,7 @@ SharedGridPlacement sharedGridPlacement(const VplSettings& s) {
     return SharedGridPlacement::Auto;
 }
 
-VplInputs vplInputs(const TechniqueInputs& inputs, const RsmData& rsm) {
+VplInputs vplInputs(const TechniqueInputs& inputs, const RsmData* rsm) {
     const FrameData& frame = inputs.frame;
     VplInputs in;
     in.gPosition = inputs.gbuffer.position;
@@ -72,12 +74,13 @@ VplInputs vplInputs(const TechniqueInputs& inputs, const RsmData& rsm) {
     in.width = frame.width;
     in.height = frame.height;
     in.camera = frame.camera;
-    in.rsmPosition = rsm.position;
-    in.rsmNormal = rsm.normal;
-    in.rsmFlux = rsm.flux;
-    in.shadowViews = inputs.shadow.views;
-    const Scene& scene = *frame.scene;
-    in.spots = spotsWithRsmLayers(scene, rsm);
+    if (rsm) {
+        in.rsmPosition = rsm->position;
+        in.rsmNormal = rsm->normal;
+        in.rsmFlux = rsm->flux;
+        in.shadowViews = inputs.shadow.views;
+        in.spots = spotsWithRsmLayers(*frame.scene, *rsm);
+    }
     return in;
 }
 
@@ -104,9 +107,12 @@ public:
             return makeError("scene '" + scene.name + "': " + std::to_string(lights) +
                              " lights exceed the VPL technique's maximum of " + std::to_string(kMaxVplLights));
         m_lights = lights;
+        // The emitters' surfels: one per emitter VPL (the emitter source has N VPLs like a light).
+        if (auto ok = m_emissive.sceneChanged(ctx, scene, m_settings.vplCount); !ok)
+            return ok.error();
         const bool directional = std::any_of(scene.lights.begin(), scene.lights.end(),
                                              [](const Light& l) { return l.type == LightType::Directional; });
-        m_resolved = resolveVplSettings(m_settings, directional);
+        m_resolved = resolveVplSettings(m_settings, directional || m_emissive.exists());
         // The grid exists only while visibility or bounces need it (leave out what a scene does
         // not need).
         if (m_resolved.visibility == VplVisibilityMode::On || m_resolved.bounces > 1)
@@ -116,20 +122,28 @@ public:
         return {};
     }
 
-    uint64_t persistentBytes() const override { return m_voxels.bytes(); }
+    uint64_t persistentBytes() const override { return m_voxels.bytes() + m_emissive.bytes(); }
 
     IndirectOutputs addPasses(rg::RenderGraph& graph, const TechniqueInputs& inputs) override {
-        if (!inputs.rsm) {
-            inputs.selection.leaveOut("vpl.*", LeftOutReason::NotNeeded, "no light in the scene");
+        if (!inputs.rsm && !m_emissive.exists()) {
+            inputs.selection.leaveOut("vpl.*", LeftOutReason::NotNeeded, "no light and no emission in the scene");
             return {};
         }
-        VplInputs in = vplInputs(inputs, *inputs.rsm);
-        if (in.spots.empty()) {
+        VplInputs in = vplInputs(inputs, inputs.rsm);
+        if (in.spots.empty() && !m_emissive.exists()) {
             // No light with an RSM: nothing to bounce, so the technique adds no pass and no
             // indirect image; GiSystem then composites nothing (the frame is the direct image).
             inputs.selection.leaveOut("vpl.*", LeftOutReason::NotNeeded,
                                       "no light has shadow-atlas layers (past maxShadowLayers)");
             return {};
+        }
+        if (m_emissive.exists()) {
+            EmissiveSurfelImages surfels = m_emissive.addPasses(graph, inputs.scene, "vpl");
+            in.emitterPosition = surfels.position;
+            in.emitterNormal = surfels.normal;
+            in.emitterFlux = surfels.flux;
+            in.emitterSurfels = m_emissive.count();
+            in.emitterResolution = surfels.resolution;
         }
         VplSettings settings = m_resolved;
         if (m_voxels.exists()) {
@@ -155,6 +169,7 @@ private:
     VplSettings m_resolved; // resolved for the current scene (resolveVplSettings)
     uint32_t m_lights = 0; // lights of the current scene
     SceneVoxelGrid m_voxels; // the visibility and bounce grid (vpl.visibility on or vpl.bounces > 1)
+    EmissiveSurfels m_emissive; // the emitter VPLs' surfels (exists() only in scenes with emission)
 };
 
 } // namespace

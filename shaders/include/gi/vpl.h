@@ -34,6 +34,12 @@
 #define VPL_GENERATE_BINDING_LIGHTS 4       // VplLight per light
 #define VPL_GENERATE_BINDING_DIRECTIONS 5   // xyz local Halton direction (or window point), w light index, subset-major
 #define VPL_GENERATE_BINDING_VPLS 6         // output: VplRecord per positive VPL
+// vpl_emitter.comp: the emitter source's VPLs, one per emissive surfel (gi/emissive.h).
+#define VPL_EMITTER_BINDING_POSITION 0   // emissive surfel world position (RGBA32F 2D array, w = 1 where a surfel)
+#define VPL_EMITTER_BINDING_NORMAL 1     // emissive surfel normal of the emitting side
+#define VPL_EMITTER_BINDING_FLUX 2       // emissive surfel flux (rgb) and area (w)
+#define VPL_EMITTER_BINDING_DIRECTIONS 3 // the generation table: x the surfel a sample takes, w source index
+#define VPL_EMITTER_BINDING_VPLS 4       // output: VplRecord per positive VPL (the emitter source's)
 // vpl_gather.comp: the positive VPLs' light at the gather resolution.
 #define VPL_GATHER_BINDING_POSITION 0 // G-buffer world position (w = 1 where geometry)
 #define VPL_GATHER_BINDING_NORMAL 1   // G-buffer normal
@@ -136,6 +142,15 @@ GI_GPU_STRUCT(VplGeneratePush) {
 };
 GI_CHECK_SIZE(VplGeneratePush, 48);
 
+// Push constants of vpl_emitter.comp.
+GI_GPU_STRUCT(VplEmitterPush) {
+    uvec4 info;    // x the emitter's source index, y total records, z 1 when no light's pass wrote the
+                   // buffer before (this pass then also empties the other sources' slots), w 0
+    uvec4 surfels; // x emissive surfels M, y the surfel images' side R (surfel k at texel (k mod R, k / R)), z, w 0
+    vec4 scale;    // x M / N: the surfels one emitter VPL stands for, y, z, w 0
+};
+GI_CHECK_SIZE(VplEmitterPush, 48);
+
 // Push constants of the per-pixel passes (gather, interleave filter, negative gather, upsample,
 // refine).
 GI_GPU_STRUCT(VplPixelPush) {
@@ -173,7 +188,8 @@ GI_INLINE uint vplSubsetStart(uint s, uint n, uint lights, uint perLight) {
 
 // Multi-bounce VPLs (VplSettings::bounces = B): generation g of light l (g = 0 the VPLs the RSM
 // gives, g >= 1 those one more bounce away) is "source" g L + l of the subset layout above, with
-// L lights and L B sources of N records each. Each subset then holds the same Halton run of every
+// L lights and L B sources of N records each. A scene with emission counts its emitters as one
+// more light, after the punctual ones (l = L - 1: the emitter VPLs and their bounced children). Each subset then holds the same Halton run of every
 // source, so a subset still estimates the full sum, bounce by bounce. Record i's parent (the VPL
 // of generation g - 1 whose ray placed it) is the record of the same subset and Halton index one
 // generation back, `lights` blocks earlier; this returns it, or ~0u for generation 0.

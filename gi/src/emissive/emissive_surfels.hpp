@@ -1,0 +1,62 @@
+#pragma once
+// Emissive surfaces as light sources of the RSM-based techniques: a fixed number of surfels
+// spread over the scene's emitting triangles by power, written each frame into images in the
+// RSM's formats (gi/emissive.h) by `<prefix>.emissive.surfels`. The VPL technique places its
+// emitter VPLs on them (docs/vpl.md, "Emitter VPLs"). The table of which triangle, side and
+// point each surfel takes is built on the CPU when the scene is set; the pass transforms the
+// points and areas with this frame's instances, so moving emitters are followed.
+#include <string>
+#include <vector>
+
+#include "vkgi/context.hpp"
+#include "vkgi/frame_data.hpp"
+#include "vkgi/pipeline.hpp"
+#include "vkgi/rg/render_graph.hpp"
+#include "vkgi/scene.hpp"
+#include "gi/emissive.h"
+
+namespace vkgi::gi {
+
+// The surfel table of `scene` (empty without emission): every emitting triangle side gets at
+// least one surfel and the rest go by power (area x the emission's channel sum, largest
+// remainders), each carrying 1 / (its side's count) of the side's flux, its points stratified
+// over the triangle. With more sides than `count`, sides are picked systematically by power and
+// every surfel carries count-th of the total power (weight = total / (count x side power)).
+std::vector<gpu::GpuEmissiveSurfel> planEmissiveSurfels(const Scene& scene, uint32_t count);
+
+struct EmissiveSurfelImages {
+    rg::ImageHandle position, normal, flux; // 2D arrays (layer 0 used), gi/emissive.h
+    uint32_t resolution = 0;                // texels per side
+};
+
+class EmissiveSurfels {
+public:
+    EmissiveSurfels() = default;
+    EmissiveSurfels(const EmissiveSurfels&) = delete;
+    EmissiveSurfels& operator=(const EmissiveSurfels&) = delete;
+    ~EmissiveSurfels() { reset(); }
+
+    // Rebuilds the table of `count` surfels from the scene's emissive materials; without any,
+    // exists() is false and nothing is allocated.
+    Result<void> sceneChanged(Context& ctx, const Scene& scene, uint32_t count);
+    bool exists() const { return m_count > 0; }
+    uint32_t count() const { return m_count; }
+    uint32_t resolution() const { return m_resolution; }
+    uint64_t bytes() const { return m_table.buffer.buffer ? m_table.buffer.alloc.size : 0; }
+
+    // The surfels of this frame, as transients named `<prefix>.emissive.*`. Requires exists().
+    EmissiveSurfelImages addPasses(rg::RenderGraph& graph, const SceneHandles& scene,
+                                   const std::string& prefix = "gi");
+
+    void reset();
+
+private:
+    Context* m_ctx = nullptr;
+    Pipeline m_pipeline{};
+    rg::PersistentBuffer m_table;
+    uint32_t m_count = 0;
+    uint32_t m_resolution = 0;
+    std::vector<gpu::GpuEmissiveSurfel> m_plan; // what m_table holds
+};
+
+} // namespace vkgi::gi
