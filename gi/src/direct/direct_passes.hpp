@@ -2,6 +2,7 @@
 // The shared passes every technique builds on: G-buffer, per-light shadow map (+ RSM),
 // deferred direct lighting, composite and readback. One source file per pass; this header is
 // private to gi/.
+#include <string>
 #include <vector>
 
 #include "vkgi/gpu_scene.hpp"
@@ -71,6 +72,14 @@ struct CascadeRequest {
 // near slices where the camera sees most of the scene); receivers beyond them use that layer.
 ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers,
                          const CascadeRequest& cascades = {});
+
+// Transient images in the RSM's formats (kPositionFormat, kNormalFormat, kRsmFluxFormat: the
+// layout of RsmData in vkgi/frame_data.hpp), storage and sampled, with at least 2 layers so
+// that their readers' views are 2D arrays: the LPV's reduced RSM and the emissive surfels.
+struct RsmImages {
+    rg::ImageHandle position, normal, flux;
+};
+RsmImages createRsmImages(rg::RenderGraph& graph, const std::string& prefix, uint32_t resolution, uint32_t layers);
 
 // Persistent shadow atlas and RSM arrays (recreated when the layer count or size changes),
 // sampled through 2D-array views and rendered one layer at a time (PassContext::layerView).

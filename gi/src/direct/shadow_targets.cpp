@@ -2,6 +2,8 @@
 // transient pool because a light's layers that did not change keep last frame's content, and the
 // pool's images may be replaced between frames; the graph still derives all their barriers
 // (imports), and the light passes render into single layers through PassContext::layerView.
+#include <algorithm>
+
 #include "direct/direct_passes.hpp"
 
 #include "vkgi/context.hpp"
@@ -68,6 +70,21 @@ void destroyShadowTargets(Context& ctx, ShadowTargets& t) {
     for (rg::PersistentImage* p : {&t.atlas, &t.rsmPosition, &t.rsmNormal, &t.rsmFlux})
         destroyLayered(ctx, *p);
     t = ShadowTargets{};
+}
+
+RsmImages createRsmImages(rg::RenderGraph& graph, const std::string& prefix, uint32_t resolution, uint32_t layers) {
+    ImageDesc desc;
+    desc.width = desc.height = resolution;
+    desc.arrayLayers = std::max(layers, 2u);
+    desc.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    RsmImages out;
+    desc.format = kPositionFormat;
+    out.position = graph.createImage(prefix + ".position", desc);
+    desc.format = kNormalFormat;
+    out.normal = graph.createImage(prefix + ".normal", desc);
+    desc.format = kRsmFluxFormat;
+    out.flux = graph.createImage(prefix + ".flux", desc);
+    return out;
 }
 
 } // namespace vkgi::gi

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "direct/direct_passes.hpp"
 #include "vkgi/resources.hpp"
 #include "vkgi/rg/compute_pass.hpp"
 #include "vk_dispatch.hpp"
@@ -156,15 +157,10 @@ EmissiveSurfelImages EmissiveSurfels::addPasses(rg::RenderGraph& graph, const Sc
                                                 const std::string& prefix) {
     EmissiveSurfelImages out;
     out.resolution = m_resolution;
-    ImageDesc desc;
-    desc.width = desc.height = m_resolution;
-    desc.arrayLayers = 2; // more than one layer: the RSM readers' views are 2D arrays
-    desc.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-    desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
-    out.position = graph.createImage(prefix + ".emissive.position", desc);
-    out.flux = graph.createImage(prefix + ".emissive.flux", desc);
-    desc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
-    out.normal = graph.createImage(prefix + ".emissive.normal", desc);
+    const RsmImages images = createRsmImages(graph, prefix + ".emissive", m_resolution, 1);
+    out.position = images.position;
+    out.normal = images.normal;
+    out.flux = images.flux;
     gpu::EmissiveSurfelPush push{};
     push.info = glm::uvec4(m_count, m_resolution, 0u, 0u);
     rg::BufferHandle table = graph.importBuffer(prefix + ".emissive.table", m_table);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 
+#include "direct/direct_passes.hpp"
 #include "vkgi/context.hpp"
 #include "vkgi/rg/compute_pass.hpp"
 #include "vk_dispatch.hpp"
@@ -84,15 +85,10 @@ RsmInput addRsmReducePass(rg::RenderGraph& graph, const Injector& injector, cons
     reduced.sourceFlux = rsm.flux;
     reduced.sourceResolution = rsm.resolution;
     reduced.factor = factor;
-    ImageDesc desc;
-    desc.width = desc.height = reduced.resolution;
-    desc.arrayLayers = std::max(rsm.layers, 2u); // more than one layer: the view is a 2D array
-    desc.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-    desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
-    reduced.position = graph.createImage(prefix + ".rsm.position", desc);
-    reduced.flux = graph.createImage(prefix + ".rsm.flux", desc);
-    desc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
-    reduced.normal = graph.createImage(prefix + ".rsm.normal", desc);
+    const RsmImages images = createRsmImages(graph, prefix + ".rsm", reduced.resolution, rsm.layers);
+    reduced.position = images.position;
+    reduced.normal = images.normal;
+    reduced.flux = images.flux;
     gpu::LpvInjectPush push{};
     push.rsm = glm::ivec4(int(rsm.resolution), int(rsm.layers), int(factor), int(reduced.resolution));
     push.params.y = mergeRadius;
