@@ -37,11 +37,7 @@ class LargeWorld : public test::GpuTest {
 protected:
     Measured measure(const std::string& name, const GiSettings& settings) {
         Scene scene = test::builtinScene(name);
-        ReferenceSettings rs;
-        rs.spp = 256;
-        rs.maxBounces = -1;
-        rs.progress = false;
-        auto ref = renderReferenceCached(scene, *scene.camera, kSize, kSize, rs);
+        auto ref = test::allBounceReference(scene, *scene.camera, kSize, kSize);
         EXPECT_TRUE(ref) << (ref ? "" : ref.error().message);
         FrameRequest request;
         request.direct = true;

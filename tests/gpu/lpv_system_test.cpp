@@ -353,11 +353,7 @@ TEST_F(LpvSystem, DefaultsBeatTheBestConstantAgainstAllBounces) {
     for (const auto& [name, bar] : scenes) {
         auto scene = makeBuiltinScene(name);
         ASSERT_TRUE(scene) << scene.error().message;
-        ReferenceSettings rs;
-        rs.spp = 512;
-        rs.maxBounces = -1;
-        rs.progress = false;
-        auto ref = renderReferenceCached(*scene, *scene->camera, kSize, kSize, rs);
+        auto ref = test::allBounceReference(*scene, *scene->camera, kSize, kSize, 512);
         ASSERT_TRUE(ref) << ref.error().message;
         auto errors = [&](const LpvSettings& lpv) {
             GiSettings settings;

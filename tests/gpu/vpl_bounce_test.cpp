@@ -66,11 +66,7 @@ struct AllBounceErrors {
 AllBounceErrors allBounceErrors(Context& ctx, const std::string& name, const VplSettings& vpl) {
     const Scene scene = test::builtinScene(name);
     const Camera camera = scene.cameraOrDefault();
-    ReferenceSettings rs;
-    rs.spp = 256;
-    rs.maxBounces = -1;
-    rs.progress = false;
-    auto ref = renderReferenceCached(scene, camera, kSize, kSize, rs);
+    auto ref = test::allBounceReference(scene, camera, kSize, kSize);
     EXPECT_TRUE(ref.ok()) << ref.error().message;
     if (!ref.ok())
         return {};

@@ -163,11 +163,7 @@ TEST_F(VplEmitter, SquareOverAFloorGivesItsFormFactorIrradiance) {
 TEST_F(VplEmitter, CornellEmissiveBeatsTheBestConstant) {
     const Scene scene = test::builtinScene("cornell_emissive");
     const Camera camera = scene.cameraOrDefault();
-    ReferenceSettings rs;
-    rs.spp = 256;
-    rs.maxBounces = -1;
-    rs.progress = false;
-    auto ref = renderReferenceCached(scene, camera, kSize, kSize, rs);
+    auto ref = test::allBounceReference(scene, camera, kSize, kSize);
     ASSERT_TRUE(ref.ok()) << ref.error().message;
     GiSettings settings;
     settings.technique = Technique::Vpl;

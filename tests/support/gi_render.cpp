@@ -54,4 +54,13 @@ std::vector<gpu::VplRecord> vplRecords(Context& ctx, const gi::GiSettings& setti
     return asArray<gpu::VplRecord>(runAndReadBuffer(ctx, graph, vo->vpls, bytes));
 }
 
+Result<gi::ReferenceImages> allBounceReference(const Scene& scene, const Camera& camera, uint32_t width,
+                                               uint32_t height, uint32_t spp) {
+    gi::ReferenceSettings rs;
+    rs.spp = spp;
+    rs.maxBounces = -1;
+    rs.progress = false;
+    return gi::renderReferenceCached(scene, camera, width, height, rs);
+}
+
 } // namespace vkgi::test

@@ -7,6 +7,7 @@
 #include "vkgi/context.hpp"
 #include "vkgi/scene.hpp"
 #include "vkgi/gi.hpp"
+#include "vkgi/reference.hpp"
 #include "gi/vpl.h"
 
 namespace vkgi::test {
@@ -22,6 +23,11 @@ Result<std::unique_ptr<gi::GiSystem>> systemWithScene(Context& ctx, const gi::Gi
 Result<gi::FrameResult> renderOnce(Context& ctx, const gi::GiSettings& settings, const Scene& scene,
                                    const Camera& camera, uint32_t width, uint32_t height,
                                    const gi::FrameRequest& request);
+
+// The path tracer's image of `scene` from `camera` with unbounded bounces (the "all bounces"
+// reference), `spp` paths per pixel, through the reference cache, without progress output.
+Result<gi::ReferenceImages> allBounceReference(const Scene& scene, const Camera& camera, uint32_t width,
+                                               uint32_t height, uint32_t spp = 256);
 
 // The positive VPL records (VplOutputs::vpls, in gi/vpl.h's subset order) of one frame of `scene`
 // with `settings` (Technique::Vpl) at size x size, through GiSystem::addPasses; empty, with a

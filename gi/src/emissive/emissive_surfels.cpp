@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstring>
 
-#include "direct/direct_passes.hpp"
 #include "vkgi/resources.hpp"
 #include "vkgi/rg/compute_pass.hpp"
 #include "vk_dispatch.hpp"
@@ -155,12 +154,7 @@ Result<void> EmissiveSurfels::sceneChanged(Context& ctx, const Scene& scene, uin
 
 EmissiveSurfelImages EmissiveSurfels::addPasses(rg::RenderGraph& graph, const SceneHandles& scene,
                                                 const std::string& prefix) {
-    EmissiveSurfelImages out;
-    out.resolution = m_resolution;
-    const RsmImages images = createRsmImages(graph, prefix + ".emissive", m_resolution, 1);
-    out.position = images.position;
-    out.normal = images.normal;
-    out.flux = images.flux;
+    EmissiveSurfelImages out{createRsmImages(graph, prefix + ".emissive", m_resolution, 1), m_resolution};
     gpu::EmissiveSurfelPush push{};
     push.info = glm::uvec4(m_count, m_resolution, 0u, 0u);
     rg::BufferHandle table = graph.importBuffer(prefix + ".emissive.table", m_table);

@@ -13,6 +13,7 @@
 #include "vkgi/pipeline.hpp"
 #include "vkgi/rg/render_graph.hpp"
 #include "vkgi/scene.hpp"
+#include "direct/direct_passes.hpp"
 #include "gi/emissive.h"
 
 namespace vkgi::gi {
@@ -24,9 +25,9 @@ namespace vkgi::gi {
 // every surfel carries count-th of the total power (weight = total / (count x side power)).
 std::vector<gpu::GpuEmissiveSurfel> planEmissiveSurfels(const Scene& scene, uint32_t count);
 
-struct EmissiveSurfelImages {
-    rg::ImageHandle position, normal, flux; // 2D arrays (layer 0 used), gi/emissive.h
-    uint32_t resolution = 0;                // texels per side
+// The images (createRsmImages: 2D arrays, layer 0 used; gi/emissive.h) and their side.
+struct EmissiveSurfelImages : RsmImages {
+    uint32_t resolution = 0; // texels per side
 };
 
 class EmissiveSurfels {
@@ -41,7 +42,6 @@ public:
     Result<void> sceneChanged(Context& ctx, const Scene& scene, uint32_t count);
     bool exists() const { return m_count > 0; }
     uint32_t count() const { return m_count; }
-    uint32_t resolution() const { return m_resolution; }
     uint64_t bytes() const { return m_table.buffer.buffer ? m_table.buffer.alloc.size : 0; }
 
     // The surfels of this frame, as transients named `<prefix>.emissive.*`. Requires exists().
