@@ -237,8 +237,9 @@ void GiSystem::Impl::addShadowPasses(rg::RenderGraph& graph, rg::Blackboard& bb,
     // The deferred pass's footprint around a receiver (deferred.comp): PCF radius, the bilinear
     // tap's extra texel and the normal offset, plus a texel of rounding.
     cascades.marginTexels = float(settings.pcfRadius) + std::ceil(settings.shadowNormalOffset) + 2.0f;
+    const Aabb rsmWindow = rsm && technique ? technique->rsmWindow(frame) : Aabb{};
     ShadowLayout layout =
-        planShadows(scene, gpu->bounds, settings.shadowMapSize, settings.maxShadowLayers, cascades);
+        planShadows(scene, gpu->bounds, settings.shadowMapSize, settings.maxShadowLayers, cascades, rsmWindow);
     // New atlas or RSM arrays have no contents yet: every light renders.
     uint32_t oldLayers = shadows.layers, oldRsmLayers = shadows.rsmLayers, oldResolution = shadows.resolution;
     bool oldRsm = shadows.rsm;

@@ -121,7 +121,8 @@ std::vector<bool> cleanShadowLights(const ShadowLayout& now, const ShadowLayout&
         const LightShadowPlan& a = now.lights[i];
         const LightShadowPlan& b = last.lights[i];
         bool same = a.kind == b.kind && a.firstLayer == b.firstLayer && a.layerCount == b.layerCount &&
-                    a.faceMask == b.faceMask;
+                    a.faceMask == b.faceMask && a.rsmWindowed == b.rsmWindowed &&
+                    std::memcmp(&a.rsmView, &b.rsmView, sizeof(gpu::GpuShadowView)) == 0;
         if (same && a.layerCount > 0)
             same = std::memcmp(&now.views[a.firstLayer], &last.views[b.firstLayer],
                                a.layerCount * sizeof(gpu::GpuShadowView)) == 0;

@@ -54,6 +54,12 @@ public:
     virtual ~TechniqueModule() = default;
     // True when the technique reads RsmData: the light passes then also write the RSM targets.
     virtual bool needsRsm() const { return false; }
+    // The part of the scene whose RSM texels this frame's passes read, when it is a window
+    // inside the scene (planShadows then fits directional lights' RSMs to it); invalid = all.
+    virtual Aabb rsmWindow(const FrameData& frame) const {
+        (void)frame;
+        return {};
+    }
     // After setScene (`uploaded` = new geometry) and updateScene (moved instances/lights).
     virtual Result<void> sceneChanged(Context& ctx, const Scene& scene, const GpuScene& gpu, bool uploaded) {
         (void)ctx, (void)scene, (void)gpu, (void)uploaded;

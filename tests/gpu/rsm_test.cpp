@@ -1,14 +1,18 @@
 // Reflective shadow map flux: summed over all texels it must equal albedo x the light's power
 // that reaches the surfaces (vkgi/frame_data.hpp documents the per-texel formula).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "vkgi/builtin_scenes.hpp"
 #include "vkgi/rg/transient_pool.hpp"
 #include "vk_check.hpp"
 #include "vkgi/frame_data.hpp"
 #include "vkgi/gi.hpp"
+#include "lpv/lpv_grid.hpp"
 #include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
 #include "support/gpu_util.hpp"
@@ -127,4 +131,76 @@ TEST_F(RsmTest, DirectionalFluxEqualsAlbedoTimesIlluminanceTimesProjectedArea) {
     double bound = (8.0 * half) * texel / 2.0 / area;
     std::printf("sun: RSM flux / expected = %.7f (bound %.4f)\n", flux.g / expected, bound);
     EXPECT_NEAR(flux.g / expected, 1.0, bound) << flux.g << " vs " << expected;
+}
+
+// The LPV's cascades in a large world read a sun's RSM through a window fitted to their coarsest
+// level: a 400 m plane (a 2 m tile raised 10 m in a far corner gives the world its height)
+// seen from 3 m above its centre. The windowed RSM holds albedo x E x cos x the area of the
+// plane inside the window's footprint, with texels about six times finer than the own layer's.
+TEST_F(RsmTest, LpvSunWindowHoldsTheFluxOfThePlaneInsideIt) {
+    const float albedo = 0.5f, lux = 10.0f, half = 200.0f;
+    Scene scene = bigPlane(albedo, half);
+    Instance tile;
+    tile.transform = glm::translate(glm::mat4(1.0f), glm::vec3(190.0f, 10.0f, 190.0f)) *
+                     glm::scale(glm::mat4(1.0f), glm::vec3(1.0f / half));
+    scene.instances.push_back(tile);
+    Camera c;
+    c.position = {0.0f, 3.0f, 0.0f};
+    c.forward = glm::normalize(glm::vec3(0.0f, -0.3f, -1.0f));
+    scene.camera = c;
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+    sun.intensity = lux;
+    scene.lights.push_back(sun);
+
+    gi::GiSettings s;
+    s.technique = gi::Technique::Lpv;
+    auto sys = test::systemWithScene(ctx(), s, scene);
+    ASSERT_TRUE(sys) << sys.error().message;
+    rg::RenderGraph graph;
+    rg::Blackboard bb;
+    auto out = (*sys)->addPasses(graph, bb, c, 8, 8);
+    ASSERT_TRUE(out) << out.error().message;
+    const gi::RsmData& rsm = bb.get<gi::RsmData>();
+    ASSERT_EQ(rsm.layers.size(), 1u);
+    const uint32_t n = rsm.resolution;
+    auto texels = test::asArray<glm::vec4>(test::runAndReadImage(ctx(), graph, rsm.flux, VkDeviceSize(n) * n * 16));
+    glm::dvec3 flux(0.0);
+    for (const glm::vec4& t : texels)
+        flux += glm::dvec3(t);
+
+    // The RSM's view (RsmData carries the window's matrix): its four NDC corners, carried along
+    // the sun to the plane, bound the parallelogram of plane it sees.
+    const glm::mat4 inv = glm::inverse(rsm.layers[0].viewProj);
+    glm::dvec3 p[4];
+    for (int i = 0; i < 4; ++i) {
+        glm::vec4 w = inv * glm::vec4((i & 1) ? 1.0f : -1.0f, (i & 2) ? 1.0f : -1.0f, 0.5f, 1.0f);
+        glm::vec3 q = glm::vec3(w) / w.w;
+        p[i] = glm::dvec3(q - sun.direction * (q.y / sun.direction.y));
+        ASSERT_LT(std::abs(p[i].x), half); // well inside the plane
+        ASSERT_LT(std::abs(p[i].z), half);
+    }
+    const double area = std::abs(glm::cross(p[1] - p[0], p[2] - p[0]).y);
+    const double side = glm::length(p[1] - p[0]) / double(n), cosSun = -sun.direction.y;
+    const double expected = albedo * lux * area * cosSun;
+    // Half a texel along the parallelogram's perimeter, as for the own layer above.
+    const double perimeter = 2.0 * (glm::length(p[1] - p[0]) + glm::length(p[2] - p[0]));
+    const double bound = perimeter * side / 2.0 / area;
+    // The window holds the LPV's coarsest cascade.
+    const std::vector<gpu::LpvGrid> cascades =
+        gi::lpv::fitCascades(c.position, c.forward, s.lpv.cellSize, s.lpv.gridSize, 3);
+    const gpu::LpvGrid& coarsest = cascades.back();
+    const glm::vec3 lo = glm::vec3(coarsest.origin), hi = lo + coarsest.origin.w * glm::vec3(coarsest.size);
+    for (int i = 0; i < 8; ++i) {
+        glm::vec3 corner((i & 1) ? hi.x : lo.x, std::clamp((i & 2) ? hi.y : lo.y, 0.0f, 10.0f), (i & 4) ? hi.z : lo.z);
+        glm::vec4 clip = rsm.layers[0].viewProj * glm::vec4(corner, 1.0f);
+        EXPECT_LE(std::abs(clip.x / clip.w), 1.0f) << i;
+        EXPECT_LE(std::abs(clip.y / clip.w), 1.0f) << i;
+    }
+    std::printf("LPV sun window: %.0f m^2 of plane, RSM flux / expected = %.6f (bound %.4f)\n", area,
+                flux.g / expected, bound);
+    EXPECT_NEAR(flux.g / expected, 1.0, bound) << flux.g << " vs " << expected;
+    // Without the window the own layer's RSM would hold the whole plane: 400^2 / area times more.
+    EXPECT_LT(flux.g, 0.5 * albedo * lux * 4.0 * half * half * cosSun);
 }

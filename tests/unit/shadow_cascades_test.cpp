@@ -40,6 +40,17 @@ glm::vec3 texelOf(const gpu::GpuShadowView& view, const glm::vec3& x) {
     return glm::vec3((glm::vec2(c) / c.w * 0.5f + 0.5f) * view.texel.z, c.z / c.w);
 }
 
+// A scene with just the sun (planShadows reads only the lights).
+Scene sunScene() {
+    Scene scene;
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = kSun;
+    sun.intensity = 1e4f;
+    scene.lights = {sun};
+    return scene;
+}
+
 } // namespace
 
 TEST(ShadowCascades, SplitsIncreaseAndCoverTheRange) {
@@ -145,12 +156,7 @@ TEST(ShadowCascades, SnappedTranslationStaysOnTheTexelLattice) {
 // planShadows: the cascades finer than the whole-scene layer (the near slices' first), counted in
 // maxShadowLayers after every light's own layer, never in the RSM's layers.
 TEST(ShadowCascades, PlanShadowsSpendsLayersOnCascadesOnlyWhereTheyHelp) {
-    Scene scene;
-    Light sun;
-    sun.type = LightType::Directional;
-    sun.direction = kSun;
-    sun.intensity = 1e4f;
-    scene.lights = {sun};
+    Scene scene = sunScene();
     CascadeRequest req;
     req.count = 4;
     req.camera = camera({0, 1.7f, -12.5f}, glm::vec3(0, 3.5f, 6) - glm::vec3(0, 1.7f, -12.5f));
@@ -194,6 +200,63 @@ TEST(ShadowCascades, PlanShadowsSpendsLayersOnCascadesOnlyWhereTheyHelp) {
     ShadowLayout plain = planShadows(scene, kWorld, 256, 64);
     ASSERT_EQ(off.views.size(), 1u);
     EXPECT_EQ(off.views[0].viewProj, plain.views[0].viewProj);
+}
+
+// A sun's RSM window (what the LPV's cascades read): the RSM view covers the window with texels
+// as much finer as the window is smaller, its depth range still spans everything between the
+// window and the sun (a roof above the window, outside it, must occlude), and the own layer the
+// shadow lookups read is the same as without a window. A window no finer than the own layer,
+// or none, leaves the plan as it was.
+TEST(ShadowCascades, SunRsmWindowIsFinerAndKeepsTheOccludersTowardTheSun) {
+    Scene scene = sunScene();
+    const Aabb window = box({-32.0f, -24.0f, -20.0f}, {32.0f, 40.0f, 44.0f}); // 16 cells of 4 m
+    ShadowLayout plain = planShadows(scene, kWorld, 256, 64);
+    ShadowLayout windowed = planShadows(scene, kWorld, 256, 64, {}, window);
+    ASSERT_EQ(windowed.views.size(), 1u);
+    EXPECT_EQ(windowed.views[0].viewProj, plain.views[0].viewProj);
+    EXPECT_EQ(windowed.lightLayers(), 1u);
+    const LightShadowPlan& plan = windowed.lights[0];
+    ASSERT_TRUE(plan.rsmWindowed);
+    EXPECT_FALSE(plain.lights[0].rsmWindowed);
+    const gpu::GpuShadowView& w = plan.rsmView;
+    // The window clipped to the world is 64 x 9.85 x 64 m against the world's 400 x 9.85 x 400 m:
+    // its texels are about that ratio finer (0.16, up to the projection of the boxes' heights).
+    const double ratio = double(w.texel.x) / double(plain.views[0].texel.x);
+    std::printf("RSM window texel %.3f m, own layer %.3f m (%.3fx)\n", w.texel.x, plain.views[0].texel.x, ratio);
+    EXPECT_LT(ratio, 0.25);
+    EXPECT_GT(w.axisArea.w, 0.0f); // the texel's area in m^2, which sets the RSM's flux per texel
+    EXPECT_LE(w.axisArea.w, w.texel.x * w.texel.x * 1.0001f);
+    // Every corner of the clipped window lands inside the RSM; a point on the world's top face
+    // straight toward the sun from the window's centre lies within the depth range (an occluder).
+    Aabb clipped = window;
+    clipped.min = glm::max(clipped.min, kWorld.min);
+    clipped.max = glm::min(clipped.max, kWorld.max);
+    for (int i = 0; i < 8; ++i) {
+        glm::vec3 c((i & 1) ? clipped.max.x : clipped.min.x, (i & 2) ? clipped.max.y : clipped.min.y,
+                    (i & 4) ? clipped.max.z : clipped.min.z);
+        glm::vec3 t = texelOf(w, c);
+        EXPECT_GE(t.x, 0.0f);
+        EXPECT_LE(t.x, 256.0f);
+        EXPECT_GE(t.y, 0.0f);
+        EXPECT_LE(t.y, 256.0f);
+        EXPECT_GE(t.z, 0.0f);
+        EXPECT_LE(t.z, 1.0f);
+    }
+    for (const glm::vec3& corner : {kWorld.min, kWorld.max, glm::vec3(kWorld.min.x, kWorld.max.y, kWorld.max.z)}) {
+        const float z = texelOf(w, corner).z;
+        EXPECT_GE(z, 0.0f);
+        EXPECT_LE(z, 1.0f);
+    }
+    // A window as large as the world is not finer: no extra pass.
+    ShadowLayout whole = planShadows(scene, kWorld, 256, 64, {}, kWorld);
+    EXPECT_FALSE(whole.lights[0].rsmWindowed);
+    // Punctual lights never get a window.
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.position = {0, 5, 0};
+    spot.direction = {0, -1, 0};
+    scene.lights = {spot};
+    EXPECT_FALSE(planShadows(scene, kWorld, 256, 64, {}, window).lights[0].rsmWindowed);
 }
 
 TEST(ShadowCascades, SettingOutOfRangeIsAReadableError) {

@@ -51,6 +51,11 @@ struct LightShadowPlan {
     // follow the atlas's light layers (layerCount), so RSM arrays never include them.
     uint32_t cascadeFirst = 0;
     uint32_t cascadeCount = 0;
+    // Directional lights with an RSM window (planShadows' rsmWindow): the RSM layer is rendered
+    // from this view, fitted to the window, in a pass of its own; the own atlas layer keeps the
+    // whole scene for the shadow lookups. Without it the RSM shares the own layer's view.
+    bool rsmWindowed = false;
+    gpu::GpuShadowView rsmView{};
 };
 struct ShadowLayout {
     std::vector<LightShadowPlan> lights;    // one per scene light
@@ -70,8 +75,12 @@ struct CascadeRequest {
 // then cascades for directional lights while the atlas has room. A light keeps the leading
 // cascades whose texels are finer than its whole-scene layer (all of them in a large world, the
 // near slices where the camera sees most of the scene); receivers beyond them use that layer.
+// `rsmWindow` (when valid): the region whose RSM texels the technique reads. A directional
+// light's RSM is then rendered for that region alone (depth still spanning the scene toward
+// the sun) when that makes its texels at least twice as fine: the LPV's cascades in a large
+// world read a few tens of metres of a sun's RSM that otherwise covers hundreds.
 ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers,
-                         const CascadeRequest& cascades = {});
+                         const CascadeRequest& cascades = {}, const Aabb& rsmWindow = {});
 
 // Transient images in the RSM's formats (kPositionFormat, kNormalFormat, kRsmFluxFormat: the
 // layout of RsmData in vkgi/frame_data.hpp), storage and sampled, with at least 2 layers so

@@ -110,6 +110,7 @@ struct LightPassInfo {
     SceneHandles sceneHandles;
     std::vector<gpu::RasterPush> faces; // one per layer, from firstLayer on
     AtlasHandles targets;               // rendered one layer at a time through PassContext::layerView
+    rg::ImageHandle windowDepth;        // an RSM window's own depth target (its layer 0) instead of the atlas
     uint32_t firstLayer = 0;
     uint32_t faceMask = 0;
     uint32_t resolution = 0;
@@ -125,7 +126,8 @@ void recordLightPass(const LightPassInfo& info, rg::PassContext& pc) {
         std::vector<VkImageView> colors;
         if (info.rsm)
             colors = {pc.layerView(t.position, layer), pc.layerView(t.normal, layer), pc.layerView(t.flux, layer)};
-        beginRendering(cmd, extent, colors, pc.layerView(t.atlas, layer));
+        beginRendering(cmd, extent, colors,
+                       info.windowDepth.valid() ? pc.layerView(info.windowDepth, 0) : pc.layerView(t.atlas, layer));
         if (info.faceMask & (1u << f)) { // faces that cannot see the cone are only cleared
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, info.pipeline->pipeline);
             const SceneHandles& s = info.sceneHandles;
@@ -148,38 +150,55 @@ void recordLightPass(const LightPassInfo& info, rg::PassContext& pc) {
     }
 }
 
-// `cascade` >= 0: that cascade layer of the light alone, depth only (the RSM is written for the
-// light's own layers alone, so RSM consumers count each light's flux once). One pass per
-// cascade: a camera move often changes the fine cascades' matrices and not the coarse ones.
+// What one light pass renders: the light's own layers (with the RSM when asked, unless the RSM
+// is windowed), one cascade layer (depth only: the RSM is written for the light's own layers
+// alone, so RSM consumers count each light's flux once), or a directional light's RSM window
+// (the RSM layer from LightShadowPlan::rsmView, with a depth target of its own so that the
+// atlas layer keeps the whole scene's depth for the shadow lookups). One pass per cascade: a
+// camera move often changes the fine cascades' matrices and not the coarse ones.
+struct LightLayers {
+    enum Kind { Own, Cascade, RsmWindow } kind = Own;
+    uint32_t cascade = 0;
+};
+
 void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame, const SceneHandles& scene,
                   const ShadowLayout& layout, const LightShadowPlan& plan, bool rsm, AtlasHandles& h,
-                  int cascade = -1) {
-    const bool cascades = cascade >= 0;
-    rsm = rsm && !cascades;
-    const uint32_t first = cascades ? plan.cascadeFirst + uint32_t(cascade) : plan.firstLayer;
-    const uint32_t count = cascades ? 1u : plan.layerCount;
+                  LightLayers what = {}) {
+    const bool cascade = what.kind == LightLayers::Cascade, window = what.kind == LightLayers::RsmWindow;
+    rsm = window || (rsm && what.kind == LightLayers::Own && !plan.rsmWindowed);
+    const uint32_t first = cascade ? plan.cascadeFirst + what.cascade : plan.firstLayer;
+    const uint32_t count = what.kind == LightLayers::Own ? plan.layerCount : 1u;
     auto info = std::make_shared<LightPassInfo>();
     bool textured = !frame.scene->textures.empty();
     info->pipeline = !rsm ? &p.shadow : textured ? &p.rsm : &p.rsmUntextured;
     info->scene = frame.gpuScene;
     info->textureSampler = frame.gpuScene->textureSampler;
     info->sceneHandles = scene;
-    info->faceMask = cascades ? 1u : plan.faceMask;
+    info->faceMask = what.kind == LightLayers::Own ? plan.faceMask : 1u;
     info->resolution = layout.resolution;
     info->rsm = rsm;
     info->firstLayer = first;
     for (uint32_t f = 0; f < count; ++f) {
         uint32_t layer = first + f;
-        const gpu::GpuShadowView& v = layout.views[layer];
+        const gpu::GpuShadowView& v = window ? plan.rsmView : layout.views[layer];
         info->faces.push_back({v.viewProj, v.eye, v.axisArea, glm::uvec4(0u, plan.light, layer, 0u)});
     }
     const Light& light = frame.scene->lights[plan.light];
-    std::string name = cascades ? cascadePassName(plan.light, uint32_t(cascade)) : lightPassName(plan.light, light.type);
+    std::string name = cascade  ? cascadePassName(plan.light, what.cascade)
+                       : window ? lightPassName(plan.light, light.type) + ".rsm"
+                                : lightPassName(plan.light, light.type);
     graph.addPass(
         std::move(name),
         [&](rg::PassBuilder& b) {
             rg::SubresourceRange layers{0, 1, first, count};
-            h.atlas = b.write(h.atlas, Access::DepthAttachmentWrite, layers);
+            if (window) {
+                ImageDesc desc;
+                desc.format = kDepthFormat;
+                desc.width = desc.height = layout.resolution;
+                info->windowDepth = b.write(b.create("gi.rsm.window.depth", desc), Access::DepthAttachmentWrite);
+            } else {
+                h.atlas = b.write(h.atlas, Access::DepthAttachmentWrite, layers);
+            }
             if (rsm) {
                 h.position = b.write(h.position, Access::ColorAttachmentWrite, layers);
                 h.normal = b.write(h.normal, Access::ColorAttachmentWrite, layers);
@@ -212,19 +231,27 @@ void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Di
     ShadowData shadow;
     addSetupPass(graph, layout, uint32_t(frame.scene->lights.size()), rsm, h, shadow.views, shadow.lightShadows);
     for (const LightShadowPlan& plan : layout.lights)
-        if (plan.kind != GI_SHADOW_NONE && !(plan.light < keep.size() && keep[plan.light]))
+        if (plan.kind != GI_SHADOW_NONE && !(plan.light < keep.size() && keep[plan.light])) {
             addLightPass(graph, p, frame, scene, layout, plan, rsm, h);
+            if (rsm && plan.rsmWindowed)
+                addLightPass(graph, p, frame, scene, layout, plan, rsm, h, {LightLayers::RsmWindow});
+        }
     for (const LightShadowPlan& plan : layout.lights)
         for (uint32_t k = 0; k < plan.cascadeCount; ++k)
             if (!(plan.light < keepCascades.size() && (keepCascades[plan.light] >> k) & 1u))
-                addLightPass(graph, p, frame, scene, layout, plan, rsm, h, int(k));
+                addLightPass(graph, p, frame, scene, layout, plan, rsm, h, {LightLayers::Cascade, k});
     shadow.atlas = h.atlas;
     shadow.resolution = layout.resolution;
     shadow.layers = layout.layers;
     shadow.compareSampler = p.shadowSampler;
     blackboard.add(shadow);
-    if (rsm)
-        blackboard.add(RsmData{h.position, h.normal, h.flux, layout.resolution, layout.layers});
+    if (rsm) {
+        std::vector<ShadowLayer> rsmLayers = layout.layers;
+        for (const LightShadowPlan& plan : layout.lights)
+            if (plan.rsmWindowed)
+                rsmLayers[plan.firstLayer].viewProj = plan.rsmView.viewProj;
+        blackboard.add(RsmData{h.position, h.normal, h.flux, layout.resolution, std::move(rsmLayers)});
+    }
 }
 
 } // namespace vkgi::gi

@@ -22,6 +22,9 @@ constexpr float kFarMargin = 1.01f;
 // Angle between a cube face's axis and its corners: a face can see a cone only if the cone
 // comes within this angle of the face axis.
 const float kCubeCornerAngle = std::atan(std::sqrt(2.0f));
+// A directional light's RSM window replaces its own layer's RSM only when its texels are at
+// most this fraction of the own layer's.
+constexpr float kRsmWindowGain = 0.5f;
 
 const std::array<glm::vec3, 6> kCubeAxes = {glm::vec3(1, 0, 0),  glm::vec3(-1, 0, 0), glm::vec3(0, 1, 0),
                                             glm::vec3(0, -1, 0), glm::vec3(0, 0, 1),  glm::vec3(0, 0, -1)};
@@ -58,13 +61,17 @@ gpu::GpuShadowView perspectiveView(const glm::vec3& eye, const glm::vec3& axis, 
     return v;
 }
 
-// Orthographic box around the bounds, looking along `dir`: a directional light's own layer. It
-// must see everything the light reaches, because the RSM (each texel's flux counted once) and the
-// voxel light read it at any point of the scene; the camera's direct image reads the cascades
+// Orthographic box around `b`, looking along `dir`, whose depth range spans `reach` (which holds
+// b): the light's own layer (b = reach = the scene's bounds) or a directional light's RSM window
+// (b = the window; everything between it and the sun still occludes). The own layer must see
+// everything the light reaches, because the RSM (each texel's flux counted once) and the voxel
+// light read it at any point of the scene; the camera's direct image reads the cascades
 // (cascades.hpp), whose texels do not grow with the bounds.
-gpu::GpuShadowView orthoView(const glm::vec3& dir, const Aabb& b, uint32_t n) {
+gpu::GpuShadowView orthoView(const glm::vec3& dir, const Aabb& b, uint32_t n, const Aabb& reach) {
     float radius = std::max(0.5f * glm::length(b.extent()), 1e-3f);
-    glm::vec3 eye = b.centre() - dir * (2.0f * radius);
+    float reachRadius = std::max(0.5f * glm::length(reach.extent()), 1e-3f);
+    // Every corner of `reach` lies at least reachRadius in front of the eye.
+    glm::vec3 eye = b.centre() - dir * (2.0f * reachRadius + glm::distance(b.centre(), reach.centre()));
     glm::mat4 view = glm::lookAtRH(eye, b.centre(), upFor(dir));
     glm::vec3 lo(1e30f), hi(-1e30f);
     for (const glm::vec3& c : corners(b)) {
@@ -72,11 +79,16 @@ gpu::GpuShadowView orthoView(const glm::vec3& dir, const Aabb& b, uint32_t n) {
         lo = glm::min(lo, v);
         hi = glm::max(hi, v);
     }
+    for (const glm::vec3& c : corners(reach)) {
+        float z = (view * glm::vec4(c, 1.0f)).z;
+        lo.z = std::min(lo.z, z);
+        hi.z = std::max(hi.z, z);
+    }
     // Half a texel of margin on each side so geometry on the bounds is not clipped.
     glm::vec2 margin = 0.5f * glm::vec2(hi - lo) / float(n) + 1e-4f * radius;
     lo -= glm::vec3(margin, 0.0f);
     hi += glm::vec3(margin, 0.0f);
-    float zNear = std::max(-hi.z - 1e-3f * radius, 0.0f), zFar = -lo.z + 1e-3f * radius;
+    float zNear = std::max(-hi.z - 1e-3f * reachRadius, 0.0f), zFar = -lo.z + 1e-3f * reachRadius;
     gpu::GpuShadowView v{};
     v.viewProj = glm::orthoRH_ZO(lo.x, hi.x, lo.y, hi.y, zNear, zFar) * view;
     glm::vec2 texel = glm::vec2(hi - lo) / float(n);
@@ -89,7 +101,7 @@ gpu::GpuShadowView orthoView(const glm::vec3& dir, const Aabb& b, uint32_t n) {
 } // namespace
 
 ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers,
-                         const CascadeRequest& cascades) {
+                         const CascadeRequest& cascades, const Aabb& rsmWindow) {
     ShadowLayout layout;
     layout.resolution = resolution;
     for (uint32_t i = 0; i < scene.lights.size(); ++i) {
@@ -108,8 +120,19 @@ ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolu
         plan.layerCount = count;
         glm::vec3 dir = glm::normalize(l.direction);
         if (l.type == LightType::Directional) {
-            layout.views.push_back(orthoView(dir, bounds, resolution));
+            layout.views.push_back(orthoView(dir, bounds, resolution, bounds));
             plan.faceMask = 1;
+            Aabb window;
+            window.min = glm::max(rsmWindow.min, bounds.min);
+            window.max = glm::min(rsmWindow.max, bounds.max);
+            if (rsmWindow.valid() && window.valid()) {
+                gpu::GpuShadowView w = orthoView(dir, window, resolution, bounds);
+                // Only a window at least twice as fine as the own layer is worth its extra pass.
+                if (w.texel.x <= kRsmWindowGain * layout.views.back().texel.x) {
+                    plan.rsmWindowed = true;
+                    plan.rsmView = w;
+                }
+            }
         } else if (single) {
             layout.views.push_back(perspectiveView(l.position, dir, l.outerConeAngle, farDistance(l.position, bounds, l.range),
                                                    resolution));

@@ -68,6 +68,22 @@ public:
     // Without a lit region (no light) there is nothing to inject: the light passes leave the RSM out.
     bool needsRsm() const override { return m_grid.has_value(); }
 
+    // Cascades read the RSM inside their coarsest level only: a sun's RSM is fitted to that box
+    // (its own layer spans the whole scene, hundreds of metres in a large world, where merged
+    // texels blur the light over walls thinner than a cell).
+    Aabb rsmWindow(const FrameData& frame) const override {
+        if (!m_grid)
+            return {};
+        const std::vector<gpu::LpvGrid> grids = gridsFor(frame);
+        if (grids.size() <= 1)
+            return {};
+        const gpu::LpvGrid& coarsest = grids.back();
+        Aabb box;
+        box.min = glm::vec3(coarsest.origin);
+        box.max = box.min + coarsest.origin.w * glm::vec3(coarsest.size);
+        return box;
+    }
+
     Result<void> sceneChanged(Context& ctx, const Scene& scene, const GpuScene& gpu, bool uploaded) override {
         if (auto fitted = fitGrid(scene, gpu); !fitted)
             return fitted.error();
