@@ -1,6 +1,6 @@
 // The 2-band SH header shared with GLSL (shaders/include/gi/sh.h), checked against numeric
 // quadrature over the sphere: orthonormality, clamped-cosine projection, evaluation round
-// trips, integrals and rotation invariance.
+// trips, integrals and rotation invariance; band 2 (3-band SH of the CPU LPV reference) too.
 #include <cmath>
 #include <functional>
 #include <random>
@@ -192,4 +192,86 @@ TEST(Sh, PositivePartIrradianceMatchesQuadrature) {
     // Measured 1.76e-2 (t = 10: the zero crossing of f cuts the hemisphere near its rim, where the
     // 32-point spiral is sparsest); 9.4e-3 was a gcc-only sample of directions (see randomUnit).
     EXPECT_LT(worst, 0.025);
+}
+
+namespace {
+
+// The 9 basis functions of 3-band SH: bands 0-1 (shBasis), then band 2 (shBasisBand2, ...Last).
+double basis9(glm::dvec3 w, int k) {
+    vec3 v(w);
+    if (k < 4)
+        return double(shBasis(v)[k]);
+    if (k < 8)
+        return double(shBasisBand2(v)[k - 4]);
+    return double(shBasisBand2Last(v));
+}
+
+} // namespace
+
+TEST(Sh, ThreeBandBasisIsOrthonormal) {
+    EXPECT_NEAR(kShY2xy, std::sqrt(15.0 / (4.0 * kPi)), 1e-7);
+    EXPECT_NEAR(kShY20, std::sqrt(5.0 / (16.0 * kPi)), 1e-7);
+    EXPECT_NEAR(kShY22, std::sqrt(15.0 / (16.0 * kPi)), 1e-7);
+    for (int i = 4; i < 9; ++i)
+        for (int j = 0; j <= i; ++j)
+            EXPECT_NEAR(integrate([&](glm::dvec3 w) { return basis9(w, i) * basis9(w, j); }), i == j ? 1.0 : 0.0,
+                        kQuadTol)
+                << i << "," << j;
+}
+
+TEST(Sh, ThreeBandCosineLobeAndMomentsMatchQuadrature) {
+    std::mt19937 rng(11);
+    for (int trial = 0; trial < 3; ++trial) {
+        vec3 n = randomUnit(rng);
+        glm::dvec3 nd(n);
+        vec4 lobe = shCosineLobeBand2(n);
+        for (int k = 4; k < 9; ++k) {
+            double expected = integrate([&](glm::dvec3 w) { return std::max(0.0, glm::dot(nd, w)) * basis9(w, k); });
+            EXPECT_NEAR(k < 8 ? double(lobe[k - 4]) : double(shCosineLobeBand2Last(n)), expected, kQuadTol) << k;
+        }
+        // Band 2 from a second moment: the hemisphere around n has S = integral of w w^T.
+        mat3 s(0.0f);
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b)
+                s[a][b] = float(integrate([&](glm::dvec3 w) { return glm::dot(nd, w) > 0.0 ? w[a] * w[b] : 0.0; }));
+        vec4 q = shBand2FromMoment(s);
+        for (int k = 4; k < 9; ++k) {
+            double expected = integrate([&](glm::dvec3 w) { return glm::dot(nd, w) > 0.0 ? basis9(w, k) : 0.0; });
+            EXPECT_NEAR(k < 8 ? double(q[k - 4]) : double(shBand2FromMomentLast(s)), expected, kQuadTol) << k;
+        }
+    }
+}
+
+TEST(Sh, ThreeBandPositivePartIrradianceMatchesQuadrature) {
+    // As PositivePartIrradianceMatchesQuadrature, for random 3-band functions; a function that is
+    // non-negative everywhere (the clamped cosine's projection plus a constant) gives the plain
+    // product within the quadrature's accuracy.
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> coef(-1.0f, 1.0f);
+    double worst = 0.0;
+    for (int trial = 0; trial < 20; ++trial) {
+        float c[9];
+        for (float& x : c)
+            x = coef(rng);
+        c[0] = std::abs(c[0]) + 0.5f;
+        vec4 sh(c[0], c[1], c[2], c[3]), q(c[4], c[5], c[6], c[7]);
+        vec3 u = randomUnit(rng);
+        glm::dvec3 ud(u);
+        double expected = integrate([&](glm::dvec3 w) {
+            double f = 0.0;
+            for (int k = 0; k < 9; ++k)
+                f += c[k] * basis9(w, k);
+            return std::max(f, 0.0) * std::max(glm::dot(ud, w), 0.0);
+        });
+        double scale = integrate([&](glm::dvec3 w) {
+            double f = 0.0;
+            for (int k = 0; k < 9; ++k)
+                f += std::abs(c[k] * basis9(w, k));
+            return f * std::max(glm::dot(ud, w), 0.0);
+        });
+        double got = shClampedCosineIntegralOfPositivePart3(sh, q, c[8], u);
+        worst = std::max(worst, std::abs(got - expected) / scale);
+    }
+    std::printf("[sh] 3-band positive-part quadrature: worst error %.4f of the absolute integral\n", worst);
+    EXPECT_LT(worst, 0.03);
 }

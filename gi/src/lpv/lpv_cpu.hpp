@@ -9,13 +9,19 @@
 
 namespace vkgi::gi::lpv {
 
-// One 2-band SH (vec4) per cell and colour channel; x varies fastest, then y, then z.
+// One SH per cell and colour channel; x varies fastest, then y, then z. Bands 0 and 1 (vec4) in
+// `channel`. With 3 bands, band 2 in `band2` (Y2-2..Y21) and `band2Last` (Y22), the layout of
+// gi/sh.h; empty with 2 bands. 3 bands exist only on the CPU, as a measured comparison
+// (docs/lpv.md, "Alternatives measured and rejected").
 struct ShVolume {
     glm::ivec3 size{0};
+    int bands = 2;
     std::vector<glm::vec4> channel[3];
+    std::vector<glm::vec4> band2[3];
+    std::vector<float> band2Last[3];
 
     ShVolume() = default;
-    explicit ShVolume(glm::ivec3 cells);
+    explicit ShVolume(glm::ivec3 cells, int shBands = 2);
     size_t index(glm::ivec3 p) const {
         return size_t(p.x) + size_t(size.x) * (size_t(p.y) + size_t(size.y) * size_t(p.z));
     }
@@ -31,6 +37,7 @@ struct GeometryVolume {
 };
 
 // One gather step: target = propagate(source); accumulation += target when accumulation is given.
+// The source's band count decides the propagation's (the geometry volume stays 2-band).
 void propagateStep(const ShVolume& source, ShVolume& target, ShVolume* accumulation,
                    const GeometryVolume& geometryVolume);
 

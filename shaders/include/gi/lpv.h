@@ -116,6 +116,52 @@ GI_INLINE vec4 lpvFaceReprojection(int i, int f) {
     return vec4(kShY00, (kShY1 / kLpvSideSolidAngle) * v);
 }
 
+// Second moments S_f = integral of w w^T dw over face f, for the CPU reference's 3-band
+// propagation (band 2 of the face integrals is shBand2FromMoment(S_f); docs/lpv.md, "Alternatives
+// measured and rejected"). By symmetry, in the frame of d, a side normal s and
+// t = d x s: front S = A d d^T + B (I - d d^T); side S = P d d^T + Q s s^T + R t t^T +
+// X (d s^T + s d^T). trace(S) = Omega (A + 2 B = front, P + Q + R = side).
+const float kLpvFrontMomentAxial = 0.37476564f;   // A
+const float kLpvFrontMomentLateral = 0.01295202f; // B
+const float kLpvSideMomentAxial = 0.27329161f;    // P
+const float kLpvSideMomentNormal = 0.11805722f;   // Q
+const float kLpvSideMomentOther = 0.03208253f;    // R
+const float kLpvSideMomentCross = 0.17234933f;    // X
+
+GI_INLINE mat3 lpvFaceMoment(int i, int f) {
+    vec3 d = vec3(lpvAxisStep(i));
+    mat3 dd = outerProduct(d, d);
+    if (f == 0)
+        return kLpvFrontMomentAxial * dd + kLpvFrontMomentLateral * (mat3(1.0f) - dd);
+    vec3 n = lpvFaceNormal(i, f);
+    mat3 nn = outerProduct(n, n);
+    mat3 dn = outerProduct(d, n);
+    return kLpvSideMomentAxial * dd + kLpvSideMomentNormal * nn + kLpvSideMomentOther * (mat3(1.0f) - dd - nn) +
+           kLpvSideMomentCross * (dn + transpose(dn));
+}
+
+// Band 2 of lpvFaceWeight: integral of Y2 over face f.
+GI_INLINE vec4 lpvFaceWeightBand2(int i, int f) {
+    return shBand2FromMoment(lpvFaceMoment(i, f));
+}
+GI_INLINE float lpvFaceWeightBand2Last(int i, int f) {
+    return shBand2FromMomentLast(lpvFaceMoment(i, f));
+}
+
+// The face's solid angle (band 0 of its weight over Y00).
+GI_INLINE float lpvFaceSolidAngle(int f) {
+    return f == 0 ? kLpvFrontSolidAngle : kLpvSideSolidAngle;
+}
+
+// Band 2 of lpvFaceReprojection: the uniform distribution over the face's solid angle projects
+// to its face integrals over Omega_f in every band (bands 0 and 1 above are W_f / Omega_f too).
+GI_INLINE vec4 lpvFaceReprojectionBand2(int i, int f) {
+    return lpvFaceWeightBand2(i, f) * (1.0f / lpvFaceSolidAngle(f));
+}
+GI_INLINE float lpvFaceReprojectionBand2Last(int i, int f) {
+    return lpvFaceWeightBand2Last(i, f) * (1.0f / lpvFaceSolidAngle(f));
+}
+
 // The geometry volume has (gridSize + 1)^3 cells centred on the LPV cell corners (offset half a
 // cell). The face a destination p shares with its source for gather direction i has its lowest
 // corner at this GV index; its other corners add the unit steps of the two other axes.

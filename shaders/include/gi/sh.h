@@ -1,5 +1,6 @@
 // Spherical harmonics with 2 bands (4 coefficients per colour channel), one definition for
 // C++ (namespace vkgi::gpu, GLM types) and GLSL. Used by LPV injection, propagation and lookup.
+// Band 2 (below the 2-band functions) serves only the CPU reference's 3-band comparison.
 //
 // Basis: real, orthonormal over the unit sphere (integral of Yi*Yj over all directions = delta_ij),
 // WITHOUT the Condon-Shortley phase, so band 1 is just the direction vector scaled. A vec4 holds
@@ -103,6 +104,66 @@ GI_INLINE vec3 shClampedCosineIntegralOfPositivePart(vec4 r, vec4 g, vec4 b, vec
         float rr = sqrt(q);
         vec3 w = vec3(rr * cp, rr * sp, sqrt(1.0f - q));
         sum += max(c0 + vec3(dot(lr, w), dot(lg, w), dot(lb, w)), vec3(0.0f));
+        float c = cp * kShGoldenCos - sp * kShGoldenSin;
+        sp = cp * kShGoldenSin + sp * kShGoldenCos;
+        cp = c;
+    }
+    return sum * (kShPi / float(kShPositiveQuadrature));
+}
+
+// Band 2 of 3-band SH, used by the CPU reference's 3-band propagation (gi/src/lpv/lpv_cpu.*), the
+// measured and rejected alternative to the GPU's 2 bands (docs/lpv.md, "Alternatives measured and
+// rejected"). Bands 0 and 1 stay the vec4 above; band 2 has five coefficients,
+// orthonormal like the others and without the Condon-Shortley phase, stored as a vec4 and a float:
+//   vec4 (Y2-2 = kShY2xy x y, Y2-1 = kShY2xy y z, Y20 = kShY20 (3 z^2 - 1), Y21 = kShY2xy x z)
+//   float  Y22 = kShY22 (x^2 - y^2)
+// Each is a linear function of w w^T, so the integral of band 2 over a set of directions follows
+// from the set's second moment S = integral of w w^T dw (shBand2FromMoment*); its solid angle is
+// trace(S). The clamped cosine's band 2 is (pi / 4) times the basis (Ramamoorthi & Hanrahan's A2).
+const float kShY2xy = 1.09254843f; // sqrt(15 / (4 pi))
+const float kShY20 = 0.31539157f;  // sqrt(5 / (16 pi))
+const float kShY22 = 0.54627422f;  // sqrt(15 / (16 pi))
+const float kShCosineBand2 = 0.78539816f; // pi / 4
+
+GI_INLINE vec4 shBasisBand2(vec3 w) {
+    return vec4(kShY2xy * w.x * w.y, kShY2xy * w.y * w.z, kShY20 * (3.0f * w.z * w.z - 1.0f), kShY2xy * w.x * w.z);
+}
+GI_INLINE float shBasisBand2Last(vec3 w) {
+    return kShY22 * (w.x * w.x - w.y * w.y);
+}
+
+// Band 2 of integral Y dw over a set of directions with second moment S (symmetric; columns).
+GI_INLINE vec4 shBand2FromMoment(mat3 s) {
+    float omega = s[0][0] + s[1][1] + s[2][2];
+    return vec4(kShY2xy * s[0][1], kShY2xy * s[1][2], kShY20 * (3.0f * s[2][2] - omega), kShY2xy * s[0][2]);
+}
+GI_INLINE float shBand2FromMomentLast(mat3 s) {
+    return kShY22 * (s[0][0] - s[1][1]);
+}
+
+// Band 2 of the clamped cosine lobe max(0, n.w) (with shCosineLobe: its 3-band projection).
+GI_INLINE vec4 shCosineLobeBand2(vec3 n) {
+    return kShCosineBand2 * shBasisBand2(n);
+}
+GI_INLINE float shCosineLobeBand2Last(vec3 n) {
+    return kShCosineBand2 * shBasisBand2Last(n);
+}
+
+// shClampedCosineIntegralOfPositivePart of one 3-band function (bands 0-1 `sh`, band 2 `q`,
+// `q4`): the same quadrature directions, band 2 evaluated at each direction in world space.
+GI_INLINE float shClampedCosineIntegralOfPositivePart3(vec4 sh, vec4 q, float q4, vec3 u) {
+    float s = u.z >= 0.0f ? 1.0f : -1.0f;
+    float a = -1.0f / (s + u.z);
+    float bb = u.x * u.y * a;
+    vec3 t = vec3(1.0f + s * u.x * u.x * a, s * bb, -s * u.x);
+    vec3 t2 = vec3(bb, s + u.y * u.y * a, -u.y);
+    float sum = 0.0f;
+    float cp = 1.0f, sp = 0.0f;
+    GI_SH_UNROLL for (int k = 0; k < kShPositiveQuadrature; ++k) {
+        float qq = (float(k) + 0.5f) / float(kShPositiveQuadrature);
+        float rr = sqrt(qq);
+        vec3 w = (rr * cp) * t + (rr * sp) * t2 + sqrt(1.0f - qq) * u;
+        sum += max(shEvaluate(sh, w) + dot(q, shBasisBand2(w)) + q4 * shBasisBand2Last(w), 0.0f);
         float c = cp * kShGoldenCos - sp * kShGoldenSin;
         sp = cp * kShGoldenSin + sp * kShGoldenCos;
         cp = c;
