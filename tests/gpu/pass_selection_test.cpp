@@ -11,6 +11,7 @@
 
 #include "vkgi/builtin_scenes.hpp"
 #include "vkgi/gi.hpp"
+#include "lpv/lpv_grid.hpp"
 #include "pass_selection.hpp"
 #include "support/gi_render.hpp"
 #include "support/gpu_fixture.hpp"
@@ -340,6 +341,52 @@ TEST_F(PassSelectionTest, LpvStaticFrameRunsOnlyTheLookup) {
     FrameResult recomputed = frame(*sys, *scene, request);
     EXPECT_TRUE(ran(recomputed, "gi.lpv.inject"));
     EXPECT_TRUE(sameImage(recomputed.indirect, second.indirect));
+}
+
+// In atrium_world the LPV's cascades read the sun's RSM through a window fitted to their
+// coarsest level (4 m cells). A repeated frame re-renders neither the light's own layer nor its
+// window; a camera step that stays in the coarsest cell keeps them too, and one that moves it a
+// cell re-renders both, with an image equal to a fresh system's there.
+TEST_F(PassSelectionTest, LpvSunWindowRerendersOnlyWhenTheCoarsestCascadeMoves) {
+    auto scene = makeBuiltinScene("atrium_world");
+    ASSERT_TRUE(scene);
+    GiSettings s = smallSettings(Technique::Lpv);
+    auto sys = system(s, *scene);
+    ASSERT_TRUE(sys);
+    FrameRequest request;
+    request.indirect = true;
+    FrameResult first = frame(*sys, *scene, request);
+    EXPECT_TRUE(ran(first, "gi.light[0].directional.rsm"));
+    FrameResult second = frame(*sys, *scene, request);
+    EXPECT_FALSE(ran(second, "gi.light[0].directional")) << join(names(second.passes));
+    EXPECT_TRUE(sameImage(first.indirect, second.indirect));
+
+    // The coarsest cascade's origin is snapped to 4 m: find a step that keeps it and one that
+    // moves it (the cascades are centred ahead of the camera).
+    const Camera start = scene->cameraOrDefault();
+    auto coarsestOrigin = [&](const Camera& c) {
+        return glm::vec3(lpv::fitCascades(c.position, glm::normalize(c.forward), s.lpv.cellSize, s.lpv.gridSize, 3)
+                             .back()
+                             .origin);
+    };
+    Camera within = start, across = start;
+    within.position.x += 0.01f;
+    across.position.x += 4.0f;
+    ASSERT_EQ(coarsestOrigin(within), coarsestOrigin(start));
+    ASSERT_NE(coarsestOrigin(across), coarsestOrigin(start));
+    auto kept = sys->renderFrame(within, 64, 64, request);
+    ASSERT_TRUE(kept) << kept.error().message;
+    EXPECT_FALSE(ran(*kept, "gi.light[0].directional.rsm"));
+    EXPECT_TRUE(ran(*kept, "gi.lpv.inject")) << "cascades re-inject every frame";
+    auto moved = sys->renderFrame(across, 64, 64, request);
+    ASSERT_TRUE(moved) << moved.error().message;
+    EXPECT_TRUE(ran(*moved, "gi.light[0].directional.rsm"));
+    EXPECT_TRUE(ran(*moved, "gi.light[0].directional.cascade"));
+    auto fresh = system(s, *scene);
+    ASSERT_TRUE(fresh);
+    auto again = fresh->renderFrame(across, 64, 64, request);
+    ASSERT_TRUE(again) << again.error().message;
+    EXPECT_TRUE(sameImage(moved->indirect, again->indirect));
 }
 
 TEST_F(PassSelectionTest, LpvCameraMoveRerunsOnlyWithTheViewDependentGeometryVolume) {
