@@ -173,14 +173,16 @@ protected:
 } // namespace
 
 // VCT at its defaults: the hall keeps its fitted 64^3 grid (0.25 m voxels); in the 400 m world
-// the automatic choice is the camera-centred clipmap (4 levels of 32^3, 0.25 to 2 m). The
+// the automatic choice is the camera-centred clipmap (4 levels of 32^3, 0.5 to 4 m). The
 // clipmap's second bounce gathers on into the coarser levels beyond each level's box, and each
 // sample's level follows the footprint the level cap lets it read (docs/vct.md "Clipmap"):
 // with both, hall_world measured relMSE 0.1925 and indirect 0.2980 against the hall's 0.1710 and
 // 0.2642 (1.13x), and 0.2246 / 0.3661 (1.31x, 1.39x) without them. The rotated cone sets that
 // followed (docs/vct.md "Rotated cone sets") lowered the fitted hall's error more than the
-// clipmap's (hall 0.1680 / 0.2419, hall_world 0.1967 / 0.2962: 1.17x, 1.22x), so the bound is
-// 1.25x either way, still failing without the clipmap's two changes; under 64 MiB.
+// clipmap's (hall 0.1680 / 0.2419, hall_world 0.1967 / 0.2962: 1.17x, 1.22x). With the finest
+// level spanning 16 m instead of 8 (docs/vct.md "Clipmap", where the error comes from):
+// hall_world 0.1922 / 0.2909, 1.14x and 1.20x. The bound stays 1.25x either way (the 15% bar is
+// not met on the indirect image), still failing without the clipmap's two changes; under 64 MiB.
 TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
     VctMeasured hall = measureVct("hall");
     VctMeasured world = measureVct("hall_world");
@@ -194,19 +196,18 @@ TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
     EXPECT_LE(world.techniqueBytes, kMaxTechniqueBytes);
 }
 
-// The atrium does not meet the 15% bar: its far half (10-25 m from the camera) lies in the
-// clipmap's 1 m and 2 m levels, where the arcades' sub-voxel columns and slabs become opaque
-// voxels, against the fitted grid's 0.46 m over the whole atrium; the world's indirect light is
-// too dark there (docs/vct.md "Clipmap", limits). What is asserted is what the changes reach:
-// the indirect error within 1.8x the atrium's (without them: 0.2927, 1.86x 0.1574), under
-// 64 MiB.
+// The atrium does not meet the 15% bar: the clipmap's second bounce across levels gains far less
+// than the fitted grid's (docs/vct.md "Clipmap", where the error comes from, and limits; finer
+// levels do not help). What is asserted is what the changes reach: the indirect error within
+// 1.75x the atrium's (measured 0.2393 against 0.1408, 1.70x, with the 16 m finest level; before
+// the second bounce across levels 0.2927, 1.86x 0.1574), under 64 MiB.
 TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorWithin80PercentOfTheAtriums) {
     VctMeasured atrium = measureVct("atrium");
     VctMeasured world = measureVct("atrium_world");
     EXPECT_EQ(atrium.levels, 1u);
     EXPECT_EQ(world.levels, kVctAutoLevels);
     EXPECT_GT(atrium.relMseIndirect, 0.0);
-    EXPECT_LE(world.relMseIndirect, 1.8 * atrium.relMseIndirect);
+    EXPECT_LE(world.relMseIndirect, 1.75 * atrium.relMseIndirect);
     EXPECT_LE(world.techniqueBytes, kMaxTechniqueBytes);
 }
 

@@ -25,7 +25,7 @@ using namespace vkgi::gi;
 namespace {
 
 // The clipmap as the tests and the docs use it: 4 levels of 32^3, finest voxel automatic
-// (kVctAutoFinestSpan / 32), so levels span 8, 16, 32 and 64 m.
+// (kVctAutoFinestSpan / 32), so levels span 16, 32, 64 and 128 m.
 VctSettings clipmapSettings() {
     VctSettings s;
     s.levels = 4;
@@ -397,7 +397,7 @@ TEST_F(VctClipmap, OneVoxelMoveCostsLessThanAFullUpdate) {
 
 // levels = 0 (the default) picks the clipmap for a viewer inside a level much larger than the
 // view and the fitted grid otherwise: the hall (fitted voxels 0.25 m, finer than the clipmap's
-// coarsest 2 m) keeps its grid, the hall in the 400 m world gets 4 levels of 32^3, and the same
+// coarsest 4 m) keeps its grid, the hall in the 400 m world gets 4 levels of 32^3, and the same
 // Cornell box scaled up a thousandfold, seen from its camera outside it, keeps its grid.
 TEST(VctSettings, AutomaticLevelsPickTheClipmapOnlyForAViewerInsideALargeWorld) {
     const VctSettings automatic;

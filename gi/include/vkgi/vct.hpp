@@ -70,9 +70,11 @@ struct VctSettings {
     bool operator==(const VctSettings&) const = default;
 };
 
-// Span (metres) of the finest clipmap level when VctSettings::voxel is 0: a room around the
-// camera, so that the finest voxels are about those of a 64^3 grid fitted to a 16 m hall.
-inline constexpr float kVctAutoFinestSpan = 8.0f;
+// Span (metres) of the finest clipmap level when VctSettings::voxel is 0: a hall around the
+// camera, 0.5 m voxels at 32^3 (levels of 16 to 128 m). Finer finest levels measured worse on
+// both large worlds (docs/vct.md "Clipmap": 8 m gave hall_world 0.280, atrium_world 0.247
+// indirect relMSE, 16 m 0.276 and 0.233, 4 m 0.339 on atrium_world).
+inline constexpr float kVctAutoFinestSpan = 16.0f;
 // Largest VctSettings::filter side: each pass reads 2n - 1 texels per pixel, and a tent 15
 // pixels wide already spans several voxels at the bench's sizes.
 inline constexpr uint32_t kVctMaxFilter = 8;
