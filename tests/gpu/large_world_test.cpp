@@ -215,18 +215,20 @@ TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorWithin80PercentOfTheAtriums) {
 // grid. The atrium keeps its fitted grid (0.45 m voxels); fitted to atrium_world's 400 m bounds
 // the grid's voxels would be 6.3 m, which close the courtyard and stop nearly all VPL light (the
 // indirect image is then about black: the fitted grid misses the 15% bar by far), so the
-// automatic rule centres a 64 m grid of 1 m voxels on the camera instead (docs/vpl.md,
-// "Visibility"). The 15% bar itself is not met, for two reasons this test separates:
-// - the voxels: the atrium alone with the same camera-centred 1 m grid (forced) is the best a
-//   64^3 grid of 64 m can do; measured 0.38 at 128^2 (the bench) against 0.24 with its 0.45 m
-//   fitted voxels (1 m conservative voxels half close the 2.4 m arcade openings, and the march
-//   starts 1.5 m off each surface);
+// automatic rule centres a 64 m grid of 1 m voxels on the camera instead, whose visibility march
+// and bounce rays run on half voxels (the voxelizer's 2x2x2 bits per voxel; docs/vpl.md,
+// "Visibility"). The 15% bar itself is not met; this test separates the two causes:
+// - the grid: the atrium alone with the same camera-centred grid (forced) is the best a 64^3 grid
+//   of 64 m can do. With whole 1 m voxels it measured 0.376 against 0.242 with the atrium's
+//   0.45 m fitted voxels (1.55x: conservative 1 m voxels half close the 2.4 m arcade openings);
+//   with the half voxels 0.285 (1.18x);
 // - the VPLs: in the 400 m sun window they concentrate around the camera (vpl.focus), so fewer
 //   land in the courtyard than in the atrium's own window, which covers only the atrium.
-// Measured at 64^2: atrium 0.242, atrium with the 1 m camera grid 0.376, atrium_world 0.463
-// (1.9x the atrium, 1.2x the atrium with the same grid), fitted in the world 0.870. Bounds: the
-// world within 1.35x the atrium with the same grid and 2.2x the atrium, and below 0.65x the
-// fitted grid's error, which itself stays beyond the 15% bar.
+// Measured at 64^2: atrium 0.2417, atrium with the camera grid 0.2852, atrium_world 0.3955 (1.64x
+// the atrium, 1.39x the atrium with the same grid; with whole voxels 0.463, 1.9x), fitted in the
+// world 0.870. Bounds: the camera grid within 1.3x the fitted one on the atrium (whole voxels
+// fail it), the world within 1.55x the atrium with the same grid and 1.8x the atrium (whole voxels
+// fail it), and below 0.5x the fitted grid's error, which itself stays beyond the 15% bar.
 TEST_F(LargeWorld, VplVisibilityKeepsTheAtriumsErrorInA400mWorld) {
     const Scene atriumWorld = test::builtinScene("atrium_world");
     EXPECT_TRUE(sharedGridFollowsCamera(atriumWorld.bounds(), 64, atriumWorld.cameraOrDefault().position));
@@ -248,9 +250,10 @@ TEST_F(LargeWorld, VplVisibilityKeepsTheAtriumsErrorInA400mWorld) {
                 world.relMseIndirect / atriumCamera.relMseIndirect, worldFitted.relMseIndirect, double(atrium.techniqueBytes) / 1048576.0,
                 double(world.techniqueBytes) / 1048576.0);
     EXPECT_GT(atrium.relMseIndirect, 0.0);
-    EXPECT_LE(world.relMseIndirect, 1.35 * atriumCamera.relMseIndirect);
-    EXPECT_LE(world.relMseIndirect, 2.2 * atrium.relMseIndirect);
-    EXPECT_LT(world.relMseIndirect, 0.65 * worldFitted.relMseIndirect);
+    EXPECT_LE(atriumCamera.relMseIndirect, 1.3 * atrium.relMseIndirect) << "the half voxels see the arcades";
+    EXPECT_LE(world.relMseIndirect, 1.55 * atriumCamera.relMseIndirect);
+    EXPECT_LE(world.relMseIndirect, 1.8 * atrium.relMseIndirect);
+    EXPECT_LT(world.relMseIndirect, 0.5 * worldFitted.relMseIndirect);
     EXPECT_GT(worldFitted.relMseIndirect, 1.15 * atrium.relMseIndirect) << "a grid fitted to the world's bounds fails the bar";
     EXPECT_LE(world.techniqueBytes, kMaxTechniqueBytes);
     EXPECT_EQ(world.techniqueBytes, atrium.techniqueBytes) << "the same 64^3 grid, placed elsewhere";

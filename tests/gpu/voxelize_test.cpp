@@ -2,6 +2,8 @@
 // touches (by clipping the triangle against each voxel box, not by the separating-axis test
 // the shader uses), fixed-point averaging, bit-exact determinism and the static/dynamic split.
 #include <algorithm>
+#include <bit>
+#include <cstdio>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -174,6 +176,80 @@ TEST_F(Voxelize, BigTriangleSetsExactlyTheTouchedVoxels) {
     // least A / sqrt(2) voxels to be covered.
     float area = 0.5f * glm::length(glm::cross(tris[0].b - tris[0].a, tris[0].c - tris[0].a));
     EXPECT_GE(float(occupied), area / std::sqrt(2.0f));
+}
+
+// dims.z = 1 (the camera-centred shared grid, VPL's visibility march): the emission volume's
+// alpha holds the half-voxel bits, bit i + 2 j + 4 k for the half-size box (i, j, k) a triangle
+// touches, against the clipping reference on the half boxes; without it the alpha stays 0.
+TEST_F(Voxelize, HalfVoxelBitsAreExactlyTheTouchedHalves) {
+    gpu::VoxelGridParams params = unitGrid(16);
+    params.dims.z = 1;
+    makeGrid(params);
+    // A generic big triangle and a thin axis-aligned wall (two triangles) 0.3 voxel into the
+    // voxels at x = 9 (the lower halves only), whose top edge ends 0.2 voxel into y = 11 (the lower
+    // halves only).
+    std::vector<Tri> tris = {{{1.37f, 2.21f, 3.13f}, {14.71f, 5.33f, 11.29f}, {5.17f, 13.63f, 12.87f}},
+                             {{9.3f, 1.1f, 2.1f}, {9.3f, 11.2f, 2.1f}, {9.3f, 11.2f, 13.9f}},
+                             {{9.3f, 1.1f, 2.1f}, {9.3f, 11.2f, 13.9f}, {9.3f, 1.1f, 13.9f}}};
+    TestScene scene;
+    scene.addDraw(tris, scene.addMaterial(glm::vec3(0.5f)));
+    upload(scene);
+    voxelizeAll();
+    Readback r = read();
+    const auto* e = reinterpret_cast<const uint16_t*>(r.emission.data());
+    const uint32_t n = 16;
+    // Rounding decides only within eps of contact: such halves (the triangle's plane passes within
+    // 1e-4 of a half box: 2 of the 32768 here) may go either way.
+    const float eps = 1e-4f;
+    uint32_t halves = 0, partial = 0, ambiguous = 0;
+    for (uint32_t z = 0; z < n; ++z)
+        for (uint32_t y = 0; y < n; ++y)
+            for (uint32_t x = 0; x < n; ++x) {
+                const size_t i = voxelIndex(n, {x, y, z});
+                const float a = halfToFloat(e[4 * i + 3]);
+                const uint32_t bits = uint32_t(a);
+                ASSERT_EQ(float(bits), a);
+                EXPECT_EQ(bits != 0, r.albedo[4 * i + 3] == 255) << "bits exactly where the voxel is occupied";
+                for (uint32_t b = 0; b < 8; ++b) {
+                    const glm::vec3 lo = glm::vec3(x, y, z) + 0.5f * glm::vec3(b & 1, (b >> 1) & 1, (b >> 2) & 1);
+                    const glm::vec3 hi = lo + 0.5f;
+                    bool must = false, may = false;
+                    for (const Tri& t : tris) {
+                        must |= triangleTouchesBox(t, lo + eps, hi - eps);
+                        may |= triangleTouchesBox(t, lo - eps, hi + eps);
+                    }
+                    ambiguous += must != may;
+                    if (must == may) {
+                        EXPECT_EQ(((bits >> b) & 1u) != 0, must) << "voxel " << x << "," << y << "," << z << " half " << b;
+                    }
+                }
+                halves += uint32_t(std::popcount(bits));
+                partial += bits != 0 && bits != 255;
+            }
+    // Where the big triangle does not reach, the wall alone sets the lower-x halves of each voxel
+    // it crosses (4 of 8), and at its top edge the lower-x, lower-y ones (2 of 8).
+    uint32_t wallOnly = 0;
+    for (uint32_t z = 3; z < 13; ++z)
+        for (uint32_t y : {5u, 11u}) {
+            const glm::vec3 lo(9.0f, float(y), float(z));
+            if (triangleTouchesBox(tris[0], lo - eps, lo + 1.0f + eps))
+                continue;
+            ++wallOnly;
+            EXPECT_EQ(uint32_t(halfToFloat(e[4 * voxelIndex(n, {9, y, z}) + 3])), y == 5 ? 0x55u : 0x11u)
+                << "y " << y << " z " << z;
+        }
+    EXPECT_GT(wallOnly, 10u);
+    EXPECT_LE(ambiguous, 2u);
+    EXPECT_GT(partial, 0u);
+    std::printf("[voxelize] half-voxel bits: %u halves set, %u voxels partly occupied\n", halves, partial);
+
+    // Without dims.z the alpha stays 0.
+    makeGrid(unitGrid(16));
+    voxelizeAll();
+    Readback plain = read();
+    const auto* pe = reinterpret_cast<const uint16_t*>(plain.emission.data());
+    for (size_t i = 0; i < size_t(n) * n * n; ++i)
+        ASSERT_EQ(pe[4 * i + 3], 0u);
 }
 
 TEST_F(Voxelize, SliversAndSubVoxelTrianglesAreNotLostButZeroAreaOnesSetNothing) {

@@ -175,6 +175,11 @@ struct VplInputs {
     rg::ImageHandle faces; // with VplSettings::bounces > 1: the grid's faces volume (R32UI, voxelFacesPack)
     glm::vec4 occupancyOriginSize{0.0f};
     uint32_t occupancyResolution = 0;
+    // Optional (a camera-centred grid): the grid's emission volume, whose alpha holds each voxel's
+    // 2x2x2 half-voxel occupancy bits (gi/voxel_grid.h). When valid the visibility march and the
+    // bounce rays test occupancy on half voxels (docs/vpl.md, "Visibility"); a bounce's hit still
+    // reads `occupancy`'s albedo and `faces`.
+    rg::ImageHandle occupancyHalves;
     // Emitter VPLs (docs/vpl.md, "Emitter VPLs"): emissive surfels in gi/emissive.h's layout (2D
     // arrays, layer 0), `emitterSurfels` of them on a side of `emitterResolution` texels; 0
     // surfels = the scene emits nothing. The emitters are one more source after the spots.

@@ -36,7 +36,7 @@ glm::ivec3 sharedGridCell(glm::vec3 eye, float voxel, uint32_t n) {
 }
 
 Result<void> SceneVoxelGrid::sceneChanged(Context& ctx, const GpuScene& gpu, bool uploaded, uint32_t resolution,
-                                          glm::vec3 eye, SharedGridPlacement placement) {
+                                          glm::vec3 eye, SharedGridPlacement placement, bool halfVoxels) {
     m_draws = voxelDraws(gpu);
     if (!gpu.bounds.valid() || (!uploaded && m_grid))
         return {}; // what moved arrives as PassSelection::changes with the next frame
@@ -50,7 +50,8 @@ Result<void> SceneVoxelGrid::sceneChanged(Context& ctx, const GpuScene& gpu, boo
         const float voxel = kSharedGridSpan / float(resolution);
         params.originSize = glm::vec4(glm::vec3(0.0f), voxel);
         params.scales = glm::vec4(1.0f / voxel, 1.0f, 1.0f, 0.0f);
-        params.dims = glm::uvec4(resolution, uint32_t(std::countr_zero(resolution)), 0u, 0u);
+        // Half-voxel bits: 1 m voxels half-close a 2.4 m arcade (docs/vpl.md, "Visibility").
+        params.dims = glm::uvec4(resolution, uint32_t(std::countr_zero(resolution)), halfVoxels ? 1u : 0u, 0u);
     } else {
         // Fitted to the scene's bounds: scenes whose fitted voxels are metre-scale or finer, and
         // a large level whose camera is outside its bounds (the rule above; docs/vpl.md

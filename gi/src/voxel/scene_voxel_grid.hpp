@@ -64,8 +64,10 @@ public:
     // From TechniqueModule::sceneChanged: takes the draws, and makes a new grid (voxelized in
     // full with the next frame) when the scene was uploaded or there is none yet: placed by
     // `placement`, Auto deciding with the scene's camera `eye`. An empty scene gets no grid.
+    // `halfVoxels`: a camera-centred grid also records each voxel's 2x2x2 half-voxel occupancy
+    // (gi/voxel_grid.h, dims.z = 1; VPL's visibility march reads it); a fitted grid never does.
     Result<void> sceneChanged(Context& ctx, const GpuScene& gpu, bool uploaded, uint32_t resolution, glm::vec3 eye,
-                              SharedGridPlacement placement = SharedGridPlacement::Auto);
+                              SharedGridPlacement placement = SharedGridPlacement::Auto, bool halfVoxels = false);
     // A camera-centred grid moves its corner to the step around `eye`, which makes a
     // re-voxelization pending; a fitted grid ignores it. Call before updatePending() is asked
     // (addPasses calls it too).

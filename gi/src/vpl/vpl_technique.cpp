@@ -174,9 +174,14 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
     push.camera = glm::vec4(in.camera.position, 0.0f);
     push.params = glm::vec4(settings.clampDistance * settings.clampDistance, settings.refineThreshold, settings.interleaveTolerance,
                             settings.negativeVplCount > 0 ? 1.0f : 0.0f);
+    // With the half-voxel bits the visibility march sees a grid of twice the resolution
+    // (gi/vpl_visibility.h).
+    const uint32_t halves = in.occupancyHalves.valid() ? 2u : 1u;
     push.interleave = glm::uvec4(settings.interleave, sources, settings.vplCount,
-                                 settings.visibility == VplVisibilityMode::On ? in.occupancyResolution : 0u);
-    push.grid = settings.visibility == VplVisibilityMode::On ? in.occupancyOriginSize : glm::vec4(0.0f);
+                                 settings.visibility == VplVisibilityMode::On ? halves * in.occupancyResolution : 0u);
+    push.grid = settings.visibility == VplVisibilityMode::On
+                    ? glm::vec4(glm::vec3(in.occupancyOriginSize), in.occupancyOriginSize.w / float(halves))
+                    : glm::vec4(0.0f);
     return push;
 }
 
@@ -342,13 +347,17 @@ void VplTechnique::Impl::addBouncePasses(rg::RenderGraph& graph, const VplInputs
     for (uint32_t g = 1; g < settings.bounces; ++g) {
         gpu::VplBouncePush push{};
         push.info = glm::uvec4(vplCount, lightCount, g, settings.interleave);
-        push.grid = glm::uvec4(settings.vplCount, in.occupancyResolution, lightCount * settings.bounces, 0);
-        push.origin = in.occupancyOriginSize;
+        // With the half-voxel bits the rays walk half voxels, as the visibility march does.
+        const uint32_t halves = in.occupancyHalves.valid() ? 2u : 1u;
+        push.grid = glm::uvec4(settings.vplCount, halves * in.occupancyResolution, lightCount * settings.bounces, 0);
+        push.origin = glm::vec4(glm::vec3(in.occupancyOriginSize), in.occupancyOriginSize.w / float(halves));
         const std::string name = "vpl.bounce[" + std::to_string(g) + "]";
         rg::ComputePass(graph, name.c_str(), bounce)
             .push(push)
             .read(VPL_BOUNCE_BINDING_DIRECTIONS, tables.directions)
             .sample(VPL_BOUNCE_BINDING_ALBEDO, in.occupancy, pointSampler)
+            .sample(VPL_BOUNCE_BINDING_HALVES, in.occupancyHalves.valid() ? in.occupancyHalves : in.occupancy,
+                    pointSampler)
             .read(VPL_BOUNCE_BINDING_FACES, in.faces)
             .write(VPL_BOUNCE_BINDING_VPLS, vpls)
             .dispatch({vplCount, 1, 1});
@@ -377,7 +386,8 @@ GatherImages VplTechnique::Impl::addGatherPass(rg::RenderGraph& graph, const Vpl
         .overwrite(VPL_GATHER_BINDING_TRAVEL, out.travel)
         .overwrite(VPL_GATHER_BINDING_SURFACE, out.surface);
     if (visible)
-        pass.sample(VPL_GATHER_BINDING_OCCUPANCY, in.occupancy, pointSampler);
+        pass.sample(VPL_GATHER_BINDING_OCCUPANCY, in.occupancyHalves.valid() ? in.occupancyHalves : in.occupancy,
+                    pointSampler);
     pass.dispatch(interleavedGrid(width, height, push.interleave.x));
     return out;
 }
@@ -482,7 +492,8 @@ void VplTechnique::Impl::addRefinePass(rg::RenderGraph& graph, const VplInputs& 
         .read(VPL_REFINE_BINDING_REFINE_LIST, refineList)
         .write(VPL_REFINE_BINDING_INDIRECT, indirect);
     if (visible)
-        pass.sample(VPL_REFINE_BINDING_OCCUPANCY, in.occupancy, pointSampler);
+        pass.sample(VPL_REFINE_BINDING_OCCUPANCY, in.occupancyHalves.valid() ? in.occupancyHalves : in.occupancy,
+                    pointSampler);
     pass.dispatchIndirect(refineList, sizeof(uint32_t)); // one thread per entry (the header's command)
 }
 

@@ -117,7 +117,8 @@ public:
         // not need).
         if (m_resolved.visibility == VplVisibilityMode::On || m_resolved.bounces > 1)
             return m_voxels.sceneChanged(ctx, gpu, uploaded, m_resolved.visibilityGrid,
-                                         scene.cameraOrDefault().position, sharedGridPlacement(m_resolved));
+                                         scene.cameraOrDefault().position, sharedGridPlacement(m_resolved),
+                                         /*halfVoxels=*/true);
         m_voxels.reset(); // a new scene that needs no grid keeps none
         return {};
     }
@@ -153,6 +154,8 @@ public:
             in.faces = grid.faces;
             in.occupancyOriginSize = grid.params.originSize;
             in.occupancyResolution = grid.params.dims.x;
+            if (grid.params.dims.z != 0)
+                in.occupancyHalves = grid.emission; // the camera-centred grid's half-voxel bits
         } else {
             settings.visibility = VplVisibilityMode::Off; // no geometry, no grid: nothing can occlude
             settings.bounces = 1;        // nor reflect a bounced ray

@@ -44,6 +44,20 @@ uint voxelAccAdd(uint slab, uint word, uint value) {
     default: return atomicAdd(acc7[word], value);
     }
 }
+uint voxelAccOr(uint slab, uint word, uint value) {
+    if (!kVoxelAccSlabs)
+        return atomicOr(acc0[word], value);
+    switch (slab) {
+    case 0u: return atomicOr(acc0[word], value);
+    case 1u: return atomicOr(acc1[word], value);
+    case 2u: return atomicOr(acc2[word], value);
+    case 3u: return atomicOr(acc3[word], value);
+    case 4u: return atomicOr(acc4[word], value);
+    case 5u: return atomicOr(acc5[word], value);
+    case 6u: return atomicOr(acc6[word], value);
+    default: return atomicOr(acc7[word], value);
+    }
+}
 #else
 uvec4 voxelAccLoad(uint slab, uint i) {
     if (!kVoxelAccSlabs)

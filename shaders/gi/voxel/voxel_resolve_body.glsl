@@ -27,7 +27,8 @@ void main() {
     int n = int(pc.grid.dims.x);
     uint slab = voxelAccSlab(c, uint(n));
     uint rec = (GI_VOXEL_ACC_STRIDE / 4u) * voxelAccRecord(c, uint(n));
-    // Words 0..12: count, albedo rgb, faces +x -x +y -y +z -z, emission rgb (gi/voxel_grid.h).
+    // Words 0..13: count, albedo rgb, faces +x -x +y -y +z -z, emission rgb, half-voxel bits
+    // (gi/voxel_grid.h).
     uvec4 w0 = voxelAccLoad(slab, rec), w1 = voxelAccLoad(slab, rec + 1u), w2 = voxelAccLoad(slab, rec + 2u),
           w3 = voxelAccLoad(slab, rec + 3u);
     // A voxel listed without a contribution is one a moved clipmap level kept (voxel_mark.comp):
@@ -53,6 +54,9 @@ void main() {
     vec3 normal = len > 1e-3 * float(count) * GI_VOXEL_FIXED_ONE ? normalSum / len : vec3(0.0);
     imageStore(outAlbedo, c, vec4(albedo, 1.0));
     imageStore(outNormal, c, vec4(voxelNormalEncode(normal), 1.0));
-    imageStore(outEmission, c, vec4(emission, 0.0));
+    // The half-voxel bits (dims.z = 1): a voxel the full test touched always has one (a
+    // triangle grazing it within the slack may miss every half's test: count it whole).
+    float halves = pc.grid.dims.z != 0u ? float(w3.y != 0u ? w3.y : 255u) : 0.0;
+    imageStore(outEmission, c, vec4(emission, halves));
     imageStore(outFaces, c, uvec4(voxelFacesPack(pos, neg)));
 }

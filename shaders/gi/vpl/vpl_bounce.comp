@@ -22,6 +22,10 @@
 // the receiving surface over pi d^2 / (N cos_parent cos_child) square metres; r^2 is that area over
 // pi (cosines taken no lower than kMinFootprintCos, as in vpl_generate.comp), and never below the
 // parent's (the children are no denser than their parents).
+//
+// Half voxels (pc.grid.y twice the volumes' size: the camera-centred grid, gi/voxel_grid.h): the
+// walk, the start offset and the box are in half voxels, a half is occupied when its bit is set,
+// and the hit takes the albedo and faces of the voxel holding the half.
 #include "gi/voxel_grid.h"
 #include "gi/vpl.h"
 
@@ -31,6 +35,7 @@ layout(push_constant) uniform PushBlock { VplBouncePush pc; };
 layout(set = 1, binding = VPL_BOUNCE_BINDING_DIRECTIONS, std430) readonly buffer Directions { vec4 directions[]; };
 layout(set = 1, binding = VPL_BOUNCE_BINDING_ALBEDO) uniform sampler3D albedoVolume;
 layout(set = 1, binding = VPL_BOUNCE_BINDING_FACES, r32ui) uniform readonly uimage3D facesVolume;
+layout(set = 1, binding = VPL_BOUNCE_BINDING_HALVES) uniform sampler3D halvesVolume; // a = half-voxel bits
 layout(set = 1, binding = VPL_BOUNCE_BINDING_VPLS, std430) buffer Vpls { VplRecord vpls[]; };
 
 const float kMinFootprintCos = 0.25;
@@ -81,8 +86,16 @@ void main() {
             int axis = -1; // the axis of the face the ray entered the current voxel through
             bool hit = false;
             int maxSteps = 3 * cells;
+            const int shift = cells > textureSize(albedoVolume, 0).x ? 1 : 0;
             for (int k = 0; k < maxSteps; ++k) {
-                if (texelFetch(albedoVolume, v, 0).a > 0.5) {
+                bool occupied;
+                if (shift == 0) {
+                    occupied = texelFetch(albedoVolume, v, 0).a > 0.5;
+                } else {
+                    uint bits = uint(texelFetch(halvesVolume, v >> 1, 0).a + 0.5);
+                    occupied = ((bits >> (uint(v.x & 1) | (uint(v.y & 1) << 1u) | (uint(v.z & 1) << 2u))) & 1u) != 0u;
+                }
+                if (occupied) {
                     hit = true;
                     break;
                 }
@@ -95,7 +108,7 @@ void main() {
             }
             if (hit) {
                 // The faces a ray travelling along +axis sees look towards -axis, and vice versa.
-                uint faces = imageLoad(facesVolume, v).x;
+                uint faces = imageLoad(facesVolume, v >> shift).x;
                 vec3 m = vec3(0.0);
                 for (uint a = 0u; a < 3u; ++a) {
                     bool positive = dir[a] > 0.0;
@@ -109,7 +122,7 @@ void main() {
                     float cosHit = -dot(nHit, dir);
                     if (cosHit > 0.0) {
                         vec3 p = (o + dir * tHit) * voxel + pc.origin.xyz;
-                        vec3 rho = texelFetch(albedoVolume, v, 0).rgb;
+                        vec3 rho = texelFetch(albedoVolume, v >> shift, 0).rgb;
                         vec3 d = p - parent.position.xyz;
                         float footprint = dot(d, d) / (float(pc.grid.x) * max(local.z, kMinFootprintCos) *
                                                        max(cosHit, kMinFootprintCos));

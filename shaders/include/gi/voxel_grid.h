@@ -8,7 +8,10 @@
 //                          a = occupancy (1 = at least one triangle touches it, else 0)
 //   normal   RGBA8_UNORM   rgb = voxelNormalEncode(mean face normal) (0.5 = zero vector when the
 //                          normals cancel, e.g. both sides of a thin wall), a = occupancy
-//   emission RGBA16F       rgb = mean emitted radiance (nits) * radianceScale, a = 0
+//   emission RGBA16F       rgb = mean emitted radiance (nits) * radianceScale; a = 0, or with
+//                          dims.z = 1 the voxel's half-voxel occupancy: bit i + 2 j + 4 k set when
+//                          a triangle touches the half-size box (i, j, k) of the voxel's 2x2x2
+//                          (i = 0 the lower half in x), stored as a float 0..255 (exact in half)
 //   faces    R32UI         which way the voxel's surfaces face: for each of the six axis
 //                          directions +X, -X, +Y, -Y, +Z, -Z the mean over its triangles of
 //                          max(0, +-n_axis) (the share of a triangle's area seen from that side),
@@ -28,7 +31,8 @@ GI_NAMESPACE_BEGIN
 GI_GPU_STRUCT(VoxelGridParams) {
     vec4 originSize;  // xyz world-space min corner of the grid, w = voxel edge length (m)
     vec4 scales;      // x = 1 / voxel edge, y = radianceScale, z = 1 / radianceScale, w = 0
-    uvec4 dims;       // x = N (power of two), y = log2(N), z = 0, w = 0
+    uvec4 dims;       // x = N (power of two), y = log2(N), z = 1: record the half-voxel
+                      // occupancy (emission's a; the camera-centred shared grid), else 0; w = 0
 };
 GI_CHECK_SIZE(VoxelGridParams, 48);
 GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
@@ -49,7 +53,8 @@ GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 // Accumulation record of a voxel: GI_VOXEL_ACC_STRIDE uint words at word
 // GI_VOXEL_ACC_STRIDE * (x + N (y + N z)) of one storage buffer, so that one triangle's atomics
 // on a voxel and the resolve's loads of it touch one 64-byte cache line (13 separate R32UI
-// volumes put each of a voxel's ten atomics on a different line). Words 13..15 are padding.
+// volumes put each of a voxel's ten atomics on a different line). Word 13 holds the half-voxel
+// bits (dims.z = 1), 14..15 are padding.
 // Empty records are zero; the resolve zeroes each record it reads, so the buffer is zero
 // between voxelizations and needs no clear after the first.
 // The records are bound as GI_VOXEL_ACC_SLABS descriptor ranges of whole z-layers
@@ -62,7 +67,8 @@ GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 #define GI_VOXEL_ACC_ALBEDO 1   // 3 channels: r, g, b
 #define GI_VOXEL_ACC_FACES 4    // 6 channels: max(0, n.x), max(0, -n.x), max(0, n.y), ... (unsigned)
 #define GI_VOXEL_ACC_EMISSION 10 // 3 channels: r, g, b (emission * radianceScale / GI_VOXEL_RADIANCE_TARGET, <= 1)
-#define GI_VOXEL_ACC_CHANNELS 13u
+#define GI_VOXEL_ACC_HALVES 13   // dims.z = 1: the half-voxel occupancy bits (atomicOr)
+#define GI_VOXEL_ACC_CHANNELS 14u
 #define GI_VOXEL_ACC_STRIDE 16u
 // z-layers per descriptor range of the records of an N^3 grid.
 GI_INLINE uint voxelAccSlabLayers(uint n) {

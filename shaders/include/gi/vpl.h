@@ -99,6 +99,7 @@
 #define VPL_BOUNCE_BINDING_ALBEDO 1     // the voxel grid's albedo volume (rgb albedo, a = occupancy, gi/voxel_grid.h)
 #define VPL_BOUNCE_BINDING_FACES 2      // the voxel grid's faces volume (R32UI, voxelFacesPack)
 #define VPL_BOUNCE_BINDING_VPLS 3       // VplRecord buffer: reads generation g - 1, writes generation g
+#define VPL_BOUNCE_BINDING_HALVES 4     // with half voxels (grid.y twice the volumes' size): the emission volume, a = half-voxel bits
 
 // Refine list (layout in gi/vpl_refine_list.h): a uint count and the refine pass's indirect
 // dispatch command, then one packed pixel (x | y << 16) per entry.
@@ -171,8 +172,9 @@ GI_CHECK_SIZE(VplPixelPush, 96);
 // Push constants of vpl_bounce.comp.
 GI_GPU_STRUCT(VplBouncePush) {
     uvec4 info;  // x total records, y lights, z the generation written (1 = first bounced one), w interleave n
-    uvec4 grid;  // x VPLs per light and generation (N), y voxels per axis, z sources (lights x generations), w 0
-    vec4 origin; // xyz the voxel grid's min corner (world), w voxel edge (m)
+    uvec4 grid;  // x VPLs per light and generation (N), y voxels per axis (half voxels: twice the volumes'),
+                 // z sources (lights x generations), w 0
+    vec4 origin; // xyz the voxel grid's min corner (world), w voxel edge (m; half voxels: half the volumes')
 };
 GI_CHECK_SIZE(VplBouncePush, 48);
 

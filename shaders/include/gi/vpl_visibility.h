@@ -18,6 +18,11 @@
 // box's diagonal over the step, so no wall inside the grid is ever stepped over, however long
 // the segment (a distant sun VPL's), and a segment within the box is sampled exactly as before
 // the clipping. The light is multiplied by 1 - occupancy at each sample.
+//
+// Half voxels: when pc.interleave.w is twice the volume's size, `vplOccupancy` is the grid's
+// emission volume, whose alpha holds each voxel's 2x2x2 half-voxel occupancy bits (gi/voxel_grid.h),
+// and pc.grid.w is half the voxel edge: the march (offsets, steps, box) runs on the half voxels,
+// as on a grid of twice the resolution, and a sample is blocked when its half's bit is set.
 #ifndef VKGI_GI_VPL_VISIBILITY_H
 #define VKGI_GI_VPL_VISIBILITY_H
 
@@ -54,12 +59,21 @@ float vplVisibility(vec3 x, vec3 nx, vec3 p, vec3 np) {
     int maxSamples = int(ceil(1.7321 * cellCount / kVplVisibilityStep)) + 4;
     last = min(last, first + maxSamples);
     ivec3 cells = ivec3(int(cellCount));
+    bool halves = int(cellCount) > textureSize(vplOccupancy, 0).x;
     float invVoxel = 1.0 / voxel;
     float visibility = 1.0;
     for (int i = first; i <= last && visibility > 0.0; ++i) {
         ivec3 v = ivec3(floor((a + float(i) * stride - pc.grid.xyz) * invVoxel));
-        if (all(greaterThanEqual(v, ivec3(0))) && all(lessThan(v, cells)))
-            visibility *= 1.0 - texelFetch(vplOccupancy, v, 0).a;
+        if (all(greaterThanEqual(v, ivec3(0))) && all(lessThan(v, cells))) {
+            if (!halves) {
+                visibility *= 1.0 - texelFetch(vplOccupancy, v, 0).a;
+            } else {
+                uint bits = uint(texelFetch(vplOccupancy, v >> 1, 0).a + 0.5);
+                uint b = uint(v.x & 1) | (uint(v.y & 1) << 1u) | (uint(v.z & 1) << 2u);
+                if (((bits >> b) & 1u) != 0u)
+                    visibility = 0.0;
+            }
+        }
     }
     return visibility;
 }
