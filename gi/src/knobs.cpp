@@ -160,7 +160,7 @@ std::vector<Knob> makeKnobs() {
                  "clipmap levels around the camera (0 = automatic, 1 = one grid fitted to the scene; 2..8: level l has voxels "
                  "of vct.voxel * 2^l)",
                  [](GiSettings& s) -> uint32_t& { return s.vct.levels; }),
-        floatKnob("vct.voxel", 0, 1e4, vct, "voxel edge of the finest clipmap level, metres (0 = the finest level spans 8 m)",
+        floatKnob("vct.voxel", 0, 1e4, vct, "voxel edge of the finest clipmap level, metres (0 = the finest level spans 16 m)",
                   [](GiSettings& s) -> float& { return s.vct.voxel; }),
         enumKnob("vct.occlusion", {"hard", "soft", "shadowmap"}, vct,
                  "voxel light visibility: march through the occupancy (hard, soft) or the shadow map",
