@@ -26,7 +26,7 @@ constexpr JitConfig kConfigs[] = {
     {"cornell", "vpl", ""},
     {"cornell", "vpl", "vpl.negative=100 vpl.lowres=2"},
     {"cornell", "lpv", ""},
-    {"cornell", "lpv", "lpv.bounces=on lpv.half=off lpv.rsm_reduce=2"},
+    {"cornell", "lpv", "lpv.bounces=on lpv.half=off lpv.rsm_reduce=4"},
     {"room", "lpv", "lpv.cascades=2"},
     {"cornell", "vct", ""},
     {"cornell", "vct", "vct.soft_shadows=on vct.lowres=1 vct.bounces=1"},

@@ -38,10 +38,12 @@ std::vector<std::string> sweepFor(const std::string& technique, bool quick) {
     } else if (technique == "lpv") {
         s = product("lpv.grid", {"16", "32", "64"}, "lpv.iterations", {"4", "8", "16", "32", "64"});
         for (const char* t : {"lpv.occlusion=off", "lpv.bounces=on", "lpv.damping=0", "lpv.cascades=2", "lpv.cascades=3",
-                              "lpv.rsm_reduce=1", "lpv.rsm_reduce=2"})
+                              "lpv.rsm_reduce=1", "lpv.rsm_reduce=4"})
             s.push_back(std::string("lpv.grid=32 lpv.iterations=8 ") + t);
-        // Where multi-bounce wins in the room (docs/lpv.md): its single-bounce twin is in the product.
-        s.push_back("lpv.grid=16 lpv.iterations=16 lpv.bounces=on");
+        // The defaults (16^3 x 20) and their step count with the former RSM reduction and with
+        // multi-bounce (docs/lpv.md "Defaults").
+        for (const char* t : {"", " lpv.rsm_reduce=4", " lpv.bounces=on"})
+            s.push_back(std::string("lpv.grid=16 lpv.iterations=20") + t);
     } else if (technique == "vct") {
         s = product("vct.grid", {"32", "64", "128"}, "vct.cones", {"4", "6", "16"});
         for (const char* t :

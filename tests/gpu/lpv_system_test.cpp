@@ -133,6 +133,7 @@ TEST_F(LpvSystem, MultiBounceBeatsSingleBounceInTheRoom) {
         LpvSettings lpv;
         lpv.gridSize = 16;
         lpv.iterations = 16;
+        lpv.rsmReduce = 4; // the configuration the numbers above were measured in
         lpv.bounces = bounce == 1;
         FrameResult frame = render(*scene, lpv, 64);
         auto e = compareImages(frame.indirect, ref->indirect);
@@ -342,14 +343,15 @@ TEST_F(LpvSystem, OneAndSixtyFourStepsAtAlbedo099AreFiniteInBothFormats) {
 }
 
 // At its defaults LPV must beat the best constant ambient term (the direct image plus the
-// relMSE-optimal colour on the surface pixels) against the all-bounce reference on the enclosed
-// scenes where its 16^3 grid crosses the room: the Cornell box by the margin issue #15 asks for
-// (0.8x), the bunny box at all (it measures just above 0.8x; docs/lpv.md "Defaults",
-// bench/lpv-128 has every scene). The former defaults, 32^3 x 8 steps, reach a quarter of the
-// grid and are above the constant on both.
+// relMSE-optimal colour on the surface pixels) against the all-bounce reference by the margin
+// issue #15 asks for (0.8x) on the enclosed scenes where its 16^3 grid crosses the room: the
+// Cornell box (0.39x measured) and the bunny box (0.62x; 16 steps measured just above 0.8x,
+// which is why the defaults take 20: docs/lpv.md "Defaults", bench/lpv-128 has every scene).
+// The former defaults, 32^3 x 8 steps, reach a quarter of the grid and are above the constant
+// on both.
 TEST_F(LpvSystem, DefaultsBeatTheBestConstantAgainstAllBounces) {
     constexpr uint32_t kSize = 64;
-    const std::pair<const char*, double> scenes[] = {{"cornell", 0.8}, {"bunny_box", 1.0}};
+    const std::pair<const char*, double> scenes[] = {{"cornell", 0.8}, {"bunny_box", 0.8}};
     for (const auto& [name, bar] : scenes) {
         auto scene = makeBuiltinScene(name);
         ASSERT_TRUE(scene) << scene.error().message;
