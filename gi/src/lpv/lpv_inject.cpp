@@ -229,7 +229,8 @@ rg::ImageHandle addGeometryVolumePasses(rg::RenderGraph& graph, const Injector& 
 
 rg::ImageHandle addAccumulationSumPass(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
                                        const ShHandles& accumulation, rg::ImageHandle sum, const std::string& prefix) {
-    const ImageDesc& accumulationDesc = graph.imageDesc(accumulation.channel[0]);
+    // A copy: creating the sum below may grow the graph's resource table.
+    const ImageDesc accumulationDesc = graph.imageDesc(accumulation.channel[0]);
     const glm::uvec3 cells(accumulationDesc.width, accumulationDesc.height, accumulationDesc.depth);
     if (!sum.valid())
         sum = graph.createImage(prefix + ".accumulation.sum", shImageDesc(glm::ivec3(cells), accumulationDesc.format));
