@@ -253,13 +253,19 @@ void GiSystem::Impl::addShadowPasses(rg::RenderGraph& graph, rg::Blackboard& bb,
         if (keep[i])
             selection.leaveOut(lightPassName(i, scene.lights[i].type), LeftOutReason::NotDirty,
                                "light " + std::to_string(i) + " and every object unchanged");
+    std::vector<bool> keepWindows = cleanRsmWindows(layout, lastShadowLayout, shadowChanges);
+    for (uint32_t i = 0; i < keepWindows.size(); ++i)
+        if (keepWindows[i])
+            selection.leaveOut(rsmWindowPassName(i), LeftOutReason::NotDirty,
+                               "light " + std::to_string(i) + ", every object and the RSM window unchanged");
     std::vector<uint32_t> keepCascades = cleanShadowCascades(layout, lastShadowLayout, shadowChanges);
     for (uint32_t i = 0; i < keepCascades.size(); ++i)
         for (uint32_t k = 0; k < layout.lights[i].cascadeCount; ++k)
             if ((keepCascades[i] >> k) & 1u)
                 selection.leaveOut(cascadePassName(i, k), LeftOutReason::NotDirty,
                                    "light " + std::to_string(i) + ", every object and the cascade's texels unchanged");
-    addLightPasses(graph, bb, pipelines, frame, bb.get<SceneHandles>(), layout, shadows, rsm, keep, keepCascades);
+    addLightPasses(graph, bb, pipelines, frame, bb.get<SceneHandles>(), layout, shadows, rsm, keep, keepCascades,
+                   keepWindows);
     lastShadowLayout = std::move(layout);
     shadowChanges.reset();
 }

@@ -121,12 +121,24 @@ std::vector<bool> cleanShadowLights(const ShadowLayout& now, const ShadowLayout&
         const LightShadowPlan& a = now.lights[i];
         const LightShadowPlan& b = last.lights[i];
         bool same = a.kind == b.kind && a.firstLayer == b.firstLayer && a.layerCount == b.layerCount &&
-                    a.faceMask == b.faceMask && a.rsmWindowed == b.rsmWindowed &&
-                    std::memcmp(&a.rsmView, &b.rsmView, sizeof(gpu::GpuShadowView)) == 0;
+                    a.faceMask == b.faceMask && a.rsmWindowed == b.rsmWindowed;
         if (same && a.layerCount > 0)
             same = std::memcmp(&now.views[a.firstLayer], &last.views[b.firstLayer],
                                a.layerCount * sizeof(gpu::GpuShadowView)) == 0;
         clean[i] = same && !changes.lightChanged(i);
+    }
+    return clean;
+}
+
+std::vector<bool> cleanRsmWindows(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes) {
+    std::vector<bool> clean(now.lights.size(), false);
+    if (!layoutsComparable(now, last, changes))
+        return clean;
+    for (uint32_t i = 0; i < now.lights.size(); ++i) {
+        const LightShadowPlan& a = now.lights[i];
+        const LightShadowPlan& b = last.lights[i];
+        clean[i] = a.rsmWindowed && b.rsmWindowed && a.firstLayer == b.firstLayer &&
+                   std::memcmp(&a.rsmView, &b.rsmView, sizeof(gpu::GpuShadowView)) == 0 && !changes.lightChanged(i);
     }
     return clean;
 }

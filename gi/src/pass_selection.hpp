@@ -87,6 +87,12 @@ struct ShadowLayout;
 // was last rendered with; empty = never) and no change to the light or to any object since.
 std::vector<bool> cleanShadowLights(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes);
 
+// RSM window passes to leave out: per light, true when its RSM layer still holds this frame's
+// window (LightShadowPlan::rsmView): windowed then and now, the same layer and bitwise the same
+// view, no change to the light or to any object. Independent of the light's own layer, which
+// a moved window leaves as it is.
+std::vector<bool> cleanRsmWindows(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes);
+
 // Cascade passes to leave out: per light, bit k set when its cascade k still holds this frame's
 // content: same layers, a bitwise same view (the camera moved less than that cascade's texel, or
 // not at all), and no change to the light or to any object since.

@@ -346,7 +346,8 @@ TEST_F(PassSelectionTest, LpvStaticFrameRunsOnlyTheLookup) {
 // In atrium_world the LPV's cascades read the sun's RSM through a window fitted to their
 // coarsest level (4 m cells). A repeated frame re-renders neither the light's own layer nor its
 // window; a camera step that stays in the coarsest cell keeps them too, and one that moves it a
-// cell re-renders both, with an image equal to a fresh system's there.
+// cell re-renders the window (the own layer, whose view does not follow the camera, stays),
+// with an image equal to a fresh system's there.
 TEST_F(PassSelectionTest, LpvSunWindowRerendersOnlyWhenTheCoarsestCascadeMoves) {
     auto scene = makeBuiltinScene("atrium_world");
     ASSERT_TRUE(scene);

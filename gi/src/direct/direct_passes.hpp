@@ -120,12 +120,14 @@ std::string lightPassName(uint32_t light, LightType type);
 // of that light and, when `rsm`, the RSM arrays. Adds ShadowData (and RsmData) to `blackboard`.
 // Lights with `keep[i]` true get no pass: their persistent layers still hold this frame's content.
 // Each cascade of a directional light is one more pass ("gi.light[i].directional.cascade[k]",
-// depth only), left out when bit k of `keepCascades[i]` is set.
+// depth only), left out when bit k of `keepCascades[i]` is set; so is an RSM window
+// (rsmWindowPassName), left out when `keepWindows[i]` is true.
 void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const DirectPipelines& p,
                     const FrameData& frame, const SceneHandles& scene, const ShadowLayout& layout,
                     ShadowTargets& targets, bool rsm, const std::vector<bool>& keep = {},
-                    const std::vector<uint32_t>& keepCascades = {});
+                    const std::vector<uint32_t>& keepCascades = {}, const std::vector<bool>& keepWindows = {});
 std::string cascadePassName(uint32_t light, uint32_t cascade);
+std::string rsmWindowPassName(uint32_t light); // "gi.light[i].directional.rsm"
 
 DirectData addDeferredPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame,
                            const SceneHandles& scene, const GBufferData& gbuffer, const ShadowData& shadow);

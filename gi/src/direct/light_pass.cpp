@@ -13,6 +13,8 @@ std::string lightPassName(uint32_t light, LightType type) {
     return "gi.light[" + std::to_string(light) + "]." + kind;
 }
 
+std::string rsmWindowPassName(uint32_t light) { return lightPassName(light, LightType::Directional) + ".rsm"; }
+
 std::string cascadePassName(uint32_t light, uint32_t cascade) {
     return lightPassName(light, LightType::Directional) + ".cascade[" + std::to_string(cascade) + "]";
 }
@@ -185,7 +187,7 @@ void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameD
     }
     const Light& light = frame.scene->lights[plan.light];
     std::string name = cascade  ? cascadePassName(plan.light, what.cascade)
-                       : window ? lightPassName(plan.light, light.type) + ".rsm"
+                       : window ? rsmWindowPassName(plan.light)
                                 : lightPassName(plan.light, light.type);
     graph.addPass(
         std::move(name),
@@ -220,7 +222,7 @@ void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameD
 void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const DirectPipelines& p,
                     const FrameData& frame, const SceneHandles& scene, const ShadowLayout& layout,
                     ShadowTargets& targets, bool rsm, const std::vector<bool>& keep,
-                    const std::vector<uint32_t>& keepCascades) {
+                    const std::vector<uint32_t>& keepCascades, const std::vector<bool>& keepWindows) {
     AtlasHandles h;
     h.atlas = graph.importImage("gi.shadow.atlas", targets.atlas);
     if (rsm) {
@@ -230,12 +232,12 @@ void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Di
     }
     ShadowData shadow;
     addSetupPass(graph, layout, uint32_t(frame.scene->lights.size()), rsm, h, shadow.views, shadow.lightShadows);
-    for (const LightShadowPlan& plan : layout.lights)
-        if (plan.kind != GI_SHADOW_NONE && !(plan.light < keep.size() && keep[plan.light])) {
+    for (const LightShadowPlan& plan : layout.lights) {
+        if (plan.kind != GI_SHADOW_NONE && !(plan.light < keep.size() && keep[plan.light]))
             addLightPass(graph, p, frame, scene, layout, plan, rsm, h);
-            if (rsm && plan.rsmWindowed)
-                addLightPass(graph, p, frame, scene, layout, plan, rsm, h, {LightLayers::RsmWindow});
-        }
+        if (rsm && plan.rsmWindowed && !(plan.light < keepWindows.size() && keepWindows[plan.light]))
+            addLightPass(graph, p, frame, scene, layout, plan, rsm, h, {LightLayers::RsmWindow});
+    }
     for (const LightShadowPlan& plan : layout.lights)
         for (uint32_t k = 0; k < plan.cascadeCount; ++k)
             if (!(plan.light < keepCascades.size() && (keepCascades[plan.light] >> k) & 1u))
