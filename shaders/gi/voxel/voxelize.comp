@@ -31,59 +31,40 @@ layout(set = 1, binding = VOXELIZE_BINDING_TOUCHED_BITS, std430) buffer TouchedB
 // voxel that the triangle grazes within 1e-5 voxels, never drop one it touches.
 const float kSatSlack = 1e-5;
 
-// Projection of the three vertices on `axis` against the projected half-extent of the box.
-bool separatedOn(vec3 axis, vec3 v0, vec3 v1, vec3 v2) {
-    float p0 = dot(axis, v0), p1 = dot(axis, v1), p2 = dot(axis, v2);
-    float r = 0.5 * (abs(axis.x) + abs(axis.y) + abs(axis.z));
-    r += kSatSlack * (1.0 + r);
-    return min(p0, min(p1, p2)) > r || max(p0, max(p1, p2)) < -r;
-}
-
-// Triangle (vertices relative to the voxel centre, voxel units) against the unit box: the box
-// axes are covered by the caller's loop bounds; here the 9 edge cross products and the normal.
-bool overlapsUnitBox(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
-    // Unrolled: llvmpipe keeps a dynamically indexed array in memory.
-    vec3 e0 = v1 - v0, e1 = v2 - v1, e2 = v0 - v2;
-    if (separatedOn(vec3(0.0, -e0.z, e0.y), v0, v1, v2) || separatedOn(vec3(e0.z, 0.0, -e0.x), v0, v1, v2) ||
-        separatedOn(vec3(-e0.y, e0.x, 0.0), v0, v1, v2) || separatedOn(vec3(0.0, -e1.z, e1.y), v0, v1, v2) ||
-        separatedOn(vec3(e1.z, 0.0, -e1.x), v0, v1, v2) || separatedOn(vec3(-e1.y, e1.x, 0.0), v0, v1, v2) ||
-        separatedOn(vec3(0.0, -e2.z, e2.y), v0, v1, v2) || separatedOn(vec3(e2.z, 0.0, -e2.x), v0, v1, v2) ||
-        separatedOn(vec3(-e2.y, e2.x, 0.0), v0, v1, v2))
-        return false;
-    float r = 0.5 * (abs(n.x) + abs(n.y) + abs(n.z));
-    return abs(dot(n, v0)) <= r + kSatSlack * (1.0 + r);
-}
-
-// The half-voxel occupancy (dims.z = 1, gi/voxel_grid.h): bit i + 2 j + 4 k for each half-size
-// box (i, j, k) of the voxel that the triangle (relative to the voxel's centre, voxel units)
-// touches, by the same separating-axis test on boxes of half extent 0.25: the three box axes,
-// the 9 edge cross products and the normal.
-bool separatedOnBox(vec3 axis, vec3 v0, vec3 v1, vec3 v2, float h) {
+// Projection of the three vertices on `axis` against the projected half-extent h of the box.
+bool separatedOn(vec3 axis, vec3 v0, vec3 v1, vec3 v2, float h) {
     float p0 = dot(axis, v0), p1 = dot(axis, v1), p2 = dot(axis, v2);
     float r = h * (abs(axis.x) + abs(axis.y) + abs(axis.z));
     r += kSatSlack * (1.0 + r);
     return min(p0, min(p1, p2)) > r || max(p0, max(p1, p2)) < -r;
 }
 
-uint halfVoxelBits(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
+// Triangle (vertices relative to the box's centre, voxel units) against the box of half extent
+// h: the box axes are the caller's; here the 9 edge cross products and the normal.
+bool overlapsBox(vec3 v0, vec3 v1, vec3 v2, vec3 n, float h) {
+    // Unrolled: llvmpipe keeps a dynamically indexed array in memory.
     vec3 e0 = v1 - v0, e1 = v2 - v1, e2 = v0 - v2;
+    if (separatedOn(vec3(0.0, -e0.z, e0.y), v0, v1, v2, h) || separatedOn(vec3(e0.z, 0.0, -e0.x), v0, v1, v2, h) ||
+        separatedOn(vec3(-e0.y, e0.x, 0.0), v0, v1, v2, h) || separatedOn(vec3(0.0, -e1.z, e1.y), v0, v1, v2, h) ||
+        separatedOn(vec3(e1.z, 0.0, -e1.x), v0, v1, v2, h) || separatedOn(vec3(-e1.y, e1.x, 0.0), v0, v1, v2, h) ||
+        separatedOn(vec3(0.0, -e2.z, e2.y), v0, v1, v2, h) || separatedOn(vec3(e2.z, 0.0, -e2.x), v0, v1, v2, h) ||
+        separatedOn(vec3(-e2.y, e2.x, 0.0), v0, v1, v2, h))
+        return false;
+    float r = h * (abs(n.x) + abs(n.y) + abs(n.z));
+    return abs(dot(n, v0)) <= r + kSatSlack * (1.0 + r);
+}
+
+// The half-voxel occupancy (dims.z = 1, gi/voxel_grid.h): bit i + 2 j + 4 k for each half-size
+// box (i, j, k) of the voxel that the triangle (relative to the voxel's centre, voxel units)
+// touches, by the same separating-axis test as the voxel's, on boxes of half extent 0.25.
+uint halfVoxelBits(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
     uint bits = 0u;
     for (uint b = 0u; b < 8u; ++b) {
         vec3 c = vec3(float(b & 1u), float((b >> 1u) & 1u), float((b >> 2u) & 1u)) * 0.5 - 0.25;
         vec3 a0 = v0 - c, a1 = v1 - c, a2 = v2 - c;
         vec3 lo = min(a0, min(a1, a2)), hi = max(a0, max(a1, a2));
         float r = 0.25 + kSatSlack * 1.25;
-        if (any(greaterThan(lo, vec3(r))) || any(lessThan(hi, vec3(-r))))
-            continue;
-        if (separatedOnBox(vec3(0.0, -e0.z, e0.y), a0, a1, a2, 0.25) ||
-            separatedOnBox(vec3(e0.z, 0.0, -e0.x), a0, a1, a2, 0.25) ||
-            separatedOnBox(vec3(-e0.y, e0.x, 0.0), a0, a1, a2, 0.25) ||
-            separatedOnBox(vec3(0.0, -e1.z, e1.y), a0, a1, a2, 0.25) ||
-            separatedOnBox(vec3(e1.z, 0.0, -e1.x), a0, a1, a2, 0.25) ||
-            separatedOnBox(vec3(-e1.y, e1.x, 0.0), a0, a1, a2, 0.25) ||
-            separatedOnBox(vec3(0.0, -e2.z, e2.y), a0, a1, a2, 0.25) ||
-            separatedOnBox(vec3(e2.z, 0.0, -e2.x), a0, a1, a2, 0.25) ||
-            separatedOnBox(vec3(-e2.y, e2.x, 0.0), a0, a1, a2, 0.25) || separatedOnBox(n, a0, a1, a2, 0.25))
+        if (any(greaterThan(lo, vec3(r))) || any(lessThan(hi, vec3(-r))) || !overlapsBox(a0, a1, a2, n, 0.25))
             continue;
         bits |= 1u << b;
     }
@@ -202,7 +183,7 @@ void main() {
             c[u] = cu;
             c[w] = cw;
             vec3 centre = vec3(c) + 0.5;
-            if (overlapsUnitBox(p[0] - centre, p[1] - centre, p[2] - centre, n))
+            if (overlapsBox(p[0] - centre, p[1] - centre, p[2] - centre, n, 0.5))
                 splat(c - pc.cell.xyz, res, albedo, faceNormal, emission, emissive,
                       pc.grid.dims.z != 0u ? halfVoxelBits(p[0] - centre, p[1] - centre, p[2] - centre, n) : 0u);
         }
