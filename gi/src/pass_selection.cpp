@@ -113,34 +113,37 @@ bool layoutsComparable(const ShadowLayout& now, const ShadowLayout& last, const 
 }
 } // namespace
 
-std::vector<bool> cleanShadowLights(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes) {
+namespace {
+// Per light: `same(now's plan, last's plan)` and no change to the light (false for all when the
+// layouts are not comparable).
+template <class Same>
+std::vector<bool> cleanPerLight(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes,
+                                Same same) {
     std::vector<bool> clean(now.lights.size(), false);
     if (!layoutsComparable(now, last, changes))
         return clean;
-    for (uint32_t i = 0; i < now.lights.size(); ++i) {
-        const LightShadowPlan& a = now.lights[i];
-        const LightShadowPlan& b = last.lights[i];
+    for (uint32_t i = 0; i < now.lights.size(); ++i)
+        clean[i] = same(now.lights[i], last.lights[i]) && !changes.lightChanged(i);
+    return clean;
+}
+} // namespace
+
+std::vector<bool> cleanShadowLights(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes) {
+    return cleanPerLight(now, last, changes, [&](const LightShadowPlan& a, const LightShadowPlan& b) {
         bool same = a.kind == b.kind && a.firstLayer == b.firstLayer && a.layerCount == b.layerCount &&
                     a.faceMask == b.faceMask && a.rsmWindowed == b.rsmWindowed;
         if (same && a.layerCount > 0)
             same = std::memcmp(&now.views[a.firstLayer], &last.views[b.firstLayer],
                                a.layerCount * sizeof(gpu::GpuShadowView)) == 0;
-        clean[i] = same && !changes.lightChanged(i);
-    }
-    return clean;
+        return same;
+    });
 }
 
 std::vector<bool> cleanRsmWindows(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes) {
-    std::vector<bool> clean(now.lights.size(), false);
-    if (!layoutsComparable(now, last, changes))
-        return clean;
-    for (uint32_t i = 0; i < now.lights.size(); ++i) {
-        const LightShadowPlan& a = now.lights[i];
-        const LightShadowPlan& b = last.lights[i];
-        clean[i] = a.rsmWindowed && b.rsmWindowed && a.firstLayer == b.firstLayer &&
-                   std::memcmp(&a.rsmView, &b.rsmView, sizeof(gpu::GpuShadowView)) == 0 && !changes.lightChanged(i);
-    }
-    return clean;
+    return cleanPerLight(now, last, changes, [](const LightShadowPlan& a, const LightShadowPlan& b) {
+        return a.rsmWindowed && b.rsmWindowed && a.firstLayer == b.firstLayer &&
+               std::memcmp(&a.rsmView, &b.rsmView, sizeof(gpu::GpuShadowView)) == 0;
+    });
 }
 
 std::vector<uint32_t> cleanShadowCascades(const ShadowLayout& now, const ShadowLayout& last,
