@@ -223,12 +223,15 @@ TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorAtMost75PercentAboveTheAtriums) 
 //   0.45 m fitted voxels (1.55x: conservative 1 m voxels half close the 2.4 m arcade openings);
 //   with the half voxels 0.285 (1.18x);
 // - the VPLs: in the 400 m sun window they concentrate around the camera (vpl.focus), so fewer
-//   land in the courtyard than in the atrium's own window, which covers only the atrium.
-// Measured at 64^2: atrium 0.2417, atrium with the camera grid 0.2852, atrium_world 0.3955 (1.64x
-// the atrium, 1.39x the atrium with the same grid; with whole voxels 0.463, 1.9x), fitted in the
-// world 0.870. Bounds: the camera grid within 1.3x the fitted one on the atrium (whole voxels
-// fail it), the world within 1.55x the atrium with the same grid and 1.8x the atrium (whole voxels
-// fail it), and below 0.5x the fitted grid's error, which itself stays beyond the 15% bar.
+//   land in the courtyard than in the atrium's own window, which covers only the atrium, and
+//   where the world-fixed lattices of the focused points fall decides much of the rest.
+// Measured at 64^2: atrium 0.2417, atrium with the camera grid 0.2852, atrium_world 0.3270 (1.35x
+// the atrium, 1.15x the atrium with the same grid; with the former Halton points around a snapped
+// centre 0.3955, 1.64x / 1.39x; with whole voxels 0.463, 1.9x), fitted in the world 0.870.
+// Bounds: the camera grid within 1.3x the fitted one on the atrium (whole voxels fail it), the
+// world within 1.3x the atrium with the same grid and 1.55x the atrium (the former points and
+// whole voxels fail it), and below 0.5x the fitted grid's error, which itself stays beyond the
+// 15% bar.
 TEST_F(LargeWorld, VplVisibilityKeepsTheAtriumsErrorInA400mWorld) {
     const Scene atriumWorld = test::builtinScene("atrium_world");
     EXPECT_TRUE(sharedGridFollowsCamera(atriumWorld.bounds(), 64, atriumWorld.cameraOrDefault().position));
@@ -251,8 +254,8 @@ TEST_F(LargeWorld, VplVisibilityKeepsTheAtriumsErrorInA400mWorld) {
                 double(world.techniqueBytes) / 1048576.0);
     EXPECT_GT(atrium.relMseIndirect, 0.0);
     EXPECT_LE(atriumCamera.relMseIndirect, 1.3 * atrium.relMseIndirect) << "the half voxels see the arcades";
-    EXPECT_LE(world.relMseIndirect, 1.55 * atriumCamera.relMseIndirect);
-    EXPECT_LE(world.relMseIndirect, 1.8 * atrium.relMseIndirect);
+    EXPECT_LE(world.relMseIndirect, 1.3 * atriumCamera.relMseIndirect);
+    EXPECT_LE(world.relMseIndirect, 1.55 * atrium.relMseIndirect);
     EXPECT_LT(world.relMseIndirect, 0.5 * worldFitted.relMseIndirect);
     EXPECT_GT(worldFitted.relMseIndirect, 1.15 * atrium.relMseIndirect) << "a grid fitted to the world's bounds fails the bar";
     EXPECT_LE(world.techniqueBytes, kMaxTechniqueBytes);

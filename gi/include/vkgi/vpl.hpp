@@ -139,11 +139,31 @@ struct VplSpot {
     uint32_t firstLayer = 0;                // its layers in the RSM arrays and the shadow views table
     uint32_t layerCount = 1;                // 1 (perspective or orthographic layer) or 6 (cube)
     bool directional = false;
+    glm::mat4 window{1.0f}; // directional: the RSM layer's orthographic view-projection
 };
 
 // The `count` first Halton points (bases 2 and 3, index 1, 2, ...) of the square [-1, 1]^2,
 // as (x, y, 0): where a directional light's VPLs sample its orthographic RSM window.
 std::vector<glm::vec3> windowSamplePoints(uint32_t count);
+
+// Whether a directional light's window (its layer's orthographic view-projection) is large
+// enough for focused points: its centre-to-corner distance exceeds twice `radius` (metres).
+bool windowIsFocused(const glm::mat4& windowViewProj, float radius);
+
+// A focused window's samples (docs/vpl.md, "A sun over a large world"): the points of lattices
+// fixed to the world on the plane across the light, one lattice per ring around the camera's
+// place (radii 0, R/2, R, 2R, 4R, ...; the place snaps to R/4), each ring's spacing giving it its
+// share of the density p(r) = 1 / (pi R^2 (1 + r^2/R^2)^2) of `count` points, clipped to the
+// window. `samples[k]` is (NDC x, NDC y, window area in m^2 the point stands for); empty slots
+// lie beyond the window. A point's interleaved subset (of `subsets`, a square) is its lattice
+// class, and `ids[k]` names it for the bounce rays of its children, so a point keeps both while
+// the camera moves; a moved camera changes only the points that cross a ring.
+struct FocusedWindowSamples {
+    std::vector<glm::vec3> samples;
+    std::vector<uint32_t> ids;
+};
+FocusedWindowSamples focusedWindowPoints(const glm::mat4& windowViewProj, const glm::vec3& camera, float radius,
+                                         uint32_t count, uint32_t subsets);
 
 // The `count` first Halton points (index 1, 2, ...) of generation `generation` >= 1's bounce
 // bases (5, 7; then 11, 13; then 17, 19) mapped to the cosine-weighted hemisphere about +Z

@@ -1,6 +1,9 @@
-// CPU side of the VPL placement: the Halton directions inside a spot cone and the spot frame.
+// CPU side of the VPL placement: the Halton directions inside a spot cone and the spot frame, and
+// the world-anchored points of a large sun window.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <utility>
 #include <string>
 
 #include "gi/vpl.h"
@@ -71,6 +74,134 @@ std::vector<glm::vec3> windowSamplePoints(uint32_t count) {
         points.emplace_back(2.0f * gpu::vplRadicalInverse(i, 2u) - 1.0f, 2.0f * gpu::vplRadicalInverse(i, 3u) - 1.0f,
                             0.0f);
     return points;
+}
+
+namespace {
+
+// An orthographic window's x and y as coordinates on the plane across the light, in metres:
+// NDC = scale * (axis . p) + offset, with axis a unit vector fixed by the light's direction, so
+// that plane coordinates belong to the world and not to where the window lies.
+struct WindowPlane {
+    glm::dvec3 axis[2];
+    double scale[2] = {1.0, 1.0};
+    double offset[2] = {0.0, 0.0};
+    double toPlane(int k, double ndc) const { return (ndc - offset[k]) / scale[k]; }
+    double toNdc(int k, double metres) const { return scale[k] * metres + offset[k]; }
+};
+
+WindowPlane windowPlane(const glm::mat4& viewProj) {
+    WindowPlane w;
+    for (int k = 0; k < 2; ++k) {
+        const glm::dvec3 row(viewProj[0][k], viewProj[1][k], viewProj[2][k]);
+        w.scale[k] = std::max(glm::length(row), 1e-30);
+        w.axis[k] = row / w.scale[k];
+        w.offset[k] = viewProj[3][k];
+    }
+    return w;
+}
+
+// Radial CDF of the focus density p(r) = 1 / (pi R^2 (1 + r^2/R^2)^2).
+double focusCdf(double r, double radius) {
+    return r * r / (radius * radius + r * r);
+}
+
+// Ring k's inner radius: 0, R/2, R, 2R, 4R, ...
+double ringRadius(uint32_t k, double radius) {
+    return k == 0 ? 0.0 : radius * std::ldexp(1.0, int(k) - 2);
+}
+
+} // namespace
+
+bool windowIsFocused(const glm::mat4& windowViewProj, float radius) {
+    const WindowPlane w = windowPlane(windowViewProj);
+    const double halfX = 1.0 / w.scale[0], halfY = 1.0 / w.scale[1];
+    return std::sqrt(halfX * halfX + halfY * halfY) > 2.0 * double(radius);
+}
+
+FocusedWindowSamples focusedWindowPoints(const glm::mat4& windowViewProj, const glm::vec3& camera, float radius,
+                                         uint32_t count, uint32_t subsets) {
+    const WindowPlane w = windowPlane(windowViewProj);
+    const double R = radius;
+    double lo[2], hi[2], centre[2];
+    for (int k = 0; k < 2; ++k) {
+        const double a = w.toPlane(k, -1.0), b = w.toPlane(k, 1.0);
+        lo[k] = std::min(a, b);
+        hi[k] = std::max(a, b);
+        const double cell = 0.25 * R;
+        centre[k] = std::floor(glm::dot(w.axis[k], glm::dvec3(camera)) / cell + 0.5) * cell;
+    }
+    double farthest = 0.0; // from the camera's place to the window's farthest corner
+    for (double x : {lo[0], hi[0]})
+        for (double y : {lo[1], hi[1]})
+            farthest = std::max(farthest, std::hypot(x - centre[0], y - centre[1]));
+
+    // Every subset gets as many slots (the subset blocks of gi/vpl.h differ by one when the
+    // count is not a multiple of the subsets); the lattices fill kFill of them on average, the
+    // rest absorbs how many lattice points happen to fall into a ring.
+    const uint32_t perSubset = count / subsets;
+    const uint32_t slots = perSubset * subsets;
+    constexpr double kFill = 0.97;
+    struct Point {
+        double u, v, share;
+        uint32_t ring;
+        long i, j;
+    };
+    std::vector<Point> points;
+    for (uint32_t ring = 0; ringRadius(ring, R) < farthest && points.size() < slots; ++ring) {
+        const double inner = ringRadius(ring, R), outer = ringRadius(ring + 1, R);
+        const double expected = kFill * double(count) * (focusCdf(outer, R) - focusCdf(inner, R));
+        const double area = 3.14159265358979 * (outer * outer - inner * inner);
+        const double spacing = std::sqrt(area / expected);
+        // A fixed offset per ring (the R2 sequence), so that the rings' lattices do not line up.
+        const double offset[2] = {spacing * std::fmod(0.5 + 0.7548776662466927 * ring, 1.0),
+                                  spacing * std::fmod(0.5 + 0.5698402909980532 * ring, 1.0)};
+        long first[2], last[2];
+        for (int k = 0; k < 2; ++k) {
+            first[k] = long(std::ceil((std::max(centre[k] - outer, lo[k]) - offset[k]) / spacing));
+            last[k] = long(std::floor((std::min(centre[k] + outer, hi[k]) - offset[k]) / spacing));
+        }
+        for (long j = first[1]; j <= last[1]; ++j)
+            for (long i = first[0]; i <= last[0]; ++i) {
+                const double u = double(i) * spacing + offset[0], v = double(j) * spacing + offset[1];
+                const double r2 = (u - centre[0]) * (u - centre[0]) + (v - centre[1]) * (v - centre[1]);
+                if (r2 >= inner * inner && r2 < outer * outer)
+                    points.push_back({u, v, spacing * spacing, ring, i, j});
+            }
+    }
+    // Rings are added from the camera outwards: an overfull set drops the farthest ring's points.
+    if (points.size() > slots)
+        points.resize(slots);
+
+    // Subsets: a point's subset is its lattice class (i mod n, j mod n), so that each subset is
+    // a coarser lattice of every ring and a point keeps its subset while the camera moves. A
+    // subset that is full passes its remaining points to the subsets with room, in order.
+    const uint32_t n = uint32_t(std::lround(std::sqrt(double(subsets))));
+    auto mod = [](long x, uint32_t m) { return uint32_t(((x % long(m)) + long(m)) % long(m)); };
+    std::vector<uint32_t> filled(subsets, 0);
+    FocusedWindowSamples out;
+    out.samples.assign(count, glm::vec3(2.0f, 2.0f, 1.0f)); // beyond the window: an empty VPL
+    out.ids.assign(count, 0u);
+    auto place = [&](const Point& p, uint32_t subset) {
+        const uint32_t index = subset * count / subsets + filled[subset]++;
+        out.samples[index] = glm::vec3(float(w.toNdc(0, p.u)), float(w.toNdc(1, p.v)), float(p.share));
+        // Which bounce ray the point's children take: fixed by the point, not by its slot.
+        out.ids[index] = uint32_t((uint64_t(p.i) * 73856093u) ^ (uint64_t(p.j) * 19349663u) ^ (uint64_t(p.ring) * 83492791u));
+    };
+    std::vector<const Point*> spilled;
+    for (const Point& p : points) {
+        const uint32_t subset = n * n == subsets ? mod(p.i, n) + n * mod(p.j, n) : 0u;
+        if (filled[subset] < perSubset)
+            place(p, subset);
+        else
+            spilled.push_back(&p);
+    }
+    uint32_t subset = 0;
+    for (const Point* p : spilled) {
+        while (filled[subset] >= perSubset)
+            ++subset;
+        place(*p, subset);
+    }
+    return out;
 }
 
 std::vector<glm::vec3> emitterSampleOrder(uint32_t count) {

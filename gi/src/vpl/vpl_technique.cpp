@@ -247,6 +247,8 @@ Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& 
     const uint32_t lightCount = uint32_t(spots.size()) + (emitters ? 1u : 0u);
     LightTables tables;
     std::vector<std::vector<glm::vec3>> samples; // per light, in Halton order
+    // Per light, which bounce ray each sample's children take (empty: the sample's own index).
+    std::vector<std::vector<uint32_t>> rayIds(spots.size() + (emitters ? 1u : 0u));
     for (uint32_t l = 0; l < spots.size(); ++l) {
         const VplSpot& spot = spots[l];
         gpu::VplLight light{};
@@ -255,14 +257,18 @@ Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& 
             // Halton points of the orthographic window; each VPL stands for 1/N of its area
             // (the shader turns that into flux with the layer's texel area, vpl_generate.comp).
             light.position = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f / float(vplCount));
-            // Where the window is much larger than the focus radius, the shader moves the
-            // points towards the camera (vpl_generate.comp). The centre snaps to a lattice of
-            // R/4 so that the VPLs stay put while the camera moves within a cell: a centre that
-            // followed the camera would move every VPL every frame and the image would shimmer.
-            const float cell = 0.25f * settings.focusRadius;
-            const glm::vec3 centre = glm::floor(camera.position / cell + 0.5f) * cell;
-            light.axisX = glm::vec4(centre, settings.focusRadius);
-            samples.push_back(windowSamplePoints(vplCount));
+            // A window much larger than the focus radius: points fixed to the world, denser
+            // around the camera, each with the area it stands for. A camera that moves changes
+            // only the few that cross a ring; points that followed the camera would all move
+            // every frame and the image would shimmer.
+            if (windowIsFocused(spot.window, settings.focusRadius)) {
+                FocusedWindowSamples focused = focusedWindowPoints(spot.window, camera.position,
+                                                                   settings.focusRadius, vplCount, interleave * interleave);
+                samples.push_back(std::move(focused.samples));
+                rayIds[l] = std::move(focused.ids);
+            } else {
+                samples.push_back(windowSamplePoints(vplCount));
+            }
         } else {
             auto local = directions(vplCount, spot.cosOuter);
             if (!local)
@@ -287,8 +293,16 @@ Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& 
     // cosine-lobe directions of the rays their parents trace (vpl_bounce.comp).
     for (uint32_t g = 1; g < settings.bounces; ++g) {
         std::vector<glm::vec3> rays = bounceSampleDirections(vplCount, g);
-        for (uint32_t l = 0; l < lightCount; ++l)
-            samples.push_back(rays);
+        for (uint32_t l = 0; l < lightCount; ++l) {
+            if (rayIds[l].empty()) {
+                samples.push_back(rays);
+                continue;
+            }
+            std::vector<glm::vec3> own(vplCount);
+            for (uint32_t k = 0; k < vplCount; ++k)
+                own[k] = rays[rayIds[l][k] % vplCount];
+            samples.push_back(std::move(own));
+        }
     }
     // Subset-major order (gi/vpl.h): subset s holds each source's block of Halton samples
     // [s N / n^2, (s + 1) N / n^2). With interleave 1 this is source after source.

@@ -45,6 +45,7 @@ std::vector<VplSpot> spotsWithRsmLayers(const Scene& scene, const RsmData& rsm) 
             sun.firstLayer = firstLayer;
             sun.layerCount = layerCount;
             sun.directional = true;
+            sun.window = rsm.layers[firstLayer].viewProj;
             spots.push_back(sun);
             break;
         }

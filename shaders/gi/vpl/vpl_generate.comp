@@ -11,10 +11,9 @@
 // the window in normalised device coordinates, the ray starts there on the near plane and runs
 // along the light, and the VPL stands for 1/N of the window's area A = texelArea * res^2:
 //     flux = rsmFlux / texelArea * (A / N) = rsmFlux * res^2 / N = albedo * E * A / N.
-// In a window much larger than the focus radius R the point is instead drawn around the camera's
-// place in the window with density p(r) = 1 / (pi R^2 (1 + r^2/R^2)^2) per square metre (radial
-// CDF r^2 / (R^2 + r^2), inverted in closed form), and the VPL stands for 1 / (N p) of the area;
-// points beyond the window meet nothing and stay empty.
+// In a window much larger than the focus radius the CPU gives the points instead
+// (focusedWindowPoints, vkgi/vpl.hpp): NDC xy, and in z the window area the point stands for;
+// points fixed to the world, denser around the camera. Points beyond the window stay empty.
 // Each VPL also records the area of surface it stands for, (solid angle / N) d^2 / cos or
 // (A / N) / cos, as the squared radius of a disc of that area: the gathers clamp 1/d^2 at a
 // multiple of it (a disc emitter of that radius is finite on its axis; a point is not).
@@ -52,21 +51,12 @@ void main() {
     bool ortho = view.eye.w == 0.0;
     vec3 origin, dir;
     bool inWindow = true;
-    float shareArea = 0.0; // focused directional light: the window area this VPL stands for (m^2)
+    float shareArea = 0.0; // focused window: the window area this VPL stands for (m^2)
     if (ortho) {
         mat4 inv = inverse(view.viewProj);
-        vec2 halfExtent = vec2(length((inv * vec4(1.0, 0.0, 0.0, 0.0)).xyz), length((inv * vec4(0.0, 1.0, 0.0, 0.0)).xyz));
-        float radius = light.axisX.w;
-        if (radius > 0.0 && length(halfExtent) > 2.0 * radius) {
-            vec2 u = clamp(local.xy * 0.5 + 0.5, vec2(0.0), vec2(1.0 - 1e-7));
-            float r = radius * sqrt(u.x / (1.0 - u.x));
-            float phi = 6.28318530718 * u.y;
-            vec4 c = view.viewProj * vec4(light.axisX.xyz, 1.0);
-            local.xy = c.xy / c.w + r * vec2(cos(phi), sin(phi)) / halfExtent;
-            float q = 1.0 + (r * r) / (radius * radius);
-            shareArea = 3.14159265359 * radius * radius * q * q * light.position.w; // 1 / (N p)
-            if (any(greaterThan(abs(local.xy), vec2(1.0))))
-                inWindow = false; // beyond the window: an empty VPL
+        if (local.z > 0.0) {
+            shareArea = local.z;
+            inWindow = all(lessThanEqual(abs(local.xy), vec2(1.0)));
         }
         vec4 nearPoint = inv * vec4(local.xy, 0.0, 1.0);
         origin = nearPoint.xyz / nearPoint.w;

@@ -124,9 +124,7 @@ GI_CHECK_SIZE(VplRecord, 48);
 GI_GPU_STRUCT(VplLight) {
     vec4 position; // xyz light position, w = solid angle each VPL stands for (cone solid angle / N),
                    // or for a directional light the share of the RSM window (1 / N)
-    vec4 axisX;    // spot frame: world-space images of the local x, y, z axes (z = spot axis); a
-                   // directional light: xyz the camera position, w the focus radius in metres
-                   // (VplSettings::focusRadius)
+    vec4 axisX;    // spot frame: world-space images of the local x, y, z axes (z = spot axis)
     vec4 axisY;
     vec4 axisZ;
     uvec4 info;    // x 0 (each sample direction names its light), y VPL count,
