@@ -2,6 +2,7 @@
 // cell choice with the half-cell normal offset, run merging across invocations, bad texels
 // ignored, the normalisation by the largest texel flux M (scale invariance from 1e-6 to 1e9),
 // and the lookup's irradiance and damping against closed forms.
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -10,6 +11,7 @@
 #include <glm/gtc/packing.hpp>
 
 #include "vkgi/rg/transient_pool.hpp"
+#include "gi/direct_types.h"
 #include "gi/lpv_passes.h"
 #include "lpv/lpv_cpu.hpp"
 #include "lpv/lpv_inject.hpp"
@@ -85,6 +87,8 @@ protected:
                     destroyImage(ctx(), c.image);
         if (m_buffer.buffer)
             destroyBuffer(ctx(), m_buffer.buffer);
+        if (m_views.buffer)
+            destroyBuffer(ctx(), m_views);
         if (m_output.image)
             destroyImage(ctx(), m_output.image);
         if (m_ready) {
@@ -149,6 +153,15 @@ protected:
         RsmInput rsm{g.importImage("rsm.position", *rsmPos, rg::Access::TransferWrite),
                      g.importImage("rsm.normal", *rsmNrm, rg::Access::TransferWrite),
                      g.importImage("rsm.flux", *rsmFlux, rg::Access::TransferWrite), kRsm, 1};
+        // The RSM's one layer: its view's eye is m_lightEye (w = 0: a directional layer).
+        if (!m_views.buffer)
+            m_views = createBuffer(ctx(), {sizeof(gpu::GpuShadowView), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                           MemoryUsage::CpuToGpu}, "lpv.test.views");
+        gpu::GpuShadowView view{};
+        view.eye = m_lightEye;
+        std::memcpy(m_views.mapped(), &view, sizeof(view));
+        rsm.views = g.importBuffer("views", m_views, rg::Access::None);
+        rsm.nearLightRadius = grid().origin.w; // one cell, as the technique's single grid
         if (reduce > 1)
             rsm = addRsmReducePass(g, m_injector, rsm, reduce, m_mergeRadius);
         ShHandles wave, acc;
@@ -233,6 +246,8 @@ protected:
     rg::PersistentImage m_volumes[2][3]; // wavefront, accumulation
     rg::PersistentBuffer m_buffer;
     rg::PersistentImage m_output;
+    Buffer m_views;                    // the RSM layer's GpuShadowView
+    glm::vec4 m_lightEye{0.0f};        // its eye: light position, w > 0 for a point or spot light
     std::vector<Image*> m_images;
     std::vector<std::unique_ptr<Image>> m_owned;
 };
@@ -282,6 +297,52 @@ TEST_F(LpvInject, SurfelsLandInTheCellInFrontOfThem) {
             worst = std::max(worst, glm::length(got[i] - expected[c][i]));
     }
     EXPECT_LE(worst, 1e-6f);
+    EXPECT_EQ(validation().count(), 0u);
+}
+
+// Surfels closer than one cell to a point or spot light are not injected (lpvInjectsNearLight,
+// docs/lpv.md "Surfels next to a light"): a light 0.99 cells from the two surfels at
+// (2.9, 3.2, 3.5) leaves out exactly those two, one 1.01 cells away none, and an eye on them
+// that is a directional layer's (w = 0) none.
+TEST_F(LpvInject, SurfelsWithinACellOfAPointLightAreLeftOut) {
+    const float m = 4.0f;
+    auto expectedWithout = [&](bool nearOnes) {
+        std::vector<glm::vec4> e[3];
+        for (auto& v : e)
+            v.assign(kGrid * kGrid * kGrid, glm::vec4(0.0f));
+        auto add = [&](size_t cell, vec3 n, glm::vec3 flux) {
+            for (int c = 0; c < 3; ++c)
+                e[c][cell] += (flux[c] / m / kPi) * gpu::shCosineLobe(n);
+        };
+        if (!nearOnes) {
+            add(cellIndex(3, 3, 3), {1, 0, 0}, {1, 2, 3});
+            add(cellIndex(2, 3, 3), {-1, 0, 0}, {0.5f, 0.5f, 0.5f});
+        }
+        add(cellIndex(5, 6, 5), {0, 1, 0}, {4, 4, 4});
+        return std::array<std::vector<glm::vec4>, 3>{e[0], e[1], e[2]};
+    };
+    auto worstAgainst = [&](const std::array<std::vector<glm::vec4>, 3>& expected) {
+        float worst = 0.0f;
+        for (int c = 0; c < 3; ++c) {
+            std::vector<glm::vec4> got = accumulated(c);
+            for (size_t i = 0; i < got.size(); ++i)
+                worst = std::max(worst, glm::length(got[i] - expected[c][i]));
+        }
+        return worst;
+    };
+    // 0.99 cells from the surfels at (2.9, 3.2, 3.5), 2.9 cells from those at (5.5, 5.5, 5.5).
+    const glm::vec3 nearLight(2.9f, 3.2f, 3.5f - 0.99f);
+    m_lightEye = glm::vec4(nearLight, 10.0f);
+    run(testSurfels(), VK_FORMAT_R32G32B32A32_SFLOAT, 1.0f);
+    EXPECT_EQ(maxTexelFlux(), m); // M is still the largest texel flux (a scale; the range pass sees all)
+    EXPECT_LE(worstAgainst(expectedWithout(true)), 1e-6f);
+    // 1.01 cells away: all injected, as on a directional layer with the eye on the surfels.
+    m_lightEye = glm::vec4(2.9f, 3.2f, 3.5f - 1.01f, 10.0f);
+    run(testSurfels(), VK_FORMAT_R32G32B32A32_SFLOAT, 1.0f);
+    EXPECT_LE(worstAgainst(expectedWithout(false)), 1e-6f);
+    m_lightEye = glm::vec4(2.9f, 3.2f, 3.5f, 0.0f);
+    run(testSurfels(), VK_FORMAT_R32G32B32A32_SFLOAT, 1.0f);
+    EXPECT_LE(worstAgainst(expectedWithout(false)), 1e-6f);
     EXPECT_EQ(validation().count(), 0u);
 }
 

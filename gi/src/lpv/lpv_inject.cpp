@@ -84,6 +84,8 @@ RsmInput addRsmReducePass(rg::RenderGraph& graph, const Injector& injector, cons
     reduced.sourceNormal = rsm.normal;
     reduced.sourceFlux = rsm.flux;
     reduced.sourceResolution = rsm.resolution;
+    reduced.views = rsm.views;
+    reduced.nearLightRadius = rsm.nearLightRadius;
     reduced.factor = factor;
     const RsmImages images = createRsmImages(graph, prefix + ".rsm", reduced.resolution, rsm.layers);
     reduced.position = images.position;
@@ -115,7 +117,7 @@ InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injec
     push.grid = grid;
     push.rsm = glm::ivec4(int(rsm.resolution), int(rsm.layers), int(rsm.factor), int(rsm.sourceResolution));
     push.params = glm::vec4(gpu::lpvFixedPointScale(float(rsm.resolution) * float(rsm.resolution) * float(rsm.layers)),
-                            0.0f, 0.0f, 0.0f);
+                            rsm.nearLightRadius, 0.0f, 0.0f);
     addClearPass(graph, prefix + ".inject.clear", buffer);
     rg::ComputePass(graph, prefix + ".inject.range", injector.fluxRange)
         .push(push)
@@ -135,6 +137,7 @@ InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injec
         .read(LPV_INJECT_BINDING_SOURCE_POSITION, reduced ? rsm.sourcePosition : rsm.position)
         .read(LPV_INJECT_BINDING_SOURCE_NORMAL, reduced ? rsm.sourceNormal : rsm.normal)
         .read(LPV_INJECT_BINDING_SOURCE_FLUX, reduced ? rsm.sourceFlux : rsm.flux)
+        .read(LPV_INJECT_BINDING_SHADOW_VIEWS, rsm.views)
         .write(LPV_INJECT_BINDING_BUFFER, buffer)
         .dispatch({runs, rsm.resolution, rsm.layers});
     rg::ComputePass(graph, prefix + ".inject.resolve", injector.resolve[format == VK_FORMAT_R32G32B32A32_SFLOAT])

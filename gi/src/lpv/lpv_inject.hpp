@@ -47,6 +47,11 @@ struct RsmInput {
     rg::ImageHandle sourcePosition, sourceNormal, sourceFlux;
     uint32_t sourceResolution = 0;
     uint32_t factor = 1;
+    // The shadow atlas's GpuShadowView per layer (ShadowData::views): the injection leaves out
+    // surfels closer than nearLightRadius (world units) to their point or spot light
+    // (gpu::lpvInjectsNearLight).
+    rg::BufferHandle views;
+    float nearLightRadius = 0.0f;
 };
 
 struct GBufferInput {

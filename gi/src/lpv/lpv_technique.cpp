@@ -103,6 +103,7 @@ public:
         FrameSources sources;
         sources.format = m_settings.halfFloat ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
         sources.rsm = {rsm.position, rsm.normal, rsm.flux, rsm.resolution, uint32_t(rsm.layers.size())};
+        sources.rsm.views = in.shadow.views;
         sources.gbuffer = {in.gbuffer.position, in.gbuffer.normal, in.gbuffer.albedo, frame.width, frame.height};
         std::vector<gpu::LpvGrid> grids = gridsFor(frame);
         if (grids.size() == 1)
@@ -253,10 +254,15 @@ private:
     // The RSM injection and the geometry volume read (gi.lpv.inject.reduce when rsmReduce > 1).
     // A block merges into one surfel only within half of `finestCell`, the finest grid's cell:
     // there it lands where its texels would.
+    // Every grid leaves out the surfels within `finestCell` of their point or spot light
+    // (gpu::lpvInjectsNearLight): the light that reaches the camera's surroundings comes through
+    // the finest grid, and a coarser cascade's cell would drop whole rooms around a lamp.
     lpv::RsmInput reducedRsm(rg::RenderGraph& graph, const lpv::RsmInput& rsm, float finestCell) const {
-        if (m_settings.rsmReduce <= 1)
-            return rsm;
-        return lpv::addRsmReducePass(graph, m_injector, rsm, m_settings.rsmReduce, 0.5f * finestCell);
+        lpv::RsmInput out = m_settings.rsmReduce <= 1
+                                ? rsm
+                                : lpv::addRsmReducePass(graph, m_injector, rsm, m_settings.rsmReduce, 0.5f * finestCell);
+        out.nearLightRadius = finestCell;
+        return out;
     }
 
     // No lit region or no light in the shadow atlas: nothing to inject, a black indirect image.

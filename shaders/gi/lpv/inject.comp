@@ -2,9 +2,11 @@
 // LPV injection, pass 2: every valid RSM texel (surfel) adds the SH of a Lambertian emitter,
 // (flux / M / pi) * cosineLobe(n), to the cell it falls in moved half a cell along its normal.
 // Each invocation walks LPV_INJECT_RUN texels of a row and sums runs that share a cell before
-// adding them to the buffer with integer atomics (exact, order-independent).
+// adding them to the buffer with integer atomics (exact, order-independent). Surfels closer than
+// the finest grid's cell to a point or spot light are left out (lpvInjectsNearLight, docs/lpv.md).
 #extension GL_GOOGLE_include_directive : require
 #include "gi/lpv_passes.h"
+#include "gi/direct_types.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform PushBlock { LpvInjectPush pc; };
@@ -15,6 +17,7 @@ layout(set = 1, binding = LPV_INJECT_BINDING_BUFFER, std430) buffer Injection { 
 layout(set = 1, binding = LPV_INJECT_BINDING_SOURCE_POSITION, rgba32f) uniform readonly image2DArray sourcePosition;
 layout(set = 1, binding = LPV_INJECT_BINDING_SOURCE_NORMAL, rgba16f) uniform readonly image2DArray sourceNormal;
 layout(set = 1, binding = LPV_INJECT_BINDING_SOURCE_FLUX, rgba32f) uniform readonly image2DArray sourceFlux;
+layout(set = 1, binding = LPV_INJECT_BINDING_SHADOW_VIEWS, std430) readonly buffer ShadowViews { GpuShadowView views[]; } shadowViews;
 
 void flush(ivec3 cell, vec4 r, vec4 g, vec4 b) {
     ivec3 size = pc.grid.size.xyz;
@@ -33,11 +36,13 @@ ivec3 runCell = ivec3(-1);
 vec4 runR = vec4(0.0), runG = vec4(0.0), runB = vec4(0.0);
 
 // Adds one surfel (flux already divided by M) to the run, flushing the run when the cell changes.
-void addSurfel(vec3 p, vec3 n, vec3 flux) {
+void addSurfel(vec3 p, vec3 n, vec3 flux, vec4 eye) {
     float nn = dot(n, n);
     // Bad input (zero-length normal, NaN/Inf anywhere) is skipped rather than spread.
     if (!(nn > 1e-12 && nn < 1e30) || !(abs(flux.r) + abs(flux.g) + abs(flux.b) < 1e30) ||
         !(abs(p.x) + abs(p.y) + abs(p.z) < 1e30))
+        return;
+    if (!lpvInjectsNearLight(eye, p, pc.params.y))
         return;
     // A reduced RSM's normal is a mean of unit normals (inject_reduce.comp): shorter than 1,
     // and the lobe of that length is the exact sum of its texels' lobes. The cell offset uses
@@ -65,12 +70,13 @@ void main() {
         return;
     int end = min(start.x + LPV_INJECT_RUN, pc.rsm.x);
     int f = max(pc.rsm.z, 1);
+    vec4 eye = shadowViews.views[start.z].eye;
     for (ivec3 t = start; t.x < end; ++t.x) {
         float w = imageLoad(rsmPosition, t).w;
         if (w <= 0.0)
             continue;
         if (w < LPV_REDUCE_SPLIT) {
-            addSurfel(imageLoad(rsmPosition, t).xyz, imageLoad(rsmNormal, t).xyz, imageLoad(rsmFlux, t).rgb / m);
+            addSurfel(imageLoad(rsmPosition, t).xyz, imageLoad(rsmNormal, t).xyz, imageLoad(rsmFlux, t).rgb / m, eye);
             continue;
         }
         for (int y = 0; y < f; ++y)
@@ -79,7 +85,7 @@ void main() {
                 if (u.x >= pc.rsm.w || u.y >= pc.rsm.w || imageLoad(sourcePosition, u).w <= 0.0)
                     continue;
                 addSurfel(imageLoad(sourcePosition, u).xyz, imageLoad(sourceNormal, u).xyz,
-                          imageLoad(sourceFlux, u).rgb / m);
+                          imageLoad(sourceFlux, u).rgb / m, eye);
             }
     }
     flush(runCell, runR, runG, runB);

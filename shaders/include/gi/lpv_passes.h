@@ -30,6 +30,9 @@
 #define LPV_INJECT_BINDING_SOURCE_POSITION 7
 #define LPV_INJECT_BINDING_SOURCE_NORMAL 8
 #define LPV_INJECT_BINDING_SOURCE_FLUX 9
+// inject.comp: the shadow atlas's views (GpuShadowView per layer; the RSM has the atlas's layers),
+// whose eye is the light position of point and spot layers (lpvInjectsNearLight).
+#define LPV_INJECT_BINDING_SHADOW_VIEWS 10
 // Position w of a reduced texel whose block one surfel cannot stand for (inject_reduce.comp):
 // its texels are read one by one from the full RSM.
 #define LPV_REDUCE_SPLIT 2.0
@@ -92,7 +95,8 @@ GI_GPU_STRUCT(LpvInjectPush) {
     ivec4 rsm;    // x: texels per row, y: layers, z: GV source slot (0 RSM, 1 camera), w: rows
                   // (inject.comp: z = reduction factor F >= 1, w = the full RSM's texels per row)
     vec4 params;  // x: fixed-point scale (ints per unit of normalised SH or of blocking potential);
-                  // y: inject_reduce.comp's merge radius (world units), the GV's camera stride;
+                  // y: inject_reduce.comp's merge radius (world units), inject.comp's near-light
+                  // radius (world units, lpvInjectsNearLight), the GV's camera stride;
                   // z, w: gv_inject_rsm.comp's reduction factor F and the full RSM's texels per row
 };
 GI_CHECK_SIZE(LpvInjectPush, 64);
@@ -124,6 +128,19 @@ GI_INLINE ivec3 lpvInjectionCell(LpvGrid grid, vec3 p, vec3 n) {
 // (the coordinate trilinear interpolation between cell centres uses).
 GI_INLINE vec3 lpvGridCoordinate(LpvGrid grid, vec3 p) {
     return (p - vec3(grid.origin)) / grid.origin.w - 0.5f;
+}
+
+// Whether a surfel at world position p of an RSM layer whose view has eye `eye` (GpuShadowView)
+// is injected: not when it lies closer than `radius` (the finest grid's cell) to a point or spot
+// light (eye.w > 0: perspective; directional layers inject everything). Such a surfel reflects
+// the light from, in effect, the light's own position: a source smaller than a cell, which the
+// volume carries only as beams along the grid axes (the ray effect) and as grazing light over
+// its own surface. A point light 1 cm under a plane sends 1 - h / r = 74% of its upward light
+// onto the plane within r = 3.9 cm of it (the Cornell box's cell): docs/lpv.md, "Surfels next to
+// a light".
+GI_INLINE bool lpvInjectsNearLight(vec4 eye, vec3 p, float radius) {
+    vec3 d = p - vec3(eye);
+    return !(eye.w > 0.0f) || dot(d, d) >= radius * radius;
 }
 
 // Fixed-point scale for an injection of `texels` RSM texels: one texel's normalised SH is at
