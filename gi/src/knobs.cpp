@@ -162,6 +162,10 @@ std::vector<Knob> makeKnobs() {
                  [](GiSettings& s) -> uint32_t& { return s.vct.levels; }),
         floatKnob("vct.voxel", 0, 1e4, vct, "voxel edge of the finest clipmap level, metres (0 = the finest level spans 16 m)",
                   [](GiSettings& s) -> float& { return s.vct.voxel; }),
+        enumKnob("vct.prefilter", {"clipmap", "off", "on"}, vct,
+                 "pre-filtered voxel opacity (the share of a voxel's cross-section its surfaces block): in clipmap "
+                 "levels only, never, or also in a fitted grid",
+                 [](GiSettings& s) -> VctPrefilter& { return s.vct.prefilter; }),
         enumKnob("vct.occlusion", {"hard", "soft", "shadowmap"}, vct,
                  "voxel light visibility: march through the occupancy (hard, soft) or the shadow map",
                  [](GiSettings& s) -> VctOcclusion& { return s.vct.occlusion; }),

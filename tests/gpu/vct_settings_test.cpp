@@ -55,6 +55,9 @@ TEST(VctSettings, BadValuesAreReadableErrors) {
     s = {};
     s.occlusion = VctOcclusion(7);
     expectError(s, "occlusion 7");
+    s = {};
+    s.prefilter = VctPrefilter(3);
+    expectError(s, "prefilter 3");
 }
 
 TEST(VoxelGridFit, LongestSideSpansNMinusOneVoxelsCentred) {

@@ -375,6 +375,40 @@ TEST_F(Vct, AnisotropicMipsPreIntegrateFrontToBack) {
     }
 }
 
+// Pre-filtered opacity (dims.w = 1, vct.prefilter): every level-0 view of a voxel takes the fill
+// (gi/voxel_grid.h) as a factor of its opacity and premultiplied radiance. An emissive sheet
+// facing +y over x in [3, 6.3]: the voxels it crosses stay opaque, the one it covers 0.3 of is
+// 0.3 opaque face-on, and the one whose face it only touches is transparent; without the fill
+// all three are opaque face-on.
+TEST_F(Vct, PrefilteredViewsTakeTheFillAsOpacity) {
+    TestScene scene;
+    uint32_t glow = scene.addMaterial(glm::vec3(0.0f), glm::vec3(0.5f));
+    const glm::vec3 o(3.0f, 3.4f, 2.0f), u(0.0f, 0.0f, 6.0f), v(3.3f, 0.0f, 0.0f);
+    scene.addDraw({{o, o + u, o + u + v}, {o, o + u + v, o + v}}, glow);
+    for (uint32_t prefilter : {1u, 0u}) {
+        if (prefilter == 0u)
+            TearDownResources();
+        gpu::VoxelGridParams params = unitGrid(16);
+        params.dims.w = prefilter;
+        setup(scene, {}, params);
+        VctSettings s;
+        s.bounces = 1;
+        runVoxels(s);
+        const std::vector<glm::vec4> level0 = readHalf4(ctx(), m_volumes->directional(), 0);
+        auto view = [&](uint32_t dir, glm::ivec3 c) { return directionalTexel(level0, 16, 0, c, dir); };
+        // Travelling -y (direction 3) a ray meets the lit face; travelling +y its black back.
+        const float across = 1.0f, part = prefilter ? 0.3f : 1.0f, touched = prefilter ? 0.0f : 1.0f;
+        const std::pair<glm::ivec3, float> cases[] = {{{4, 3, 4}, across}, {{6, 3, 4}, part}, {{2, 3, 4}, touched}};
+        for (const auto& [c, a] : cases) {
+            EXPECT_NEAR(view(3, c).a, a, 1e-3f) << c.x << " prefilter " << prefilter;
+            EXPECT_NEAR(view(3, c).r, 0.5f * a, 1e-3f) << c.x << " prefilter " << prefilter;
+            EXPECT_NEAR(view(2, c).a, a, 1e-3f) << c.x << " prefilter " << prefilter;
+            EXPECT_EQ(view(2, c).r, 0.0f);
+            EXPECT_EQ(view(0, c).a, 0.0f) << "edge-on";
+        }
+    }
+}
+
 // Levels >= 2: a dense pass per level, the coarsest ones in one work group (voxel_mip_tail.comp,
 // from 4^3 down). Each level must be the pre-integration of the one below as stored
 // (front-to-back pairs along the view, the four columns averaged, half-float storage), checked

@@ -252,6 +252,81 @@ TEST_F(Voxelize, HalfVoxelBitsAreExactlyTheTouchedHalves) {
         ASSERT_EQ(pe[4 * i + 3], 0u);
 }
 
+namespace {
+
+// The two triangles of the quad p, p + u, p + u + v, p + v, facing cross(u, v).
+void addQuad(std::vector<Tri>& tris, glm::vec3 p, glm::vec3 u, glm::vec3 v) {
+    tris.push_back({p, p + u, p + u + v});
+    tris.push_back({p, p + u + v, p + v});
+}
+
+// The closed surface of the box [lo, hi], facing outwards.
+void addBox(std::vector<Tri>& tris, glm::vec3 lo, glm::vec3 hi) {
+    const glm::vec3 d = hi - lo, x(d.x, 0, 0), y(0, d.y, 0), z(0, 0, d.z);
+    addQuad(tris, lo, z, y);                          // -x
+    addQuad(tris, {hi.x, lo.y, lo.z}, y, z);          // +x
+    addQuad(tris, lo, x, z);                          // -y
+    addQuad(tris, {lo.x, hi.y, lo.z}, z, x);          // +y
+    addQuad(tris, lo, y, x);                          // -z
+    addQuad(tris, {lo.x, lo.y, hi.z}, x, y);          // +z
+}
+
+} // namespace
+
+// dims.w = 1 (VCT's pre-filtered opacity): the emission volume's alpha holds the fill, the share
+// of the voxel's cross-section its surfaces block (gi/voxel_grid.h), in closed form: a sheet
+// blocks the area it projects onto the voxel's face; a closed column its silhouette once, not
+// once per side; a thin closed wall, a wall's face and a floor meeting a wall fill the voxel; a
+// surface that only touches a voxel's face leaves it occupied but with fill 0.
+TEST_F(Voxelize, FillIsTheShareOfTheCrossSectionTheSurfacesBlock) {
+    gpu::VoxelGridParams params = unitGrid(16);
+    params.dims.w = 1;
+    makeGrid(params);
+    std::vector<Tri> tris;
+    // A: a sheet facing +y at y = 3.4 over x in [3, 6.3], z in [2, 8].
+    addQuad(tris, {3.0f, 3.4f, 2.0f}, {0, 0, 6.0f}, {3.3f, 0, 0});
+    // B: a closed column 0.4 x 0.4 in the middle of the voxels x = 9, z = 9, y in [2.5, 12.5].
+    addBox(tris, {9.3f, 2.5f, 9.3f}, {9.7f, 12.5f, 9.7f});
+    // C: a room's floor (facing +y at y = 1.5) meeting its wall (facing +x at x = 1.5).
+    addQuad(tris, {1.5f, 1.5f, 1.5f}, {0, 0, 13.0f}, {13.0f, 0, 0});
+    addQuad(tris, {1.5f, 1.5f, 1.5f}, {0, 13.0f, 0}, {0, 0, 13.0f});
+    // D: a closed wall 0.3 thick inside the voxels x = 12; E: one 1.4 thick across x = 13 and 14.
+    addBox(tris, {12.2f, 3.5f, 3.5f}, {12.5f, 12.5f, 12.5f});
+    addBox(tris, {13.2f, 3.5f, 3.5f}, {14.6f, 12.5f, 12.5f});
+    TestScene scene;
+    scene.addDraw(tris, scene.addMaterial(glm::vec3(0.5f)));
+    upload(scene);
+    voxelizeAll();
+    Readback r = read();
+    const auto* e = reinterpret_cast<const uint16_t*>(r.emission.data());
+    const uint32_t n = 16;
+    auto fill = [&](uint32_t x, uint32_t y, uint32_t z) {
+        EXPECT_EQ(r.albedo[4 * voxelIndex(n, {x, y, z}) + 3], 255) << x << "," << y << "," << z << " occupied";
+        return halfToFloat(e[4 * voxelIndex(n, {x, y, z}) + 3]);
+    };
+    // Fixed point rounds each triangle's area to 2^-16, the half float the fill to 2^-11.
+    const float tol = 1e-3f;
+    for (uint32_t z = 2; z < 8; ++z) {
+        for (uint32_t x = 3; x < 6; ++x)
+            EXPECT_NEAR(fill(x, 3, z), 1.0f, tol) << "A: a sheet across the voxel";
+        EXPECT_NEAR(fill(6, 3, z), 0.3f, tol) << "A: a sheet over 0.3 of the voxel";
+        EXPECT_EQ(fill(2, 3, z), 0.0f) << "A: the sheet's edge on the voxel's face";
+    }
+    EXPECT_EQ(fill(4, 3, 8), 0.0f);
+    for (uint32_t y = 3; y < 12; ++y)
+        EXPECT_NEAR(fill(9, y, 9), 0.4f, tol) << "B: the column's 0.4 silhouette, once";
+    for (uint32_t z = 2; z < 14; ++z) {
+        EXPECT_NEAR(fill(1, 1, z), 1.0f, tol) << "C: floor and wall over half the voxel each";
+        EXPECT_NEAR(fill(5, 1, z), 1.0f, tol) << "C: the floor across the voxel";
+    }
+    for (uint32_t y = 4; y < 12; ++y)
+        for (uint32_t z = 4; z < 12; ++z) {
+            EXPECT_NEAR(fill(12, y, z), 1.0f, tol) << "D: both faces of a thin closed wall";
+            EXPECT_NEAR(fill(13, y, z), 1.0f, tol) << "E: a thick wall's face";
+            EXPECT_NEAR(fill(14, y, z), 1.0f, tol) << "E: its other face";
+        }
+}
+
 TEST_F(Voxelize, SliversAndSubVoxelTrianglesAreNotLostButZeroAreaOnesSetNothing) {
     makeGrid(unitGrid(16));
     std::vector<Tri> tris = {

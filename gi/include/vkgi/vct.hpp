@@ -19,6 +19,15 @@ enum class VctOcclusion : uint32_t {
     ShadowMap = 2,    // the light's shadow map (from the shared shadow pass)
 };
 
+// Where a voxel's opacity is pre-filtered (docs/vct.md "Pre-filtered opacity"): the share of its
+// cross-section its surfaces block, instead of the whole voxel its conservative voxelization
+// touched.
+enum class VctPrefilter : uint32_t {
+    Clipmap = 0, // in the clipmap's levels (levels > 1), not in a fitted grid
+    Off = 1,
+    On = 2,
+};
+
 struct VctSettings {
     // Voxels per axis, a power of two in [16, 256].
     uint32_t gridResolution = 64;
@@ -66,6 +75,12 @@ struct VctSettings {
     // Voxel edge of the finest clipmap level in metres (levels > 1); 0 = automatic: the finest
     // level spans kVctAutoFinestSpan metres.
     float voxel = 0.0f;
+    // Pre-filtered voxel opacity: a voxel blocks the share of its cross-section that its
+    // surfaces' area projects onto, not the whole voxel its conservative voxelization touched.
+    // Clipmap levels only by default: it lowers the large worlds' error and their sensitivity to
+    // where walls straddle voxels, but lets the room's sun through the edges of its windows
+    // (docs/vct.md "Pre-filtered opacity").
+    VctPrefilter prefilter = VctPrefilter::Clipmap;
 
     bool operator==(const VctSettings&) const = default;
 };

@@ -42,6 +42,8 @@ Result<void> validateVctSettings(const VctSettings& s) {
         return makeError("vct: shadowAperture must be a finite half-angle in (0, 1] radians");
     if (uint32_t(s.occlusion) > uint32_t(VctOcclusion::ShadowMap))
         return makeError("vct: occlusion " + std::to_string(uint32_t(s.occlusion)) + " is not a VctOcclusion");
+    if (uint32_t(s.prefilter) > uint32_t(VctPrefilter::On))
+        return makeError("vct: prefilter " + std::to_string(uint32_t(s.prefilter)) + " is not a VctPrefilter");
     if (s.gridBox && (!s.gridBox->valid() || !std::isfinite(s.gridBox->min.x + s.gridBox->min.y + s.gridBox->min.z +
                                                             s.gridBox->max.x + s.gridBox->max.y + s.gridBox->max.z)))
         return makeError("vct: gridBox must be a finite, non-empty box");

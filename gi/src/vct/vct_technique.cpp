@@ -106,6 +106,7 @@ public:
         if (m_clipmap.image.image)
             destroyImage(ctx, m_clipmap.image);
         m_clipmap = {};
+        params->dims.w = m_settings.prefilter == VctPrefilter::On ? 1u : 0u; // the fill (gi/voxel_grid.h)
         auto grid = VoxelGrid::create(ctx, *params);
         if (!grid)
             return grid.error();
@@ -211,7 +212,7 @@ private:
             gpu::VoxelGridParams params{};
             params.originSize = glm::vec4(glm::vec3(0.0f), voxel);
             params.scales = glm::vec4(1.0f / voxel, scale, 1.0f / scale, 0.0f);
-            params.dims = glm::uvec4(n, uint32_t(std::countr_zero(n)), 0u, 0u);
+            params.dims = glm::uvec4(n, uint32_t(std::countr_zero(n)), 0u, m_settings.prefilter != VctPrefilter::Off ? 1u : 0u);
             ClipLevel level;
             auto grid = VoxelGrid::create(ctx, params);
             if (!grid)

@@ -259,9 +259,10 @@ bool marchesUnchanged(vec3 pGrid, vec3 pWorld, vec3 normal) {
 // Stores view v (0..5) of voxel c: what a ray travelling along v sees, the radiance of the faces
 // looking back at it (direction v ^ 1, coverage `front`) over the sheets across v's axis k
 // (coverage axisCover of the voxel's largest maxCover). See main().
-void storeView(ivec3 c, uint v, vec3 faceRadiance, float front, float axisCover, float maxCover, uint axes, uint before) {
+void storeView(ivec3 c, uint v, vec3 faceRadiance, float front, float axisCover, float maxCover, float fill, uint axes,
+               uint before) {
     uint k = v >> 1u;
-    float alpha = maxCover > 0.0 ? axisCover / maxCover : 1.0;
+    float alpha = (maxCover > 0.0 ? axisCover / maxCover : 1.0) * fill;
     float shown = front > 0.0 ? min(1.0, 2.0 * front / axisCover) : 0.0;
     // Half-float ceiling: radianceScale maps the brightest light to GI_VOXEL_RADIANCE_TARGET,
     // 16x below it; clamping keeps the volume finite whatever happens.
@@ -339,6 +340,10 @@ void main() {
     // (its back is the inside of a closed surface), like the path tracer's one-sided faces.
     vec3 axisCover = coverPos + coverNeg;
     float maxCover = max(max(axisCover.x, axisCover.y), axisCover.z);
+    // Pre-filtered opacity (dims.w = 1): the share of the voxel's cross-section its surfaces
+    // block scales every view (gi/voxel_grid.h), so a sub-voxel column is partly transparent
+    // instead of a whole opaque voxel; otherwise a touched voxel is opaque along its largest axis.
+    float fill = pc.grid.dims.w != 0u ? imageLoad(emissionVol, c).a : 1.0;
     // The views stored: those with opacity > 0 (gi/vct_passes.h), and, once, zeros into the
     // views of the axes stored last time that the voxel's faces (re-voxelized) no longer cover.
     uint axes = voxelViewAxes(faces), before = imageLoad(writtenVol, c).x;
@@ -356,7 +361,7 @@ void main() {
         float nk = k == 0u ? coverNeg.x : (k == 1u ? coverNeg.y : coverNeg.z);
         float ak = k == 0u ? axisCover.x : (k == 1u ? axisCover.y : axisCover.z);
         vec3 rPos = k == 0u ? r0 : (k == 1u ? r2 : r4), rNeg = k == 0u ? r1 : (k == 1u ? r3 : r5);
-        storeView(c, 2u * k, rNeg, nk, ak, maxCover, axes, before);
-        storeView(c, 2u * k + 1u, rPos, pk, ak, maxCover, axes, before);
+        storeView(c, 2u * k, rNeg, nk, ak, maxCover, fill, axes, before);
+        storeView(c, 2u * k + 1u, rPos, pk, ak, maxCover, fill, axes, before);
     }
 }

@@ -56,7 +56,23 @@ void main() {
     imageStore(outNormal, c, vec4(voxelNormalEncode(normal), 1.0));
     // The half-voxel bits (dims.z = 1): a voxel the full test touched always has one (a
     // triangle grazing it within the slack may miss every half's test: count it whole).
-    float halves = pc.grid.dims.z != 0u ? float(w3.y != 0u ? w3.y : 255u) : 0.0;
-    imageStore(outEmission, c, vec4(emission, halves));
+    float alpha = pc.grid.dims.z != 0u ? float(w3.y != 0u ? w3.y : 255u) : 0.0;
+    // The fill (dims.w = 1): the projected areas P_k (words 13..15, voxel face = 1), each taken
+    // once per side: s_k, the larger side's share of axis k's face coverage, is 1 for a sheet
+    // and 1/2 for a closed surface, which covers its silhouette from both sides. The axis of the
+    // largest P_k s_k counts whole; the others add only their one-sided part, (2 s_k - 1):
+    // a closed column's side faces block nothing its front faces do not, but a wall and a floor
+    // meeting in the voxel, each covering part of it, bound a closed solid together and add up
+    // to an opaque voxel (the edges of a room stay closed to the light outside).
+    if (pc.grid.dims.w != 0u) {
+        vec3 sides = pos + neg;
+        vec3 share = mix(max(pos, neg) / max(sides, vec3(1e-30)), vec3(0.0), equal(sides, vec3(0.0)));
+        vec3 blocked = vec3(w3.yzw) * (1.0 / GI_VOXEL_FIXED_ONE) * share;
+        int largest = blocked.x >= blocked.y && blocked.x >= blocked.z ? 0 : (blocked.y >= blocked.z ? 1 : 2);
+        vec3 weight = 2.0 * share - 1.0;
+        weight[largest] = 1.0;
+        alpha = min(1.0, max(0.0, dot(blocked, weight)));
+    }
+    imageStore(outEmission, c, vec4(emission, alpha));
     imageStore(outFaces, c, uvec4(voxelFacesPack(pos, neg)));
 }

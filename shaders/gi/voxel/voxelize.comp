@@ -3,7 +3,8 @@
 // Conservative compute voxelization, one invocation or one work group per triangle: every voxel whose closed box
 // the triangle touches (separating-axis test, so slivers and sub-voxel triangles count too)
 // receives the triangle's albedo, its face coverages (max(0, +-n_axis) for the six axis
-// directions, which way it faces) and emission as fixed-point integer sums. Integer atomics
+// directions, which way it faces), emission and, with dims.w = 1 (VCT's pre-filtered opacity),
+// its area inside the voxel projected along each axis as fixed-point integer sums. Integer atomics
 // make the result independent of the execution order. The contribution that finds a voxel's
 // count at 0 sets the voxel's touched bit; voxel_touched_list.comp then lists the set bits in
 // the touched list (gi/voxel_passes.h), which the resolve runs over.
@@ -71,9 +72,48 @@ uint halfVoxelBits(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
     return bits;
 }
 
+// Area of the triangle (relative to the voxel's centre, voxel units) inside the voxel's closed
+// box, projected along x, y and z (dims.w = 1, the fill of gi/voxel_grid.h): the triangle clipped
+// to the box's six planes (Sutherland-Hodgman; each plane adds at most one vertex, so 9 hold
+// the polygon), whose vector area 1/2 sum v_i x v_i+1 has the projected areas as components.
+// A triangle on a face of the box lies inside it, as in the separating-axis test, so a face
+// shared by two voxels counts in both, as their occupancy does.
+vec3 projectedAreaInside(vec3 v0, vec3 v1, vec3 v2) {
+    vec3 poly[9], next[9];
+    poly[0] = v0;
+    poly[1] = v1;
+    poly[2] = v2;
+    int count = 3;
+    // Clipping keeps the polygon inside the triangle's bounds: a plane those bounds lie inside
+    // of cuts nothing, and is skipped (a triangle inside the voxel is not clipped at all).
+    vec3 lo = min(v0, min(v1, v2)), hi = max(v0, max(v1, v2));
+    for (int plane = 0; plane < 6 && count >= 3; ++plane) {
+        int axis = plane >> 1;
+        float side = (plane & 1) == 0 ? 1.0 : -1.0;
+        if ((plane & 1) == 0 ? hi[axis] <= 0.5 : lo[axis] >= -0.5)
+            continue;
+        int kept = 0;
+        for (int i = 0; i < count; ++i) {
+            vec3 a = poly[i], b = poly[i + 1 < count ? i + 1 : 0];
+            float da = 0.5 - side * a[axis], db = 0.5 - side * b[axis];
+            if (da >= 0.0)
+                next[kept++] = a;
+            if ((da >= 0.0) != (db >= 0.0))
+                next[kept++] = a + (b - a) * (da / (da - db));
+        }
+        for (int i = 0; i < kept; ++i)
+            poly[i] = next[i];
+        count = kept;
+    }
+    vec3 area = vec3(0.0);
+    for (int i = 1; i + 1 < count; ++i)
+        area += cross(poly[i] - poly[0], poly[i + 1] - poly[0]);
+    return 0.5 * abs(area);
+}
+
 uint toFixed(float v) { return uint(clamp(v, 0.0, 1.0) * GI_VOXEL_FIXED_ONE + 0.5); }
 
-void splat(ivec3 c, int n, vec3 albedo, vec3 normal, vec3 emission, bool emissive, uint halves) {
+void splat(ivec3 c, int n, vec3 albedo, vec3 normal, vec3 emission, bool emissive, uint halves, vec3 area) {
     uint slab = voxelAccSlab(c, uint(n));
     uint rec = GI_VOXEL_ACC_STRIDE * voxelAccRecord(c, uint(n));
     if (halves != 0u)
@@ -94,6 +134,9 @@ void splat(ivec3 c, int n, vec3 albedo, vec3 normal, vec3 emission, bool emissiv
             voxelAccAdd(slab, rec + GI_VOXEL_ACC_FACES + 2 * k + side, toFixed(abs(normal[k])));
         if (emissive)
             voxelAccAdd(slab, rec + GI_VOXEL_ACC_EMISSION + k, toFixed(emission[k]));
+        // A clipped triangle's projection lies within the voxel's face: at most 1 each.
+        if (area[k] > 0.0)
+            voxelAccAdd(slab, rec + GI_VOXEL_ACC_AREA + k, toFixed(area[k]));
     }
 }
 
@@ -185,7 +228,8 @@ void main() {
             vec3 centre = vec3(c) + 0.5;
             if (overlapsBox(p[0] - centre, p[1] - centre, p[2] - centre, n, 0.5))
                 splat(c - pc.cell.xyz, res, albedo, faceNormal, emission, emissive,
-                      pc.grid.dims.z != 0u ? halfVoxelBits(p[0] - centre, p[1] - centre, p[2] - centre, n) : 0u);
+                      pc.grid.dims.z != 0u ? halfVoxelBits(p[0] - centre, p[1] - centre, p[2] - centre, n) : 0u,
+                      pc.grid.dims.w != 0u ? projectedAreaInside(p[0] - centre, p[1] - centre, p[2] - centre) : vec3(0.0));
         }
         cw += dw;
         cu += du;

@@ -11,7 +11,13 @@
 //   emission RGBA16F       rgb = mean emitted radiance (nits) * radianceScale; a = 0, or with
 //                          dims.z = 1 the voxel's half-voxel occupancy: bit i + 2 j + 4 k set when
 //                          a triangle touches the half-size box (i, j, k) of the voxel's 2x2x2
-//                          (i = 0 the lower half in x), stored as a float 0..255 (exact in half)
+//                          (i = 0 the lower half in x), stored as a float 0..255 (exact in half);
+//                          or with dims.w = 1 the voxel's fill: the share of its cross-section its
+//                          surfaces block (pre-filtered opacity, docs/vct.md "Pre-filtered
+//                          opacity"), min(1, sum_k P_k s_k) with P_k the triangles' area inside
+//                          the voxel projected along axis k over the voxel's face area and s_k the
+//                          larger of the +k and -k face coverages over their sum (a closed surface
+//                          covers its silhouette twice, once from each side)
 //   faces    R32UI         which way the voxel's surfaces face: for each of the six axis
 //                          directions +X, -X, +Y, -Y, +Z, -Z the mean over its triangles of
 //                          max(0, +-n_axis) (the share of a triangle's area seen from that side),
@@ -32,7 +38,9 @@ GI_GPU_STRUCT(VoxelGridParams) {
     vec4 originSize;  // xyz world-space min corner of the grid, w = voxel edge length (m)
     vec4 scales;      // x = 1 / voxel edge, y = radianceScale, z = 1 / radianceScale, w = 0
     uvec4 dims;       // x = N (power of two), y = log2(N), z = 1: record the half-voxel
-                      // occupancy (emission's a; the camera-centred shared grid), else 0; w = 0
+                      // occupancy (emission's a; the camera-centred shared grid), else 0; w = 1:
+                      // record the fill (emission's a; VCT's pre-filtered opacity), else 0.
+                      // z and w are never both 1 (they share record words 13..15)
 };
 GI_CHECK_SIZE(VoxelGridParams, 48);
 GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
@@ -54,7 +62,8 @@ GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 // GI_VOXEL_ACC_STRIDE * (x + N (y + N z)) of one storage buffer, so that one triangle's atomics
 // on a voxel and the resolve's loads of it touch one 64-byte cache line (13 separate R32UI
 // volumes put each of a voxel's ten atomics on a different line). Word 13 holds the half-voxel
-// bits (dims.z = 1), 14..15 are padding.
+// bits (dims.z = 1), 14..15 are padding; or with dims.w = 1 words 13..15 the sums of the
+// triangles' areas inside the voxel projected along x, y, z (fixed point, voxel face = 1).
 // Empty records are zero; the resolve zeroes each record it reads, so the buffer is zero
 // between voxelizations and needs no clear after the first.
 // The records are bound as GI_VOXEL_ACC_SLABS descriptor ranges of whole z-layers
@@ -68,7 +77,8 @@ GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 #define GI_VOXEL_ACC_FACES 4    // 6 channels: max(0, n.x), max(0, -n.x), max(0, n.y), ... (unsigned)
 #define GI_VOXEL_ACC_EMISSION 10 // 3 channels: r, g, b (emission * radianceScale / GI_VOXEL_RADIANCE_TARGET, <= 1)
 #define GI_VOXEL_ACC_HALVES 13   // dims.z = 1: the half-voxel occupancy bits (atomicOr)
-#define GI_VOXEL_ACC_CHANNELS 14u
+#define GI_VOXEL_ACC_AREA 13     // dims.w = 1: 3 channels: projected area inside the voxel along x, y, z
+#define GI_VOXEL_ACC_CHANNELS 16u
 #define GI_VOXEL_ACC_STRIDE 16u
 // z-layers per descriptor range of the records of an N^3 grid.
 GI_INLINE uint voxelAccSlabLayers(uint n) {
