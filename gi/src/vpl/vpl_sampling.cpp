@@ -7,6 +7,7 @@
 #include <string>
 
 #include "gi/vpl.h"
+#include "vkgi/scene.hpp"
 #include "vkgi/vpl.hpp"
 
 namespace vkgi::gi {
@@ -219,10 +220,12 @@ std::vector<glm::vec3> emitterSampleOrder(uint32_t count) {
     return order;
 }
 
-VplSettings resolveVplSettings(const VplSettings& s, bool sunOrEmission) {
+bool vplLightNeedsVisibility(LightType type) { return type == LightType::Directional || type == LightType::Point; }
+
+VplSettings resolveVplSettings(const VplSettings& s, bool needsVisibility) {
     VplSettings r = s;
     if (r.visibility == VplVisibilityMode::Auto)
-        r.visibility = sunOrEmission ? VplVisibilityMode::On : VplVisibilityMode::Off;
+        r.visibility = needsVisibility ? VplVisibilityMode::On : VplVisibilityMode::Off;
     if (r.bounces == 0)
         r.bounces = r.visibility == VplVisibilityMode::On ? 2 : 1;
     return r;
