@@ -116,7 +116,7 @@ std::vector<Knob> makeKnobs() {
                   [](GiSettings& s) -> float& { return s.vpl.interleaveTolerance; }),
         enumKnob("vpl.visibility", {"off", "on", "auto"}, vpl,
                  "VPL light stopped by a voxel grid's occupancy (off = none, as in the paper; auto = on with a "
-                 "directional or point light or emission)",
+                 "directional light or emission)",
                  [](GiSettings& s) -> VplVisibilityMode& { return s.vpl.visibility; }),
         uintKnob("vpl.visibility_grid", 16, 256, vpl,
                  "voxels per axis of the visibility (and bounce) grid, a power of two",

@@ -40,11 +40,11 @@ int modelledBounces(const GiSettings& settings, const Scene* scene) {
         case Technique::Vct: return t.bounces + int(settings.vct.bounces);
         case Technique::Lpv: return t.bounces + (settings.lpv.bounces ? 1 : 0);
         case Technique::Vpl: {
-            const bool shadowed =
+            const bool directional =
                 scene && std::any_of(scene->lights.begin(), scene->lights.end(),
-                                     [](const Light& l) { return vplLightNeedsVisibility(l.type); });
+                                     [](const Light& l) { return l.type == LightType::Directional; });
             const bool emission = scene && scene->hasEmission();
-            const int generations = int(resolveVplSettings(settings.vpl, shadowed || emission).bounces);
+            const int generations = int(resolveVplSettings(settings.vpl, directional || emission).bounces);
             // Emitter VPLs carry the emitters' direct illumination (one reflection) and their
             // generations one more each: a scene lit by emission alone is modelled to B
             // reflections, one lit by punctual lights to B + 1 (the larger count when it has both).

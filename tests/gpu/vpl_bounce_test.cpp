@@ -173,7 +173,6 @@ TEST_F(VplBounce, IntegratingSphereGetsTheClosedFormOfTwoBounces) {
         GiSettings s;
         s.technique = Technique::Vpl;
         s.vpl.bounces = 2;
-        s.vpl.visibility = VplVisibilityMode::Off; // the closed form is visibility's too: nothing occludes
         s.vpl.interleave = interleave;
         FrameRequest req;
         req.composite = false;

@@ -371,7 +371,6 @@ TEST_F(VplScene, PointLightVplsCoverTheSphereWithExactFlux) {
     Scene scene = test::planeScene(0.5f, light);
     VplSettings v;
     v.vplCount = 512;
-    v.bounces = 1; // the placement alone (a point light's defaults add a bounced generation)
     auto sys = makeSystem(v);
     ASSERT_TRUE(sys && sys->setScene(scene));
     std::vector<gpu::VplRecord> vpls = vplRecords(*sys, *scene.camera);
@@ -490,10 +489,6 @@ TEST_F(VplScene, IntegratingSphereGetsTheClosedFormBounceFromAPointLight) {
     for (uint32_t interleave : {1u, 4u}) {
         VplSettings v;
         v.interleave = interleave;
-        // The paper's one bounce without visibility, which the closed form describes (a point
-        // light's defaults add visibility and a second bounce).
-        v.visibility = VplVisibilityMode::Off;
-        v.bounces = 1;
         auto sys = makeSystem(v);
         ASSERT_TRUE(sys && sys->setScene(scene));
         HdrImage img = indirect(*sys, scene);

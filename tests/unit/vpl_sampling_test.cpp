@@ -8,7 +8,6 @@
 #include <gtest/gtest.h>
 
 #include "gi/vpl.h"
-#include "vkgi/scene.hpp"
 #include "vkgi/vpl.hpp"
 #include "voxel/scene_voxel_grid.hpp"
 
@@ -173,12 +172,9 @@ TEST(VplSampling, SettingsValidation) {
     EXPECT_NE(r.error().message.find("bounces 5"), std::string::npos) << r.error().message;
 }
 
-// The automatic rule: visibility (and with it a second bounce) where a directional or point light
-// shines, not for a spotlight; explicit values are kept.
-TEST(VplSampling, AutomaticSettingsFollowTheDirectionalAndPointLights) {
-    EXPECT_TRUE(vplLightNeedsVisibility(LightType::Directional));
-    EXPECT_TRUE(vplLightNeedsVisibility(LightType::Point));
-    EXPECT_FALSE(vplLightNeedsVisibility(LightType::Spot));
+// The automatic rule: visibility (and with it a second bounce) where a directional light shines
+// in; explicit values are kept.
+TEST(VplSampling, AutomaticSettingsFollowTheDirectionalLight) {
     const VplSettings automatic;
     EXPECT_EQ(automatic.visibility, VplVisibilityMode::Auto);
     EXPECT_EQ(automatic.bounces, 0u);

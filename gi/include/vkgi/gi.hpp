@@ -35,7 +35,7 @@ struct GiSettings;
 // Reflections between emitter and eye `settings.technique` models with these settings (none: 1 =
 // direct light only; one indirect bounce: 2; vct.bounces = 2 and lpv.bounces add one): the
 // path-tracer bounce count to compare against. Automatic knobs that depend on the scene
-// (vpl.bounces 0) are resolved for `scene`, or as for a scene lit only by spotlights. vpl
+// (vpl.bounces 0) are resolved for `scene`, or as for a scene without a directional light. vpl
 // in a scene lit only by emission: vpl.bounces (its emitter VPLs give the emitters' direct light,
 // one reflection, which the raster direct image leaves out).
 int modelledBounces(const GiSettings& settings, const Scene* scene = nullptr);

@@ -17,7 +17,6 @@
 
 namespace vkgi {
 class Context;
-enum class LightType : uint32_t; // vkgi/scene.hpp
 }
 
 namespace vkgi::gi {
@@ -39,7 +38,7 @@ constexpr uint32_t kMaxHaltonSearch = 1u << 22;
 enum class VplVisibilityMode : uint32_t {
     Off,  // none, as in the paper
     On,   // each VPL's light marched through the voxel grid's occupancy
-    Auto, // On when the scene has a directional or point light or emission, else Off (resolveVplSettings)
+    Auto, // On when the scene has a directional light or emission, else Off (resolveVplSettings)
 };
 
 // Where the visibility (and bounce) grid goes (VplSettings::visibilityPlacement).
@@ -83,10 +82,9 @@ struct VplSettings {
     // built only when this or bounces need it), so light does not pass through walls
     // (docs/vpl.md). Auto by default: on where a directional light shines in, whose light
     // reaches interiors through openings and whose VPLs otherwise light them through the walls,
-    // where a point light shines, whose first bounce off the surfaces around it is a second lamp
-    // that occluders must shadow, and where emissive surfaces shine, whose emitter VPLs carry
-    // their direct light, which needs its shadows (vplLightNeedsVisibility, resolveVplSettings;
-    // the measurements behind it in docs/vpl.md, "Defaults" and "Emitter VPLs").
+    // and where emissive surfaces shine, whose emitter VPLs carry their direct light, which needs
+    // its shadows (resolveVplSettings; the measurements behind it in docs/vpl.md, "Defaults" and
+    // "Emitter VPLs").
     VplVisibilityMode visibility = VplVisibilityMode::Auto;
     uint32_t visibilityGrid = 64; // voxels per axis, a power of two 16..256 (also the bounces' grid)
     // Where that grid goes. Auto: fitted to the scene, except where the camera is inside the
@@ -110,18 +108,10 @@ struct VplSettings {
 // Checks every knob; the error names the knob, its value and the allowed range.
 Result<void> validateVplSettings(const VplSettings& settings);
 
-// Whether a light of this type turns `visibility` Auto on (docs/vpl.md, "Defaults"): a
-// directional light, whose light reaches interiors through openings, and a point light, which
-// lights the surfaces around itself as brightly as the room below, so that its first bounce is
-// a second lamp whose shadows matter. A spotlight lights what its cone faces and keeps the paper's
-// setting.
-bool vplLightNeedsVisibility(LightType type);
-
-// The automatic settings made explicit for a scene with (`needsVisibility`: a light for which
-// vplLightNeedsVisibility holds, or emissive surfaces) or without such lights: visibility Auto
-// becomes On with one, Off without; bounces 0 becomes 2 when visibility is then On, else 1.
-// Explicit values are kept.
-VplSettings resolveVplSettings(const VplSettings& settings, bool needsVisibility);
+// The automatic settings made explicit for a scene with (`sunOrEmission`) or without a
+// directional light or emissive surfaces: visibility Auto becomes On with one, Off without;
+// bounces 0 becomes 2 when visibility is then On, else 1. Explicit values are kept.
+VplSettings resolveVplSettings(const VplSettings& settings, bool sunOrEmission);
 
 // The `count` first Halton points (bases 2 and 3, index 1, 2, ...) on the unit sphere whose
 // angle to +Z is within the cone of cosine `cosOuter`, in order: exactly the paper's

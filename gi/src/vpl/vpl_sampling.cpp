@@ -7,7 +7,6 @@
 #include <string>
 
 #include "gi/vpl.h"
-#include "vkgi/scene.hpp"
 #include "vkgi/vpl.hpp"
 
 namespace vkgi::gi {
@@ -220,12 +219,10 @@ std::vector<glm::vec3> emitterSampleOrder(uint32_t count) {
     return order;
 }
 
-bool vplLightNeedsVisibility(LightType type) { return type == LightType::Directional || type == LightType::Point; }
-
-VplSettings resolveVplSettings(const VplSettings& s, bool needsVisibility) {
+VplSettings resolveVplSettings(const VplSettings& s, bool sunOrEmission) {
     VplSettings r = s;
     if (r.visibility == VplVisibilityMode::Auto)
-        r.visibility = needsVisibility ? VplVisibilityMode::On : VplVisibilityMode::Off;
+        r.visibility = sunOrEmission ? VplVisibilityMode::On : VplVisibilityMode::Off;
     if (r.bounces == 0)
         r.bounces = r.visibility == VplVisibilityMode::On ? 2 : 1;
     return r;

@@ -12,7 +12,6 @@
 #include "vkgi/pipeline.hpp"
 #include "vkgi/resources.hpp"
 #include "vkgi/rg/compute_pass.hpp"
-#include "vkgi/scene.hpp"
 #include "gi/vpl.h"
 #include "vkgi/vpl.hpp"
 #include "vk_dispatch.hpp"
@@ -191,7 +190,7 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
 struct VplTechnique::Impl {
     Context& ctx;
     Pipeline generate, emitter, bounce, gather, gatherVisible, interleaveRows, interleaveColumns, negativeGenerate, negativeGather, upsample, refine,
-        refineVisible, visibilityBlocks, visibilityDistance;
+        refineVisible;
     VkSampler pointSampler = VK_NULL_HANDLE; // texelFetch-only, but sampled bindings need one
     // Halton directions per (count, cosOuter bits): the CPU search is the only costly CPU step.
     std::map<std::pair<uint32_t, uint32_t>, std::vector<glm::vec3>> directionCache;
@@ -209,9 +208,8 @@ struct VplTechnique::Impl {
     void addBouncePasses(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& settings,
                          const LightTableHandles& tables, uint32_t lightCount, uint32_t vplCount,
                          rg::BufferHandle& vpls);
-    rg::ImageHandle addVisibilityDistancePasses(rg::RenderGraph& graph, const VplInputs& in);
     GatherImages addGatherPass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
-                               rg::ImageHandle distance, const gpu::VplPixelPush& push, const char* indirectName);
+                               const gpu::VplPixelPush& push, const char* indirectName);
     GatherImages addInterleaveFilterPasses(rg::RenderGraph& graph, const VplInputs& in,
                                            const GatherImages& gathered, rg::BufferHandle& refineList,
                                            const gpu::VplPixelPush& push, const char* indirectName);
@@ -223,8 +221,8 @@ struct VplTechnique::Impl {
     rg::ImageHandle addUpsamplePass(rg::RenderGraph& graph, const VplInputs& in, rg::ImageHandle lowResIndirect,
                                     rg::BufferHandle& refineList, const gpu::VplPixelPush& push);
     void addRefinePass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
-                       rg::BufferHandle negativeVpls, rg::BufferHandle refineList, rg::ImageHandle distance,
-                       rg::ImageHandle& indirect, const gpu::VplPixelPush& push);
+                       rg::BufferHandle negativeVpls, rg::BufferHandle refineList, rg::ImageHandle& indirect,
+                       const gpu::VplPixelPush& push);
 };
 
 Result<const std::vector<glm::vec3>*> VplTechnique::Impl::directions(uint32_t count, float cosOuter) {
@@ -380,46 +378,8 @@ void VplTechnique::Impl::addBouncePasses(rg::RenderGraph& graph, const VplInputs
     }
 }
 
-// The visibility march's empty-space distance (gi/vpl.h), from the volume the march reads (the
-// albedo volume, or the half-voxel bits of the camera-centred grid): the blocks, then along x, y
-// and z.
-rg::ImageHandle VplTechnique::Impl::addVisibilityDistancePasses(rg::RenderGraph& graph, const VplInputs& in) {
-    const uint32_t n = in.occupancyResolution / GI_VPL_VISIBILITY_BLOCK;
-    ImageDesc d;
-    d.type = VK_IMAGE_TYPE_3D;
-    d.format = VK_FORMAT_R8_UINT;
-    d.width = d.height = d.depth = n;
-    d.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-    const std::string name = "vpl.visibility_distance";
-    rg::ImageHandle distance = graph.createImage("vpl.visibility_blocks", d);
-    rg::ComputePass(graph, "vpl.visibility_blocks", visibilityBlocks)
-        .sample(VPL_DISTANCE_BINDING_INPUT, in.occupancyHalves.valid() ? in.occupancyHalves : in.occupancy,
-                pointSampler)
-        .overwrite(VPL_DISTANCE_BINDING_OUTPUT, distance)
-        .dispatch({n, n, n});
-    const std::pair<const char*, glm::ivec4> axes[] = {
-        {"x", glm::ivec4(1, 0, 0, 0)},
-        {"y", glm::ivec4(0, 1, 0, 0)},
-        {"z", glm::ivec4(0, 0, 1, 0)},
-    };
-    for (const auto& [axis, step] : axes) {
-        gpu::VplDistancePush push{};
-        push.axis = step;
-        // The last pass's image carries the distance's name.
-        rg::ImageHandle next = graph.createImage(step.z != 0 ? name : name + "_" + axis, d);
-        rg::ComputePass(graph, name + "[" + axis + "]", visibilityDistance)
-            .push(push)
-            .sample(VPL_DISTANCE_BINDING_INPUT, distance, pointSampler)
-            .overwrite(VPL_DISTANCE_BINDING_OUTPUT, next)
-            .dispatch({n, n, n});
-        distance = next;
-    }
-    return distance;
-}
-
 GatherImages VplTechnique::Impl::addGatherPass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
-                                               rg::ImageHandle distance, const gpu::VplPixelPush& push,
-                                               const char* indirectName) {
+                                               const gpu::VplPixelPush& push, const char* indirectName) {
     const uint32_t width = push.size.x, height = push.size.y;
     const bool visible = push.interleave.w > 0;
     GatherImages out;
@@ -441,8 +401,7 @@ GatherImages VplTechnique::Impl::addGatherPass(rg::RenderGraph& graph, const Vpl
         .overwrite(VPL_GATHER_BINDING_SURFACE, out.surface);
     if (visible)
         pass.sample(VPL_GATHER_BINDING_OCCUPANCY, in.occupancyHalves.valid() ? in.occupancyHalves : in.occupancy,
-                    pointSampler)
-            .sample(VPL_GATHER_BINDING_DISTANCE, distance, pointSampler);
+                    pointSampler);
     pass.dispatch(interleavedGrid(width, height, push.interleave.x));
     return out;
 }
@@ -535,8 +494,7 @@ rg::ImageHandle VplTechnique::Impl::addUpsamplePass(rg::RenderGraph& graph, cons
 
 void VplTechnique::Impl::addRefinePass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
                                        rg::BufferHandle negativeVpls, rg::BufferHandle refineList,
-                                       rg::ImageHandle distance, rg::ImageHandle& indirect,
-                                       const gpu::VplPixelPush& push) {
+                                       rg::ImageHandle& indirect, const gpu::VplPixelPush& push) {
     const bool visible = push.interleave.w > 0;
     rg::ComputePass pass(graph, "vpl.refine", visible ? refineVisible : refine);
     pass.push(push)
@@ -549,8 +507,7 @@ void VplTechnique::Impl::addRefinePass(rg::RenderGraph& graph, const VplInputs& 
         .write(VPL_REFINE_BINDING_INDIRECT, indirect);
     if (visible)
         pass.sample(VPL_REFINE_BINDING_OCCUPANCY, in.occupancyHalves.valid() ? in.occupancyHalves : in.occupancy,
-                    pointSampler)
-            .sample(VPL_REFINE_BINDING_DISTANCE, distance, pointSampler);
+                    pointSampler);
     pass.dispatchIndirect(refineList, sizeof(uint32_t)); // one thread per entry (the header's command)
 }
 
@@ -559,8 +516,7 @@ VplTechnique::VplTechnique(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
 VplTechnique::~VplTechnique() {
     Context& ctx = m->ctx;
     for (Pipeline* p : {&m->generate, &m->emitter, &m->bounce, &m->gather, &m->interleaveRows, &m->interleaveColumns, &m->negativeGenerate,
-                        &m->negativeGather, &m->upsample, &m->refine, &m->gatherVisible, &m->refineVisible,
-                        &m->visibilityBlocks, &m->visibilityDistance})
+                        &m->negativeGather, &m->upsample, &m->refine, &m->gatherVisible, &m->refineVisible})
         destroyPipeline(ctx, *p);
     if (m->pointSampler)
         vkDestroySampler(ctx.device(), m->pointSampler, nullptr);
@@ -583,8 +539,6 @@ Result<std::unique_ptr<VplTechnique>> VplTechnique::create(Context& ctx) {
         {&m.refine, "gi/vpl/vpl_refine.comp"},
         {&m.gatherVisible, "gi/vpl/vpl_gather_visible.comp"},
         {&m.refineVisible, "gi/vpl/vpl_refine_visible.comp"},
-        {&m.visibilityBlocks, "gi/vpl/vpl_visibility_blocks.comp"},
-        {&m.visibilityDistance, "gi/vpl/vpl_visibility_distance.comp"},
     };
     for (const auto& [pipeline, name] : shaders) {
         auto p = createComputePipeline(ctx, {name, {}});
@@ -602,13 +556,9 @@ Result<std::unique_ptr<VplTechnique>> VplTechnique::create(Context& ctx) {
 Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& requested) {
     if (auto ok = validateVplSettings(requested); !ok)
         return ok.error();
-    // A point light is the spot of the whole sphere (VplSpot).
-    const bool shadowed = std::any_of(in.spots.begin(), in.spots.end(), [](const VplSpot& spot) {
-        return vplLightNeedsVisibility(spot.directional      ? LightType::Directional
-                                       : spot.cosOuter <= -1.0f ? LightType::Point
-                                                                : LightType::Spot);
-    });
-    const VplSettings settings = resolveVplSettings(requested, shadowed || in.emitterSurfels > 0);
+    const bool directional =
+        std::any_of(in.spots.begin(), in.spots.end(), [](const VplSpot& spot) { return spot.directional; });
+    const VplSettings settings = resolveVplSettings(requested, directional || in.emitterSurfels > 0);
     if (auto ok = checkInputs(in, settings); !ok)
         return ok.error();
     const bool emitters = in.emitterSurfels > 0;
@@ -643,9 +593,7 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
     if (lowRes || interleaved)
         out.refineList = addRefineClearPass(graph, in.width, in.height);
     auto name = [](bool last, const char* intermediate) { return last ? "vpl.indirect" : intermediate; };
-    const rg::ImageHandle distance =
-        settings.visibility == VplVisibilityMode::On ? m->addVisibilityDistancePasses(graph, in) : rg::ImageHandle{};
-    GatherImages gathered = m->addGatherPass(graph, in, out.vpls, distance, push,
+    GatherImages gathered = m->addGatherPass(graph, in, out.vpls, push,
                                              name(!lowRes && !negative && !interleaved, "vpl.gather_indirect"));
     if (interleaved)
         gathered = m->addInterleaveFilterPasses(graph, in, gathered, out.refineList, push,
@@ -661,7 +609,7 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
     if (lowRes)
         indirect = m->addUpsamplePass(graph, in, indirect, out.refineList, push);
     if (out.refineList.valid())
-        m->addRefinePass(graph, in, out.vpls, negativeVpls, out.refineList, distance, indirect, push);
+        m->addRefinePass(graph, in, out.vpls, negativeVpls, out.refineList, indirect, push);
     out.indirect = indirect;
     return out;
 }

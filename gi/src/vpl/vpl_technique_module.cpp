@@ -111,9 +111,9 @@ public:
         // The emitters' surfels: one per emitter VPL (the emitter source has N VPLs like a light).
         if (auto ok = m_emissive.sceneChanged(ctx, scene, m_settings.vplCount); !ok)
             return ok.error();
-        const bool shadowed = std::any_of(scene.lights.begin(), scene.lights.end(),
-                                          [](const Light& l) { return vplLightNeedsVisibility(l.type); });
-        m_resolved = resolveVplSettings(m_settings, shadowed || m_emissive.exists());
+        const bool directional = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                             [](const Light& l) { return l.type == LightType::Directional; });
+        m_resolved = resolveVplSettings(m_settings, directional || m_emissive.exists());
         // The grid exists only while visibility or bounces need it (leave out what a scene does
         // not need).
         if (m_resolved.visibility == VplVisibilityMode::On || m_resolved.bounces > 1)

@@ -22,12 +22,6 @@
 #define GI_VPL_LOCAL_SIZE_1D 64
 // Work-group side of the 2D passes.
 #define GI_VPL_LOCAL_SIZE_2D 8
-// The visibility march's empty-space distance (gi/vpl_visibility.h) is kept per block of
-// GI_VPL_VISIBILITY_BLOCK^3 voxels, at most GI_VPL_VISIBILITY_MAX_DISTANCE blocks: the march skips
-// up to that much empty space at once, and the passes that build the distance search no further
-// along each axis (a finer or longer distance costs more to build than it saves).
-#define GI_VPL_VISIBILITY_BLOCK 2
-#define GI_VPL_VISIBILITY_MAX_DISTANCE 8u
 
 #define GI_VPL_PI 3.14159265358979f
 
@@ -56,7 +50,6 @@
 #define VPL_GATHER_BINDING_TRAVEL 6   // output: luminance-weighted sum of the light's travel directions
 #define VPL_GATHER_BINDING_OCCUPANCY 7 // vpl_gather_visible.comp only: the voxel grid's albedo volume (a = occupancy)
 #define VPL_GATHER_BINDING_SURFACE 8   // output (interleaved): each pixel's packed surface (RGBA32UI, gi/vpl_surface.h)
-#define VPL_GATHER_BINDING_DISTANCE 9  // vpl_gather_visible.comp only: the empty-space distance (vpl_visibility_distance*.comp)
 // vpl_interleave_rows.comp and vpl_interleave_columns.comp: the interleaved gather's subsets
 // summed back over each tile (gi/vpl_interleave_filter.h), along rows, then along columns.
 #define VPL_INTERLEAVE_ROWS_BINDING_SURFACE 0         // the gather's packed surfaces (gi/vpl_surface.h)
@@ -100,16 +93,6 @@
 #define VPL_REFINE_BINDING_REFINE_LIST 5   // refine list (gi/vpl_refine_list.h), also the dispatch's command
 #define VPL_REFINE_BINDING_INDIRECT 6      // output: the upsampled indirect radiance, refined pixels rewritten
 #define VPL_REFINE_BINDING_OCCUPANCY 7     // vpl_refine_visible.comp only: the voxel grid's albedo volume
-#define VPL_REFINE_BINDING_DISTANCE 8       // vpl_refine_visible.comp only: the empty-space distance
-// vpl_visibility_blocks.comp and vpl_visibility_distance.comp: the visibility march's
-// empty-space distance, texel b = the Chebyshev (max-norm) distance in blocks from block b to
-// the nearest block holding an occupied voxel, at most GI_VPL_VISIBILITY_MAX_DISTANCE (0: b holds
-// one), R8UI, one texel per block of GI_VPL_VISIBILITY_BLOCK^3 voxels. Built separably: the blocks
-// (0 or the maximum), then along x, y and z from the previous pass (d(b) = min over the axis of
-// max(|offset|, d')).
-#define VPL_DISTANCE_BINDING_INPUT 0  // the albedo volume (a = occupancy) or the half-voxel bits
-                                      // (emission's a); then the previous pass's distance
-#define VPL_DISTANCE_BINDING_OUTPUT 1 // output: the distance along the axes done so far
 // vpl_bounce.comp: one more diffuse bounce, each VPL of generation g - 1 tracing one ray through
 // the voxel grid to where a VPL of generation g sits (instant radiosity, Keller 1997).
 #define VPL_BOUNCE_BINDING_DIRECTIONS 0 // the generation table: xyz local cosine-lobe direction, w source index
@@ -183,12 +166,6 @@ GI_GPU_STRUCT(VplPixelPush) {
     vec4 grid;        // visibility: xyz the voxel grid's min corner (world), w voxel edge (m)
 };
 GI_CHECK_SIZE(VplPixelPush, 96);
-
-// Push constants of vpl_visibility_distance.comp: the axis it runs along.
-GI_GPU_STRUCT(VplDistancePush) {
-    ivec4 axis; // xyz the unit step along the axis: (1, 0, 0), (0, 1, 0) or (0, 0, 1); w 0
-};
-GI_CHECK_SIZE(VplDistancePush, 16);
 
 // Push constants of vpl_bounce.comp.
 GI_GPU_STRUCT(VplBouncePush) {

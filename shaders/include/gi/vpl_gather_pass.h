@@ -28,7 +28,6 @@ layout(set = 1, binding = VPL_GATHER_BINDING_TRAVEL, rgba32f) uniform writeonly 
 layout(set = 1, binding = VPL_GATHER_BINDING_SURFACE, rgba32ui) uniform writeonly uimage2D outSurface;
 #ifdef VPL_VISIBILITY
 layout(set = 1, binding = VPL_GATHER_BINDING_OCCUPANCY) uniform sampler3D vplOccupancy;
-layout(set = 1, binding = VPL_GATHER_BINDING_DISTANCE) uniform usampler3D vplDistance;
 #endif
 
 // No negative VPLs are read here; the shared gather header still needs the name.

@@ -22,7 +22,6 @@ layout(set = 1, binding = VPL_REFINE_BINDING_INDIRECT, rgba32f) uniform writeonl
 
 #ifdef VPL_VISIBILITY
 layout(set = 1, binding = VPL_REFINE_BINDING_OCCUPANCY) uniform sampler3D vplOccupancy;
-layout(set = 1, binding = VPL_REFINE_BINDING_DISTANCE) uniform usampler3D vplDistance;
 #endif
 
 #include "vpl_gather.h"

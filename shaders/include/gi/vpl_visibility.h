@@ -1,8 +1,7 @@
 // GLSL only: the visibility between a receiver and a VPL, marched through the occupancy of the
 // shared voxel grid (gi/voxel_grid.h: the albedo volume, a = occupancy) for the gathers with
-// vpl.visibility. The includer declares `sampler3D vplOccupancy`, `usampler3D vplDistance` and
-// the push block `pc` (VplPixelPush: pc.grid = origin and voxel edge, pc.interleave.w = voxels per
-// axis).
+// vpl.visibility. The includer declares `sampler3D vplOccupancy` and the push block `pc`
+// (VplPixelPush: pc.grid = origin and voxel edge, pc.interleave.w = voxels per axis).
 //
 // The segment runs between the two points moved kVplVisibilityOffset voxels off their surfaces
 // along their normals: the distance to a plane is linear along a segment, so a segment between
@@ -24,14 +23,6 @@
 // emission volume, whose alpha holds each voxel's 2x2x2 half-voxel occupancy bits (gi/voxel_grid.h),
 // and pc.grid.w is half the voxel edge: the march (offsets, steps, box) runs on the half voxels,
 // as on a grid of twice the resolution, and a sample is blocked when its half's bit is set.
-//
-// Empty space: `vplDistance` holds, per block of GI_VPL_VISIBILITY_BLOCK^3 voxels, the max-norm
-// distance k in blocks to the nearest block holding an occupied voxel (gi/vpl.h; 0 = it holds
-// one). From a sample in a block of distance k >= 1 every point closer than k - 1 blocks (any
-// norm) lies in empty blocks, so the march jumps over the samples within that length (at least
-// the sample itself, which lies in an empty block): it visits a subset of the same samples, and
-// those it skips would each have multiplied the light by exactly 1. The result is that of the
-// full march.
 #ifndef VKGI_GI_VPL_VISIBILITY_H
 #define VKGI_GI_VPL_VISIBILITY_H
 
@@ -70,21 +61,10 @@ float vplVisibility(vec3 x, vec3 nx, vec3 p, vec3 np) {
     ivec3 cells = ivec3(int(cellCount));
     bool halves = int(cellCount) > textureSize(vplOccupancy, 0).x;
     float invVoxel = 1.0 / voxel;
-    // March cells per block edge (half voxels: two per voxel), and samples per block edge; the
-    // margin keeps a jump off the boundary of the empty region.
-    int blockCells = GI_VPL_VISIBILITY_BLOCK * (halves ? 2 : 1);
-    float samplesPerBlock = 0.999 * voxel * float(blockCells) / max(length(stride), 1e-30);
     float visibility = 1.0;
     for (int i = first; i <= last && visibility > 0.0; ++i) {
         ivec3 v = ivec3(floor((a + float(i) * stride - pc.grid.xyz) * invVoxel));
         if (all(greaterThanEqual(v, ivec3(0))) && all(lessThan(v, cells))) {
-            uint freeBlocks = texelFetch(vplDistance, v / blockCells, 0).r;
-            if (freeBlocks > 0u) {
-                // This block is empty: the next sample visited is the last within freeBlocks - 1
-                // blocks (at least the next one).
-                i += int(min(max(floor(float(freeBlocks - 1u) * samplesPerBlock), 1.0), float(maxSamples))) - 1;
-                continue;
-            }
             if (!halves) {
                 visibility *= 1.0 - texelFetch(vplOccupancy, v, 0).a;
             } else {
