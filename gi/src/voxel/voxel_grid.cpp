@@ -110,10 +110,13 @@ Result<std::unique_ptr<VoxelGrid>> VoxelGrid::create(Context& ctx, const gpu::Vo
                    {&g->m_pipelines.clearStale, "gi/voxel/voxel_resolve_stale.comp"},
                    {&g->m_pipelines.touchedList, "gi/voxel/voxel_touched_list.comp"},
                    {&g->m_pipelines.mark, "gi/voxel/voxel_mark.comp"}};
-    // Records in slabs (voxel_acc.glsl's kVoxelAccSlabs) only where one range cannot hold them.
-    const std::vector<SpecConstant> slabs{{0, gpu::voxelAccSlabLayers(n) < n ? 1u : 0u}};
+    // Records in slabs (voxel_acc.glsl's kVoxelAccSlabs) only where one range cannot hold them;
+    // the fill's clipping (dims.w, fixed for the grid's life) only in the grids that record it:
+    // compiled out, it costs the others nothing.
+    const std::vector<SpecConstant> spec{{0, gpu::voxelAccSlabLayers(n) < n ? 1u : 0u},
+                                         {1, params.dims.w != 0u ? 1u : 0u}};
     for (const Named& s : shaders) {
-        auto p = createComputePipeline(ctx, {s.shader, slabs});
+        auto p = createComputePipeline(ctx, {s.shader, spec});
         if (!p)
             return p.error();
         *s.pipeline = std::move(*p);

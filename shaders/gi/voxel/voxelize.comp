@@ -72,6 +72,10 @@ uint halfVoxelBits(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
     return bits;
 }
 
+// The grid's dims.w as a specialization constant (voxel_grid.cpp): grids without the fill compile
+// the clipping out instead of branching around it.
+layout(constant_id = 1) const bool kVoxelFill = false;
+
 // Area of the triangle (relative to the voxel's centre, voxel units) inside the voxel's closed
 // box, projected along x, y and z (dims.w = 1, the fill of gi/voxel_grid.h): the triangle clipped
 // to the box's six planes (Sutherland-Hodgman; each plane adds at most one vertex, so 9 hold
@@ -229,7 +233,7 @@ void main() {
             if (overlapsBox(p[0] - centre, p[1] - centre, p[2] - centre, n, 0.5))
                 splat(c - pc.cell.xyz, res, albedo, faceNormal, emission, emissive,
                       pc.grid.dims.z != 0u ? halfVoxelBits(p[0] - centre, p[1] - centre, p[2] - centre, n) : 0u,
-                      pc.grid.dims.w != 0u ? projectedAreaInside(p[0] - centre, p[1] - centre, p[2] - centre) : vec3(0.0));
+                      kVoxelFill ? projectedAreaInside(p[0] - centre, p[1] - centre, p[2] - centre) : vec3(0.0));
         }
         cw += dw;
         cu += du;
