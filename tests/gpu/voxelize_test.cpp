@@ -121,6 +121,13 @@ protected:
     }
     // First frame: static bake + (empty or not) dynamic merge.
     void voxelizeAll() { frame(VoxelUpdate::Full); }
+    // One static draw of grey triangles, voxelized.
+    void voxelizeGrey(const std::vector<Tri>& tris, float albedo) {
+        TestScene scene;
+        scene.addDraw(tris, scene.addMaterial(glm::vec3(albedo)));
+        upload(scene);
+        voxelizeAll();
+    }
     void updateDynamic() { frame(VoxelUpdate::Dynamic); }
 
     Readback read() {
@@ -167,10 +174,7 @@ size_t voxelIndex(uint32_t n, glm::uvec3 c) { return (size_t(c.z) * n + c.y) * n
 TEST_F(Voxelize, BigTriangleSetsExactlyTheTouchedVoxels) {
     makeGrid(unitGrid(32));
     std::vector<Tri> tris = {{{1.37f, 2.21f, 3.13f}, {29.71f, 5.33f, 17.29f}, {11.17f, 28.63f, 26.87f}}};
-    TestScene scene;
-    scene.addDraw(tris, scene.addMaterial(glm::vec3(0.5f)));
-    upload(scene);
-    voxelizeAll();
+    voxelizeGrey(tris, 0.5f);
     uint32_t occupied = expectMatchesReference(tris);
     // A plane cuts a unit cube in at most sqrt(2) of area, so a triangle of area A needs at
     // least A / sqrt(2) voxels to be covered.
@@ -191,10 +195,7 @@ TEST_F(Voxelize, HalfVoxelBitsAreExactlyTheTouchedHalves) {
     std::vector<Tri> tris = {{{1.37f, 2.21f, 3.13f}, {14.71f, 5.33f, 11.29f}, {5.17f, 13.63f, 12.87f}},
                              {{9.3f, 1.1f, 2.1f}, {9.3f, 11.2f, 2.1f}, {9.3f, 11.2f, 13.9f}},
                              {{9.3f, 1.1f, 2.1f}, {9.3f, 11.2f, 13.9f}, {9.3f, 1.1f, 13.9f}}};
-    TestScene scene;
-    scene.addDraw(tris, scene.addMaterial(glm::vec3(0.5f)));
-    upload(scene);
-    voxelizeAll();
+    voxelizeGrey(tris, 0.5f);
     Readback r = read();
     const auto* e = reinterpret_cast<const uint16_t*>(r.emission.data());
     const uint32_t n = 16;
@@ -293,10 +294,7 @@ TEST_F(Voxelize, FillIsTheShareOfTheCrossSectionTheSurfacesBlock) {
     // D: a closed wall 0.3 thick inside the voxels x = 12; E: one 1.4 thick across x = 13 and 14.
     addBox(tris, {12.2f, 3.5f, 3.5f}, {12.5f, 12.5f, 12.5f});
     addBox(tris, {13.2f, 3.5f, 3.5f}, {14.6f, 12.5f, 12.5f});
-    TestScene scene;
-    scene.addDraw(tris, scene.addMaterial(glm::vec3(0.5f)));
-    upload(scene);
-    voxelizeAll();
+    voxelizeGrey(tris, 0.5f);
     Readback r = read();
     const auto* e = reinterpret_cast<const uint16_t*>(r.emission.data());
     const uint32_t n = 16;
@@ -341,10 +339,7 @@ TEST_F(Voxelize, SliversAndSubVoxelTrianglesAreNotLostButZeroAreaOnesSetNothing)
         // a point (all three vertices equal)
         {{13.5f, 1.5f, 14.5f}, {13.5f, 1.5f, 14.5f}, {13.5f, 1.5f, 14.5f}},
     };
-    TestScene scene;
-    scene.addDraw(tris, scene.addMaterial(glm::vec3(0.8f)));
-    upload(scene);
-    voxelizeAll();
+    voxelizeGrey(tris, 0.8f);
     uint32_t occupied = expectMatchesReference(tris);
     Readback r = read();
     EXPECT_EQ(r.albedo[4 * voxelIndex(16, {11, 3, 7}) + 3], 255);
