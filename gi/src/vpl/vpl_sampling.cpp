@@ -135,11 +135,11 @@ FocusedWindowSamples focusedWindowPoints(const glm::mat4& windowViewProj, const 
         for (double y : {lo[1], hi[1]})
             farthest = std::max(farthest, std::hypot(x - centre[0], y - centre[1]));
 
-    // Every subset gets as many slots (the subset blocks of gi/vpl.h differ by one when the
-    // count is not a multiple of the subsets); the lattices fill kFill of them on average, the
-    // rest absorbs how many lattice points happen to fall into a ring.
-    const uint32_t perSubset = count / subsets;
-    const uint32_t slots = perSubset * subsets;
+    // Subset s owns the slots [s N / n^2, (s + 1) N / n^2) of gi/vpl.h's order (blocks differ
+    // by one, or are empty, when N is not a multiple of the subsets). The lattices fill kFill of
+    // the slots on average; the rest absorbs how many lattice points happen to fall into a ring.
+    auto blockStart = [&](uint32_t subset) { return uint32_t(uint64_t(subset) * count / subsets); };
+    const uint32_t slots = count;
     constexpr double kFill = 0.97;
     struct Point {
         double u, v, share;
@@ -181,8 +181,9 @@ FocusedWindowSamples focusedWindowPoints(const glm::mat4& windowViewProj, const 
     FocusedWindowSamples out;
     out.samples.assign(count, glm::vec3(2.0f, 2.0f, 1.0f)); // beyond the window: an empty VPL
     out.ids.assign(count, 0u);
+    auto room = [&](uint32_t subset) { return filled[subset] < blockStart(subset + 1) - blockStart(subset); };
     auto place = [&](const Point& p, uint32_t subset) {
-        const uint32_t index = subset * count / subsets + filled[subset]++;
+        const uint32_t index = blockStart(subset) + filled[subset]++;
         out.samples[index] = glm::vec3(float(w.toNdc(0, p.u)), float(w.toNdc(1, p.v)), float(p.share));
         // Which bounce ray the point's children take: fixed by the point, not by its slot.
         out.ids[index] = uint32_t((uint64_t(p.i) * 73856093u) ^ (uint64_t(p.j) * 19349663u) ^ (uint64_t(p.ring) * 83492791u));
@@ -190,14 +191,14 @@ FocusedWindowSamples focusedWindowPoints(const glm::mat4& windowViewProj, const 
     std::vector<const Point*> spilled;
     for (const Point& p : points) {
         const uint32_t subset = n * n == subsets ? mod(p.i, n) + n * mod(p.j, n) : 0u;
-        if (filled[subset] < perSubset)
+        if (room(subset))
             place(p, subset);
         else
             spilled.push_back(&p);
     }
     uint32_t subset = 0;
     for (const Point* p : spilled) {
-        while (filled[subset] >= perSubset)
+        while (!room(subset))
             ++subset;
         place(*p, subset);
     }
