@@ -137,6 +137,13 @@ TEST(VplSampling, SettingsValidation) {
     s.clampDistance = 16.5f;
     EXPECT_FALSE(validateVplSettings(s));
     s = {};
+    s.focusRadius = 0.009f; // the knob's range, 0.01..1e5 m
+    EXPECT_FALSE(validateVplSettings(s));
+    s.focusRadius = 0.01f;
+    EXPECT_TRUE(validateVplSettings(s));
+    s.focusRadius = 2e5f;
+    EXPECT_FALSE(validateVplSettings(s));
+    s = {};
     s.refineThreshold = std::nanf("");
     EXPECT_FALSE(validateVplSettings(s));
     s = {};

@@ -62,12 +62,13 @@ struct VplSettings {
     // of darkening contact regions, and follows the VPLs' spacing, so it means the same in a
     // box and in a city. The default is the bench's choice (docs/vpl.md).
     float clampDistance = 1.0f;
-    // Directional lights: where the light's window is more than twice this radius (metres) from
-    // its centre to a corner, as in a level much larger than the view, its VPLs concentrate
-    // around the camera with the density of a 2D Student-t of this radius (pdf of r proportional
-    // to 1 / (1 + r^2 / R^2)^2, positive everywhere, so nothing lit is left out and each VPL's
-    // flux is divided by its density: the sum stays unbiased). Smaller windows keep the uniform
-    // Halton points of the paper.
+    // Directional lights: where the light's window is more than twice this radius (metres,
+    // 0.01..1e5) from its centre to a corner, as in a level much larger than the view, its VPLs
+    // concentrate around the camera with the density of a 2D Student-t of this radius (pdf of r
+    // proportional to 1 / (1 + r^2 / R^2)^2, positive everywhere, so nothing lit is left out),
+    // on lattices fixed to the world, each point standing for its lattice cell: unbiased over
+    // the lattices' offsets (focusedWindowPoints). Smaller windows keep the uniform Halton
+    // points of the paper.
     float focusRadius = 16.0f;
     // Interleaved sampling: each pixel of an n x n tile gathers 1/n^2 of the VPLs and a
     // geometry-aware tent filter over the tile sums the subsets back (docs/vpl.md). 1 = off

@@ -25,8 +25,8 @@ Result<void> validateVplSettings(const VplSettings& s) {
         return bad("lowResFactor " + std::to_string(s.lowResFactor) + " must be 1, 2 or 4");
     if (!std::isfinite(s.refineThreshold) || s.refineThreshold < 0.0f)
         return bad("refineThreshold " + std::to_string(s.refineThreshold) + " must be finite and >= 0");
-    if (!std::isfinite(s.focusRadius) || s.focusRadius <= 0.0f || s.focusRadius > 1e5f)
-        return bad("focusRadius " + std::to_string(s.focusRadius) + " must be in (0, 1e5] metres");
+    if (!std::isfinite(s.focusRadius) || s.focusRadius < 0.01f || s.focusRadius > 1e5f)
+        return bad("focusRadius " + std::to_string(s.focusRadius) + " must be in [0.01, 1e5] metres");
     if (!std::isfinite(s.clampDistance) || s.clampDistance <= 0.0f || s.clampDistance > 16.0f)
         return bad("clampDistance " + std::to_string(s.clampDistance) + " must be in (0, 16]");
     if (s.interleave < 1 || s.interleave > kMaxVplInterleave)
@@ -144,7 +144,7 @@ FocusedWindowSamples focusedWindowPoints(const glm::mat4& windowViewProj, const 
     struct Point {
         double u, v, share;
         uint32_t ring;
-        long i, j;
+        int64_t i, j;
     };
     std::vector<Point> points;
     for (uint32_t ring = 0; ringRadius(ring, R) < farthest && points.size() < slots; ++ring) {
@@ -155,13 +155,19 @@ FocusedWindowSamples focusedWindowPoints(const glm::mat4& windowViewProj, const 
         // A fixed offset per ring (the R2 sequence), so that the rings' lattices do not line up.
         const double offset[2] = {spacing * std::fmod(0.5 + 0.7548776662466927 * ring, 1.0),
                                   spacing * std::fmod(0.5 + 0.5698402909980532 * ring, 1.0)};
-        long first[2], last[2];
+        // Lattice indices of the ring's box within the window. Beyond 2^52 a double no longer
+        // holds every lattice point (a focus radius far below the coordinates): no points.
+        double first[2], last[2];
+        bool representable = true;
         for (int k = 0; k < 2; ++k) {
-            first[k] = long(std::ceil((std::max(centre[k] - outer, lo[k]) - offset[k]) / spacing));
-            last[k] = long(std::floor((std::min(centre[k] + outer, hi[k]) - offset[k]) / spacing));
+            first[k] = std::ceil((std::max(centre[k] - outer, lo[k]) - offset[k]) / spacing);
+            last[k] = std::floor((std::min(centre[k] + outer, hi[k]) - offset[k]) / spacing);
+            representable = representable && std::abs(first[k]) < 0x1p52 && std::abs(last[k]) < 0x1p52;
         }
-        for (long j = first[1]; j <= last[1]; ++j)
-            for (long i = first[0]; i <= last[0]; ++i) {
+        if (!representable)
+            continue;
+        for (int64_t j = int64_t(first[1]); j <= int64_t(last[1]); ++j)
+            for (int64_t i = int64_t(first[0]); i <= int64_t(last[0]); ++i) {
                 const double u = double(i) * spacing + offset[0], v = double(j) * spacing + offset[1];
                 const double r2 = (u - centre[0]) * (u - centre[0]) + (v - centre[1]) * (v - centre[1]);
                 if (r2 >= inner * inner && r2 < outer * outer)
@@ -176,7 +182,7 @@ FocusedWindowSamples focusedWindowPoints(const glm::mat4& windowViewProj, const 
     // a coarser lattice of every ring and a point keeps its subset while the camera moves. A
     // subset that is full passes its remaining points to the subsets with room, in order.
     const uint32_t n = uint32_t(std::lround(std::sqrt(double(subsets))));
-    auto mod = [](long x, uint32_t m) { return uint32_t(((x % long(m)) + long(m)) % long(m)); };
+    auto mod = [](int64_t x, uint32_t m) { return uint32_t(((x % int64_t(m)) + int64_t(m)) % int64_t(m)); };
     std::vector<uint32_t> filled(subsets, 0);
     FocusedWindowSamples out;
     out.samples.assign(count, glm::vec3(2.0f, 2.0f, 1.0f)); // beyond the window: an empty VPL
