@@ -30,34 +30,25 @@ uint voxelAccRecord(ivec3 c, uint n) {
 }
 
 #ifdef GI_VOXEL_ACC_WORDS
-uint voxelAccAdd(uint slab, uint word, uint value) {
-    if (!kVoxelAccSlabs)
-        return atomicAdd(acc0[word], value);
-    switch (slab) {
-    case 0u: return atomicAdd(acc0[word], value);
-    case 1u: return atomicAdd(acc1[word], value);
-    case 2u: return atomicAdd(acc2[word], value);
-    case 3u: return atomicAdd(acc3[word], value);
-    case 4u: return atomicAdd(acc4[word], value);
-    case 5u: return atomicAdd(acc5[word], value);
-    case 6u: return atomicAdd(acc6[word], value);
-    default: return atomicAdd(acc7[word], value);
+// One atomic on the record word of slab `slab`: the slabs are separate bindings, and GLSL cannot
+// pass a buffer, so each atomic gets its switch from this macro.
+#define GI_VOXEL_ACC_ATOMIC(NAME, ATOMIC)                                  \
+    uint NAME(uint slab, uint word, uint value) {                          \
+        if (!kVoxelAccSlabs)                                               \
+            return ATOMIC(acc0[word], value);                              \
+        switch (slab) {                                                    \
+        case 0u: return ATOMIC(acc0[word], value);                         \
+        case 1u: return ATOMIC(acc1[word], value);                         \
+        case 2u: return ATOMIC(acc2[word], value);                         \
+        case 3u: return ATOMIC(acc3[word], value);                         \
+        case 4u: return ATOMIC(acc4[word], value);                         \
+        case 5u: return ATOMIC(acc5[word], value);                         \
+        case 6u: return ATOMIC(acc6[word], value);                         \
+        default: return ATOMIC(acc7[word], value);                         \
+        }                                                                  \
     }
-}
-uint voxelAccOr(uint slab, uint word, uint value) {
-    if (!kVoxelAccSlabs)
-        return atomicOr(acc0[word], value);
-    switch (slab) {
-    case 0u: return atomicOr(acc0[word], value);
-    case 1u: return atomicOr(acc1[word], value);
-    case 2u: return atomicOr(acc2[word], value);
-    case 3u: return atomicOr(acc3[word], value);
-    case 4u: return atomicOr(acc4[word], value);
-    case 5u: return atomicOr(acc5[word], value);
-    case 6u: return atomicOr(acc6[word], value);
-    default: return atomicOr(acc7[word], value);
-    }
-}
+GI_VOXEL_ACC_ATOMIC(voxelAccAdd, atomicAdd)
+GI_VOXEL_ACC_ATOMIC(voxelAccOr, atomicOr)
 #else
 uvec4 voxelAccLoad(uint slab, uint i) {
     if (!kVoxelAccSlabs)
