@@ -15,10 +15,12 @@
 // Built with VKGI_EMBED_VOLK (tests/package's vkgi-embed-volk), the host loads Vulkan through
 // volk, as many engines do, and hands volk's vkGetInstanceProcAddr to vkgi in ExternalDevice:
 // vkgi then calls nothing of the Vulkan loader's that the host did not give it.
+#include <algorithm>
 #include <atomic>
 #include <charconv>
 #include <cstdio>
 #include <cstring>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -181,7 +183,7 @@ bool hasExtension(VkPhysicalDevice pd, const char* name) {
     return false;
 }
 
-// First Vulkan 1.3 device with VK_KHR_push_descriptor and a graphics+compute queue.
+// First Vulkan 1.3 device with vkgi's extensions and a graphics+compute queue.
 vkgi::Result<void> createDevice(HostVulkan& host) {
     uint32_t n = 0;
     vkEnumeratePhysicalDevices(host.instance, &n, nullptr);
@@ -190,7 +192,9 @@ vkgi::Result<void> createDevice(HostVulkan& host) {
     for (VkPhysicalDevice pd : devices) {
         VkPhysicalDeviceProperties props;
         vkGetPhysicalDeviceProperties(pd, &props);
-        if (props.apiVersion < VK_API_VERSION_1_3 || !hasExtension(pd, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME))
+        if (props.apiVersion < VK_API_VERSION_1_3 ||
+            !std::all_of(std::begin(vkgi::kRequiredDeviceExtensions), std::end(vkgi::kRequiredDeviceExtensions),
+                         [pd](const char* e) { return hasExtension(pd, e); }))
             continue;
         uint32_t familyCount = 0;
         vkGetPhysicalDeviceQueueFamilyProperties(pd, &familyCount, nullptr);
@@ -213,38 +217,19 @@ vkgi::Result<void> createDevice(HostVulkan& host) {
     // The features vkgi needs (docs/embedding.md); the optional core ones only when supported.
     VkPhysicalDeviceFeatures2 supported{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     vkGetPhysicalDeviceFeatures2(host.physicalDevice, &supported);
-    VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
-    f11.multiview = VK_TRUE;
-    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-    f12.pNext = &f11;
-    f12.hostQueryReset = VK_TRUE;
-    f12.scalarBlockLayout = VK_TRUE;
-    VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-    f13.pNext = &f12;
-    f13.synchronization2 = VK_TRUE;
-    f13.dynamicRendering = VK_TRUE;
-    f13.maintenance4 = VK_TRUE;
-    VkPhysicalDeviceFeatures2 enabled{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-    enabled.pNext = &f13;
-    enabled.features.fragmentStoresAndAtomics = supported.features.fragmentStoresAndAtomics;
-    enabled.features.vertexPipelineStoresAndAtomics = supported.features.vertexPipelineStoresAndAtomics;
-    enabled.features.geometryShader = supported.features.geometryShader;
-    enabled.features.shaderStorageImageExtendedFormats = supported.features.shaderStorageImageExtendedFormats;
-    enabled.features.samplerAnisotropy = supported.features.samplerAnisotropy;
-    enabled.features.depthClamp = supported.features.depthClamp;
+    const vkgi::DeviceFeatureChain enabled(supported.features);
 
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queue{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     queue.queueFamilyIndex = host.queueFamily;
     queue.queueCount = 1;
     queue.pQueuePriorities = &priority;
-    const char* extension = VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME;
     VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    info.pNext = &enabled;
+    info.pNext = &enabled.features;
     info.queueCreateInfoCount = 1;
     info.pQueueCreateInfos = &queue;
-    info.enabledExtensionCount = 1;
-    info.ppEnabledExtensionNames = &extension;
+    info.enabledExtensionCount = uint32_t(std::size(vkgi::kRequiredDeviceExtensions));
+    info.ppEnabledExtensionNames = vkgi::kRequiredDeviceExtensions;
     if (VkResult r = vkCreateDevice(host.physicalDevice, &info, nullptr, &host.device); r != VK_SUCCESS)
         return vkgi::makeError("vkCreateDevice failed (" + std::to_string(int(r)) + ")");
 #ifdef VKGI_EMBED_VOLK

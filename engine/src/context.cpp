@@ -1,8 +1,10 @@
 #include "vkgi/context.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 
 #include "engine/frame_constants.h"
 #include "vkgi/resources.hpp"
@@ -259,7 +261,8 @@ Result<VkPhysicalDevice> choosePhysicalDevice(VkInstance instance, const std::st
         vkGetPhysicalDeviceProperties(pd, &props);
         seen += std::string(seen.empty() ? "" : ", ") + props.deviceName;
         if (props.apiVersion < VK_API_VERSION_1_3 || findQueueFamily(pd) < 0 ||
-            !hasDeviceExtension(pd, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME))
+            !std::all_of(std::begin(kRequiredDeviceExtensions), std::end(kRequiredDeviceExtensions),
+                         [pd](const char* e) { return hasDeviceExtension(pd, e); }))
             continue;
         if (!name.empty() && std::strstr(props.deviceName, name.c_str()) == nullptr)
             continue;
@@ -357,36 +360,15 @@ Result<std::unique_ptr<Context>> DeviceBuilder::buildContext() {
 
     VkPhysicalDeviceFeatures2 supported{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     vkGetPhysicalDeviceFeatures2(*pd, &supported);
-    VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
-    f11.multiview = VK_TRUE;
-    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-    f12.pNext = &f11;
-    f12.hostQueryReset = VK_TRUE;
-    f12.scalarBlockLayout = VK_TRUE;
-    f12.shaderFloat16 = VK_FALSE;
-    VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-    f13.pNext = &f12;
-    f13.synchronization2 = VK_TRUE;
-    f13.dynamicRendering = VK_TRUE;
-    f13.maintenance4 = VK_TRUE;
-    VkPhysicalDeviceFeatures2 enabled{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-    enabled.pNext = &f13;
-    // Optional core features used when present (atomics/stores in fragment shaders,
-    // geometry shaders for layered rendering, 64-bit-free float atomics come via shader types).
-    enabled.features.fragmentStoresAndAtomics = supported.features.fragmentStoresAndAtomics;
-    enabled.features.vertexPipelineStoresAndAtomics = supported.features.vertexPipelineStoresAndAtomics;
-    enabled.features.geometryShader = supported.features.geometryShader;
-    enabled.features.shaderStorageImageExtendedFormats = supported.features.shaderStorageImageExtendedFormats;
-    enabled.features.samplerAnisotropy = supported.features.samplerAnisotropy;
-    enabled.features.depthClamp = supported.features.depthClamp;
+    const DeviceFeatureChain enabled(supported.features);
 
     std::vector<const char*> devExts = m_deviceExtensions;
-    devExts.push_back(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
+    devExts.insert(devExts.end(), std::begin(kRequiredDeviceExtensions), std::end(kRequiredDeviceExtensions));
     for (const char* e : devExts)
         if (!hasDeviceExtension(*pd, e))
             return makeError(std::string("device lacks required extension ") + e);
     VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    dci.pNext = &enabled;
+    dci.pNext = &enabled.features;
     dci.queueCreateInfoCount = 1;
     dci.pQueueCreateInfos = &qci;
     dci.enabledExtensionCount = uint32_t(devExts.size());
@@ -399,6 +381,27 @@ Result<std::unique_ptr<Context>> DeviceBuilder::buildContext() {
     if (auto ok = ctx->initCommon(); !ok)
         return ok.error();
     return ctx;
+}
+
+DeviceFeatureChain::DeviceFeatureChain(const VkPhysicalDeviceFeatures& supported) {
+    features.pNext = &v13;
+    v13.pNext = &v12;
+    v12.pNext = &v11;
+    v13.synchronization2 = VK_TRUE;
+    v13.dynamicRendering = VK_TRUE;
+    v13.maintenance4 = VK_TRUE;
+    v12.hostQueryReset = VK_TRUE;
+    v12.scalarBlockLayout = VK_TRUE;
+    v11.multiview = VK_TRUE;
+    // Optional: stores and atomics outside compute, layered rendering through a geometry shader,
+    // storage-image formats, anisotropic sampling and depth clamping are used where present.
+    VkPhysicalDeviceFeatures& f = features.features;
+    f.fragmentStoresAndAtomics = supported.fragmentStoresAndAtomics;
+    f.vertexPipelineStoresAndAtomics = supported.vertexPipelineStoresAndAtomics;
+    f.geometryShader = supported.geometryShader;
+    f.shaderStorageImageExtendedFormats = supported.shaderStorageImageExtendedFormats;
+    f.samplerAnisotropy = supported.samplerAnisotropy;
+    f.depthClamp = supported.depthClamp;
 }
 
 Result<std::unique_ptr<Context>> wrapExternalDevice(const ExternalDevice& ext) {

@@ -125,9 +125,29 @@ private:
     std::string m_appName = "vkgi";
 };
 
+// The device extensions vkgi needs.
+inline constexpr const char* kRequiredDeviceExtensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+
+// The features a device must enable for vkgi (docs/embedding.md "The device vkgi needs"), as a
+// VkDeviceCreateInfo::pNext chain starting at `features`: the required Vulkan 1.1-1.3 features,
+// and the optional core features vkgi uses where `supported` (from vkGetPhysicalDeviceFeatures2)
+// has them. DeviceBuilder creates its device with it, and a host creating its own device can
+// too: it may enable more features in these structures or chain its own after `v11`. The
+// chain points into the object, so it is neither copied nor moved. No Vulkan call is made.
+struct DeviceFeatureChain {
+    explicit DeviceFeatureChain(const VkPhysicalDeviceFeatures& supported);
+    DeviceFeatureChain(const DeviceFeatureChain&) = delete;
+    DeviceFeatureChain& operator=(const DeviceFeatureChain&) = delete;
+
+    VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    VkPhysicalDeviceVulkan13Features v13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+    VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    VkPhysicalDeviceVulkan11Features v11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
+};
+
 // A host application's device, which vkgi uses but never destroys. The host must have
-// created it with Vulkan 1.3 and enabled synchronization2, dynamicRendering and
-// VK_KHR_push_descriptor; `queue` must support compute and graphics.
+// created it with Vulkan 1.3, kRequiredDeviceExtensions and the features of DeviceFeatureChain;
+// `queue` must support compute and graphics.
 struct ExternalDevice {
     VkInstance instance = VK_NULL_HANDLE;
     VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
