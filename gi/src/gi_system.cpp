@@ -299,7 +299,8 @@ void GiSystem::Impl::addTechniquePasses(rg::RenderGraph& graph, rg::Blackboard& 
                                  bb.tryGet<RsmData>(),
                                  bb.get<DirectData>().direct,
                                  selection,
-                                 bb};
+                                 bb,
+                                 pipelines};
     const IndirectOutputs produced = technique->addPasses(graph, inputs);
     techniqueChanges.reset();
     lastTechniqueCamera = frame.camera;

@@ -21,6 +21,7 @@
 #include "vkgi/rg/render_graph.hpp"
 #include "vkgi/frame_data.hpp"
 #include "vkgi/gi.hpp"
+#include "direct/direct_passes.hpp"
 #include "pass_selection.hpp"
 
 namespace vkgi::gi {
@@ -37,6 +38,9 @@ struct TechniqueInputs {
     // For handles a technique publishes beyond IndirectOutputs (its own types: VoxelGridData,
     // VctOutputs, VplOutputs) for tests and tools; never for the inputs above.
     rg::Blackboard& blackboard;
+    // The shared passes' pipelines, for RSMs of sources that are not scene lights (the LPV's
+    // emitter proxies: addPointSourceRsmPass).
+    const DirectPipelines& pipelines;
 };
 
 // What a technique's passes produce, camera resolution, RGBA32F.

@@ -169,7 +169,7 @@ protected:
             wave.channel[c] = g.importImage("wave", m_volumes[0][c]);
             acc.channel[c] = g.importImage("acc", m_volumes[1][c]);
         }
-        InjectionResult r = addInjectionPasses(g, m_injector, grid(), format, rsm, wave, acc,
+        InjectionResult r = addInjectionPasses(g, m_injector, grid(), format, {rsm}, wave, acc,
                                                g.importBuffer("injection", m_buffer));
         g.exportBuffer(r.buffer, rg::Access::HostRead);
         for (int c = 0; c < 3; ++c)

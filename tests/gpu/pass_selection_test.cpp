@@ -444,6 +444,39 @@ TEST_F(PassSelectionTest, LpvMovedLightReinjectsAndMatchesAFreshSystem) {
     EXPECT_TRUE(sameImage(f.composite, frame(*fresh, moved).composite));
 }
 
+// The emissive box (lit by its ceiling quad alone): the emitter proxies' RSM is rendered in the
+// first frame and not in a repeated one, which runs only the lookup; moving the quad moves the
+// proxies (placed on the CPU when the scene changes), re-renders their RSM and gives a fresh
+// system's image, different from the unmoved one.
+TEST_F(PassSelectionTest, LpvEmitterProxiesFollowTheEmitterAndRerenderOnlyWhenItChanges) {
+    auto scene = makeBuiltinScene("cornell_emissive");
+    ASSERT_TRUE(scene);
+    const uint32_t quad = uint32_t(scene->instances.size() - 1); // added last
+    ASSERT_GT(scene->materials[scene->meshes[scene->instances[quad].mesh].material].emission.r, 0.0f);
+    auto sys = system(smallSettings(Technique::Lpv), *scene);
+    ASSERT_TRUE(sys);
+    FrameRequest request;
+    request.indirect = true;
+    FrameResult first = frame(*sys, *scene, request);
+    EXPECT_TRUE(ran(first, "gi.lpv.emitter.rsm"));
+    EXPECT_TRUE(ran(first, "gi.lpv.inject.emitter"));
+    EXPECT_FALSE(ran(first, "gi.light[")) << "no punctual light: no shadow-atlas RSM";
+    FrameResult second = frame(*sys, *scene, request);
+    EXPECT_EQ(join(names(second.passes)), "gi.gbuffer gi.shadow.setup gi.direct gi.lpv.lookup gi.composite "
+                                          "gi.readback.composite gi.readback.indirect");
+    EXPECT_GT(test::sumRgb(second.indirect), 0.0);
+    EXPECT_TRUE(sameImage(first.indirect, second.indirect));
+    Scene moved = *scene;
+    moved.instances[quad].transform[3].x -= 0.15f;
+    ASSERT_TRUE(sys->updateScene(moved));
+    FrameResult f = frame(*sys, moved, request);
+    EXPECT_TRUE(ran(f, "gi.lpv.emitter.rsm"));
+    EXPECT_FALSE(sameImage(f.indirect, second.indirect));
+    auto fresh = system(smallSettings(Technique::Lpv), moved);
+    ASSERT_TRUE(fresh);
+    EXPECT_TRUE(sameImage(f.indirect, frame(*fresh, moved, request).indirect));
+}
+
 TEST_F(PassSelectionTest, VplStaticFrameReusesTheShadowMapAndRsm) {
     auto scene = makeBuiltinScene("cornell_spot");
     ASSERT_TRUE(scene);

@@ -5,6 +5,7 @@
 #include <map>
 #include <tuple>
 
+#include "vkgi/builtin_scenes.hpp"
 #include "emissive/emissive_surfels.hpp"
 
 using namespace vkgi;
@@ -95,4 +96,59 @@ TEST(EmissiveSurfels, NoEmissionGivesNoSurfel) {
     for (Material& m : s.materials)
         m.emission = glm::vec3(0.0f);
     EXPECT_EQ(planEmissiveSurfels(s, 16).size(), 0u);
+}
+
+// The LPV's emitter proxies (docs/lpv.md, "Emissive surfaces"): Lambertian point sources on the
+// planned surfels, whose fluxes sum to the emitters' pi Le A exactly: pi (2 x 1) for the
+// one-sided triangle plus pi (0.5 x 2) for each side of the double-sided one, 4 pi per channel,
+// with one surfel per side or more (4), and with fewer surfels than sides (2: grey emission
+// makes the equal power shares exact per channel). Each lies on its triangle (y = 0, x, z >= 0,
+// x + z <= the triangle's legs) with its side's normal: +y for fronts (the winding 0, 2, 1), -y
+// for the back.
+TEST(EmissiveSurfels, PointSourcesCarryTheEmittersWholeFlux) {
+    const Scene scene = emitters();
+    const float legs[2] = {2.0f, 1.0f};
+    for (uint32_t count : {4u, 2u, 16u}) {
+        const auto table = planEmissiveSurfels(scene, count);
+        const auto sources = emitterPointSources(scene, count);
+        ASSERT_EQ(sources.size(), table.size()) << count;
+        glm::dvec3 flux(0.0);
+        for (size_t k = 0; k < sources.size(); ++k) {
+            const EmitterPointSource& p = sources[k];
+            flux += glm::dvec3(p.flux);
+            EXPECT_NEAR(p.position.y, 0.0f, 1e-6f);
+            EXPECT_GE(p.position.x, -1e-6f);
+            EXPECT_GE(p.position.z, -1e-6f);
+            EXPECT_LE(p.position.x + p.position.z, legs[table[k].triangle.x] + 1e-5f);
+            EXPECT_NEAR(p.normal.y, table[k].triangle.z == 0 ? 1.0f : -1.0f, 1e-6f) << count << " " << k;
+        }
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(flux[c], 4.0 * 3.14159265358979, 1e-5) << count;
+    }
+}
+
+// The emissive Cornell box: its ceiling quad (130 x 105 mm, facing down, 0.1 mm under the
+// ceiling) becomes 4 sources 0.5487 m up, facing -y, inside the quad, carrying pi Le A.
+TEST(EmissiveSurfels, CornellQuadBecomesDownwardPointSourcesOfItsFlux) {
+    auto scene = makeBuiltinScene("cornell_emissive");
+    ASSERT_TRUE(scene) << scene.error().message;
+    glm::vec3 le(0.0f);
+    for (const Material& m : scene->materials)
+        le = glm::max(le, m.emission);
+    ASSERT_GT(le.r, 0.0f);
+    const auto sources = emitterPointSources(*scene, 4);
+    ASSERT_EQ(sources.size(), 4u);
+    glm::dvec3 flux(0.0);
+    for (const EmitterPointSource& p : sources) {
+        flux += glm::dvec3(p.flux);
+        EXPECT_NEAR(p.position.y, 0.5487f, 1e-5f);
+        EXPECT_GT(p.position.x, 0.213f);
+        EXPECT_LT(p.position.x, 0.343f);
+        EXPECT_GT(p.position.z, 0.227f);
+        EXPECT_LT(p.position.z, 0.332f);
+        EXPECT_NEAR(p.normal.y, -1.0f, 1e-6f);
+    }
+    const double area = 0.130 * 0.105;
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(flux[c], 3.14159265358979 * double(le[c]) * area, 1e-6 * flux[c]);
 }

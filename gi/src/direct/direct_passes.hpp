@@ -82,6 +82,10 @@ struct CascadeRequest {
 ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers,
                          const CascadeRequest& cascades = {}, const Aabb& rsmWindow = {});
 
+// The 6 cube-face views of a point light at `eye` reaching every corner of `bounds` (the views
+// planShadows gives a point light without a range): +x, -x, +y, -y, +z, -z.
+std::vector<gpu::GpuShadowView> cubeShadowViews(const glm::vec3& eye, const Aabb& bounds, uint32_t resolution);
+
 // Transient images in the RSM's formats (kPositionFormat, kNormalFormat, kRsmFluxFormat: the
 // layout of RsmData in vkgi/frame_data.hpp), storage and sampled, with at least 2 layers so
 // that their readers' views are 2D arrays: the LPV's reduced RSM and the emissive surfels.
@@ -128,6 +132,15 @@ void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Di
                     const std::vector<uint32_t>& keepCascades = {}, const std::vector<bool>& keepWindows = {});
 std::string cascadePassName(uint32_t light, uint32_t cascade);
 std::string rsmWindowPassName(uint32_t light); // "gi.light[i].directional.rsm"
+
+// The RSM of point sources that are not scene lights (the LPV's emitter proxies, docs/lpv.md):
+// layer l rendered from views[l] with the GpuLight lights[l / 6] (cube faces, cubeShadowViews),
+// by the RSM pipeline of the light passes, into transient RSM images `<name>.*` with a transient
+// depth array of their own. One pass, `name`.
+RsmImages addPointSourceRsmPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame,
+                                const SceneHandles& scene, rg::BufferHandle lights,
+                                const std::vector<gpu::GpuShadowView>& views, uint32_t resolution,
+                                const std::string& name);
 
 DirectData addDeferredPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame,
                            const SceneHandles& scene, const GBufferData& gbuffer, const ShadowData& shadow);

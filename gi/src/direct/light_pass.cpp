@@ -256,4 +256,45 @@ void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Di
     }
 }
 
+RsmImages addPointSourceRsmPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame,
+                                const SceneHandles& scene, rg::BufferHandle lights,
+                                const std::vector<gpu::GpuShadowView>& views, uint32_t resolution,
+                                const std::string& name) {
+    const uint32_t layers = uint32_t(views.size());
+    const RsmImages images = createRsmImages(graph, name, resolution, layers);
+    ImageDesc depthDesc;
+    depthDesc.format = kDepthFormat;
+    depthDesc.width = depthDesc.height = resolution;
+    depthDesc.arrayLayers = std::max(layers, 2u);
+    auto info = std::make_shared<LightPassInfo>();
+    info->pipeline = frame.scene->textures.empty() ? &p.rsmUntextured : &p.rsm;
+    info->scene = frame.gpuScene;
+    info->textureSampler = frame.gpuScene->textureSampler;
+    info->sceneHandles = scene;
+    info->sceneHandles.lights = lights;
+    info->faceMask = ~0u;
+    info->resolution = resolution;
+    info->rsm = true;
+    for (uint32_t l = 0; l < layers; ++l)
+        info->faces.push_back({views[l].viewProj, views[l].eye, views[l].axisArea, glm::uvec4(0u, l / 6u, l, 0u)});
+    RsmImages out = images;
+    graph.addPass(
+        name,
+        [&](rg::PassBuilder& b) {
+            AtlasHandles& h = info->targets;
+            h.atlas = b.write(b.create(name + ".depth", depthDesc), Access::DepthAttachmentWrite);
+            h.position = out.position = b.write(images.position, Access::ColorAttachmentWrite);
+            h.normal = out.normal = b.write(images.normal, Access::ColorAttachmentWrite);
+            h.flux = out.flux = b.write(images.flux, Access::ColorAttachmentWrite);
+            b.read(scene.textures, Access::FragmentSampledRead);
+            b.read(lights, Access::VertexShaderStorageRead); // rsm.vert
+            b.read(scene.vertices, Access::VertexShaderStorageRead);
+            b.read(scene.instances, Access::VertexShaderStorageRead);
+            b.read(scene.materials, Access::VertexShaderStorageRead);
+            b.read(scene.indices, Access::IndexBufferRead);
+        },
+        [info](rg::PassContext& pc) { recordLightPass(*info, pc); });
+    return out;
+}
+
 } // namespace vkgi::gi

@@ -100,6 +100,14 @@ gpu::GpuShadowView orthoView(const glm::vec3& dir, const Aabb& b, uint32_t n, co
 
 } // namespace
 
+std::vector<gpu::GpuShadowView> cubeShadowViews(const glm::vec3& eye, const Aabb& bounds, uint32_t resolution) {
+    std::vector<gpu::GpuShadowView> views;
+    const float far = farDistance(eye, bounds, 0.0f);
+    for (const glm::vec3& axis : kCubeAxes)
+        views.push_back(perspectiveView(eye, axis, 0.25f * 3.14159265f, far, resolution));
+    return views;
+}
+
 ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers,
                          const CascadeRequest& cascades, const Aabb& rsmWindow) {
     ShadowLayout layout;

@@ -116,6 +116,30 @@ std::vector<gpu::GpuEmissiveSurfel> planEmissiveSurfels(const Scene& scene, uint
     return table;
 }
 
+std::vector<EmitterPointSource> emitterPointSources(const Scene& scene, uint32_t count) {
+    std::vector<EmitterPointSource> out;
+    for (const gpu::GpuEmissiveSurfel& s : planEmissiveSurfels(scene, count)) {
+        // The same placement as surfels.comp (which does it on the GPU for this frame's instances).
+        const Instance& inst = scene.instances[s.triangle.x];
+        const Mesh& mesh = scene.meshes[inst.mesh];
+        glm::vec3 v[3];
+        for (int j = 0; j < 3; ++j)
+            v[j] = glm::vec3(inst.transform * glm::vec4(mesh.positions[mesh.indices[3 * s.triangle.y + j]], 1.0f));
+        const glm::vec3 c = glm::cross(v[1] - v[0], v[2] - v[0]);
+        const float twiceArea = glm::length(c);
+        const float mirrored = glm::determinant(glm::mat3(inst.transform)) < 0.0f ? -1.0f : 1.0f;
+        const float facing = s.triangle.z == 0u ? mirrored : -mirrored;
+        const float su = std::sqrt(s.point.x);
+        EmitterPointSource p;
+        p.position = v[0] * (1.0f - su) + v[1] * (s.point.y * su) + v[2] * (su - s.point.y * su);
+        p.normal = c * (facing / twiceArea);
+        const float area = 0.5f * twiceArea * s.point.z;
+        p.flux = 3.14159265358979f * scene.materials[mesh.material].emission * area;
+        out.push_back(p);
+    }
+    return out;
+}
+
 Result<void> EmissiveSurfels::sceneChanged(Context& ctx, const Scene& scene, uint32_t count) {
     const std::vector<gpu::GpuEmissiveSurfel> table = planEmissiveSurfels(scene, count);
     if (table.empty()) {

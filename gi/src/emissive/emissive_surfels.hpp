@@ -2,7 +2,8 @@
 // Emissive surfaces as light sources of the RSM-based techniques: a fixed number of surfels
 // spread over the scene's emitting triangles by power, written each frame into images in the
 // RSM's formats (gi/emissive.h) by `<prefix>.emissive.surfels`. The VPL technique places its
-// emitter VPLs on them (docs/vpl.md, "Emitter VPLs"). The table of which triangle, side and
+// emitter VPLs on them (docs/vpl.md, "Emitter VPLs"); the LPV places its emitter proxies on the
+// same table's surfels, on the CPU (emitterPointSources; docs/lpv.md, "Emissive surfaces"). The table of which triangle, side and
 // point each surfel takes is built on the CPU when the scene is set; the pass transforms the
 // points and areas with this frame's instances, so moving emitters are followed.
 #include <string>
@@ -24,6 +25,20 @@ namespace vkgi::gi {
 // over the triangle. With more sides than `count`, sides are picked systematically by power and
 // every surfel carries count-th of the total power (weight = total / (count x side power)).
 std::vector<gpu::GpuEmissiveSurfel> planEmissiveSurfels(const Scene& scene, uint32_t count);
+
+// A Lambertian point source standing for part of the scene's emission: radiant intensity
+// (flux / pi) max(0, normal.w), flux pi Le A w of the surfel it is placed on. The LPV renders an
+// RSM for each (docs/lpv.md, "Emissive surfaces").
+struct EmitterPointSource {
+    glm::vec3 position{0.0f};
+    glm::vec3 normal{0.0f, 0.0f, 1.0f}; // unit normal of the emitting side
+    glm::vec3 flux{0.0f};
+};
+
+// One point source per surfel of planEmissiveSurfels(scene, count), placed where surfels.comp
+// places that surfel with the scene's current instance transforms (empty without emission). With
+// at most `count` emitting sides their fluxes sum to pi Le A over every side, per channel.
+std::vector<EmitterPointSource> emitterPointSources(const Scene& scene, uint32_t count);
 
 // The images (createRsmImages: 2D arrays, layer 0 used; gi/emissive.h) and their side.
 struct EmissiveSurfelImages : RsmImages {

@@ -107,41 +107,51 @@ RsmInput addRsmReducePass(rg::RenderGraph& graph, const Injector& injector, cons
 }
 
 InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
-                                   VkFormat format, const RsmInput& rsm, ShHandles wavefront, ShHandles accumulation,
-                                   rg::BufferHandle buffer, const std::string& prefix) {
+                                   VkFormat format, const std::vector<RsmInput>& rsms, ShHandles wavefront,
+                                   ShHandles accumulation, rg::BufferHandle buffer, const std::string& prefix) {
     const glm::ivec3 cells(grid.size);
     if (!buffer.valid())
         buffer = graph.createBuffer(prefix + ".injection",
                                     {injectionBufferBytes(cells), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT});
-    gpu::LpvInjectPush push{};
-    push.grid = grid;
-    push.rsm = glm::ivec4(int(rsm.resolution), int(rsm.layers), int(rsm.factor), int(rsm.sourceResolution));
-    push.params = glm::vec4(gpu::lpvFixedPointScale(float(rsm.resolution) * float(rsm.resolution) * float(rsm.layers)),
-                            rsm.nearLightRadius, 0.0f, 0.0f);
+    // One fixed-point scale for all sums: every texel of every RSM may land in one cell.
+    float texels = 0.0f;
+    for (const RsmInput& rsm : rsms)
+        texels += float(rsm.resolution) * float(rsm.resolution) * float(rsm.layers);
+    auto pushFor = [&](const RsmInput& rsm) {
+        gpu::LpvInjectPush push{};
+        push.grid = grid;
+        push.rsm = glm::ivec4(int(rsm.resolution), int(rsm.layers), int(rsm.factor), int(rsm.sourceResolution));
+        push.params = glm::vec4(gpu::lpvFixedPointScale(texels), rsm.nearLightRadius, 0.0f, 0.0f);
+        return push;
+    };
     addClearPass(graph, prefix + ".inject.clear", buffer);
-    rg::ComputePass(graph, prefix + ".inject.range", injector.fluxRange)
-        .push(push)
-        .read(LPV_INJECT_BINDING_POSITION, rsm.position)
-        .read(LPV_INJECT_BINDING_FLUX, rsm.flux)
-        .write(LPV_INJECT_BINDING_BUFFER, buffer)
-        .dispatch({rsm.resolution, rsm.resolution, rsm.layers});
-    // One invocation per run of LPV_INJECT_RUN texels of a row.
-    const uint32_t runs = (rsm.resolution + LPV_INJECT_RUN - 1) / LPV_INJECT_RUN;
-    // Without reduction the source bindings take the RSM itself (the shader never reads them then).
-    const bool reduced = rsm.factor > 1;
-    rg::ComputePass(graph, prefix + ".inject", injector.inject)
-        .push(push)
-        .read(LPV_INJECT_BINDING_POSITION, rsm.position)
-        .read(LPV_INJECT_BINDING_NORMAL, rsm.normal)
-        .read(LPV_INJECT_BINDING_FLUX, rsm.flux)
-        .read(LPV_INJECT_BINDING_SOURCE_POSITION, reduced ? rsm.sourcePosition : rsm.position)
-        .read(LPV_INJECT_BINDING_SOURCE_NORMAL, reduced ? rsm.sourceNormal : rsm.normal)
-        .read(LPV_INJECT_BINDING_SOURCE_FLUX, reduced ? rsm.sourceFlux : rsm.flux)
-        .read(LPV_INJECT_BINDING_SHADOW_VIEWS, rsm.views)
-        .write(LPV_INJECT_BINDING_BUFFER, buffer)
-        .dispatch({runs, rsm.resolution, rsm.layers});
+    // Every range pass before the first injection: each texel is divided by the final M.
+    for (const RsmInput& rsm : rsms)
+        rg::ComputePass(graph, prefix + ".inject" + rsm.label + ".range", injector.fluxRange)
+            .push(pushFor(rsm))
+            .read(LPV_INJECT_BINDING_POSITION, rsm.position)
+            .read(LPV_INJECT_BINDING_FLUX, rsm.flux)
+            .write(LPV_INJECT_BINDING_BUFFER, buffer)
+            .dispatch({rsm.resolution, rsm.resolution, rsm.layers});
+    for (const RsmInput& rsm : rsms) {
+        // One invocation per run of LPV_INJECT_RUN texels of a row.
+        const uint32_t runs = (rsm.resolution + LPV_INJECT_RUN - 1) / LPV_INJECT_RUN;
+        // Without reduction the source bindings take the RSM itself (the shader never reads them then).
+        const bool reduced = rsm.factor > 1;
+        rg::ComputePass(graph, prefix + ".inject" + rsm.label, injector.inject)
+            .push(pushFor(rsm))
+            .read(LPV_INJECT_BINDING_POSITION, rsm.position)
+            .read(LPV_INJECT_BINDING_NORMAL, rsm.normal)
+            .read(LPV_INJECT_BINDING_FLUX, rsm.flux)
+            .read(LPV_INJECT_BINDING_SOURCE_POSITION, reduced ? rsm.sourcePosition : rsm.position)
+            .read(LPV_INJECT_BINDING_SOURCE_NORMAL, reduced ? rsm.sourceNormal : rsm.normal)
+            .read(LPV_INJECT_BINDING_SOURCE_FLUX, reduced ? rsm.sourceFlux : rsm.flux)
+            .read(LPV_INJECT_BINDING_SHADOW_VIEWS, rsm.views)
+            .write(LPV_INJECT_BINDING_BUFFER, buffer)
+            .dispatch({runs, rsm.resolution, rsm.layers});
+    }
     rg::ComputePass(graph, prefix + ".inject.resolve", injector.resolve[format == VK_FORMAT_R32G32B32A32_SFLOAT])
-        .push(push)
+        .push(pushFor(rsms.front()))
         .read(LPV_RESOLVE_BINDING_BUFFER, buffer)
         .overwrite(LPV_RESOLVE_BINDING_WAVEFRONT_R, wavefront.channel[0])
         .overwrite(LPV_RESOLVE_BINDING_WAVEFRONT_G, wavefront.channel[1])

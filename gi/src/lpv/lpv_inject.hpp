@@ -52,6 +52,9 @@ struct RsmInput {
     // (gpu::lpvInjectsNearLight).
     rg::BufferHandle views;
     float nearLightRadius = 0.0f;
+    // Inserted after "<prefix>.inject" in the names of this RSM's injection passes ("" for the
+    // lights' RSM, ".emitter" for the emitter proxies' RSM: "gi.lpv.inject.emitter").
+    std::string label;
 };
 
 struct GBufferInput {
@@ -75,12 +78,14 @@ struct InjectionResult {
 RsmInput addRsmReducePass(rg::RenderGraph& graph, const Injector& injector, const RsmInput& rsm, uint32_t factor,
                           float mergeRadius, const std::string& prefix = "gi.lpv");
 
-// Injects every RSM texel into `grid`, writing (fully) the given wavefront and accumulation
-// volumes. `buffer` is the injection buffer, e.g. an imported one kept for the lookup of later
-// frames (invalid handle: a transient is created).
+// Injects every texel of every RSM in `rsms` (at least one) into `grid`, writing (fully) the
+// given wavefront and accumulation volumes. M is the largest texel flux over all of them.
+// `buffer` is the injection buffer, e.g. an imported one kept for the lookup of later frames
+// (invalid handle: a transient is created).
 InjectionResult addInjectionPasses(rg::RenderGraph& graph, const Injector& injector, const gpu::LpvGrid& grid,
-                                   VkFormat format, const RsmInput& rsm, ShHandles wavefront, ShHandles accumulation,
-                                   rg::BufferHandle buffer = {}, const std::string& prefix = "gi.lpv");
+                                   VkFormat format, const std::vector<RsmInput>& rsms, ShHandles wavefront,
+                                   ShHandles accumulation, rg::BufferHandle buffer = {},
+                                   const std::string& prefix = "gi.lpv");
 
 // Size in bytes of the injection buffer of a grid.
 VkDeviceSize injectionBufferBytes(glm::ivec3 cells);

@@ -1,12 +1,14 @@
-// Technique::Lpv: per frame, inject the shared RSM into a grid fitted to the lit part of the
-// scene (or into camera-centred cascades when that part is too large for one grid), build the geometry volume from the RSM and the camera's G-buffer, propagate (with
-// reflection at the shared voxel grid's occupied voxels when bounces are on), and look the
-// accumulated light up per pixel. With one grid (no camera-following cascades) the accumulated
-// volume and the injection buffer are persistent: injection and propagation run only when a
-// light or object changed, or the camera moved while occlusion is on (the geometry volume takes
-// the camera's G-buffer surfels, so it is view dependent); otherwise only the lookup runs. The
-// voxel grid of the bounce is persistent too and re-voxelized only for moved objects. Everything
-// else is a transient of the frame graph.
+// Technique::Lpv: per frame, inject the shared RSM (and, in a scene with emission, the RSM of the
+// emitters' point proxies, which the LPV renders itself) into a grid fitted to the lit part of
+// the scene (or into camera-centred cascades when that part is too large for one grid), build the
+// geometry volume from the RSM and the camera's G-buffer, propagate (with reflection at the shared
+// voxel grid's occupied voxels when bounces are on), and look the accumulated light up per pixel.
+// With one grid (no camera-following cascades) the accumulated volume and the injection buffer
+// are persistent: injection and propagation run only when a light or object changed, or the
+// camera moved while occlusion is on (the geometry volume takes the camera's G-buffer surfels, so
+// it is view dependent); otherwise only the lookup runs. The voxel grid of the bounce is
+// persistent too and re-voxelized only for moved objects. Everything else is a transient of the
+// frame graph.
 #include "lpv/lpv_technique.hpp"
 
 #include <algorithm>
@@ -17,6 +19,9 @@
 #include <vector>
 
 #include "vkgi/frame_data.hpp"
+#include "emissive/emissive_surfels.hpp"
+#include "engine/lights.h"
+#include "engine/scene_types.h"
 #include "lpv/lpv_grid.hpp"
 #include "lpv/lpv_inject.hpp"
 #include "lpv/lpv_passes.hpp"
@@ -38,10 +43,17 @@ uint32_t voxelResolutionFor(uint32_t lpvCells) {
     return resolution;
 }
 
+// Lambertian point sources standing for the scene's emission (emitterPointSources), each with a
+// cube RSM whose faces have half the shadow map's side: together the proxies have the texels of
+// one point light's cube RSM.
+constexpr uint32_t kEmitterSources = 4;
+
 // What every grid of a frame injects from and looks up for.
 struct FrameSources {
     VkFormat format = VK_FORMAT_UNDEFINED; // SH storage format
-    lpv::RsmInput rsm;                     // the RSM as the light passes wrote it (before any reduction)
+    lpv::RsmInput rsm;                     // the lights' RSM as the light passes wrote it (before any
+                                           // reduction); position invalid when no light has layers
+    bool emitters = false;                 // the emitter proxies' RSM is injected too
     lpv::GBufferInput gbuffer;
 };
 
@@ -54,8 +66,10 @@ struct KeptVolumes {
 
 class LpvTechnique final : public TechniqueModule {
 public:
-    LpvTechnique(Context& ctx, const LpvSettings& settings, lpv::Propagator propagator, lpv::Injector injector)
-        : m_ctx(ctx), m_settings(settings), m_propagator(propagator), m_injector(injector) {}
+    LpvTechnique(Context& ctx, const LpvSettings& settings, uint32_t shadowMapSize, lpv::Propagator propagator,
+                 lpv::Injector injector)
+        : m_ctx(ctx), m_settings(settings), m_emitterResolution(std::max(shadowMapSize / 2u, 16u)),
+          m_propagator(propagator), m_injector(injector) {}
     ~LpvTechnique() override {
         if (m_cache.cells != glm::ivec3(0))
             vkDeviceWaitIdle(m_ctx.device()); // the last frame may still read the kept volume
@@ -66,7 +80,8 @@ public:
     }
 
     // Without a lit region (no light) there is nothing to inject: the light passes leave the RSM out.
-    bool needsRsm() const override { return m_grid.has_value(); }
+    // A scene lit by emission alone needs only the emitter proxies' RSM, which the LPV renders.
+    bool needsRsm() const override { return m_grid.has_value() && m_sceneHasLights; }
 
     // Cascades read the RSM inside their coarsest level only: a sun's RSM is fitted to that box
     // (its own layer spans the whole scene, hundreds of metres in a large world, where merged
@@ -85,6 +100,8 @@ public:
     }
 
     Result<void> sceneChanged(Context& ctx, const Scene& scene, const GpuScene& gpu, bool uploaded) override {
+        m_emitters = emitterPointSources(scene, kEmitterSources);
+        m_sceneHasLights = !scene.lights.empty();
         if (auto fitted = fitGrid(scene, gpu); !fitted)
             return fitted.error();
         if (m_settings.bounces) // the grid of the bounce
@@ -94,16 +111,20 @@ public:
     }
 
     IndirectOutputs addPasses(rg::RenderGraph& graph, const TechniqueInputs& in) override {
-        if (!m_grid || !in.rsm || in.rsm->layers.empty())
+        const bool lightRsm = in.rsm && !in.rsm->layers.empty();
+        if (!m_grid || (!lightRsm && m_emitters.empty()))
             return {addUnlitPasses(graph, in), {}, {}, {}};
         const FrameData& frame = in.frame;
-        const RsmData& rsm = *in.rsm;
         // A camera-centred bounce grid that moves a step needs propagating again (needsPropagation).
         m_voxels.follow(frame.camera.position);
         FrameSources sources;
         sources.format = m_settings.halfFloat ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
-        sources.rsm = {rsm.position, rsm.normal, rsm.flux, rsm.resolution, uint32_t(rsm.layers.size())};
-        sources.rsm.views = in.shadow.views;
+        if (lightRsm) {
+            const RsmData& rsm = *in.rsm;
+            sources.rsm = {rsm.position, rsm.normal, rsm.flux, rsm.resolution, uint32_t(rsm.layers.size())};
+            sources.rsm.views = in.shadow.views;
+        }
+        sources.emitters = !m_emitters.empty();
         sources.gbuffer = {in.gbuffer.position, in.gbuffer.normal, in.gbuffer.albedo, frame.width, frame.height};
         std::vector<gpu::LpvGrid> grids = gridsFor(frame);
         if (grids.size() == 1)
@@ -124,7 +145,8 @@ private:
     // The grid fitted to the part of the scene the lights reach (none when nothing is lit).
     Result<void> fitGrid(const Scene& scene, const GpuScene& gpu) {
         m_grid.reset();
-        Aabb region = lpv::litRegion(gpu.bounds, scene.lights);
+        // Emission has no range: with emitters the whole scene is lit.
+        Aabb region = m_emitters.empty() ? lpv::litRegion(gpu.bounds, scene.lights) : gpu.bounds;
         if (!region.valid())
             return {};
         auto grid = lpv::fitLpvGrid(region, m_settings.gridSize);
@@ -155,9 +177,9 @@ private:
         KeptVolumes kept = importCache(graph);
         if (fresh || needsPropagation(grid, in.selection.changes)) {
             lpv::VoxelInput voxels = addVoxelPasses(graph, in);
-            const lpv::RsmInput rsm = reducedRsm(graph, sources.rsm, grid.origin.w);
+            const std::vector<lpv::RsmInput> rsms = injectedRsms(graph, in, sources, grid.origin.w);
             lpv::InjectionResult propagated =
-                addGridPasses(graph, grid, sources, rsm, voxels, "gi.lpv", kept.accumulation, kept.injectionBuffer);
+                addGridPasses(graph, grid, sources, rsms, voxels, "gi.lpv", kept.accumulation, kept.injectionBuffer);
             kept.accumulation = propagated.accumulation;
             kept.injectionBuffer = propagated.buffer;
             if (kept.channelSum.valid())
@@ -184,6 +206,8 @@ private:
         const std::string why = m_settings.occlusion ? "no light or object changed and the camera did not move"
                                                      : "no light or object changed";
         selection.leaveOut("gi.lpv.inject*", LeftOutReason::NotDirty, why);
+        if (!m_emitters.empty())
+            selection.leaveOut("gi.lpv.emitter.*", LeftOutReason::NotDirty, why);
         if (m_settings.occlusion)
             selection.leaveOut("gi.lpv.gv.*", LeftOutReason::NotDirty, why);
         selection.leaveOut("gi.lpv.propagate*", LeftOutReason::NotDirty, why);
@@ -201,7 +225,7 @@ private:
         // setting returns to it (the camera left the lit region), it must be propagated again.
         m_cache.valid = false;
         lpv::VoxelInput voxels = addVoxelPasses(graph, in);
-        const lpv::RsmInput rsm = reducedRsm(graph, sources.rsm, grids.front().origin.w);
+        const std::vector<lpv::RsmInput> rsms = injectedRsms(graph, in, sources, grids.front().origin.w);
         rg::ImageHandle indirect;
         for (size_t k = 0; k < grids.size(); ++k) {
             const gpu::LpvGrid& grid = grids[k];
@@ -209,7 +233,7 @@ private:
             lpv::ShHandles accumulation =
                 lpv::createShVolume(graph, (prefix + ".accumulation").c_str(), glm::ivec3(grid.size), sources.format);
             lpv::InjectionResult propagated =
-                addGridPasses(graph, grid, sources, rsm, voxels, prefix, accumulation, {});
+                addGridPasses(graph, grid, sources, rsms, voxels, prefix, accumulation, {});
             lpv::CascadeBlend blend;
             blend.fadeBorder = true;
             blend.accumulate = k > 0;
@@ -225,16 +249,23 @@ private:
     // whole) with `injectionBuffer` (invalid: a transient). Returns the accumulated light and
     // the injection buffer the lookup reads.
     lpv::InjectionResult addGridPasses(rg::RenderGraph& graph, const gpu::LpvGrid& grid, const FrameSources& sources,
-                                       const lpv::RsmInput& rsm, const lpv::VoxelInput& voxels,
+                                       const std::vector<lpv::RsmInput>& rsms, const lpv::VoxelInput& voxels,
                                        const std::string& prefix, const lpv::ShHandles& accumulation,
                                        rg::BufferHandle injectionBuffer) {
         const glm::ivec3 cells(grid.size);
         lpv::ShHandles firstWavefront = lpv::createShVolume(graph, (prefix + ".wave.a").c_str(), cells, sources.format);
-        lpv::InjectionResult injected = lpv::addInjectionPasses(graph, m_injector, grid, sources.format, rsm,
+        lpv::InjectionResult injected = lpv::addInjectionPasses(graph, m_injector, grid, sources.format, rsms,
                                                                 firstWavefront, accumulation, injectionBuffer, prefix);
+        // The geometry volume's RSM surfels come from one RSM, the lights' when there is one, and of
+        // the emitter proxies' from the first proxy's cube alone: every proxy sees the same walls,
+        // which would be counted once per proxy in the same sum.
         rg::ImageHandle geometryVolume;
-        if (m_settings.occlusion)
-            geometryVolume = lpv::addGeometryVolumePasses(graph, m_injector, grid, rsm, sources.gbuffer, prefix);
+        if (m_settings.occlusion) {
+            lpv::RsmInput blockers = rsms.front();
+            if (!sources.rsm.position.valid())
+                blockers.layers = std::min(blockers.layers, 6u);
+            geometryVolume = lpv::addGeometryVolumePasses(graph, m_injector, grid, blockers, sources.gbuffer, prefix);
+        }
         lpv::PropagationVolumes volumes{injected.wavefront,
                                         lpv::createShVolume(graph, (prefix + ".wave.b").c_str(), cells, sources.format),
                                         injected.accumulation};
@@ -257,20 +288,81 @@ private:
     // Every grid leaves out the surfels within `finestCell` of their point or spot light
     // (gpu::lpvInjectsNearLight): the light that reaches the camera's surroundings comes through
     // the finest grid, and a coarser cascade's cell would drop whole rooms around a lamp.
-    lpv::RsmInput reducedRsm(rg::RenderGraph& graph, const lpv::RsmInput& rsm, float finestCell) const {
-        lpv::RsmInput out = m_settings.rsmReduce <= 1
-                                ? rsm
-                                : lpv::addRsmReducePass(graph, m_injector, rsm, m_settings.rsmReduce, 0.5f * finestCell);
+    lpv::RsmInput reducedRsm(rg::RenderGraph& graph, const lpv::RsmInput& rsm, float finestCell,
+                             const std::string& prefix = "gi.lpv") const {
+        lpv::RsmInput out = m_settings.rsmReduce <= 1 ? rsm
+                                                      : lpv::addRsmReducePass(graph, m_injector, rsm, m_settings.rsmReduce,
+                                                                              0.5f * finestCell, prefix);
         out.nearLightRadius = finestCell;
+        out.label = rsm.label;
         return out;
+    }
+
+    // The RSMs every grid of this frame injects: the lights' (when any light has layers), then the
+    // emitter proxies' (when the scene has emission), both reduced as reducedRsm says.
+    std::vector<lpv::RsmInput> injectedRsms(rg::RenderGraph& graph, const TechniqueInputs& in,
+                                            const FrameSources& sources, float finestCell) const {
+        std::vector<lpv::RsmInput> rsms;
+        if (sources.rsm.position.valid())
+            rsms.push_back(reducedRsm(graph, sources.rsm, finestCell));
+        if (sources.emitters)
+            rsms.push_back(reducedRsm(graph, addEmitterRsm(graph, in), finestCell, "gi.lpv.emitter"));
+        return rsms;
+    }
+
+    // The cube RSM of every emitter proxy (docs/lpv.md, "Emissive surfaces"): the proxies as
+    // GI_LIGHT_EMITTER lights and their cube-face views are uploaded by gi.lpv.emitter.setup and
+    // rendered by gi.lpv.emitter.rsm with the light passes' RSM pipeline. The views also give the
+    // injection the proxies' positions (the near-light rule).
+    lpv::RsmInput addEmitterRsm(rg::RenderGraph& graph, const TechniqueInputs& in) const {
+        std::vector<gpu::GpuLight> lights;
+        std::vector<gpu::GpuShadowView> views;
+        for (const EmitterPointSource& e : m_emitters) {
+            gpu::GpuLight light{};
+            light.positionType = glm::vec4(e.position, float(GI_LIGHT_EMITTER));
+            light.directionRange = glm::vec4(e.normal, 0.0f);
+            light.colorIntensity = glm::vec4(e.flux / 3.14159265358979f, 1.0f); // I(n) = flux / pi
+            lights.push_back(light);
+            for (const gpu::GpuShadowView& v : cubeShadowViews(e.position, in.frame.gpuScene->bounds, m_emitterResolution))
+                views.push_back(v);
+        }
+        struct Setup {
+            std::vector<gpu::GpuLight> lights;
+            std::vector<gpu::GpuShadowView> views;
+            rg::BufferHandle lightBuffer, viewBuffer;
+        };
+        const Setup& setup = graph.addPass<Setup>(
+            "gi.lpv.emitter.setup",
+            [&](rg::PassBuilder& b, Setup& d) {
+                d.lights = lights;
+                d.views = views;
+                d.lightBuffer = b.write(b.create("gi.lpv.emitter.lights",
+                                                 BufferDesc{lights.size() * sizeof(gpu::GpuLight)}),
+                                        rg::Access::TransferWrite);
+                d.viewBuffer = b.write(b.create("gi.lpv.emitter.views",
+                                                BufferDesc{views.size() * sizeof(gpu::GpuShadowView)}),
+                                       rg::Access::TransferWrite);
+            },
+            [](const Setup& d, rg::PassContext& pc) {
+                vkCmdUpdateBuffer(pc.cmd(), pc.buffer(d.lightBuffer).buffer, 0,
+                                  d.lights.size() * sizeof(gpu::GpuLight), d.lights.data());
+                vkCmdUpdateBuffer(pc.cmd(), pc.buffer(d.viewBuffer).buffer, 0,
+                                  d.views.size() * sizeof(gpu::GpuShadowView), d.views.data());
+            });
+        const RsmImages images = addPointSourceRsmPass(graph, in.pipelines, in.frame, in.scene, setup.lightBuffer,
+                                                       views, m_emitterResolution, "gi.lpv.emitter.rsm");
+        lpv::RsmInput rsm{images.position, images.normal, images.flux, m_emitterResolution, uint32_t(views.size())};
+        rsm.views = setup.viewBuffer;
+        rsm.label = ".emitter";
+        return rsm;
     }
 
     // No lit region or no light in the shadow atlas: nothing to inject, a black indirect image.
     rg::ImageHandle addUnlitPasses(rg::RenderGraph& graph, const TechniqueInputs& in) {
         m_cache.valid = false; // the changes of this frame are not looked at
         in.selection.leaveOut("gi.lpv.*", LeftOutReason::NotNeeded,
-                              !m_grid ? "no light reaches the scene (the LPV injects only the RSM)"
-                                      : "no light has shadow-atlas layers");
+                              !m_grid ? "no light or emission reaches the scene (the LPV injects only RSMs)"
+                                      : "no light has shadow-atlas layers and the scene has no emission");
         return addBlack(graph, in.frame);
     }
 
@@ -339,10 +431,13 @@ private:
 
     Context& m_ctx;
     LpvSettings m_settings;
+    uint32_t m_emitterResolution = 0; // texels per side of an emitter proxy's cube face
     lpv::Propagator m_propagator;
     lpv::Injector m_injector;
     std::optional<gpu::LpvGrid> m_grid; // fitted to the lit region (also what cascadeCount weighs)
     Aabb m_region;                      // the lit region
+    std::vector<EmitterPointSource> m_emitters; // the emission's proxies (empty without emission)
+    bool m_sceneHasLights = false;
     SceneVoxelGrid m_voxels; // the bounce's grid (multi-bounce on)
     // The accumulated SH volume and injection buffer (its header holds the flux unit M) of the
     // single-grid case, kept across frames.
@@ -370,7 +465,7 @@ Result<std::unique_ptr<TechniqueModule>> createLpvTechnique(Context& ctx, const 
         propagator->destroy(ctx);
         return injector.error();
     }
-    return std::unique_ptr<TechniqueModule>(new LpvTechnique(ctx, settings.lpv, *propagator, *injector));
+    return std::unique_ptr<TechniqueModule>(new LpvTechnique(ctx, settings.lpv, settings.shadowMapSize, *propagator, *injector));
 }
 
 } // namespace vkgi::gi

@@ -33,6 +33,8 @@ void main() {
         intensity *= lightRangeWindow(dist, light.directionRange.w);
         if (uint(light.positionType.w) == GI_LIGHT_SPOT)
             intensity *= spotConeAttenuation(dot(w, light.directionRange.xyz), light.cone.x, light.cone.y);
+        else if (uint(light.positionType.w) == GI_LIGHT_EMITTER)
+            intensity *= max(dot(w, light.directionRange.xyz), 0.0);
     }
     outPosition = vec4(inPosition, 1.0);
     outNormal = vec4(surfaceNormal(ortho ? inPosition + toLight : light.positionType.xyz), 0.0);

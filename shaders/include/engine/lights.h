@@ -11,6 +11,10 @@ GI_NAMESPACE_BEGIN
 #define GI_LIGHT_DIRECTIONAL 0u
 #define GI_LIGHT_POINT 1u
 #define GI_LIGHT_SPOT 2u
+// A Lambertian point source standing for emissive surfaces: intensity times max(0, cos) about
+// directionRange.xyz. Never in a scene's light buffer: only the RSM of the LPV's emitter proxies
+// (rsm.frag; docs/lpv.md, "Emissive surfaces") renders it.
+#define GI_LIGHT_EMITTER 3u
 
 // glTF's recommended range window: 1 inside, smoothly 0 at `range`; range <= 0 means infinite.
 GI_INLINE float lightRangeWindow(float dist, float range) {
