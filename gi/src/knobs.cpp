@@ -114,9 +114,10 @@ std::vector<Knob> makeKnobs() {
         floatKnob("vpl.interleave_tolerance", 0.001, 1, vpl,
                   "interleave filter: tangent-plane offset that makes a neighbour another surface, fraction of depth",
                   [](GiSettings& s) -> float& { return s.vpl.interleaveTolerance; }),
-        enumKnob("vpl.visibility", {"off", "on", "auto"}, vpl,
-                 "VPL light stopped by a voxel grid's occupancy (off = none, as in the paper; auto = on with a "
-                 "directional light or emission)",
+        enumKnob("vpl.visibility", {"off", "on", "auto", "maps"}, vpl,
+                 "VPL light stopped by a voxel grid's occupancy: on = marched per receiver, maps = per-VPL "
+                 "visibility maps (off = none, as in the paper; auto = on with a directional light or emission, "
+                 "else maps)",
                  [](GiSettings& s) -> VplVisibilityMode& { return s.vpl.visibility; }),
         uintKnob("vpl.visibility_grid", 16, 256, vpl,
                  "voxels per axis of the visibility (and bounce) grid, a power of two",

@@ -422,6 +422,8 @@ TEST_F(PassSelectionTest, ModelledBouncesFollowTheBounceKnobs) {
     s.lpv.bounces = true;
     EXPECT_EQ(modelledBounces(s), 3);
     s.technique = Technique::Vpl;
+    EXPECT_EQ(modelledBounces(s), 3); // lamps: the visibility maps and with them two generations
+    s.vpl.visibility = VplVisibilityMode::Off;
     EXPECT_EQ(modelledBounces(s), 2);
 }
 

@@ -117,6 +117,7 @@ TEST_F(VplScene, VplsLieOnDirectlyLitSurfacesInsideTheCone) {
     for (const char* name : {"cornell_spot", "cornell"}) { // one perspective layer; a cube (70-degree spot)
         Scene scene = builtin(name);
         VplSettings v;
+        v.visibility = VplVisibilityMode::Off; // the paper's one generation (lamps default to maps)
         v.vplCount = 200;
         auto sys = makeSystem(v);
         ASSERT_TRUE(sys);
@@ -167,6 +168,7 @@ TEST_F(VplScene, EachSpotlightGetsItsOwnVpls) {
     second.direction = glm::normalize(glm::vec3(-1.0f, -0.3f, 0.0f)); // towards the left wall
     scene.lights.push_back(second);
     VplSettings v;
+    v.visibility = VplVisibilityMode::Off; // the paper's one generation (lamps default to maps)
     v.vplCount = 64;
     auto sys = makeSystem(v);
     ASSERT_TRUE(sys);
@@ -370,6 +372,7 @@ TEST_F(VplScene, PointLightVplsCoverTheSphereWithExactFlux) {
     light.intensity = 100.0f;
     Scene scene = test::planeScene(0.5f, light);
     VplSettings v;
+    v.visibility = VplVisibilityMode::Off; // the paper's one generation (lamps default to maps)
     v.vplCount = 512;
     auto sys = makeSystem(v);
     ASSERT_TRUE(sys && sys->setScene(scene));
@@ -488,6 +491,7 @@ TEST_F(VplScene, IntegratingSphereGetsTheClosedFormBounceFromAPointLight) {
     // VPL's clamped light at its pixels, spread over the tile by the filter (measured 1.53 %).
     for (uint32_t interleave : {1u, 4u}) {
         VplSettings v;
+        v.visibility = VplVisibilityMode::Off; // the paper's one generation (lamps default to maps)
         v.interleave = interleave;
         auto sys = makeSystem(v);
         ASSERT_TRUE(sys && sys->setScene(scene));

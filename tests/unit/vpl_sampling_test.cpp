@@ -179,8 +179,9 @@ TEST(VplSampling, SettingsValidation) {
     EXPECT_NE(r.error().message.find("bounces 5"), std::string::npos) << r.error().message;
 }
 
-// The automatic rule: visibility (and with it a second bounce) where a directional light shines
-// in; explicit values are kept.
+// The automatic rule: visibility marched per receiver (and with it a second bounce) where a
+// directional light shines in, the visibility maps (and the second bounce) for lamps; explicit
+// values are kept.
 TEST(VplSampling, AutomaticSettingsFollowTheDirectionalLight) {
     const VplSettings automatic;
     EXPECT_EQ(automatic.visibility, VplVisibilityMode::Auto);
@@ -188,8 +189,8 @@ TEST(VplSampling, AutomaticSettingsFollowTheDirectionalLight) {
     VplSettings sun = resolveVplSettings(automatic, true), lamp = resolveVplSettings(automatic, false);
     EXPECT_EQ(sun.visibility, VplVisibilityMode::On);
     EXPECT_EQ(sun.bounces, 2u);
-    EXPECT_EQ(lamp.visibility, VplVisibilityMode::Off);
-    EXPECT_EQ(lamp.bounces, 1u);
+    EXPECT_EQ(lamp.visibility, VplVisibilityMode::Maps);
+    EXPECT_EQ(lamp.bounces, 2u);
     VplSettings fixed;
     fixed.visibility = VplVisibilityMode::Off;
     fixed.bounces = 3;
@@ -197,11 +198,17 @@ TEST(VplSampling, AutomaticSettingsFollowTheDirectionalLight) {
     fixed.visibility = VplVisibilityMode::On;
     fixed.bounces = 0;
     EXPECT_EQ(resolveVplSettings(fixed, false).bounces, 2u);
+    fixed.visibility = VplVisibilityMode::Maps; // kept with a sun too
+    EXPECT_EQ(resolveVplSettings(fixed, true).visibility, VplVisibilityMode::Maps);
+    EXPECT_EQ(resolveVplSettings(fixed, true).bounces, 2u);
+    fixed.visibility = VplVisibilityMode::Off;
+    fixed.bounces = 0;
+    EXPECT_EQ(resolveVplSettings(fixed, false).bounces, 1u);
 }
 
 // The shared grid's placement rule (docs/vpl.md, "Visibility"): camera-centred only where the
 // camera is inside the bounds and the fitted voxel would be more than twice the camera grid's
-// (64 m / N); the corner snaps to quarter-grid steps and keeps the camera at least N/4 voxels
+// (64 m / N, or the lamp span's 32 m / N); the corner snaps to quarter-grid steps and keeps the camera at least N/4 voxels
 // from every face.
 TEST(VplSampling, SharedGridFollowsTheCameraOnlyInLargeScenes) {
     auto box = [](glm::vec3 lo, glm::vec3 hi) {
@@ -221,6 +228,12 @@ TEST(VplSampling, SharedGridFollowsTheCameraOnlyInLargeScenes) {
     // for the world; a 100 m scene (1.6 m fitted voxels at 64^3) keeps its fitted grid.
     EXPECT_TRUE(sharedGridFollowsCamera(world, 256, eye));
     EXPECT_FALSE(sharedGridFollowsCamera(box({-50.0f, 0.0f, -50.0f}, {50.0f, 10.0f, 50.0f}), 64, eye));
+    // With the lamp span (32 m) the switch is at 1 m fitted voxels: the 100 m scene follows the
+    // camera, the 16 m hall (0.25 m) keeps its fitted grid.
+    EXPECT_TRUE(sharedGridFollowsCamera(box({-50.0f, 0.0f, -50.0f}, {50.0f, 10.0f, 50.0f}), 64, eye,
+                                        kSharedGridLampSpan));
+    EXPECT_FALSE(sharedGridFollowsCamera(box({-8.0f, 0.0f, -5.0f}, {8.0f, 6.0f, 5.0f}), 64, glm::vec3(0.0f, 1.7f, 0.0f),
+                                         kSharedGridLampSpan));
     const uint32_t n = 64;
     const float voxel = kSharedGridSpan / float(n);
     for (glm::vec3 p : {eye, glm::vec3(7.9f, 0.0f, -8.1f), glm::vec3(-123.4f, 5.0f, 77.7f)}) {

@@ -37,8 +37,9 @@ constexpr uint32_t kMaxHaltonSearch = 1u << 22;
 // Visibility between VPLs and receivers (VplSettings::visibility).
 enum class VplVisibilityMode : uint32_t {
     Off,  // none, as in the paper
-    On,   // each VPL's light marched through the voxel grid's occupancy
-    Auto, // On when the scene has a directional light or emission, else Off (resolveVplSettings)
+    On,   // each VPL's light marched through the voxel grid's occupancy, per receiver
+    Auto, // On when the scene has a directional light or emission, else Maps (resolveVplSettings)
+    Maps, // each VPL's light stopped where its visibility map (rays walked once per VPL) says
 };
 
 // Where the visibility (and bounce) grid goes (VplSettings::visibilityPlacement).

@@ -19,14 +19,14 @@ VoxelUpdate voxelUpdateFor(const SceneChanges& changes) {
                                                  : VoxelUpdate::None;
 }
 
-bool sharedGridFollowsCamera(const Aabb& bounds, uint32_t resolution, glm::vec3 eye) {
+bool sharedGridFollowsCamera(const Aabb& bounds, uint32_t resolution, glm::vec3 eye, float span) {
     if (!bounds.valid() || resolution < 2)
         return false;
     const bool inside =
         glm::all(glm::greaterThanEqual(eye, bounds.min)) && glm::all(glm::lessThanEqual(eye, bounds.max));
     const glm::vec3 e = bounds.extent();
     const float fittedVoxel = std::max({e.x, e.y, e.z}) / float(resolution - 1);
-    return inside && fittedVoxel > kSharedGridCoarsening * kSharedGridSpan / float(resolution);
+    return inside && fittedVoxel > kSharedGridCoarsening * span / float(resolution);
 }
 
 glm::ivec3 sharedGridCell(glm::vec3 eye, float voxel, uint32_t n) {
@@ -36,18 +36,19 @@ glm::ivec3 sharedGridCell(glm::vec3 eye, float voxel, uint32_t n) {
 }
 
 Result<void> SceneVoxelGrid::sceneChanged(Context& ctx, const GpuScene& gpu, bool uploaded, uint32_t resolution,
-                                          glm::vec3 eye, SharedGridPlacement placement, bool halfVoxels) {
+                                          glm::vec3 eye, SharedGridPlacement placement, bool halfVoxels,
+                                          float span) {
     m_draws = voxelDraws(gpu);
     if (!gpu.bounds.valid() || (!uploaded && m_grid))
         return {}; // what moved arrives as PassSelection::changes with the next frame
     const bool camera =
         placement == SharedGridPlacement::Camera ||
-        (placement == SharedGridPlacement::Auto && sharedGridFollowsCamera(gpu.bounds, resolution, eye));
+        (placement == SharedGridPlacement::Auto && sharedGridFollowsCamera(gpu.bounds, resolution, eye, span));
     gpu::VoxelGridParams params{};
     if (camera) {
         // Voxels set in metres; the corner is placed by follow() at the first frame. Radiance
         // scale 1, as the fitted grid's: its readers take albedo, normals and faces only.
-        const float voxel = kSharedGridSpan / float(resolution);
+        const float voxel = span / float(resolution);
         params.originSize = glm::vec4(glm::vec3(0.0f), voxel);
         params.scales = glm::vec4(1.0f / voxel, 1.0f, 1.0f, 0.0f);
         // Half-voxel bits: 1 m voxels half-close a 2.4 m arcade (docs/vpl.md, "Visibility").

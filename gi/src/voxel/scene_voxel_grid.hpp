@@ -32,13 +32,17 @@ VoxelUpdate voxelUpdateFor(const SceneChanges& changes);
 enum class SharedGridPlacement {
     Auto,   // sharedGridFollowsCamera decides, when the scene is uploaded
     Fitted, // around the scene's bounds, whatever their size
-    Camera, // centred on the camera, kSharedGridSpan metres per axis
+    Camera, // centred on the camera, kSharedGridSpan (or the caller's span) metres per axis
 };
 
 // Metres per axis of a camera-centred shared grid, whatever its resolution: 1 m voxels at the
 // default 64^3, the scale of walls and doorways, and a box that holds a building around the
 // camera (a 28 m atrium seen from one end).
 inline constexpr float kSharedGridSpan = 64.0f;
+// The span VPL takes in scenes lit only by point and spot lights: their light, and the
+// occluders that shadow it, are those of the interior around the camera, and half the span
+// halves the voxels (0.5 m at 64^3, 0.25 m halves: a hall's fitted grid) for the same memory.
+inline constexpr float kSharedGridLampSpan = 32.0f;
 // The fitted grid's voxel must be more than this many camera-grid voxels for the camera-centred
 // grid to be taken: below it the fitted grid is about as fine and sees the whole scene.
 inline constexpr float kSharedGridCoarsening = 2.0f;
@@ -48,7 +52,8 @@ inline constexpr float kSharedGridCoarsening = 2.0f;
 // spans resolution - 1 voxels) would have voxels coarser than kSharedGridCoarsening times the
 // camera-centred grid's kSharedGridSpan / resolution. The bounds only select: the camera grid's
 // voxels are set in metres.
-bool sharedGridFollowsCamera(const Aabb& bounds, uint32_t resolution, glm::vec3 eye);
+// `span` is the camera-centred grid's (kSharedGridSpan unless the caller takes another).
+bool sharedGridFollowsCamera(const Aabb& bounds, uint32_t resolution, glm::vec3 eye, float span = kSharedGridSpan);
 
 // Min corner, in voxels of edge `voxel`, of the camera-centred grid of n^3 around `eye`: snapped
 // to steps of n/4 voxels, so that the grid moves (and re-voxelizes) only when the camera has
@@ -67,7 +72,8 @@ public:
     // `halfVoxels`: a camera-centred grid also records each voxel's 2x2x2 half-voxel occupancy
     // (gi/voxel_grid.h, dims.z = 1; VPL's visibility march reads it); a fitted grid never does.
     Result<void> sceneChanged(Context& ctx, const GpuScene& gpu, bool uploaded, uint32_t resolution, glm::vec3 eye,
-                              SharedGridPlacement placement = SharedGridPlacement::Auto, bool halfVoxels = false);
+                              SharedGridPlacement placement = SharedGridPlacement::Auto, bool halfVoxels = false,
+                              float span = kSharedGridSpan);
     // A camera-centred grid moves its corner to the step around `eye`, which makes a
     // re-voxelization pending; a fitted grid ignores it. Call before updatePending() is asked
     // (addPasses calls it too).

@@ -37,8 +37,8 @@ Result<void> validateVplSettings(const VplSettings& s) {
     if (s.bounces > kMaxVplBounces)
         return bad("bounces " + std::to_string(s.bounces) + " is outside 0.." + std::to_string(kMaxVplBounces) +
                    " (0 = automatic)");
-    if (uint32_t(s.visibility) > uint32_t(VplVisibilityMode::Auto))
-        return bad("visibility " + std::to_string(uint32_t(s.visibility)) + " is not off, on or auto");
+    if (uint32_t(s.visibility) > uint32_t(VplVisibilityMode::Maps))
+        return bad("visibility " + std::to_string(uint32_t(s.visibility)) + " is not off, on, auto or maps");
     if (uint32_t(s.visibilityPlacement) > uint32_t(VplGridPlacement::Camera))
         return bad("visibilityPlacement " + std::to_string(uint32_t(s.visibilityPlacement)) +
                    " is not auto, fitted or camera");
@@ -229,9 +229,9 @@ std::vector<glm::vec3> emitterSampleOrder(uint32_t count) {
 VplSettings resolveVplSettings(const VplSettings& s, bool sunOrEmission) {
     VplSettings r = s;
     if (r.visibility == VplVisibilityMode::Auto)
-        r.visibility = sunOrEmission ? VplVisibilityMode::On : VplVisibilityMode::Off;
+        r.visibility = sunOrEmission ? VplVisibilityMode::On : VplVisibilityMode::Maps;
     if (r.bounces == 0)
-        r.bounces = r.visibility == VplVisibilityMode::On ? 2 : 1;
+        r.bounces = r.visibility != VplVisibilityMode::Off ? 2 : 1;
     return r;
 }
 

@@ -78,7 +78,7 @@ Result<void> checkInputs(const VplInputs& in, const VplSettings& settings) {
     if (in.spots.size() > kMaxVplLights)
         return makeError("VplTechnique: " + std::to_string(in.spots.size()) + " lights exceed the maximum " +
                          std::to_string(kMaxVplLights));
-    if (settings.visibility == VplVisibilityMode::On && (!in.occupancy.valid() || in.occupancyResolution == 0 || !(in.occupancyOriginSize.w > 0.0f)))
+    if (settings.visibility != VplVisibilityMode::Off && (!in.occupancy.valid() || in.occupancyResolution == 0 || !(in.occupancyOriginSize.w > 0.0f)))
         return makeError("VplTechnique: visibility is on but the inputs carry no occupancy volume");
     if (settings.bounces > 1 && (!in.occupancy.valid() || !in.faces.valid() || in.occupancyResolution == 0 ||
                                  !(in.occupancyOriginSize.w > 0.0f)))
@@ -178,8 +178,8 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
     // (gi/vpl_visibility.h).
     const uint32_t halves = in.occupancyHalves.valid() ? 2u : 1u;
     push.interleave = glm::uvec4(settings.interleave, sources, settings.vplCount,
-                                 settings.visibility == VplVisibilityMode::On ? halves * in.occupancyResolution : 0u);
-    push.grid = settings.visibility == VplVisibilityMode::On
+                                 settings.visibility != VplVisibilityMode::Off ? halves * in.occupancyResolution : 0u);
+    push.grid = settings.visibility != VplVisibilityMode::Off
                     ? glm::vec4(glm::vec3(in.occupancyOriginSize), in.occupancyOriginSize.w / float(halves))
                     : glm::vec4(0.0f);
     return push;
@@ -189,8 +189,8 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
 
 struct VplTechnique::Impl {
     Context& ctx;
-    Pipeline generate, emitter, bounce, gather, gatherVisible, interleaveRows, interleaveColumns, negativeGenerate, negativeGather, upsample, refine,
-        refineVisible;
+    Pipeline generate, emitter, bounce, visibilityMap, gather, gatherVisible, gatherMaps, interleaveRows,
+        interleaveColumns, negativeGenerate, negativeGather, upsample, refine, refineVisible, refineMaps;
     VkSampler pointSampler = VK_NULL_HANDLE; // texelFetch-only, but sampled bindings need one
     // Halton directions per (count, cosOuter bits): the CPU search is the only costly CPU step.
     std::map<std::pair<uint32_t, uint32_t>, std::vector<glm::vec3>> directionCache;
@@ -208,8 +208,10 @@ struct VplTechnique::Impl {
     void addBouncePasses(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& settings,
                          const LightTableHandles& tables, uint32_t lightCount, uint32_t vplCount,
                          rg::BufferHandle& vpls);
+    rg::BufferHandle addVisibilityMapPass(rg::RenderGraph& graph, const VplInputs& in, uint32_t vplCount,
+                                          rg::BufferHandle vpls);
     GatherImages addGatherPass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
-                               const gpu::VplPixelPush& push, const char* indirectName);
+                               rg::BufferHandle visibilityMaps, const gpu::VplPixelPush& push, const char* indirectName);
     GatherImages addInterleaveFilterPasses(rg::RenderGraph& graph, const VplInputs& in,
                                            const GatherImages& gathered, rg::BufferHandle& refineList,
                                            const gpu::VplPixelPush& push, const char* indirectName);
@@ -221,8 +223,8 @@ struct VplTechnique::Impl {
     rg::ImageHandle addUpsamplePass(rg::RenderGraph& graph, const VplInputs& in, rg::ImageHandle lowResIndirect,
                                     rg::BufferHandle& refineList, const gpu::VplPixelPush& push);
     void addRefinePass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
-                       rg::BufferHandle negativeVpls, rg::BufferHandle refineList, rg::ImageHandle& indirect,
-                       const gpu::VplPixelPush& push);
+                       rg::BufferHandle visibilityMaps, rg::BufferHandle negativeVpls, rg::BufferHandle refineList,
+                       rg::ImageHandle& indirect, const gpu::VplPixelPush& push);
 };
 
 Result<const std::vector<glm::vec3>*> VplTechnique::Impl::directions(uint32_t count, float cosOuter) {
@@ -378,10 +380,34 @@ void VplTechnique::Impl::addBouncePasses(rg::RenderGraph& graph, const VplInputs
     }
 }
 
+// With visibility: every VPL's visibility map (gi/vpl_visibility.h), once all generations are
+// written; the gather and refine passes look their VPLs' light up in it.
+rg::BufferHandle VplTechnique::Impl::addVisibilityMapPass(rg::RenderGraph& graph, const VplInputs& in,
+                                                          uint32_t vplCount, rg::BufferHandle vpls) {
+    const uint32_t texels = GI_VPL_VISIBILITY_MAP_SIDE * GI_VPL_VISIBILITY_MAP_SIDE;
+    rg::BufferHandle maps =
+        graph.createBuffer("vpl.visibility_maps", storageBuffer(VkDeviceSize(vplCount) * texels * sizeof(float)));
+    gpu::VplBouncePush push{};
+    push.info = glm::uvec4(vplCount, 0, 0, 0);
+    // With the half-voxel bits the rays walk half voxels, as the bounce rays do.
+    const uint32_t halves = in.occupancyHalves.valid() ? 2u : 1u;
+    push.grid = glm::uvec4(0, halves * in.occupancyResolution, 0, 0);
+    push.origin = glm::vec4(glm::vec3(in.occupancyOriginSize), in.occupancyOriginSize.w / float(halves));
+    rg::ComputePass(graph, "vpl.visibility_maps", visibilityMap)
+        .push(push)
+        .read(VPL_VISIBILITY_MAP_BINDING_VPLS, vpls)
+        .sample(VPL_VISIBILITY_MAP_BINDING_ALBEDO, in.occupancy, pointSampler)
+        .sample(VPL_VISIBILITY_MAP_BINDING_HALVES, in.occupancyHalves.valid() ? in.occupancyHalves : in.occupancy,
+                pointSampler)
+        .overwrite(VPL_VISIBILITY_MAP_BINDING_MAP, maps)
+        .dispatch({vplCount * texels, 1, 1});
+    return maps;
+}
+
 GatherImages VplTechnique::Impl::addGatherPass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
-                                               const gpu::VplPixelPush& push, const char* indirectName) {
+                                               rg::BufferHandle visibilityMaps, const gpu::VplPixelPush& push,
+                                               const char* indirectName) {
     const uint32_t width = push.size.x, height = push.size.y;
-    const bool visible = push.interleave.w > 0;
     GatherImages out;
     out.indirect = graph.createImage(indirectName, radianceImage(width, height));
     out.incident = graph.createImage("vpl.incident", radianceImage(width, height));
@@ -389,7 +415,7 @@ GatherImages VplTechnique::Impl::addGatherPass(rg::RenderGraph& graph, const Vpl
     ImageDesc surface = radianceImage(width, height);
     surface.format = VK_FORMAT_R32G32B32A32_UINT;
     out.surface = graph.createImage("vpl.surface", surface);
-    rg::ComputePass pass(graph, "vpl.gather", visible ? gatherVisible : gather);
+    rg::ComputePass pass(graph, "vpl.gather", visibilityMaps.valid() ? gatherMaps : push.interleave.w > 0 ? gatherVisible : gather);
     pass.push(push)
         .sample(VPL_GATHER_BINDING_POSITION, in.gPosition, pointSampler)
         .sample(VPL_GATHER_BINDING_NORMAL, in.gNormal, pointSampler)
@@ -399,7 +425,9 @@ GatherImages VplTechnique::Impl::addGatherPass(rg::RenderGraph& graph, const Vpl
         .overwrite(VPL_GATHER_BINDING_INCIDENT, out.incident)
         .overwrite(VPL_GATHER_BINDING_TRAVEL, out.travel)
         .overwrite(VPL_GATHER_BINDING_SURFACE, out.surface);
-    if (visible)
+    if (visibilityMaps.valid())
+        pass.read(VPL_GATHER_BINDING_VISIBILITY_MAP, visibilityMaps);
+    else if (push.interleave.w > 0)
         pass.sample(VPL_GATHER_BINDING_OCCUPANCY, in.occupancyHalves.valid() ? in.occupancyHalves : in.occupancy,
                     pointSampler);
     pass.dispatch(interleavedGrid(width, height, push.interleave.x));
@@ -493,10 +521,10 @@ rg::ImageHandle VplTechnique::Impl::addUpsamplePass(rg::RenderGraph& graph, cons
 }
 
 void VplTechnique::Impl::addRefinePass(rg::RenderGraph& graph, const VplInputs& in, rg::BufferHandle vpls,
-                                       rg::BufferHandle negativeVpls, rg::BufferHandle refineList,
-                                       rg::ImageHandle& indirect, const gpu::VplPixelPush& push) {
-    const bool visible = push.interleave.w > 0;
-    rg::ComputePass pass(graph, "vpl.refine", visible ? refineVisible : refine);
+                                       rg::BufferHandle visibilityMaps, rg::BufferHandle negativeVpls,
+                                       rg::BufferHandle refineList, rg::ImageHandle& indirect,
+                                       const gpu::VplPixelPush& push) {
+    rg::ComputePass pass(graph, "vpl.refine", visibilityMaps.valid() ? refineMaps : push.interleave.w > 0 ? refineVisible : refine);
     pass.push(push)
         .sample(VPL_REFINE_BINDING_POSITION, in.gPosition, pointSampler)
         .sample(VPL_REFINE_BINDING_NORMAL, in.gNormal, pointSampler)
@@ -505,7 +533,9 @@ void VplTechnique::Impl::addRefinePass(rg::RenderGraph& graph, const VplInputs& 
         .read(VPL_REFINE_BINDING_NEGATIVE_VPLS, negativeVpls)
         .read(VPL_REFINE_BINDING_REFINE_LIST, refineList)
         .write(VPL_REFINE_BINDING_INDIRECT, indirect);
-    if (visible)
+    if (visibilityMaps.valid())
+        pass.read(VPL_REFINE_BINDING_VISIBILITY_MAP, visibilityMaps);
+    else if (push.interleave.w > 0)
         pass.sample(VPL_REFINE_BINDING_OCCUPANCY, in.occupancyHalves.valid() ? in.occupancyHalves : in.occupancy,
                     pointSampler);
     pass.dispatchIndirect(refineList, sizeof(uint32_t)); // one thread per entry (the header's command)
@@ -515,8 +545,9 @@ VplTechnique::VplTechnique(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
 
 VplTechnique::~VplTechnique() {
     Context& ctx = m->ctx;
-    for (Pipeline* p : {&m->generate, &m->emitter, &m->bounce, &m->gather, &m->interleaveRows, &m->interleaveColumns, &m->negativeGenerate,
-                        &m->negativeGather, &m->upsample, &m->refine, &m->gatherVisible, &m->refineVisible})
+    for (Pipeline* p : {&m->generate, &m->emitter, &m->bounce, &m->visibilityMap, &m->gather, &m->interleaveRows, &m->interleaveColumns, &m->negativeGenerate,
+                        &m->negativeGather, &m->upsample, &m->refine, &m->gatherVisible, &m->refineVisible, &m->gatherMaps,
+                        &m->refineMaps})
         destroyPipeline(ctx, *p);
     if (m->pointSampler)
         vkDestroySampler(ctx.device(), m->pointSampler, nullptr);
@@ -530,6 +561,7 @@ Result<std::unique_ptr<VplTechnique>> VplTechnique::create(Context& ctx) {
         {&m.generate, "gi/vpl/vpl_generate.comp"},
         {&m.emitter, "gi/vpl/vpl_emitter.comp"},
         {&m.bounce, "gi/vpl/vpl_bounce.comp"},
+        {&m.visibilityMap, "gi/vpl/vpl_visibility_map.comp"},
         {&m.gather, "gi/vpl/vpl_gather.comp"},
         {&m.interleaveRows, "gi/vpl/vpl_interleave_rows.comp"},
         {&m.interleaveColumns, "gi/vpl/vpl_interleave_columns.comp"},
@@ -539,6 +571,8 @@ Result<std::unique_ptr<VplTechnique>> VplTechnique::create(Context& ctx) {
         {&m.refine, "gi/vpl/vpl_refine.comp"},
         {&m.gatherVisible, "gi/vpl/vpl_gather_visible.comp"},
         {&m.refineVisible, "gi/vpl/vpl_refine_visible.comp"},
+        {&m.gatherMaps, "gi/vpl/vpl_gather_maps.comp"},
+        {&m.refineMaps, "gi/vpl/vpl_refine_maps.comp"},
     };
     for (const auto& [pipeline, name] : shaders) {
         auto p = createComputePipeline(ctx, {name, {}});
@@ -558,7 +592,16 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
         return ok.error();
     const bool directional =
         std::any_of(in.spots.begin(), in.spots.end(), [](const VplSpot& spot) { return spot.directional; });
-    const VplSettings settings = resolveVplSettings(requested, directional || in.emitterSurfels > 0);
+    VplSettings settings = resolveVplSettings(requested, directional || in.emitterSurfels > 0);
+    // Called without a voxel grid (the renderer's direct use), a lamp-lit scene's automatic
+    // visibility maps fall back to the paper's setting, as a scene without geometry does in
+    // VplTechniqueModule: no grid, nothing to occlude or reflect a ray.
+    if (requested.visibility == VplVisibilityMode::Auto && settings.visibility == VplVisibilityMode::Maps &&
+        !in.occupancy.valid()) {
+        settings.visibility = VplVisibilityMode::Off;
+        if (requested.bounces == 0)
+            settings.bounces = 1;
+    }
     if (auto ok = checkInputs(in, settings); !ok)
         return ok.error();
     const bool emitters = in.emitterSurfels > 0;
@@ -593,7 +636,11 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
     if (lowRes || interleaved)
         out.refineList = addRefineClearPass(graph, in.width, in.height);
     auto name = [](bool last, const char* intermediate) { return last ? "vpl.indirect" : intermediate; };
-    GatherImages gathered = m->addGatherPass(graph, in, out.vpls, push,
+    // Only with vpl.visibility maps (invalid otherwise).
+    const rg::BufferHandle visibilityMaps = settings.visibility == VplVisibilityMode::Maps
+                                                ? m->addVisibilityMapPass(graph, in, out.vplCount, out.vpls)
+                                                : rg::BufferHandle{};
+    GatherImages gathered = m->addGatherPass(graph, in, out.vpls, visibilityMaps, push,
                                              name(!lowRes && !negative && !interleaved, "vpl.gather_indirect"));
     if (interleaved)
         gathered = m->addInterleaveFilterPasses(graph, in, gathered, out.refineList, push,
@@ -609,7 +656,7 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
     if (lowRes)
         indirect = m->addUpsamplePass(graph, in, indirect, out.refineList, push);
     if (out.refineList.valid())
-        m->addRefinePass(graph, in, out.vpls, negativeVpls, out.refineList, indirect, push);
+        m->addRefinePass(graph, in, out.vpls, visibilityMaps, negativeVpls, out.refineList, indirect, push);
     out.indirect = indirect;
     return out;
 }

@@ -113,13 +113,14 @@ public:
             return ok.error();
         const bool directional = std::any_of(scene.lights.begin(), scene.lights.end(),
                                              [](const Light& l) { return l.type == LightType::Directional; });
-        m_resolved = resolveVplSettings(m_settings, directional || m_emissive.exists());
+        const bool sunOrEmission = directional || m_emissive.exists();
+        m_resolved = resolveVplSettings(m_settings, sunOrEmission);
         // The grid exists only while visibility or bounces need it (leave out what a scene does
         // not need).
-        if (m_resolved.visibility == VplVisibilityMode::On || m_resolved.bounces > 1)
+        if (m_resolved.visibility != VplVisibilityMode::Off || m_resolved.bounces > 1)
             return m_voxels.sceneChanged(ctx, gpu, uploaded, m_resolved.visibilityGrid,
                                          scene.cameraOrDefault().position, sharedGridPlacement(m_resolved),
-                                         /*halfVoxels=*/true);
+                                         /*halfVoxels=*/true, sunOrEmission ? kSharedGridSpan : kSharedGridLampSpan);
         m_voxels.reset(); // a new scene that needs no grid keeps none
         return {};
     }

@@ -28,6 +28,7 @@
 // and the hit takes the albedo and faces of the voxel holding the half.
 #include "gi/voxel_grid.h"
 #include "gi/vpl.h"
+#include "gi/vpl_voxel_walk.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_1D) in;
 layout(push_constant) uniform PushBlock { VplBouncePush pc; };
@@ -40,15 +41,6 @@ layout(set = 1, binding = VPL_BOUNCE_BINDING_VPLS, std430) buffer Vpls { VplReco
 
 const float kMinFootprintCos = 0.25;
 const float kStartOffset = 1.5; // voxels off the parent's surface: out of its own (conservative) voxels
-
-// Orthonormal tangents of unit n (Duff et al. 2017, branchless).
-void tangentFrame(vec3 n, out vec3 t, out vec3 b) {
-    float s = n.z >= 0.0 ? 1.0 : -1.0;
-    float a = -1.0 / (s + n.z);
-    float c = n.x * n.y * a;
-    t = vec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
-    b = vec3(c, s + n.y * n.y * a, -n.y);
-}
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -64,72 +56,38 @@ void main() {
     if (parent.position.w > 0.0 && any(greaterThan(parent.flux.rgb, vec3(0.0)))) {
         vec3 n = parent.direction.xyz;
         vec3 t, b;
-        tangentFrame(n, t, b);
+        vplTangentFrame(n, t, b);
         vec3 local = directions[i].xyz;
         vec3 dir = normalize(t * local.x + b * local.y + n * local.z);
         float voxel = pc.origin.w;
         int cells = int(pc.grid.y);
         // Grid coordinates (voxel units); the ray clipped to the grid's box [0, cells]^3.
         vec3 o = (parent.position.xyz + n * (kStartOffset * voxel) - pc.origin.xyz) / voxel;
-        vec3 inv = 1.0 / dir; // +-inf on axis-parallel rays: the slab test and the steps still work
-        vec3 t0 = (vec3(0.0) - o) * inv, t1 = (vec3(float(cells)) - o) * inv;
-        float tEnter = max(max(max(min(t0.x, t1.x), min(t0.y, t1.y)), min(t0.z, t1.z)), 0.0);
-        float tExit = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), max(t0.z, t1.z));
-        if (tEnter < tExit) {
-            // Amanatides & Woo: every voxel the ray crosses, in order.
-            ivec3 v = clamp(ivec3(floor(o + dir * tEnter)), ivec3(0), ivec3(cells - 1));
-            ivec3 stepDir = ivec3(sign(dir));
-            vec3 tDelta = abs(inv);
-            vec3 tNext = (vec3(v) + max(vec3(stepDir), vec3(0.0)) - o) * inv;
-            tNext = mix(tNext, vec3(1e30), equal(stepDir, ivec3(0)));
-            float tHit = tEnter;
-            int axis = -1; // the axis of the face the ray entered the current voxel through
-            bool hit = false;
-            int maxSteps = 3 * cells;
+        VplVoxelHit walk = vplVoxelWalk(o, dir, cells, albedoVolume, halvesVolume);
+        if (walk.hit) {
             const int shift = cells > textureSize(albedoVolume, 0).x ? 1 : 0;
-            for (int k = 0; k < maxSteps; ++k) {
-                bool occupied;
-                if (shift == 0) {
-                    occupied = texelFetch(albedoVolume, v, 0).a > 0.5;
-                } else {
-                    uint bits = uint(texelFetch(halvesVolume, v >> 1, 0).a + 0.5);
-                    occupied = ((bits >> (uint(v.x & 1) | (uint(v.y & 1) << 1u) | (uint(v.z & 1) << 2u))) & 1u) != 0u;
-                }
-                if (occupied) {
-                    hit = true;
-                    break;
-                }
-                axis = tNext.x < tNext.y ? (tNext.x < tNext.z ? 0 : 2) : (tNext.y < tNext.z ? 1 : 2);
-                tHit = tNext[axis];
-                v[axis] += stepDir[axis];
-                tNext[axis] += tDelta[axis];
-                if (v[axis] < 0 || v[axis] >= cells)
-                    break;
+            // The faces a ray travelling along +axis sees look towards -axis, and vice versa.
+            uint faces = imageLoad(facesVolume, walk.v >> shift).x;
+            vec3 m = vec3(0.0);
+            for (uint a = 0u; a < 3u; ++a) {
+                bool positive = dir[a] > 0.0;
+                float cover = voxelFaceCoverage(faces, 2u * a + (positive ? 1u : 0u));
+                m[a] = positive ? -cover : cover;
             }
-            if (hit) {
-                // The faces a ray travelling along +axis sees look towards -axis, and vice versa.
-                uint faces = imageLoad(facesVolume, v >> shift).x;
-                vec3 m = vec3(0.0);
-                for (uint a = 0u; a < 3u; ++a) {
-                    bool positive = dir[a] > 0.0;
-                    float cover = voxelFaceCoverage(faces, 2u * a + (positive ? 1u : 0u));
-                    m[a] = positive ? -cover : cover;
-                }
-                if (dot(m, m) < 1e-6 && axis >= 0)
-                    m[axis] = -float(stepDir[axis]);
-                if (dot(m, m) >= 1e-6) {
-                    vec3 nHit = normalize(m);
-                    float cosHit = -dot(nHit, dir);
-                    if (cosHit > 0.0) {
-                        vec3 p = (o + dir * tHit) * voxel + pc.origin.xyz;
-                        vec3 rho = texelFetch(albedoVolume, v >> shift, 0).rgb;
-                        vec3 d = p - parent.position.xyz;
-                        float footprint = dot(d, d) / (float(pc.grid.x) * max(local.z, kMinFootprintCos) *
-                                                       max(cosHit, kMinFootprintCos));
-                        child.position = vec4(p, 1.0);
-                        child.direction = vec4(nHit, 0.0);
-                        child.flux = vec4(parent.flux.rgb * rho, max(footprint, parent.flux.w));
-                    }
+            if (dot(m, m) < 1e-6 && walk.axis >= 0)
+                m[walk.axis] = -sign(dir[walk.axis]);
+            if (dot(m, m) >= 1e-6) {
+                vec3 nHit = normalize(m);
+                float cosHit = -dot(nHit, dir);
+                if (cosHit > 0.0) {
+                    vec3 p = (o + dir * walk.t) * voxel + pc.origin.xyz;
+                    vec3 rho = texelFetch(albedoVolume, walk.v >> shift, 0).rgb;
+                    vec3 d = p - parent.position.xyz;
+                    float footprint = dot(d, d) / (float(pc.grid.x) * max(local.z, kMinFootprintCos) *
+                                                   max(cosHit, kMinFootprintCos));
+                    child.position = vec4(p, 1.0);
+                    child.direction = vec4(nHit, 0.0);
+                    child.flux = vec4(parent.flux.rgb * rho, max(footprint, parent.flux.w));
                 }
             }
         }

@@ -3,4 +3,5 @@
 // The VPL gather with each VPL's light stopped by the voxel grid's occupancy
 // (gi/vpl_visibility.h, gi/vpl_gather_pass.h).
 #define VPL_VISIBILITY
+#define VPL_VISIBILITY_MARCH
 #include "gi/vpl_gather_pass.h"

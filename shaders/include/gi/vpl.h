@@ -50,6 +50,7 @@
 #define VPL_GATHER_BINDING_TRAVEL 6   // output: luminance-weighted sum of the light's travel directions
 #define VPL_GATHER_BINDING_OCCUPANCY 7 // vpl_gather_visible.comp only: the voxel grid's albedo volume (a = occupancy)
 #define VPL_GATHER_BINDING_SURFACE 8   // output (interleaved): each pixel's packed surface (RGBA32UI, gi/vpl_surface.h)
+#define VPL_GATHER_BINDING_VISIBILITY_MAP 9 // vpl_gather_maps.comp only: the VPLs' visibility maps (vpl_visibility_map.comp)
 // vpl_interleave_rows.comp and vpl_interleave_columns.comp: the interleaved gather's subsets
 // summed back over each tile (gi/vpl_interleave_filter.h), along rows, then along columns.
 #define VPL_INTERLEAVE_ROWS_BINDING_SURFACE 0         // the gather's packed surfaces (gi/vpl_surface.h)
@@ -93,6 +94,7 @@
 #define VPL_REFINE_BINDING_REFINE_LIST 5   // refine list (gi/vpl_refine_list.h), also the dispatch's command
 #define VPL_REFINE_BINDING_INDIRECT 6      // output: the upsampled indirect radiance, refined pixels rewritten
 #define VPL_REFINE_BINDING_OCCUPANCY 7     // vpl_refine_visible.comp only: the voxel grid's albedo volume
+#define VPL_REFINE_BINDING_VISIBILITY_MAP 8 // vpl_refine_maps.comp only: the VPLs' visibility maps
 // vpl_bounce.comp: one more diffuse bounce, each VPL of generation g - 1 tracing one ray through
 // the voxel grid to where a VPL of generation g sits (instant radiosity, Keller 1997).
 #define VPL_BOUNCE_BINDING_DIRECTIONS 0 // the generation table: xyz local cosine-lobe direction, w source index
@@ -100,6 +102,14 @@
 #define VPL_BOUNCE_BINDING_FACES 2      // the voxel grid's faces volume (R32UI, voxelFacesPack)
 #define VPL_BOUNCE_BINDING_VPLS 3       // VplRecord buffer: reads generation g - 1, writes generation g
 #define VPL_BOUNCE_BINDING_HALVES 4     // with half voxels (grid.y twice the volumes' size): the emission volume, a = half-voxel bits
+// vpl_visibility_map.comp (vpl.visibility maps): per VPL, the distance its light travels through the
+// voxel grid in each texel of a hemi-octahedral map about its normal (gi/vpl_visibility.h).
+#define VPL_VISIBILITY_MAP_BINDING_VPLS 0   // VplRecord per positive VPL (every generation written)
+#define VPL_VISIBILITY_MAP_BINDING_ALBEDO 1 // the voxel grid's albedo volume (a = occupancy)
+#define VPL_VISIBILITY_MAP_BINDING_HALVES 2 // with half voxels: the emission volume, a = half-voxel bits
+#define VPL_VISIBILITY_MAP_BINDING_MAP 3    // output: float per VPL and texel, VPL-major (metres)
+// Texels per side of a VPL's visibility map: side^2 rays per VPL.
+#define GI_VPL_VISIBILITY_MAP_SIDE 12u
 
 // Refine list (layout in gi/vpl_refine_list.h): a uint count and the refine pass's indirect
 // dispatch command, then one packed pixel (x | y << 16) per entry.
@@ -167,7 +177,7 @@ GI_GPU_STRUCT(VplPixelPush) {
 };
 GI_CHECK_SIZE(VplPixelPush, 96);
 
-// Push constants of vpl_bounce.comp.
+// Push constants of vpl_bounce.comp and vpl_visibility_map.comp (info.z, w unused there).
 GI_GPU_STRUCT(VplBouncePush) {
     uvec4 info;  // x total records, y lights, z the generation written (1 = first bounced one), w interleave n
     uvec4 grid;  // x VPLs per light and generation (N), y voxels per axis (half voxels: twice the volumes'),

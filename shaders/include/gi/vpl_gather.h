@@ -1,7 +1,7 @@
 // GLSL only: the VPL gathers shared by the gather, negative and refine passes. The includer
 // declares `VplRecord vpls[]` and `VplRecord negativeVpls[]` storage buffers before including this.
 // No visibility term (as in the paper) unless the includer defines VPL_VISIBILITY (the
-// positive VPLs' light is then marched through the voxel occupancy, gi/vpl_visibility.h); the
+// positive VPLs' light is then stopped where their visibility maps say, gi/vpl_visibility.h); the
 // loops have run-time trip counts so lavapipe's JIT never unrolls them.
 #ifndef VKGI_GI_VPL_GATHER_H
 #define VKGI_GI_VPL_GATHER_H
@@ -27,7 +27,7 @@ vec3 vplGatherPositive(vec3 x, vec3 n, uint first, uint end, float clamp2, out v
         float g = max(dot(n, w), 0.0) * max(-dot(v.direction.xyz, w), 0.0) / max(d2, clamp2 * v.flux.w);
 #ifdef VPL_VISIBILITY
         if (g > 0.0)
-            g *= vplVisibility(x, n, v.position.xyz, v.direction.xyz);
+            g *= vplVisibility(k, x, n, v.position.xyz, v.direction.xyz);
 #endif
         vec3 c = v.flux.rgb * (g * v.position.w);
         e += c;

@@ -1,5 +1,5 @@
-// GLSL only: the body of the gather pass (vpl_gather.comp; vpl_gather_visible.comp defines
-// VPL_VISIBILITY first).
+// GLSL only: the body of the gather pass (vpl_gather.comp; vpl_gather_visible.comp and
+// vpl_gather_maps.comp define VPL_VISIBILITY and the way, gi/vpl_visibility.h, first).
 // Deferred VPL shading over the G-buffer (paper section 3.2), at the gather resolution: pixel
 // (i, j) of a 1/f-resolution image shades the G-buffer sample at (i f + f/2, j f + f/2).
 // Writes the indirect radiance albedo/pi * E, and for the negative VPLs the VPL irradiance E
@@ -26,8 +26,11 @@ layout(set = 1, binding = VPL_GATHER_BINDING_INCIDENT, rgba32f) uniform writeonl
 layout(set = 1, binding = VPL_GATHER_BINDING_TRAVEL, rgba32f) uniform writeonly image2D outTravel;
 
 layout(set = 1, binding = VPL_GATHER_BINDING_SURFACE, rgba32ui) uniform writeonly uimage2D outSurface;
-#ifdef VPL_VISIBILITY
+#ifdef VPL_VISIBILITY_MARCH
 layout(set = 1, binding = VPL_GATHER_BINDING_OCCUPANCY) uniform sampler3D vplOccupancy;
+#endif
+#ifdef VPL_VISIBILITY_MAPS
+layout(set = 1, binding = VPL_GATHER_BINDING_VISIBILITY_MAP, std430) readonly buffer VisibilityMap { float vplVisibilityMap[]; };
 #endif
 
 // No negative VPLs are read here; the shared gather header still needs the name.

@@ -1,5 +1,5 @@
-// GLSL only: the body of the refine pass (vpl_refine.comp; vpl_refine_visible.comp defines
-// VPL_VISIBILITY first).
+// GLSL only: the body of the refine pass (vpl_refine.comp; vpl_refine_visible.comp and
+// vpl_refine_maps.comp define VPL_VISIBILITY and the way, gi/vpl_visibility.h, first).
 // Low-resolution optimisation, second half: the full positive and negative gather for each
 // pixel of the refine list, written over the interpolated value.
 #ifndef VKGI_GI_VPL_REFINE_PASS_H
@@ -20,8 +20,11 @@ layout(set = 1, binding = VPL_REFINE_BINDING_NEGATIVE_VPLS, std430) readonly buf
 VPL_REFINE_LIST_BUFFER(VPL_REFINE_BINDING_REFINE_LIST, readonly);
 layout(set = 1, binding = VPL_REFINE_BINDING_INDIRECT, rgba32f) uniform writeonly image2D outIndirect;
 
-#ifdef VPL_VISIBILITY
+#ifdef VPL_VISIBILITY_MARCH
 layout(set = 1, binding = VPL_REFINE_BINDING_OCCUPANCY) uniform sampler3D vplOccupancy;
+#endif
+#ifdef VPL_VISIBILITY_MAPS
+layout(set = 1, binding = VPL_REFINE_BINDING_VISIBILITY_MAP, std430) readonly buffer VisibilityMap { float vplVisibilityMap[]; };
 #endif
 
 #include "vpl_gather.h"
