@@ -40,11 +40,15 @@ int modelledBounces(const GiSettings& settings, const Scene* scene) {
         case Technique::Vct: return t.bounces + int(settings.vct.bounces);
         case Technique::Lpv: return t.bounces + (settings.lpv.bounces ? 1 : 0);
         case Technique::Vpl: {
-            const bool directional =
-                scene && std::any_of(scene->lights.begin(), scene->lights.end(),
-                                     [](const Light& l) { return l.type == LightType::Directional; });
+            const auto has = [scene](LightType type) {
+                return scene && std::any_of(scene->lights.begin(), scene->lights.end(),
+                                            [type](const Light& l) { return l.type == type; });
+            };
             const bool emission = scene && scene->hasEmission();
-            const int generations = int(resolveVplSettings(settings.vpl, directional || emission).bounces);
+            const VplLighting lighting = has(LightType::Directional) || emission ? VplLighting::SunOrEmission
+                                         : has(LightType::Point)                 ? VplLighting::PointLights
+                                                                                 : VplLighting::Spots;
+            const int generations = int(resolveVplSettings(settings.vpl, lighting).bounces);
             // Emitter VPLs carry the emitters' direct illumination (one reflection) and their
             // generations one more each: a scene lit by emission alone is modelled to B
             // reflections, one lit by punctual lights to B + 1 (the larger count when it has both).

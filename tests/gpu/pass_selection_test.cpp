@@ -422,9 +422,12 @@ TEST_F(PassSelectionTest, ModelledBouncesFollowTheBounceKnobs) {
     s.lpv.bounces = true;
     EXPECT_EQ(modelledBounces(s), 3);
     s.technique = Technique::Vpl;
-    EXPECT_EQ(modelledBounces(s), 3); // lamps: the visibility maps and with them two generations
+    EXPECT_EQ(modelledBounces(s), 2); // no scene, as with spotlights only: the paper's one generation
+    auto lamp = makeBuiltinScene("cornell_point");
+    ASSERT_TRUE(lamp);
+    EXPECT_EQ(modelledBounces(s, &*lamp), 3); // a point light: the visibility maps and two generations
     s.vpl.visibility = VplVisibilityMode::Off;
-    EXPECT_EQ(modelledBounces(s), 2);
+    EXPECT_EQ(modelledBounces(s, &*lamp), 2);
 }
 
 TEST_F(PassSelectionTest, LpvMovedLightReinjectsAndMatchesAFreshSystem) {

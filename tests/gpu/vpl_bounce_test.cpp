@@ -216,7 +216,7 @@ TEST_F(VplBounce, SunLitRoomAndAtriumBeatTheBestConstantAgainstAllBounces) {
         AllBounceErrors two = allBounceErrors(ctx(), name, v);
         EXPECT_LT(two.vpl, two.ambient) << name;
         EXPECT_LT(two.vpl, 0.8 * one.vpl) << name << ": the second bounce is what closes the gap";
-        const VplSettings automatic = resolveVplSettings(VplSettings{}, true);
+        const VplSettings automatic = resolveVplSettings(VplSettings{}, VplLighting::SunOrEmission);
         EXPECT_EQ(automatic.visibility, VplVisibilityMode::On);
         EXPECT_EQ(automatic.bounces, 2u);
     }
@@ -239,7 +239,7 @@ TEST_F(VplBounce, LampLitCornellBoxBeatsTheBestConstantWithVisibilityMaps) {
     EXPECT_GT(paper.vpl, paper.ambient) << "without visibility the blocks cast no shadow";
     EXPECT_LT(maps.vpl, 0.8 * maps.ambient);
     EXPECT_LT(maps.vpl, 1.15 * march.vpl);
-    const VplSettings automatic = resolveVplSettings(VplSettings{}, false);
+    const VplSettings automatic = resolveVplSettings(VplSettings{}, VplLighting::PointLights);
     EXPECT_EQ(automatic.visibility, VplVisibilityMode::Maps);
     EXPECT_EQ(automatic.bounces, 2u);
 }

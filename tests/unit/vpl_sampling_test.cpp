@@ -180,30 +180,36 @@ TEST(VplSampling, SettingsValidation) {
 }
 
 // The automatic rule: visibility marched per receiver (and with it a second bounce) where a
-// directional light shines in, the visibility maps (and the second bounce) for lamps; explicit
-// values are kept.
-TEST(VplSampling, AutomaticSettingsFollowTheDirectionalLight) {
+// directional light or emission shines, the visibility maps (and the second bounce) with a point
+// light, the paper's setting (no visibility, one bounce) with spotlights only; explicit values
+// are kept.
+TEST(VplSampling, AutomaticSettingsFollowTheKindOfLight) {
     const VplSettings automatic;
     EXPECT_EQ(automatic.visibility, VplVisibilityMode::Auto);
     EXPECT_EQ(automatic.bounces, 0u);
-    VplSettings sun = resolveVplSettings(automatic, true), lamp = resolveVplSettings(automatic, false);
+    const VplSettings sun = resolveVplSettings(automatic, VplLighting::SunOrEmission),
+                      lamp = resolveVplSettings(automatic, VplLighting::PointLights),
+                      spot = resolveVplSettings(automatic, VplLighting::Spots);
     EXPECT_EQ(sun.visibility, VplVisibilityMode::On);
     EXPECT_EQ(sun.bounces, 2u);
     EXPECT_EQ(lamp.visibility, VplVisibilityMode::Maps);
     EXPECT_EQ(lamp.bounces, 2u);
+    EXPECT_EQ(spot.visibility, VplVisibilityMode::Off);
+    EXPECT_EQ(spot.bounces, 1u);
     VplSettings fixed;
     fixed.visibility = VplVisibilityMode::Off;
     fixed.bounces = 3;
-    EXPECT_EQ(resolveVplSettings(fixed, true), fixed);
+    for (VplLighting l : {VplLighting::Spots, VplLighting::PointLights, VplLighting::SunOrEmission})
+        EXPECT_EQ(resolveVplSettings(fixed, l), fixed);
     fixed.visibility = VplVisibilityMode::On;
     fixed.bounces = 0;
-    EXPECT_EQ(resolveVplSettings(fixed, false).bounces, 2u);
+    EXPECT_EQ(resolveVplSettings(fixed, VplLighting::Spots).bounces, 2u);
     fixed.visibility = VplVisibilityMode::Maps; // kept with a sun too
-    EXPECT_EQ(resolveVplSettings(fixed, true).visibility, VplVisibilityMode::Maps);
-    EXPECT_EQ(resolveVplSettings(fixed, true).bounces, 2u);
+    EXPECT_EQ(resolveVplSettings(fixed, VplLighting::SunOrEmission).visibility, VplVisibilityMode::Maps);
+    EXPECT_EQ(resolveVplSettings(fixed, VplLighting::SunOrEmission).bounces, 2u);
     fixed.visibility = VplVisibilityMode::Off;
     fixed.bounces = 0;
-    EXPECT_EQ(resolveVplSettings(fixed, false).bounces, 1u);
+    EXPECT_EQ(resolveVplSettings(fixed, VplLighting::PointLights).bounces, 1u);
 }
 
 // The shared grid's placement rule (docs/vpl.md, "Visibility"): camera-centred only where the

@@ -38,7 +38,7 @@ constexpr uint32_t kMaxHaltonSearch = 1u << 22;
 enum class VplVisibilityMode : uint32_t {
     Off,  // none, as in the paper
     On,   // each VPL's light marched through the voxel grid's occupancy, per receiver
-    Auto, // On when the scene has a directional light or emission, else Maps (resolveVplSettings)
+    Auto, // On with a directional light or emission, else Maps with a point light, else Off (resolveVplSettings)
     Maps, // each VPL's light stopped where its visibility map (rays walked once per VPL) says
 };
 
@@ -82,11 +82,14 @@ struct VplSettings {
     // Visibility between VPLs and receivers: each VPL's light is marched through the occupancy
     // of a voxel grid of visibilityGrid^3 around the scene or the camera (the grid LPV shares,
     // built only when this or bounces need it), so light does not pass through walls
-    // (docs/vpl.md). Auto by default: on where a directional light shines in, whose light
-    // reaches interiors through openings and whose VPLs otherwise light them through the walls,
-    // and where emissive surfaces shine, whose emitter VPLs carry their direct light, which needs
-    // its shadows (resolveVplSettings; the measurements behind it in docs/vpl.md, "Defaults" and
-    // "Emitter VPLs").
+    // (docs/vpl.md), or looked up in per-VPL visibility maps (Maps: rays walked once per VPL).
+    // Auto by default: on where a directional light shines in, whose light reaches interiors
+    // through openings and whose VPLs otherwise light them through the walls, and where emissive
+    // surfaces shine, whose emitter VPLs carry their direct light, which needs its shadows; maps
+    // where a point light shines, which also lights the surface it hangs from, so that VPLs in a
+    // small patch there carry much of its reflected light through every occluder; off with
+    // spotlights only, the paper's setting (resolveVplSettings; the measurements behind it in
+    // docs/vpl.md, "Defaults", "Emitter VPLs" and "Visibility maps").
     VplVisibilityMode visibility = VplVisibilityMode::Auto;
     uint32_t visibilityGrid = 64; // voxels per axis, a power of two 16..256 (also the bounces' grid)
     // Where that grid goes. Auto: fitted to the scene, except where the camera is inside the
@@ -110,10 +113,17 @@ struct VplSettings {
 // Checks every knob; the error names the knob, its value and the allowed range.
 Result<void> validateVplSettings(const VplSettings& settings);
 
-// The automatic settings made explicit for a scene with (`sunOrEmission`) or without a
-// directional light or emissive surfaces: visibility Auto becomes On with one, Off without;
-// bounces 0 becomes 2 when visibility is then On, else 1. Explicit values are kept.
-VplSettings resolveVplSettings(const VplSettings& settings, bool sunOrEmission);
+// The kinds of light the automatic VPL settings depend on (resolveVplSettings).
+enum class VplLighting : uint32_t {
+    Spots,         // spotlights only, or no light
+    PointLights,   // a point light, and no directional light or emission
+    SunOrEmission, // a directional light or emissive surfaces
+};
+
+// The automatic settings made explicit for a scene's lighting: visibility Auto becomes On (the
+// march per receiver) with a sun or emission, Maps with a point light, Off with spotlights
+// only; bounces 0 becomes 2 when visibility is then on, else 1. Explicit values are kept.
+VplSettings resolveVplSettings(const VplSettings& settings, VplLighting lighting);
 
 // The `count` first Halton points (bases 2 and 3, index 1, 2, ...) on the unit sphere whose
 // angle to +Z is within the cone of cosine `cosOuter`, in order: exactly the paper's

@@ -226,10 +226,12 @@ std::vector<glm::vec3> emitterSampleOrder(uint32_t count) {
     return order;
 }
 
-VplSettings resolveVplSettings(const VplSettings& s, bool sunOrEmission) {
+VplSettings resolveVplSettings(const VplSettings& s, VplLighting lighting) {
     VplSettings r = s;
     if (r.visibility == VplVisibilityMode::Auto)
-        r.visibility = sunOrEmission ? VplVisibilityMode::On : VplVisibilityMode::Maps;
+        r.visibility = lighting == VplLighting::SunOrEmission ? VplVisibilityMode::On
+                       : lighting == VplLighting::PointLights ? VplVisibilityMode::Maps
+                                                              : VplVisibilityMode::Off;
     if (r.bounces == 0)
         r.bounces = r.visibility != VplVisibilityMode::Off ? 2 : 1;
     return r;

@@ -592,7 +592,12 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
         return ok.error();
     const bool directional =
         std::any_of(in.spots.begin(), in.spots.end(), [](const VplSpot& spot) { return spot.directional; });
-    VplSettings settings = resolveVplSettings(requested, directional || in.emitterSurfels > 0);
+    // A point light is a spot whose cone is the whole sphere.
+    const bool point = std::any_of(in.spots.begin(), in.spots.end(),
+                                   [](const VplSpot& spot) { return !spot.directional && spot.cosOuter <= -1.0f; });
+    VplSettings settings = resolveVplSettings(requested, directional || in.emitterSurfels > 0 ? VplLighting::SunOrEmission
+                                                         : point ? VplLighting::PointLights
+                                                                 : VplLighting::Spots);
     // Called without a voxel grid (the renderer's direct use), a lamp-lit scene's automatic
     // visibility maps fall back to the paper's setting, as a scene without geometry does in
     // VplTechniqueModule: no grid, nothing to occlude or reflect a ray.

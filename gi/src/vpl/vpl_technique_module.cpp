@@ -88,7 +88,7 @@ VplInputs vplInputs(const TechniqueInputs& inputs, const RsmData* rsm) {
 class VplTechniqueModule final : public TechniqueModule {
 public:
     VplTechniqueModule(std::unique_ptr<VplTechnique> technique, const VplSettings& settings)
-        : m_technique(std::move(technique)), m_settings(settings), m_resolved(resolveVplSettings(settings, false)) {}
+        : m_technique(std::move(technique)), m_settings(settings), m_resolved(resolveVplSettings(settings, VplLighting::Spots)) {}
 
     // Without a light there is nothing to bounce: the light passes then leave the RSM out.
     bool needsRsm() const override { return m_lights > 0; }
@@ -114,7 +114,11 @@ public:
         const bool directional = std::any_of(scene.lights.begin(), scene.lights.end(),
                                              [](const Light& l) { return l.type == LightType::Directional; });
         const bool sunOrEmission = directional || m_emissive.exists();
-        m_resolved = resolveVplSettings(m_settings, sunOrEmission);
+        const bool point = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                       [](const Light& l) { return l.type == LightType::Point; });
+        m_resolved = resolveVplSettings(m_settings, sunOrEmission ? VplLighting::SunOrEmission
+                                                    : point       ? VplLighting::PointLights
+                                                                  : VplLighting::Spots);
         // The grid exists only while visibility or bounces need it (leave out what a scene does
         // not need).
         if (m_resolved.visibility != VplVisibilityMode::Off || m_resolved.bounces > 1)
