@@ -91,7 +91,7 @@ Gap indirectGap(const FrameResult& moved, const FrameResult& fresh) {
 // largest difference of 0.77 times the mean (with the second bounce gathered whole).
 constexpr double kExactRelMse = 1e-6;
 constexpr double kExactMaxOverMean = 1e-2;
-// With two bounces the kept voxels also keep their second bounce, gathered at the old corner,
+// With two or three bounces the kept voxels also keep their bounce, gathered at the old corner,
 // where a fresh system gathers it at the new one (other bounce blocks, other mip alignment, the
 // level's new content). Measured on the moves below: relMSE up to 0.046, largest difference up
 // to 0.98 times the mean (the 6-voxel move and the all-axes move); bounds with margin.
@@ -257,7 +257,7 @@ TEST_F(VctClipmap, MovingTheCameraUpdatesTheMovedLevelsAndStaysNearAFreshSystem)
 // light change after the moves relights every level whole: then the image equals the new
 // system's bit for bit (the shifted records of what each level stores are exact).
 TEST_F(VctClipmap, MovedLevelsUpdateOnlyTheNewSlabsAndStayNearAFreshSystem) {
-    for (uint32_t bounces : {1u, 2u}) {
+    for (uint32_t bounces : {1u, 2u, 3u}) {
         Scene scene = test::builtinScene("hall");
         VctSettings vct = clipmapSettings();
         vct.levels = 3;
@@ -306,6 +306,9 @@ TEST_F(VctClipmap, MovedLevelsUpdateOnlyTheNewSlabsAndStayNearAFreshSystem) {
         for (uint32_t l = 0; l < vct.levels; ++l) {
             EXPECT_TRUE(ran(*relit, "gi.vct.light@" + std::to_string(l)));
             EXPECT_FALSE(ran(*relit, "gi.vct.shift@" + std::to_string(l)));
+            // The third bounce gathers over this level's two-bounce radiance.
+            EXPECT_EQ(ran(*relit, "gi.vct.clip.lit3@" + std::to_string(l)), bounces == 3);
+            EXPECT_EQ(ran(*relit, "gi.vct.bounce3.blocks@" + std::to_string(l)), bounces == 3);
         }
         auto fresh = test::renderOnce(ctx(), settings, scene, camera, kSize, kSize, request);
         ASSERT_TRUE(fresh.ok()) << fresh.error().message;

@@ -36,8 +36,8 @@ TEST(VctSettings, BadValuesAreReadableErrors) {
     s.stepFactor = 0.0f;
     expectError(s, "stepFactor");
     s = {};
-    s.bounces = 3;
-    expectError(s, "bounces 3");
+    s.bounces = 4;
+    expectError(s, "bounces 4");
     s = {};
     s.shadowAperture = std::numeric_limits<float>::infinity();
     expectError(s, "shadowAperture");

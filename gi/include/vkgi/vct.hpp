@@ -38,7 +38,8 @@ struct VctSettings {
     float diffuseAperture = 0.5236f;
     // Distance between cone samples in units of the current cone diameter (0 < f <= 4).
     float stepFactor = 1.0f;
-    // Light bounces carried by the voxels: 1 = direct light only, 2 = plus a per-voxel gather.
+    // Light bounces carried by the voxels: 1 = direct light only, 2 = plus a per-voxel gather,
+    // 3 = plus a second gather over the two-bounce radiance (docs/vct.md "Bounces").
     uint32_t bounces = 2;
     // Per-pixel cones at 1/lowResFactor resolution per axis (1, 2 or 4), bilinearly upsampled;
     // pixels whose low-res neighbours lie across a discontinuity (background, normals or

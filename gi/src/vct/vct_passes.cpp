@@ -276,18 +276,32 @@ void addLightPass(rg::RenderGraph& graph, const VctVolumes& volumes, const Voxel
 // (VctVolumes::bounceState); a moved level (`keep` not empty) copies it back shifted
 // ("gi.vct.bounce.shift") and its kept voxels take it instead of the gathers, whose blocks around
 // them list no job (addMipPasses).
+// Bounce `bounce` = 3 gathers again over the radiance the second left in `directional` and adds
+// only the third bounce (voxel_bounce_apply.comp); `voxels` holds the per-voxel bounce volume
+// and the kept copy the second bounce's passes made, which the third reads. Pass names carry the
+// bounce index from the third on ("gi.vct.bounce3.*").
+struct BounceVoxels {
+    rg::BufferHandle results; // the gathers' results
+    rg::ImageHandle bounce;   // each listed voxel's bounce (stored when kept or subtracted later)
+    rg::ImageHandle kept;     // a moved level's bounce of before the move, shifted
+};
 rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
-                                const gpu::ConeParams& cones, rg::BufferHandle list, rg::BufferHandle jobs,
-                                rg::ImageHandle directional, const VctPassOptions& options, KeepBox keep) {
+                                const gpu::ConeParams& cones, rg::BufferHandle list, rg::BufferHandle& jobs,
+                                rg::ImageHandle directional, const VctPassOptions& options, KeepBox keep,
+                                uint32_t bounce, uint32_t bounces, BounceVoxels& voxels) {
     const VctVolumes::Pipelines& p = volumes.pipelines();
-    const gpu::VoxelBouncePush push{volumes.grid().params(), cones, glm::uvec4(options.clipLevel, 0u, 0u, 0u)};
+    const std::string prefix = bounce == 2 ? "gi.vct.bounce" : "gi.vct.bounce" + std::to_string(bounce);
+    const gpu::VoxelBouncePush push{volumes.grid().params(), cones,
+                                    glm::uvec4(options.clipLevel, bounce > 2 ? 1u : 0u, 0u, 0u)};
     // A clipmap level's gathers read the clipmap volume, into which the caller copied this level's
     // first bounce (addVctPasses), and its parameters.
     const bool clip = options.clipmap != nullptr;
     const rg::ImageHandle source = clip ? *options.clipmap : directional;
-    rg::BufferHandle results = graph.importBuffer("gi.vct.bounce.results", volumes.bounceResultsState());
+    if (bounce == 2)
+        voxels.results = graph.importBuffer("gi.vct.bounce.results", volumes.bounceResultsState());
+    rg::BufferHandle& results = voxels.results;
     rg::BufferHandle gatherArgs = jobs; // the gathers' dispatch, before they append the misfits
-    rg::ComputePass gathers(graph, "gi.vct.bounce.blocks", clip ? p.bounceClip : p.bounce);
+    rg::ComputePass gathers(graph, prefix + ".blocks", clip ? p.bounceClip : p.bounce);
     gathers.push(push)
         .sample(VCT_CONE_BINDING_DIRECTIONAL, source, volumes.sampler())
         .read(VCT_BOUNCE_BINDING_NORMAL, grid.normal)
@@ -303,8 +317,8 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
     bounceDesc.width = bounceDesc.height = bounceDesc.depth = volumes.grid().resolution();
     // The misfits first: they read level 0 of the first bounce, which the apply then adds to.
     // Only the misfit voxels are written; the apply reads no others.
-    rg::ImageHandle light = graph.createImage("gi.vct.bounce.light", bounceDesc);
-    rg::ComputePass misfits(graph, "gi.vct.bounce.misfits", clip ? p.bounceMisfitsClip : p.bounceMisfits);
+    rg::ImageHandle light = graph.createImage(prefix + ".light", bounceDesc);
+    rg::ComputePass misfits(graph, prefix + ".misfits", clip ? p.bounceMisfitsClip : p.bounceMisfits);
     misfits.push(push)
         .sample(VCT_CONE_BINDING_DIRECTIONAL, source, volumes.sampler())
         .read(VCT_MISFITS_BINDING_ALBEDO, grid.albedo)
@@ -314,15 +328,19 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
     if (clip)
         misfits.read(VCT_TRACE_BINDING_CLIPMAP, options.clipParams);
     misfits.dispatchIndirect(jobs, GI_BOUNCE_MISFITS * sizeof(uint32_t));
-    // Each voxel's bounce: kept in the clipmap levels; the single grid keeps none and binds a
-    // 1^3 stand-in the apply does not write (VoxelApplyPush::keepHi.w = 0).
-    ImageDesc standIn = bounceDesc;
-    standIn.width = standIn.height = standIn.depth = 1;
-    rg::ImageHandle voxelBounce = options.saveLit ? graph.importImage("gi.vct.bounce.voxels", volumes.bounceState())
-                                                  : graph.createImage("gi.vct.bounce.voxels", standIn);
-    rg::ImageHandle kept = light; // not read unless `keep` holds voxels
-    if (keep.lo.x <= keep.hi.x) {
-        kept = graph.createImage("gi.vct.bounce.kept", bounceDesc);
+    // Each voxel's bounce: kept in the clipmap levels, and stored for a third bounce to subtract;
+    // otherwise the apply writes none and binds a 1^3 stand-in (no GI_VCT_APPLY_STORE).
+    const bool store = options.saveLit || bounces > 2;
+    if (bounce == 2) {
+        ImageDesc voxelDesc = bounceDesc;
+        if (!store)
+            voxelDesc.width = voxelDesc.height = voxelDesc.depth = 1;
+        voxels.bounce = options.saveLit ? graph.importImage("gi.vct.bounce.voxels", volumes.bounceState())
+                                        : graph.createImage("gi.vct.bounce.voxels", voxelDesc);
+    }
+    rg::ImageHandle& voxelBounce = voxels.bounce;
+    if (bounce == 2 && keep.lo.x <= keep.hi.x) {
+        rg::ImageHandle kept = graph.createImage("gi.vct.bounce.kept", bounceDesc);
         const glm::ivec3 d = options.shift, n = glm::ivec3(int(volumes.grid().resolution()));
         graph.addPass(
             "gi.vct.bounce.shift",
@@ -341,10 +359,14 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
                 vkCmdCopyImage(ctx.cmd(), ctx.image(voxelBounce).image, ctx.layout(voxelBounce), ctx.image(kept).image,
                                ctx.layout(kept), 1, &region);
             });
+        voxels.kept = kept;
     }
-    rg::ComputePass(graph, "gi.vct.bounce", p.bounceApply)
-        .push(gpu::VoxelApplyPush{volumes.grid().params(), keep.lo,
-                                  glm::ivec4(glm::ivec3(keep.hi), options.saveLit ? 1 : 0)})
+    // Not read unless `keep` holds voxels. A kept voxel takes its whole bounce of before the move
+    // in the second bounce's apply, and adds nothing in the third's.
+    const rg::ImageHandle kept = voxels.kept.valid() ? voxels.kept : light;
+    const int flags = (store ? GI_VCT_APPLY_STORE : 0) | (bounce > 2 ? GI_VCT_APPLY_ADDED : 0);
+    rg::ComputePass(graph, prefix, p.bounceApply)
+        .push(gpu::VoxelApplyPush{volumes.grid().params(), keep.lo, glm::ivec4(glm::ivec3(keep.hi), flags)})
         .read(VCT_APPLY_BINDING_KEPT, kept)
         .write(VCT_APPLY_BINDING_BOUNCE, voxelBounce)
         .read(VCT_APPLY_BINDING_ALBEDO, grid.albedo)
@@ -356,7 +378,7 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
         .read(VCT_APPLY_BINDING_FACES, grid.faces)
         .write(VCT_APPLY_BINDING_DIRECTIONAL, directional, rg::SubresourceRange::mip(0)) // the listed voxels
         .dispatchIndirect(list);
-    return addMipPasses(graph, volumes, directional, list, "gi.vct.bounce.mip");
+    return addMipPasses(graph, volumes, directional, list, (prefix + ".mip").c_str());
 }
 
 // The per-pixel passes ("gi.vct.trace" and, at low resolution, the upsample and refine) through
@@ -459,12 +481,16 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     if (settings.bounces >= 2) {
         gpu::ConeParams cones =
             volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);
-        if (options.clipmap)
-            *options.clipmap = addClipmapCopyPass(graph, out.directional, *options.clipmap, options.clipLevel,
-                                                  volumes.grid().resolution(), volumes.directionalLevels(),
-                                                  "gi.vct.clip.lit");
-        out.directional =
-            addBouncePasses(graph, volumes, grid, cones, list, jobs, out.directional, options, keepBounce);
+        BounceVoxels voxels;
+        for (uint32_t bounce = 2; bounce <= settings.bounces; ++bounce) {
+            // Each bounce's gathers see this level's radiance up to the bounce before.
+            if (options.clipmap)
+                *options.clipmap = addClipmapCopyPass(graph, out.directional, *options.clipmap, options.clipLevel,
+                                                      volumes.grid().resolution(), volumes.directionalLevels(),
+                                                      bounce == 2 ? "gi.vct.clip.lit" : "gi.vct.clip.lit3");
+            out.directional = addBouncePasses(graph, volumes, grid, cones, list, jobs, out.directional, options,
+                                              keepBounce, bounce, settings.bounces, voxels);
+        }
     }
     volumes.setBounceKnown(options.saveLit && settings.bounces >= 2);
     return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage);

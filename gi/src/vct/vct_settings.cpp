@@ -34,8 +34,8 @@ Result<void> validateVctSettings(const VctSettings& s) {
                          std::to_string(kVctMaxFilter) + "] (1 = off)");
     if (!std::isfinite(s.refineThreshold) || s.refineThreshold < 0.0f)
         return makeError("vct: refineThreshold must be finite and >= 0");
-    if (s.bounces < 1 || s.bounces > 2)
-        return makeError("vct: bounces " + std::to_string(s.bounces) + " must be 1 or 2");
+    if (s.bounces < 1 || s.bounces > 3)
+        return makeError("vct: bounces " + std::to_string(s.bounces) + " must be 1, 2 or 3");
     if (!std::isfinite(s.aoDistance) || s.aoDistance < 0.0f)
         return makeError("vct: aoDistance must be finite and >= 0");
     if (!std::isfinite(s.shadowAperture) || s.shadowAperture <= 0.0f || s.shadowAperture > 1.0f)

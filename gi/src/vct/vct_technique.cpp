@@ -302,9 +302,10 @@ private:
             if (!relight) {
                 std::string why = "level " + std::to_string(l) +
                                   " did not move and no light or object changed since it was lit";
-                for (const std::string pass :
-                     {"gi.vct.light", "gi.vct.mip[*]", "gi.vct.bounce*", "gi.vct.clip.lit", "gi.vct.clip.copy"})
-                    if (settings.bounces >= 2 || (pass != "gi.vct.bounce*" && pass != "gi.vct.clip.lit"))
+                for (const std::string pass : {"gi.vct.light", "gi.vct.mip[*]", "gi.vct.bounce*", "gi.vct.clip.lit",
+                                                "gi.vct.clip.lit3", "gi.vct.clip.copy"})
+                    if ((settings.bounces >= 2 || (pass != "gi.vct.bounce*" && pass != "gi.vct.clip.lit")) &&
+                        (settings.bounces >= 3 || pass != "gi.vct.clip.lit3"))
                         selection.leaveOut(pass + at, LeftOutReason::NotDirty, why);
             } else if (!selection.features.emissive) {
                 selection.leaveOut("gi.vct.light:emission" + at, LeftOutReason::NotNeeded, "no emissive material");

@@ -7,7 +7,11 @@
 // level-0 views that see faces on the normal's side (faces looking towards d with
 // d . normal > 0), weighted as the voxel light weights its own radiance there (opacity * shown
 // share, voxel_light_body.glsl), so view texel rgb = a s (L + B): the per-pixel gather then sees
-// emission + one bounce + two bounces. Reads and writes only its own voxel's texels.
+// emission + one bounce + two bounces. A third bounce gathers again over that radiance, which
+// gives B' = albedo * E(L + B) / pi = B + B3 (the gather is linear in the radiance and its
+// opacities did not change), and adds B' - B, B read back from the bounce volume the second
+// bounce's apply stored: level 0 then holds a s (L + B + B3). Reads and writes only its own
+// voxel's texels.
 #extension GL_EXT_control_flow_attributes : require
 #include "gi/vct_passes.h"
 
@@ -22,7 +26,7 @@ layout(set = 1, binding = VCT_APPLY_BINDING_RESULTS, std430) readonly buffer Res
 layout(set = 1, binding = VCT_APPLY_BINDING_FACES, r32ui) uniform readonly uimage3D facesVol;
 layout(set = 1, binding = VCT_APPLY_BINDING_DIRECTIONAL, rgba16f) uniform image2DArray directionalLevel0;
 layout(set = 1, binding = VCT_APPLY_BINDING_KEPT, rgba16f) uniform readonly image3D keptBounce;
-layout(set = 1, binding = VCT_APPLY_BINDING_BOUNCE, rgba16f) uniform writeonly image3D bounceOut;
+layout(set = 1, binding = VCT_APPLY_BINDING_BOUNCE, rgba16f) uniform image3D bounceOut;
 #include "voxel_block.glsl"
 
 void main() {
@@ -32,7 +36,7 @@ void main() {
     ivec3 c = ivec3(voxelListUnpack(entries[gl_GlobalInvocationID.x]));
     vec3 normal;
     uint k;
-    bool store = pc.keepHi.w != 0;
+    bool store = (pc.keepHi.w & GI_VCT_APPLY_STORE) != 0;
     if (!voxelNormalOf(c, normal, k)) {
         if (store)
             imageStore(bounceOut, c, vec4(0.0));
@@ -76,9 +80,11 @@ void main() {
         e /= weights;
         b = imageLoad(albedoVol, c).rgb * e;
     }
+    // Level 0 already holds the stored bounce (a third bounce): add what this one adds to it.
+    vec3 added = (pc.keepHi.w & GI_VCT_APPLY_ADDED) != 0 ? b - imageLoad(bounceOut, c).rgb : b;
     if (store)
         imageStore(bounceOut, c, vec4(b, 0.0));
-    if (b == vec3(0.0))
+    if (added == vec3(0.0))
         return;
     uint faces = imageLoad(facesVol, c).x;
     [[unroll]] for (uint v = 0u; v < GI_VCT_DIRECTIONS; ++v) {
@@ -91,7 +97,7 @@ void main() {
         float shown = min(1.0, 2.0 * front / axisCover);
         ivec3 t = vctDirectionalTexel(c, v, n);
         vec4 texel = imageLoad(directionalLevel0, t);
-        texel.rgb = min(texel.rgb + b * (texel.a * shown), vec3(65000.0));
+        texel.rgb = clamp(texel.rgb + added * (texel.a * shown), vec3(0.0), vec3(65000.0));
         imageStore(directionalLevel0, t, texel);
     }
 }

@@ -6,7 +6,8 @@
 // in one 4^3 block; the cones are 30 degrees wide and their first sample is already 2 voxels
 // across, so the gather changes little over them. The class's voxels whose normal is more than
 // kClassFit from m are appended to the misfit list and their misfit bits set (they gather their
-// own cones, voxel_bounce_misfits.comp, and the apply takes those). Sums run over the block in a
+// own cones, voxel_bounce_misfits.comp, and the apply takes those; a third bounce's gathers find
+// the same misfits and leave the list as the second's made it). Sums run over the block in a
 // fixed order: deterministic. voxel_bounce.comp gathers within the grid; voxel_bounce_clip.comp
 // (GI_VCT_CLIPMAP) gathers a clipmap level's cones through the clipmap volume, where they go on
 // into the coarser levels beyond the level's box (docs/vct.md "Clipmap").
@@ -99,7 +100,7 @@ void main() {
                 if (!voxelNormalOf(c, normal, k) || k != cls)
                     continue;
                 lift = max(lift, dot(vec3(c) + 0.5 - middle, mean));
-                if (dot(normal, mean) < kClassFit) {
+                if (dot(normal, mean) < kClassFit && pc.clip.y == 0u) {
                     uint slot = atomicAdd(header[GI_BOUNCE_MISFITS + 3u], 1u);
                     if (slot % GI_VOXEL_LIST_GROUP == 0u) // x = ceil(count / group)
                         atomicAdd(header[GI_BOUNCE_MISFITS], 1u);

@@ -110,15 +110,19 @@ GI_GPU_STRUCT(VoxelMipPush) {
 };
 GI_CHECK_SIZE(VoxelMipPush, 96);
 // voxel_bounce_apply.comp: the voxels in keepLo.xyz .. keepHi.xyz (empty when lo > hi) take their
-// second bounce from the kept one (VCT_APPLY_BINDING_KEPT) instead of the gathers; keepHi.w != 0
-// stores every voxel's bounce (VCT_APPLY_BINDING_BOUNCE: a clipmap level keeps it for its next
-// move), 0 leaves that binding unwritten (the fitted grid binds a 1^3 stand-in).
+// bounce from the kept one (VCT_APPLY_BINDING_KEPT) instead of the gathers; keepHi.w holds
+// GI_VCT_APPLY_* flags: STORE stores every voxel's bounce (VCT_APPLY_BINDING_BOUNCE: a clipmap
+// level keeps it for its next move, a third bounce subtracts it), without it that binding is left
+// unwritten (the fitted grid with two bounces binds a 1^3 stand-in); ADDED says level 0 already
+// holds the stored bounce (the third bounce's apply), so only the difference is added.
 GI_GPU_STRUCT(VoxelApplyPush) {
     VoxelGridParams grid;
     ivec4 keepLo;
     ivec4 keepHi;
 };
 GI_CHECK_SIZE(VoxelApplyPush, 80);
+#define GI_VCT_APPLY_STORE 1
+#define GI_VCT_APPLY_ADDED 2
 
 // Cone parameters shared by the per-voxel bounce and the per-pixel trace.
 GI_GPU_STRUCT(ConeParams) {
@@ -190,7 +194,9 @@ GI_INLINE uint bounceResultWords(uint n) { return 2u * GI_BOUNCE_CLASSES * bounc
 GI_GPU_STRUCT(VoxelBouncePush) {
     VoxelGridParams grid;
     ConeParams cones;
-    uvec4 clip; // clipmap variants (voxel_bounce*_clip.comp): x the gathering level, yzw 0
+    // x the gathering level (clipmap variants, voxel_bounce*_clip.comp), y 1 when an earlier
+    // bounce's gathers already listed the misfits (the third bounce), zw 0
+    uvec4 clip;
 };
 GI_CHECK_SIZE(VoxelBouncePush, 96);
 
