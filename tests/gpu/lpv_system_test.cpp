@@ -361,11 +361,7 @@ TEST_F(LpvSystem, APointLightUnderTheCeilingDoesNotFloodTheBoxWithItsHotSpot) {
     ASSERT_TRUE(scene) << scene.error().message;
     auto all = test::allBounceReference(*scene, *scene->camera, kSize, kSize, 512);
     ASSERT_TRUE(all) << all.error().message;
-    gi::ReferenceSettings twoBounces;
-    twoBounces.spp = 512;
-    twoBounces.maxBounces = 2;
-    twoBounces.progress = false;
-    auto two = gi::renderReferenceCached(*scene, *scene->camera, kSize, kSize, twoBounces);
+    auto two = test::reference(*scene, *scene->camera, kSize, kSize, 512, 2);
     ASSERT_TRUE(two) << two.error().message;
     GiSettings settings;
     settings.technique = Technique::Lpv;
@@ -398,11 +394,7 @@ TEST_F(LpvSystem, AnEmissiveQuadLightsTheBoxThroughItsPointProxies) {
     ASSERT_TRUE(scene) << scene.error().message;
     auto all = test::allBounceReference(*scene, *scene->camera, kSize, kSize, 512);
     ASSERT_TRUE(all) << all.error().message;
-    gi::ReferenceSettings twoBounces;
-    twoBounces.spp = 512;
-    twoBounces.maxBounces = 2;
-    twoBounces.progress = false;
-    auto two = gi::renderReferenceCached(*scene, *scene->camera, kSize, kSize, twoBounces);
+    auto two = test::reference(*scene, *scene->camera, kSize, kSize, 512, 2);
     ASSERT_TRUE(two) << two.error().message;
     GiSettings settings;
     settings.technique = Technique::Lpv;

@@ -54,13 +54,18 @@ std::vector<gpu::VplRecord> vplRecords(Context& ctx, const gi::GiSettings& setti
     return asArray<gpu::VplRecord>(runAndReadBuffer(ctx, graph, vo->vpls, bytes));
 }
 
-Result<gi::ReferenceImages> allBounceReference(const Scene& scene, const Camera& camera, uint32_t width,
-                                               uint32_t height, uint32_t spp) {
+Result<gi::ReferenceImages> reference(const Scene& scene, const Camera& camera, uint32_t width, uint32_t height,
+                                      uint32_t spp, int maxBounces) {
     gi::ReferenceSettings rs;
     rs.spp = spp;
-    rs.maxBounces = -1;
+    rs.maxBounces = maxBounces;
     rs.progress = false;
     return gi::renderReferenceCached(scene, camera, width, height, rs);
+}
+
+Result<gi::ReferenceImages> allBounceReference(const Scene& scene, const Camera& camera, uint32_t width,
+                                               uint32_t height, uint32_t spp) {
+    return reference(scene, camera, width, height, spp, -1);
 }
 
 } // namespace vkgi::test

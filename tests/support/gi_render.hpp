@@ -24,8 +24,12 @@ Result<gi::FrameResult> renderOnce(Context& ctx, const gi::GiSettings& settings,
                                    const Camera& camera, uint32_t width, uint32_t height,
                                    const gi::FrameRequest& request);
 
-// The path tracer's image of `scene` from `camera` with unbounded bounces (the "all bounces"
-// reference), `spp` paths per pixel, through the reference cache, without progress output.
+// The path tracer's image of `scene` from `camera` with at most `maxBounces` reflections (-1:
+// unbounded), `spp` paths per pixel, through the reference cache, without progress output.
+Result<gi::ReferenceImages> reference(const Scene& scene, const Camera& camera, uint32_t width, uint32_t height,
+                                      uint32_t spp, int maxBounces);
+
+// The "all bounces" reference: reference() with unbounded bounces.
 Result<gi::ReferenceImages> allBounceReference(const Scene& scene, const Camera& camera, uint32_t width,
                                                uint32_t height, uint32_t spp = 256);
 
