@@ -40,14 +40,8 @@ int modelledBounces(const GiSettings& settings, const Scene* scene) {
         case Technique::Vct: return t.bounces + int(settings.vct.bounces);
         case Technique::Lpv: return t.bounces + (settings.lpv.bounces ? 1 : 0);
         case Technique::Vpl: {
-            const auto has = [scene](LightType type) {
-                return scene && std::any_of(scene->lights.begin(), scene->lights.end(),
-                                            [type](const Light& l) { return l.type == type; });
-            };
             const bool emission = scene && scene->hasEmission();
-            const VplLighting lighting = has(LightType::Directional) || emission ? VplLighting::SunOrEmission
-                                         : has(LightType::Point)                 ? VplLighting::PointLights
-                                                                                 : VplLighting::Spots;
+            const VplLighting lighting = scene ? vplLighting(scene->lights, emission) : VplLighting::Spots;
             const int generations = int(resolveVplSettings(settings.vpl, lighting).bounces);
             // Emitter VPLs carry the emitters' direct illumination (one reflection) and their
             // generations one more each: a scene lit by emission alone is modelled to B

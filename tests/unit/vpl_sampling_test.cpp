@@ -9,6 +9,7 @@
 
 #include "gi/vpl.h"
 #include "vkgi/vpl.hpp"
+#include "vpl/vpl_technique_module.hpp"
 #include "voxel/scene_voxel_grid.hpp"
 
 using namespace vkgi;
@@ -210,6 +211,23 @@ TEST(VplSampling, AutomaticSettingsFollowTheKindOfLight) {
     fixed.visibility = VplVisibilityMode::Off;
     fixed.bounces = 0;
     EXPECT_EQ(resolveVplSettings(fixed, VplLighting::PointLights).bounces, 1u);
+}
+
+// Which kind of lighting a scene's lights and emission make (the automatic rule's input): a sun or
+// emission wins over lamps, a point light over spotlights.
+TEST(VplSampling, LightingKindFollowsTheStrongestNeed) {
+    auto light = [](LightType type) {
+        Light l;
+        l.type = type;
+        return l;
+    };
+    using enum LightType;
+    EXPECT_EQ(gi::vplLighting({}, false), VplLighting::Spots);
+    EXPECT_EQ(gi::vplLighting({light(Spot)}, false), VplLighting::Spots);
+    EXPECT_EQ(gi::vplLighting({light(Spot), light(Point)}, false), VplLighting::PointLights);
+    EXPECT_EQ(gi::vplLighting({light(Point), light(Directional)}, false), VplLighting::SunOrEmission);
+    EXPECT_EQ(gi::vplLighting({light(Point)}, true), VplLighting::SunOrEmission);
+    EXPECT_EQ(gi::vplLighting({}, true), VplLighting::SunOrEmission);
 }
 
 // The shared grid's placement rule (docs/vpl.md, "Visibility"): camera-centred only where the

@@ -111,14 +111,9 @@ public:
         // The emitters' surfels: one per emitter VPL (the emitter source has N VPLs like a light).
         if (auto ok = m_emissive.sceneChanged(ctx, scene, m_settings.vplCount); !ok)
             return ok.error();
-        const bool directional = std::any_of(scene.lights.begin(), scene.lights.end(),
-                                             [](const Light& l) { return l.type == LightType::Directional; });
-        const bool sunOrEmission = directional || m_emissive.exists();
-        const bool point = std::any_of(scene.lights.begin(), scene.lights.end(),
-                                       [](const Light& l) { return l.type == LightType::Point; });
-        m_resolved = resolveVplSettings(m_settings, sunOrEmission ? VplLighting::SunOrEmission
-                                                    : point       ? VplLighting::PointLights
-                                                                  : VplLighting::Spots);
+        const VplLighting lighting = vplLighting(scene.lights, m_emissive.exists());
+        const bool sunOrEmission = lighting == VplLighting::SunOrEmission;
+        m_resolved = resolveVplSettings(m_settings, lighting);
         // The grid exists only while visibility or bounces need it (leave out what a scene does
         // not need).
         if (m_resolved.visibility != VplVisibilityMode::Off || m_resolved.bounces > 1)
@@ -182,6 +177,15 @@ private:
 };
 
 } // namespace
+
+VplLighting vplLighting(const std::vector<Light>& lights, bool emission) {
+    const auto has = [&lights](LightType type) {
+        return std::any_of(lights.begin(), lights.end(), [type](const Light& l) { return l.type == type; });
+    };
+    if (emission || has(LightType::Directional))
+        return VplLighting::SunOrEmission;
+    return has(LightType::Point) ? VplLighting::PointLights : VplLighting::Spots;
+}
 
 Result<std::unique_ptr<TechniqueModule>> createVplTechniqueModule(Context& ctx, const GiSettings& settings) {
     if (auto ok = validateVplSettings(settings.vpl); !ok)
