@@ -187,7 +187,9 @@ protected:
 // hall_world 0.1922 / 0.2909, 1.14x and 1.20x. With the clipmap's pre-filtered opacity
 // (docs/vct.md "Pre-filtered opacity", the clipmap's default) hall_world measures 0.1777 / 0.2635
 // against the hall's 0.1680 / 0.2419: 1.06x and 1.09x, within issue #16's 15% on both (1.14x and
-// 1.20x with vct.prefilter off); under 64 MiB.
+// 1.20x with vct.prefilter off). With the voxel light's march through the pre-filtered fill
+// (docs/vct.md "Pre-filtered opacity") hall_world measures 0.1593 / 0.2319: 0.95x and 0.96x the
+// hall's; under 64 MiB.
 TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
     VctMeasured hall = measureVct("hall");
     VctMeasured world = measureVct("hall_world");
@@ -201,19 +203,20 @@ TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
     EXPECT_LE(world.techniqueBytes, kMaxTechniqueBytes);
 }
 
-// The atrium does not meet the 15% bar: the clipmap's second bounce across levels gains far less
-// than the fitted grid's (docs/vct.md "Clipmap", where the error comes from, and limits; finer
-// levels do not help). What is asserted is what the changes reach: the indirect error within
-// 1.75x the atrium's (measured 0.2393 against 0.1408, 1.70x, with the 16 m finest level; before
-// the second bounce across levels 0.2927, 1.86x 0.1574; with the clipmap's pre-filtered opacity
-// 0.2386, 1.69x), under 64 MiB.
-TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorAtMost75PercentAboveTheAtriums) {
+// The atrium does not meet the 15% bar: the far half of the atrium is read from the 2 m and 4 m
+// levels (docs/vct.md "Clipmap", where the error comes from, and limits; finer levels do not
+// help). What is asserted is what the changes reach: the indirect error within 1.65x the
+// atrium's (measured 0.2393 against 0.1408, 1.70x, with the 16 m finest level; before the second
+// bounce across levels 0.2927, 1.86x 0.1574; with the clipmap's pre-filtered opacity 0.2386,
+// 1.69x; with one second bounce per side of a thin wall's voxel and the voxel light's march
+// through the fill, 0.2128 against 0.1346, 1.58x), under 64 MiB.
+TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorAtMost65PercentAboveTheAtriums) {
     VctMeasured atrium = measureVct("atrium");
     VctMeasured world = measureVct("atrium_world");
     EXPECT_EQ(atrium.levels, 1u);
     EXPECT_EQ(world.levels, kVctAutoLevels);
     EXPECT_GT(atrium.relMseIndirect, 0.0);
-    EXPECT_LE(world.relMseIndirect, 1.75 * atrium.relMseIndirect);
+    EXPECT_LE(world.relMseIndirect, 1.65 * atrium.relMseIndirect);
     EXPECT_LE(world.techniqueBytes, kMaxTechniqueBytes);
 }
 

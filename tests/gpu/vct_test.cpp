@@ -842,6 +842,48 @@ TEST_F(VctFurnace, ThreeBouncesApproachLeTimesOnePlusRhoPlusRhoSquaredPlusRhoCub
     EXPECT_LT(r3.mean - r2.mean, 1.01 * rho * rho * rho);
 }
 
+// A thin two-sided slab across the furnace (the same albedo and emission), 0.3 voxel thick inside
+// one layer of voxels at height 8/31: the voxels hold its top (+y) and bottom (-y) faces, whose
+// normals cancel. The exact radiance is still Le (1 + rho + rho^2) everywhere after two bounces.
+// Each of the slab voxels' sides gathers its own second bounce with its face class (voxelSides),
+// so the floor below, which sees the slab's underside over most of its hemisphere, keeps the
+// furnace bounds. Without the sides those voxels had no second bounce (radiance Le instead of
+// Le (1 + rho)), and the floor read about rho^2 Le times the slab's share of its view too low:
+// measured 1.7424 below the slab (1.0% of the indirect part low), 1.5555 without the sides (25.9%
+// low); the slab's top, which sees the upper room, 1.7377 either way. The bound allows 5%.
+TEST_F(VctFurnace, ThinSlabsFacesEachGetTheirSecondBounce) {
+    const float rho = 0.5f, le = 1.0f, y0 = 8.0f / 31.0f - 0.15f / 31.0f, y1 = y0 + 0.3f / 31.0f;
+    TestScene scene;
+    uint32_t material = scene.addMaterial(glm::vec3(rho), glm::vec3(le));
+    scene.addDraw(innerBox(glm::vec3(0.0f), glm::vec3(1.0f)), material);
+    // The slab's two faces: the bottom faces down (-y), the top up (+y).
+    scene.addDraw({{{0.0f, y0, 0.0f}, {1.0f, y0, 0.0f}, {1.0f, y0, 1.0f}},
+                   {{0.0f, y0, 0.0f}, {1.0f, y0, 1.0f}, {0.0f, y0, 1.0f}},
+                   {{0.0f, y1, 0.0f}, {1.0f, y1, 1.0f}, {1.0f, y1, 0.0f}},
+                   {{0.0f, y1, 0.0f}, {0.0f, y1, 1.0f}, {1.0f, y1, 1.0f}}},
+                  material);
+    setup(scene, {}, boxGrid(32, chooseRadianceScale(le)));
+    runVoxels({});
+    const double exact = 1.0 + rho + rho * rho;
+    for (float height : {0.0f, y1}) {
+        std::vector<glm::vec3> pos, nrm;
+        floorPixels(8, pos, nrm);
+        for (glm::vec3& p : pos)
+            p.y = height;
+        auto indirect = trace({}, pos, nrm, glm::vec3(rho), 8);
+        double mean = 0.0, maximum = 0.0;
+        for (const glm::vec4& v : indirect) {
+            double c = (double(le) + v.g) / le;
+            mean += c / double(indirect.size());
+            maximum = std::max(maximum, c);
+        }
+        std::printf("furnace with a thin slab, %s: %.4f (exact %.4f)\n", height == 0.0f ? "floor below" : "slab top",
+                    mean, exact);
+        EXPECT_LE(maximum, exact * 1.01) << height;
+        EXPECT_GE(mean, 1.0 + 0.95 * (rho + rho * rho)) << height;
+    }
+}
+
 // rho = 0.99 with emission from 1e-6 to 1e9 nits: the radiance scale keeps every stored value
 // near 1, so the result relative to Le is the same (to half-float rounding) and finite.
 TEST_F(VctFurnace, ExtremeEmissionStaysFiniteAndScaleInvariant) {

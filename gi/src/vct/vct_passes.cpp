@@ -40,7 +40,7 @@ KeepBox keepBox(const VctPassOptions& options, uint32_t n) {
 // `keep`: the bounce blocks around kept voxels list no job (VoxelMipPush).
 rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::ImageHandle directional,
                              rg::BufferHandle list, const char* prefix, rg::BufferHandle* jobs = nullptr,
-                             rg::ImageHandle normal = {}, KeepBox keep = {}) {
+                             rg::ImageHandle normal = {}, rg::ImageHandle faces = {}, KeepBox keep = {}) {
     const VctVolumes::Pipelines& p = v.pipelines();
     const gpu::VoxelGridParams& params = v.grid().params();
     uint32_t tail = v.mipTailLevel(), last = v.directionalLevels() - 1;
@@ -58,6 +58,7 @@ rg::ImageHandle addMipPasses(rg::RenderGraph& graph, const VctVolumes& v, rg::Im
                 .write(VCT_MIP_BINDING_TARGET, directional, rg::SubresourceRange::mip(1))
                 .read(VCT_MIP_BINDING_LIST, list)
                 .read(VCT_MIP_BINDING_NORMAL, normal)
+                .read(VCT_MIP_BINDING_FACES, faces)
                 .write(VCT_MIP_BINDING_JOBS, *jobs)
                 .dispatchIndirect(list, GI_VOXEL_LIST_BLOCKS * sizeof(uint32_t));
         } else if (level == 1) { // the listed occupied blocks only (voxel_mip_body.glsl)
@@ -305,6 +306,7 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
     gathers.push(push)
         .sample(VCT_CONE_BINDING_DIRECTIONAL, source, volumes.sampler())
         .read(VCT_BOUNCE_BINDING_NORMAL, grid.normal)
+        .read(VCT_BOUNCE_BINDING_FACES, grid.faces)
         .write(VCT_BOUNCE_BINDING_JOBS, jobs) // the misfit list
         .write(VCT_BOUNCE_BINDING_RESULTS, results)
         .read(VCT_BOUNCE_BINDING_LIST, list);
@@ -313,7 +315,8 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
     gathers.dispatchIndirect(gatherArgs);
     ImageDesc bounceDesc;
     bounceDesc.type = VK_IMAGE_TYPE_3D;
-    bounceDesc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    // Float bits, or four sides' rgb9e5 (voxel_bounce_apply.comp).
+    bounceDesc.format = VK_FORMAT_R32G32B32A32_UINT;
     bounceDesc.width = bounceDesc.height = bounceDesc.depth = volumes.grid().resolution();
     // The misfits first: they read level 0 of the first bounce, which the apply then adds to.
     // Only the misfit voxels are written; the apply reads no others.
@@ -477,7 +480,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
                                    ? keepBox(options, volumes.grid().resolution())
                                    : KeepBox{};
     out.directional = addMipPasses(graph, volumes, out.directional, list, "gi.vct.mip", jobs.valid() ? &jobs : nullptr,
-                                   grid.normal, keepBounce);
+                                   grid.normal, grid.faces, keepBounce);
     if (settings.bounces >= 2) {
         gpu::ConeParams cones =
             volumes.coneParams(settings, gbuffer ? gbuffer->width : 0, gbuffer ? gbuffer->height : 0);

@@ -176,7 +176,7 @@ rg::PersistentImage& VctVolumes::bounceState() {
     if (!m_bounce.image.image) {
         ImageDesc d;
         d.type = VK_IMAGE_TYPE_3D;
-        d.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+        d.format = VK_FORMAT_R32G32B32A32_UINT; // voxel_bounce_apply.comp: float bits, or four sides' rgb9e5
         d.width = d.height = d.depth = m_grid.resolution();
         d.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
         m_bounce.image = createImage(m_ctx, d, "vct.bounce");

@@ -40,6 +40,34 @@ bool voxelNormalOf(ivec3 c, out vec3 normal, out uint k) {
     return voxelNormalOf(c, normal, k, v);
 }
 
+#ifdef VOXEL_BLOCK_FACES
+// The includer also declares the faces volume `facesVol` (r32ui uimage3D).
+// The sides of a voxel without a normal: an occupied voxel whose faces' normals cancel (both
+// faces of a thin wall or slab in one voxel, a column thinner than a voxel) has no hemisphere of
+// its own, but each face direction d with coverage (0..5: +X, -X, +Y, -Y, +Z, -Z) is a side that
+// gathers over the axis hemisphere of e_d, as the voxel light lights those faces with e_d
+// (voxel_light_body.glsl). Bit d per side, at most four (the stored bounce holds four: a closed
+// object smaller than a voxel bounces on its first four); 0 for a voxel with a normal, or empty.
+uint voxelSides(ivec3 c) {
+    vec4 e = imageLoad(normalVol, c);
+    ivec3 v = voxelNormalInt(e);
+    if (e.a == 0.0 || 4 * (v.x * v.x + v.y * v.y + v.z * v.z) >= 255 * 255)
+        return 0u;
+    uint faces = imageLoad(facesVol, c).x, sides = 0u;
+    for (uint d = 0u; d < 6u; ++d)
+        sides |= ((faces >> (5u * d)) & 31u) != 0u && bitCount(sides) < 4 ? 1u << d : 0u;
+    return sides;
+}
+#endif
+
+// Side d's normal as the integers a stored axis normal decodes to (a flat floor's (1, 255, 1)):
+// the same class, and the same bytes as a face voxel's normal (voxelNormalBytes).
+ivec3 voxelSideInt(uint d) {
+    ivec3 v = ivec3(1);
+    v[d >> 1u] = (d & 1u) == 0u ? 255 : -255;
+    return v;
+}
+
 // The stored normal's bytes as one uint (r | g << 8 | b << 16), and back to voxelNormalOf's
 // normal (the same arithmetic: the same bits).
 uint voxelNormalBytes(ivec3 v) {

@@ -10,7 +10,9 @@
 // the same misfits and leave the list as the second's made it). Sums run over the block in a
 // fixed order: deterministic. voxel_bounce.comp gathers within the grid; voxel_bounce_clip.comp
 // (GI_VCT_CLIPMAP) gathers a clipmap level's cones through the clipmap volume, where they go on
-// into the coarser levels beyond the level's box (docs/vct.md "Clipmap").
+// into the coarser levels beyond the level's box (docs/vct.md "Clipmap"). A voxel without a
+// normal (its faces' normals cancel: both faces of a thin wall or slab) joins the face class of
+// each of its sides (voxelSides) with that axis as its normal, and is never a misfit.
 #include "gi/vct_passes.h"
 
 // One invocation per job (indirect): work group row k runs the jobs of class k.
@@ -24,8 +26,28 @@ layout(set = 1, binding = VCT_BOUNCE_BINDING_NORMAL, rgba8) uniform readonly ima
 layout(set = 1, binding = VCT_BOUNCE_BINDING_JOBS, std430) buffer Jobs { uint header[GI_BOUNCE_HEADER]; uint words[]; };
 layout(set = 1, binding = VCT_BOUNCE_BINDING_RESULTS, std430) writeonly buffer Results { uint results[]; };
 layout(set = 1, binding = VCT_BOUNCE_BINDING_LIST, std430) readonly buffer List { uint listHeader[GI_VOXEL_LIST_HEADER]; uint entries[]; };
+layout(set = 1, binding = VCT_BOUNCE_BINDING_FACES, r32ui) uniform readonly uimage3D facesVol;
 #define VOXEL_BLOCK_LIST
+#define VOXEL_BLOCK_FACES
 #include "voxel_block.glsl"
+
+// Whether voxel c gathers with class cls: by its normal's class, or by one of its sides'
+// (voxelSides), whose normal is the axis; `side` says which.
+bool classMember(ivec3 c, uint cls, out vec3 normal, out bool side) {
+    uint k;
+    side = false;
+    if (voxelNormalOf(c, normal, k))
+        return k == cls;
+    for (uint sides = voxelSides(c); sides != 0u; sides &= sides - 1u) {
+        ivec3 v = voxelSideInt(uint(findLSB(sides)));
+        if (voxelNormalClass(v) == cls) {
+            normal = voxelNormalFromBytes(voxelNormalBytes(v));
+            side = true;
+            return true;
+        }
+    }
+    return false;
+}
 
 // cos 25 degrees. Tilting a hemisphere by theta swaps (1 - cos theta) / 2 of its cosine-
 // weighted directions for others (4.7% at 25 degrees, within the 6-14% the cones lose at
@@ -70,8 +92,8 @@ void main() {
             for (uint bits = rowOccupancy(r, n); bits != 0u; bits &= bits - 1u) {
                 ivec3 c = r + ivec3(findLSB(bits), 0, 0);
                 vec3 normal;
-                uint k;
-                if (voxelNormalOf(c, normal, k) && k == cls) {
+                bool side;
+                if (classMember(c, cls, normal, side)) {
                     if (count == 0.0)
                         first = normal;
                     same = same && normal == first;
@@ -96,11 +118,12 @@ void main() {
             for (uint bits = rowOccupancy(r, n); bits != 0u; bits &= bits - 1u) {
                 ivec3 c = r + ivec3(findLSB(bits), 0, 0);
                 vec3 normal;
-                uint k;
-                if (!voxelNormalOf(c, normal, k) || k != cls)
+                bool side;
+                if (!classMember(c, cls, normal, side))
                     continue;
                 lift = max(lift, dot(vec3(c) + 0.5 - middle, mean));
-                if (dot(normal, mean) < kClassFit && pc.clip.y == 0u) {
+                // A side is an axis, within 30 degrees of its face class's mean: never a misfit.
+                if (!side && dot(normal, mean) < kClassFit && pc.clip.y == 0u) {
                     uint slot = atomicAdd(header[GI_BOUNCE_MISFITS + 3u], 1u);
                     if (slot % GI_VOXEL_LIST_GROUP == 0u) // x = ceil(count / group)
                         atomicAdd(header[GI_BOUNCE_MISFITS], 1u);

@@ -148,6 +148,11 @@ float visibility(vec3 p, vec3 dir, float tMax) {
     // bit; if set, the block is remembered and the same sample runs again reading its voxel's
     // bit, as do the following samples inside that block (one per voxel crossed).
     uint knownCoarse = ~0u;
+    // Pre-filtered grids (dims.w = 1): an occupied voxel lets 1 - fill of the light by (its fill,
+    // the share of its cross-section its surfaces block, "Pre-filtered opacity"), once per voxel
+    // crossed, as the cones' views do; otherwise the first occupied voxel blocks the ray.
+    bool prefiltered = pc.grid.dims.w != 0u;
+    float transmit = 1.0;
     for (float t = kShadowStart; t < tEnd; t += kShadowStep) {
         // Samples before tEnd lie in the grid (q >= 0): truncation is floor.
         uvec3 v = uvec3(ivec3(p + t * dir));
@@ -157,15 +162,18 @@ float visibility(vec3 p, vec3 dir, float tMax) {
         bool fine = coarse == knownCoarse;
         uint bit = fine ? i : coarse;
         bool set = (imageLoad(listWords, int((fine ? bits : coarseBits) + (bit >> 5u))).x & (1u << (bit & 31u))) != 0u;
-        if (fine && set)
-            return 0.0;
+        if (fine && set) {
+            transmit *= prefiltered ? 1.0 - imageLoad(emissionVol, ivec3(v)).a : 0.0;
+            if (transmit < 1e-3)
+                return 0.0;
+        }
         vec3 tAxis = vec3(fine ? v : b << 2u) * invDir + (fine ? exitVoxelT : exitT);
         float tExit = min(tAxis.x, min(tAxis.y, tAxis.z));
         float tSkip = max(t, t + floor((tExit - t) / kShadowStep) * kShadowStep);
         knownCoarse = set ? coarse : knownCoarse;
         t = !fine && set ? t - kShadowStep : tSkip;
     }
-    return 1.0;
+    return transmit;
 #endif
 }
 #endif

@@ -28,6 +28,8 @@ layout(set = 1, binding = VCT_MIP_BINDING_SOURCE, rgba16f) uniform readonly imag
 #ifdef GI_VOXEL_MIP_JOBS
 layout(set = 1, binding = VCT_MIP_BINDING_NORMAL, rgba8) uniform readonly image3D normalVol;
 layout(set = 1, binding = VCT_MIP_BINDING_JOBS, std430) buffer Jobs { uint jobHeader[GI_BOUNCE_HEADER]; uint words[]; };
+layout(set = 1, binding = VCT_MIP_BINDING_FACES, r32ui) uniform readonly uimage3D facesVol;
+#define VOXEL_BLOCK_FACES
 #include "voxel_block.glsl"
 
 // Second bounce, job list (gi/vct_passes.h; the clear wrote the header's constant words and
@@ -81,47 +83,62 @@ void appendJobs(ivec3 c, uint n) {
             }
         }
     }
+    // The sides of the voxels without a normal (voxelSides) join their classes one by one, and
+    // the block's mask (appended below).
+    [[unroll]] for (int i = 0; i < 8; ++i) {
+        ivec3 p = 2 * c + ivec3(i & 1, (i >> 1) & 1, i >> 2);
+        for (uint sides = has[i] ? 0u : voxelSides(p); sides != 0u; sides &= sides - 1u) {
+            uint d = uint(findLSB(sides));
+            ivec3 v = voxelSideInt(d);
+            uint k = voxelNormalClass(v), b8 = voxelNormalBytes(v);
+            mask |= 1u << k;
+            addSums(records + GI_BOUNCE_GEOMETRY * k, 1u, uvec3(p) - origin, b8, b8,
+                    orderedFromFloat(dot(vec3(p), voxelNormalFromBytes(b8))));
+        }
+    }
     if (mask == 0u)
         return;
-    vec3 firstNormal = voxelNormalFromBytes(firstBytes);
-    uint count = 0u, largest = 0u, smallest = ~0u, highest = 0u;
-    uvec3 offsets = uvec3(0u);
-    [[unroll]] for (int i = 0; i < 8; ++i) {
-        ivec3 p = 2 * c + ivec3(i & 1, (i >> 1) & 1, i >> 2);
-        if (has[i] && classes[i] == first) {
-            count += 1u;
-            offsets += uvec3(p) - origin;
-            largest = max(largest, bytes[i]);
-            smallest = min(smallest, bytes[i]);
-            highest = max(highest, orderedFromFloat(dot(vec3(p), firstNormal)));
-        }
-    }
-    // Neighbouring listed blocks mostly share their bounce block and class: one set of atomics
-    // per subgroup and record (integer sums: the same result).
-    uint record = records + GI_BOUNCE_GEOMETRY * first;
-    for (;;) {
-        uint leader = subgroupBroadcastFirst(record);
-        if (record == leader) {
-            uint packed0 = subgroupAdd(count | (offsets.x << 10u));
-            uint packed1 = subgroupAdd(offsets.y | (offsets.z << 16u));
-            largest = subgroupMax(largest);
-            smallest = subgroupMin(smallest);
-            highest = subgroupMax(highest);
-            if (subgroupElect()) {
-                atomicAdd(words[record], packed0);
-                atomicAdd(words[record + 1u], packed1);
-                atomicMax(words[record + 2u], largest);
-                atomicMax(words[record + 3u], ~smallest);
-                atomicMax(words[record + 4u], highest);
+    if (first != ~0u) { // not sides only
+        vec3 firstNormal = voxelNormalFromBytes(firstBytes);
+        uint count = 0u, largest = 0u, smallest = ~0u, highest = 0u;
+        uvec3 offsets = uvec3(0u);
+        [[unroll]] for (int i = 0; i < 8; ++i) {
+            ivec3 p = 2 * c + ivec3(i & 1, (i >> 1) & 1, i >> 2);
+            if (has[i] && classes[i] == first) {
+                count += 1u;
+                offsets += uvec3(p) - origin;
+                largest = max(largest, bytes[i]);
+                smallest = min(smallest, bytes[i]);
+                highest = max(highest, orderedFromFloat(dot(vec3(p), firstNormal)));
             }
-            break;
         }
-    }
-    [[unroll]] for (int i = 0; i < 8; ++i) {
-        ivec3 p = 2 * c + ivec3(i & 1, (i >> 1) & 1, i >> 2);
-        if (has[i] && classes[i] != first)
-            addSums(records + GI_BOUNCE_GEOMETRY * classes[i], 1u, uvec3(p) - origin, bytes[i], bytes[i],
-                    orderedFromFloat(dot(vec3(p), voxelNormalFromBytes(bytes[i]))));
+        // Neighbouring listed blocks mostly share their bounce block and class: one set of atomics
+        // per subgroup and record (integer sums: the same result).
+        uint record = records + GI_BOUNCE_GEOMETRY * first;
+        for (;;) {
+            uint leader = subgroupBroadcastFirst(record);
+            if (record == leader) {
+                uint packed0 = subgroupAdd(count | (offsets.x << 10u));
+                uint packed1 = subgroupAdd(offsets.y | (offsets.z << 16u));
+                largest = subgroupMax(largest);
+                smallest = subgroupMin(smallest);
+                highest = subgroupMax(highest);
+                if (subgroupElect()) {
+                    atomicAdd(words[record], packed0);
+                    atomicAdd(words[record + 1u], packed1);
+                    atomicMax(words[record + 2u], largest);
+                    atomicMax(words[record + 3u], ~smallest);
+                    atomicMax(words[record + 4u], highest);
+                }
+                break;
+            }
+        }
+        [[unroll]] for (int i = 0; i < 8; ++i) {
+            ivec3 p = 2 * c + ivec3(i & 1, (i >> 1) & 1, i >> 2);
+            if (has[i] && classes[i] != first)
+                addSums(records + GI_BOUNCE_GEOMETRY * classes[i], 1u, uvec3(p) - origin, bytes[i], bytes[i],
+                        orderedFromFloat(dot(vec3(p), voxelNormalFromBytes(bytes[i]))));
+        }
     }
     uint fresh = mask & ~atomicOr(words[b], mask);
     while (fresh != 0u) {

@@ -275,6 +275,7 @@ GI_CHECK_SIZE(VctClipmapParams, 144);
 #define VCT_MIP_BINDING_LIST 2             // level 1: the occupied-voxel list (its block quad is the dispatch)
 #define VCT_MIP_BINDING_NORMAL 3           // level 1 with jobs: the grid's normal volume
 #define VCT_MIP_BINDING_JOBS 4             // level 1 with jobs: the second bounce's job buffer
+#define VCT_MIP_BINDING_FACES 5            // level 1 with jobs: the grid's faces volume (the sides of voxels without a normal)
 // Cone tracing (voxel_cone.glsl): every shader that traces cones samples the directional volume here.
 #define VCT_CONE_BINDING_DIRECTIONAL 1
 // Second bounce (voxel_bounce*.comp).
@@ -282,20 +283,21 @@ GI_CHECK_SIZE(VctClipmapParams, 144);
 #define VCT_BOUNCE_BINDING_JOBS 3          // the job buffer (the misfit list appended)
 #define VCT_BOUNCE_BINDING_RESULTS 4       // the gathers' results
 #define VCT_BOUNCE_BINDING_LIST 5          // the occupied-voxel list
+#define VCT_BOUNCE_BINDING_FACES 6         // the grid's faces volume (the sides of voxels without a normal)
 #define VCT_MISFITS_BINDING_ALBEDO 2       // voxel_bounce_misfits.comp: the grid's albedo volume
 #define VCT_MISFITS_BINDING_NORMAL 3       // the grid's normal volume
-#define VCT_MISFITS_BINDING_OUTPUT 4       // the misfit voxels' bounce (RGBA16F N^3)
+#define VCT_MISFITS_BINDING_OUTPUT 4       // the misfit voxels' bounce (RGBA32UI N^3, float bits)
 #define VCT_MISFITS_BINDING_JOBS 5         // the job buffer (the misfit quad is the dispatch)
 #define VCT_APPLY_BINDING_ALBEDO 0         // voxel_bounce_apply.comp: the grid's albedo volume
 #define VCT_APPLY_BINDING_NORMAL 1         // the grid's normal volume
 #define VCT_APPLY_BINDING_JOBS 2           // the job buffer (class masks, misfit bits)
-#define VCT_APPLY_BINDING_MISFITS 3        // the misfit voxels' bounce
+#define VCT_APPLY_BINDING_MISFITS 3        // the misfit voxels' bounce (RGBA32UI, float bits)
 #define VCT_APPLY_BINDING_LIST 4           // the occupied-voxel list the indirect dispatch runs over
 #define VCT_APPLY_BINDING_RESULTS 5        // the gathers' results
-#define VCT_APPLY_BINDING_FACES 6          // the grid's faces volume
+#define VCT_APPLY_BINDING_FACES 6          // the grid's faces volume (views; the sides of voxels without a normal)
 #define VCT_APPLY_BINDING_DIRECTIONAL 7    // level 0 of the directional volume (the bounce added)
 #define VCT_APPLY_BINDING_KEPT 8           // a moved clipmap level's second bounce of before the move, shifted
-#define VCT_APPLY_BINDING_BOUNCE 9         // every listed voxel's second bounce (rgb), kept for the next move
+#define VCT_APPLY_BINDING_BOUNCE 9         // every listed voxel's second bounce (RGBA32UI: rgb float bits, or its sides' rgb9e5), kept for the next move
 // Per-pixel passes (vct_trace*.comp, vct_soft_shadow.comp, vct_upsample.comp).
 #define VCT_TRACE_BINDING_POSITION 2       // G-buffer position (RGBA32F)
 #define VCT_TRACE_BINDING_NORMAL 3         // G-buffer normal (RGBA16F, w = roughness)
