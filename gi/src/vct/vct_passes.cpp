@@ -285,6 +285,7 @@ struct BounceVoxels {
     rg::BufferHandle results; // the gathers' results
     rg::ImageHandle bounce;   // each listed voxel's bounce (stored when kept or subtracted later)
     rg::ImageHandle kept;     // a moved level's bounce of before the move, shifted
+    rg::ImageHandle keptStandIn; // bound as `kept` when no voxel is kept (VctVolumes::keptStandIn)
 };
 rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, const VoxelGridData& grid,
                                 const gpu::ConeParams& cones, rg::BufferHandle list, rg::BufferHandle& jobs,
@@ -315,8 +316,7 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
     gathers.dispatchIndirect(gatherArgs);
     ImageDesc bounceDesc;
     bounceDesc.type = VK_IMAGE_TYPE_3D;
-    // Float bits, or four sides' rgb9e5 (voxel_bounce_apply.comp).
-    bounceDesc.format = VK_FORMAT_R32G32B32A32_UINT;
+    bounceDesc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
     bounceDesc.width = bounceDesc.height = bounceDesc.depth = volumes.grid().resolution();
     // The misfits first: they read level 0 of the first bounce, which the apply then adds to.
     // Only the misfit voxels are written; the apply reads no others.
@@ -336,6 +336,7 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
     const bool store = options.saveLit || bounces > 2;
     if (bounce == 2) {
         ImageDesc voxelDesc = bounceDesc;
+        voxelDesc.format = VK_FORMAT_R32G32B32A32_UINT; // float bits, or four sides' rgb9e5 (voxel_bounce_apply.comp)
         if (!store)
             voxelDesc.width = voxelDesc.height = voxelDesc.depth = 1;
         voxels.bounce = options.saveLit ? graph.importImage("gi.vct.bounce.voxels", volumes.bounceState())
@@ -343,7 +344,9 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
     }
     rg::ImageHandle& voxelBounce = voxels.bounce;
     if (bounce == 2 && keep.lo.x <= keep.hi.x) {
-        rg::ImageHandle kept = graph.createImage("gi.vct.bounce.kept", bounceDesc);
+        ImageDesc keptDesc = bounceDesc;
+        keptDesc.format = VK_FORMAT_R32G32B32A32_UINT;
+        rg::ImageHandle kept = graph.createImage("gi.vct.bounce.kept", keptDesc);
         const glm::ivec3 d = options.shift, n = glm::ivec3(int(volumes.grid().resolution()));
         graph.addPass(
             "gi.vct.bounce.shift",
@@ -366,7 +369,9 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
     }
     // Not read unless `keep` holds voxels. A kept voxel takes its whole bounce of before the move
     // in the second bounce's apply, and adds nothing in the third's.
-    const rg::ImageHandle kept = voxels.kept.valid() ? voxels.kept : light;
+    if (!voxels.kept.valid() && !voxels.keptStandIn.valid())
+        voxels.keptStandIn = graph.importImage("gi.vct.bounce.kept_stand_in", volumes.keptStandIn());
+    const rg::ImageHandle kept = voxels.kept.valid() ? voxels.kept : voxels.keptStandIn;
     const int flags = (store ? GI_VCT_APPLY_STORE : 0) | (bounce > 2 ? GI_VCT_APPLY_ADDED : 0);
     rg::ComputePass(graph, prefix, p.bounceApply)
         .push(gpu::VoxelApplyPush{volumes.grid().params(), keep.lo, glm::ivec4(glm::ivec3(keep.hi), flags)})

@@ -184,6 +184,18 @@ rg::PersistentImage& VctVolumes::bounceState() {
     return m_bounce;
 }
 
+rg::PersistentImage& VctVolumes::keptStandIn() {
+    if (!m_keptStandIn.image.image) {
+        ImageDesc d;
+        d.type = VK_IMAGE_TYPE_3D;
+        d.format = VK_FORMAT_R32G32B32A32_UINT;
+        d.width = d.height = d.depth = 1;
+        d.usage = VK_IMAGE_USAGE_STORAGE_BIT;
+        m_keptStandIn.image = createImage(m_ctx, d, "vct.bounce_kept_stand_in");
+    }
+    return m_keptStandIn;
+}
+
 rg::PersistentBuffer& VctVolumes::bounceResultsState() {
     createOnce(m_ctx, m_resultBuffer, gpu::bounceResultWords(m_grid.resolution()), "vct.bounce_results");
     return m_resultBuffer;

@@ -51,10 +51,14 @@ public:
     rg::PersistentImage& litState();
     bool litKnown() const { return m_litKnown; }
     void setLitKnown(bool known) { m_litKnown = known; }
-    // Clipmap levels: each listed voxel's second bounce (RGBA16F N^3, rgb) from the last relight
+    // Clipmap levels: each listed voxel's second bounce (RGBA32UI N^3: rgb float bits, or one
+    // rgb9e5 per side of a voxel without a normal, voxel_bounce_apply.comp) from the last relight
     // (created at the first call); a moved level's kept voxels keep it. `bounceKnown` says whether
     // it holds the last relight's.
     rg::PersistentImage& bounceState();
+    // A 1^3 RGBA32UI image the bounce apply binds as the kept bounce when no voxel is kept (the
+    // binding's format is the bounce volume's; never read then).
+    rg::PersistentImage& keptStandIn();
     bool bounceKnown() const { return m_bounceKnown; }
     void setBounceKnown(bool known) { m_bounceKnown = known; }
     const VoxelGrid& grid() const { return m_grid; }
@@ -112,6 +116,7 @@ private:
     rg::PersistentBuffer m_writtenBits;
     rg::PersistentImage m_lit;
     rg::PersistentImage m_bounce;
+    rg::PersistentImage m_keptStandIn;
     bool m_bounceKnown = false;
     bool m_listBuilt = false;
     bool m_writtenKnown = false;

@@ -22,7 +22,7 @@ layout(push_constant) uniform Push { VoxelApplyPush pc; };
 layout(set = 1, binding = VCT_APPLY_BINDING_ALBEDO, rgba8) uniform readonly image3D albedoVol;
 layout(set = 1, binding = VCT_APPLY_BINDING_NORMAL, rgba8) uniform readonly image3D normalVol;
 layout(set = 1, binding = VCT_APPLY_BINDING_JOBS, std430) readonly buffer Jobs { uint header[GI_BOUNCE_HEADER]; uint words[]; };
-layout(set = 1, binding = VCT_APPLY_BINDING_MISFITS, rgba32ui) uniform readonly uimage3D misfitBounce; // float bits
+layout(set = 1, binding = VCT_APPLY_BINDING_MISFITS, rgba16f) uniform readonly image3D misfitBounce;
 layout(set = 1, binding = VCT_APPLY_BINDING_LIST, std430) readonly buffer List { uint listHeader[GI_VOXEL_LIST_HEADER]; uint entries[]; };
 layout(set = 1, binding = VCT_APPLY_BINDING_RESULTS, std430) readonly buffer Results { uint results[]; };
 layout(set = 1, binding = VCT_APPLY_BINDING_FACES, r32ui) uniform readonly uimage3D facesVol;
@@ -135,7 +135,7 @@ void main() {
     if (kept) {
         b = uintBitsToFloat(imageLoad(keptBounce, c).rgb);
     } else if ((words[bounceMisfitBitsOffset(n) + bit.x] & (1u << bit.y)) != 0u) {
-        b = uintBitsToFloat(imageLoad(misfitBounce, c).rgb);
+        b = imageLoad(misfitBounce, c).rgb;
     } else {
         b = imageLoad(albedoVol, c).rgb * classGather(c, k, n, side);
     }

@@ -13,7 +13,7 @@ layout(push_constant) uniform Push { VoxelBouncePush pc; };
 #endif
 layout(set = 1, binding = VCT_MISFITS_BINDING_ALBEDO, rgba8) uniform readonly image3D albedoVol;
 layout(set = 1, binding = VCT_MISFITS_BINDING_NORMAL, rgba8) uniform readonly image3D normalVol;
-layout(set = 1, binding = VCT_MISFITS_BINDING_OUTPUT, rgba32ui) uniform writeonly uimage3D bounceOut; // float bits
+layout(set = 1, binding = VCT_MISFITS_BINDING_OUTPUT, rgba16f) uniform writeonly image3D bounceOut;
 layout(set = 1, binding = VCT_MISFITS_BINDING_JOBS, std430) readonly buffer Jobs { uint header[GI_BOUNCE_HEADER]; uint words[]; };
 #include "voxel_block.glsl"
 
@@ -31,5 +31,5 @@ void main() {
 #else
     vec3 e = diffuseGather(vec3(c) + 0.5 + normal, normal, pc.cones, float(n), 0.0, occlusion);
 #endif
-    imageStore(bounceOut, c, uvec4(floatBitsToUint(imageLoad(albedoVol, c).rgb * e), 0u));
+    imageStore(bounceOut, c, vec4(imageLoad(albedoVol, c).rgb * e, 1.0));
 }

@@ -286,12 +286,12 @@ GI_CHECK_SIZE(VctClipmapParams, 144);
 #define VCT_BOUNCE_BINDING_FACES 6         // the grid's faces volume (the sides of voxels without a normal)
 #define VCT_MISFITS_BINDING_ALBEDO 2       // voxel_bounce_misfits.comp: the grid's albedo volume
 #define VCT_MISFITS_BINDING_NORMAL 3       // the grid's normal volume
-#define VCT_MISFITS_BINDING_OUTPUT 4       // the misfit voxels' bounce (RGBA32UI N^3, float bits)
+#define VCT_MISFITS_BINDING_OUTPUT 4       // the misfit voxels' bounce (RGBA16F N^3)
 #define VCT_MISFITS_BINDING_JOBS 5         // the job buffer (the misfit quad is the dispatch)
 #define VCT_APPLY_BINDING_ALBEDO 0         // voxel_bounce_apply.comp: the grid's albedo volume
 #define VCT_APPLY_BINDING_NORMAL 1         // the grid's normal volume
 #define VCT_APPLY_BINDING_JOBS 2           // the job buffer (class masks, misfit bits)
-#define VCT_APPLY_BINDING_MISFITS 3        // the misfit voxels' bounce (RGBA32UI, float bits)
+#define VCT_APPLY_BINDING_MISFITS 3        // the misfit voxels' bounce
 #define VCT_APPLY_BINDING_LIST 4           // the occupied-voxel list the indirect dispatch runs over
 #define VCT_APPLY_BINDING_RESULTS 5        // the gathers' results
 #define VCT_APPLY_BINDING_FACES 6          // the grid's faces volume (views; the sides of voxels without a normal)
