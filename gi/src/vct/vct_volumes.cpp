@@ -109,7 +109,7 @@ VctVolumes::~VctVolumes() {
     destroyBuffer(m_ctx, m_list.buffer);
     destroyBuffer(m_ctx, m_writtenBits.buffer);
     destroyImage(m_ctx, m_written.image);
-    for (rg::PersistentImage* image : {&m_lit, &m_bounce})
+    for (rg::PersistentImage* image : {&m_lit, &m_bounce, &m_keptStandIn})
         if (image->image.image)
             destroyImage(m_ctx, image->image);
     for (rg::PersistentBuffer* b : {&m_jobBuffer, &m_resultBuffer})
@@ -130,7 +130,8 @@ VctVolumes::~VctVolumes() {
 VkDeviceSize VctVolumes::bytes() const {
     return imageBytes(m_directional.image.desc) + imageBytes(m_written.image.desc) +
            (m_lit.image.image ? imageBytes(m_lit.image.desc) : 0) +
-           (m_bounce.image.image ? imageBytes(m_bounce.image.desc) : 0) + m_list.buffer.desc.size +
+           (m_bounce.image.image ? imageBytes(m_bounce.image.desc) : 0) +
+           (m_keptStandIn.image.image ? imageBytes(m_keptStandIn.image.desc) : 0) + m_list.buffer.desc.size +
            m_writtenBits.buffer.desc.size + m_jobBuffer.buffer.desc.size + m_resultBuffer.buffer.desc.size;
 }
 
