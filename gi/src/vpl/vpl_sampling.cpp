@@ -28,7 +28,8 @@ Result<void> validateVplSettings(const VplSettings& s) {
     if (!std::isfinite(s.focusRadius) || s.focusRadius < 0.01f || s.focusRadius > 1e5f)
         return bad("focusRadius " + std::to_string(s.focusRadius) + " must be in [0.01, 1e5] metres");
     if (s.candidates > kMaxVplCandidates)
-        return bad("candidates " + std::to_string(s.candidates) + " is outside 0.." + std::to_string(kMaxVplCandidates));
+        return bad("candidates " + std::to_string(s.candidates) + " is outside 0.." +
+                   std::to_string(kMaxVplCandidates));
     if (!std::isfinite(s.clampDistance) || s.clampDistance <= 0.0f || s.clampDistance > 16.0f)
         return bad("clampDistance " + std::to_string(s.clampDistance) + " must be in (0, 16]");
     if (s.interleave < 1 || s.interleave > kMaxVplInterleave)

@@ -218,8 +218,8 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
 
 struct VplTechnique::Impl {
     Context& ctx;
-    Pipeline generate, importance, importanceVisible, select, emitter, bounce, visibilityMap, gather, gatherVisible, gatherMaps, interleaveRows,
-        interleaveColumns, negativeGenerate, negativeGather, upsample, refine, refineVisible, refineMaps;
+    Pipeline generate, importance, importanceVisible, select, emitter, bounce, visibilityMap, gather, gatherVisible,
+        gatherMaps, interleaveRows, interleaveColumns, negativeGenerate, negativeGather, upsample, refine, refineVisible, refineMaps;
     VkSampler pointSampler = VK_NULL_HANDLE; // texelFetch-only, but sampled bindings need one
     // Halton directions per (count, cosOuter bits): the CPU search is the only costly CPU step.
     std::map<std::pair<uint32_t, uint32_t>, std::vector<glm::vec3>> directionCache;
@@ -401,7 +401,8 @@ rg::BufferHandle VplTechnique::Impl::addSelectPasses(rg::RenderGraph& graph, con
         .overwrite(VPL_GENERATE_BINDING_VPLS, candidates)
         .dispatch({total, 1, 1});
 
-    rg::BufferHandle weights = graph.createBuffer("vpl.candidate_weights", storageBuffer(VkDeviceSize(total) * sizeof(float)));
+    rg::BufferHandle weights =
+        graph.createBuffer("vpl.candidate_weights", storageBuffer(VkDeviceSize(total) * sizeof(float)));
     const bool visible = settings.visibility != VplVisibilityMode::Off && in.occupancy.valid();
     gpu::VplImportancePush importancePush{};
     importancePush.info = glm::uvec4(total, GI_VPL_IMPORTANCE_PIXELS, in.width, in.height);
@@ -741,7 +742,8 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
     if (emitters)
         m->addEmitterPass(graph, in, settings, uploaded, spotCount, out.vplCount, spotCount == 0, out.vpls);
     if (suns > 0) {
-        out.candidates = m->addSelectPasses(graph, in, settings, uploaded, candidatesPerSun, suns, lightCount, out.vpls);
+        out.candidates =
+            m->addSelectPasses(graph, in, settings, uploaded, candidatesPerSun, suns, lightCount, out.vpls);
         out.candidateCount = candidatesPerSun * suns;
     }
     if (settings.bounces > 1)

@@ -165,7 +165,8 @@ void main() {
     barrier();
     for (uint s = 0u; s < subsets; ++s) {
         uint kept = 0u;
-        for (uint c = candidateBlock(s, subsets) + tid; c < candidateBlock(s + 1u, subsets); c += GI_VPL_SELECT_LOCAL_SIZE)
+        uint end = candidateBlock(s + 1u, subsets);
+        for (uint c = candidateBlock(s, subsets) + tid; c < end; c += GI_VPL_SELECT_LOCAL_SIZE)
             kept += priorityOf(c) > tau ? 1u : 0u;
         atomicAdd(sKept[s], kept);
     }

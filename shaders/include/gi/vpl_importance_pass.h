@@ -41,7 +41,8 @@ void main() {
     float sum = 0.0;
     uint seen = 0u;
     for (uint k = 1u; k <= pc.info.y; ++k) {
-        ivec2 pixel = min(ivec2(vec2(vplRadicalInverse(k, 2u), vplRadicalInverse(k, 3u)) * size), ivec2(pc.info.zw) - 1);
+        vec2 halton = vec2(vplRadicalInverse(k, 2u), vplRadicalInverse(k, 3u));
+        ivec2 pixel = min(ivec2(halton * size), ivec2(pc.info.zw) - 1);
         vec4 x = texelFetch(gPosition, pixel, 0);
         if (!(x.w > 0.0))
             continue;
