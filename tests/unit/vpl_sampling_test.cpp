@@ -1,5 +1,6 @@
 // VPL placement math (gi/vpl.h, vkgi/vpl.hpp): Halton values, uniformity on the sphere, the
 // paper's "first N inside the cone" rule, determinism, the spot frame and its smoothness.
+#include <array>
 #include <cmath>
 #include <limits>
 #include <cstring>
@@ -144,6 +145,13 @@ TEST(VplSampling, SettingsValidation) {
     EXPECT_TRUE(validateVplSettings(s));
     s.focusRadius = 2e5f;
     EXPECT_FALSE(validateVplSettings(s));
+    s = {};
+    s.candidates = 0; // the lattice points themselves
+    EXPECT_TRUE(validateVplSettings(s));
+    s.candidates = kMaxVplCandidates + 1;
+    r = validateVplSettings(s);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("candidates 17"), std::string::npos) << r.error().message;
     s = {};
     s.refineThreshold = std::nanf("");
     EXPECT_FALSE(validateVplSettings(s));
@@ -468,5 +476,26 @@ TEST(VplSampling, FocusedWindowFillsUnevenSubsetBlocks) {
         // few points round to whole lattice points (measured 6 of 8, 244 of 250, 247 of 256).
         EXPECT_GE(points, uint32_t(0.7 * count)) << count;
         EXPECT_LE(points, count);
+    }
+}
+
+// The candidates' keys (vplCandidateUniform, vpl_select.comp's priority sampling): in (0, 1], and
+// uniform over consecutive and hashed lattice ids alike (each tenth within 3% of its share over
+// 2^16 ids, the mean within 0.005 of 1/2), so that inclusion probabilities are what they claim.
+TEST(VplSampling, CandidateKeysAreUniformInTheUnitInterval) {
+    for (uint32_t stride : {1u, 73856093u}) {
+        std::array<uint32_t, 10> tenths{};
+        double mean = 0.0;
+        const uint32_t count = 1u << 16;
+        for (uint32_t k = 0; k < count; ++k) {
+            const float u = gpu::vplCandidateUniform(k * stride);
+            ASSERT_GT(u, 0.0f);
+            ASSERT_LE(u, 1.0f);
+            mean += u / double(count);
+            ++tenths[std::min(9u, uint32_t(u * 10.0f))];
+        }
+        EXPECT_NEAR(mean, 0.5, 0.005) << "stride " << stride;
+        for (uint32_t t : tenths)
+            EXPECT_NEAR(double(t) / count, 0.1, 0.003) << "stride " << stride;
     }
 }

@@ -30,6 +30,9 @@ constexpr uint32_t kMaxVplInterleave = 4;
 // Most VPL generations (VplSettings::bounces): each costs one more gather of N VPLs per light,
 // and the fourth bounce already carries rho^3 of the first's light.
 constexpr uint32_t kMaxVplBounces = 4;
+// Most candidates per VPL of a large sun window (VplSettings::candidates): the importance pass
+// costs candidates x sampled pixels visibility marches.
+constexpr uint32_t kMaxVplCandidates = 16;
 // Halton indices searched for the points of one cone before giving up: 2^22 bounds the CPU
 // search and still serves 4096 VPLs in a cone of half-angle >= ~3.6 degrees.
 constexpr uint32_t kMaxHaltonSearch = 1u << 22;
@@ -71,6 +74,13 @@ struct VplSettings {
     // the lattices' offsets (focusedWindowPoints). Smaller windows keep the uniform Halton
     // points of the paper.
     float focusRadius = 16.0f;
+    // Such a focused window's VPLs drawn from world-fixed candidates, this many per VPL on the
+    // same lattices made denser, by their estimated contribution to the frame (the light each
+    // brings to a sparse set of visible points, through the visibility grid), with priority
+    // sampling so that the estimate stays unbiased and a moving camera changes few of them
+    // (docs/vpl.md, "Candidates weighted by the image"). 0 = the lattice points themselves,
+    // 1..16.
+    uint32_t candidates = 8;
     // Interleaved sampling: each pixel of an n x n tile gathers 1/n^2 of the VPLs and a
     // geometry-aware tent filter over the tile sums the subsets back (docs/vpl.md). 1 = off
     // (every pixel gathers every VPL); 2, 3 or 4. 4 by default: the bench's choice for the
@@ -230,6 +240,10 @@ struct VplOutputs {
     rg::BufferHandle negativeVpls; // VplRecord per negative VPL (invalid when off)
     rg::BufferHandle refineList;  // gi/vpl_refine_list.h (invalid when lowResFactor = interleave = 1)
     uint32_t vplCount = 0;        // records in `vpls`
+    // Large sun windows with VplSettings::candidates > 0: VplRecord per candidate (suns after
+    // one another), from which vpl.select drew those suns' VPLs (invalid without such a sun).
+    rg::BufferHandle candidates;
+    uint32_t candidateCount = 0;
 };
 
 // The VPL technique: its pipelines and cached Halton directions; the passes are added per

@@ -27,6 +27,9 @@ Result<void> validateVplSettings(const VplSettings& s) {
         return bad("refineThreshold " + std::to_string(s.refineThreshold) + " must be finite and >= 0");
     if (!std::isfinite(s.focusRadius) || s.focusRadius < 0.01f || s.focusRadius > 1e5f)
         return bad("focusRadius " + std::to_string(s.focusRadius) + " must be in [0.01, 1e5] metres");
+    if (s.candidates > kMaxVplCandidates)
+        return bad("candidates " + std::to_string(s.candidates) + " is outside 0.." +
+                   std::to_string(kMaxVplCandidates));
     if (!std::isfinite(s.clampDistance) || s.clampDistance <= 0.0f || s.clampDistance > 16.0f)
         return bad("clampDistance " + std::to_string(s.clampDistance) + " must be in (0, 16]");
     if (s.interleave < 1 || s.interleave > kMaxVplInterleave)
@@ -238,18 +241,10 @@ VplSettings resolveVplSettings(const VplSettings& s, VplLighting lighting) {
 }
 
 std::vector<glm::vec3> bounceSampleDirections(uint32_t count, uint32_t generation) {
-    // Primes the placement (2, 3) does not use, a new pair per generation: a VPL's bounce
-    // direction must not repeat the pattern of where it sits.
-    static constexpr uint32_t kBases[][2] = {{5, 7}, {11, 13}, {17, 19}};
-    const uint32_t* bases = kBases[std::min<uint32_t>(std::max<uint32_t>(generation, 1u), 3u) - 1u];
     std::vector<glm::vec3> dirs;
     dirs.reserve(count);
-    for (uint32_t i = 1; i <= count; ++i) {
-        // Malley: uniform points of the unit disc lifted to the hemisphere have pdf cos / pi.
-        const float u = gpu::vplRadicalInverse(i, bases[0]), v = gpu::vplRadicalInverse(i, bases[1]);
-        const float r = std::sqrt(u), phi = 6.28318530718f * v;
-        dirs.emplace_back(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - u)));
-    }
+    for (uint32_t i = 1; i <= count; ++i)
+        dirs.push_back(gpu::vplBounceDirection(i, generation));
     return dirs;
 }
 

@@ -23,6 +23,10 @@ namespace {
 constexpr VkFormat kRadianceFormat = VK_FORMAT_R32G32B32A32_SFLOAT; // 32F: 1e9 cd stays finite
 // vkCmdUpdateBuffer moves at most 65536 bytes per call.
 constexpr VkDeviceSize kUpdateChunk = 65536;
+// The share of a large sun window's selection weights spread by flux alone, whatever the frame
+// shows (vpl_select.comp): every lit candidate keeps a chance, and a VPL's flux is divided by at
+// most 1 / (this share's probability), which bounds the heaviest VPL.
+constexpr float kVplCandidateFloor = 0.1f;
 
 ImageDesc radianceImage(uint32_t width, uint32_t height) {
     ImageDesc d;
@@ -49,11 +53,20 @@ struct LightTables {
     std::vector<gpu::VplLight> lights;
     std::vector<glm::vec4> directions;
     uint32_t sources = 0; // generation-0 sources: the lights, then the emitters when the scene emits
+    // Large sun windows with VplSettings::candidates > 0 (docs/vpl.md, "Candidates weighted by
+    // the image"): per such sun `candidatesPerSun` entries of focusedWindowPoints (xy NDC, z area,
+    // w the light's index), subset-major, and their world-fixed ids; vpl.select fills the sun's
+    // slots from them.
+    std::vector<glm::vec4> candidates;
+    std::vector<uint32_t> candidateIds;
+    uint32_t candidatesPerSun = 0;
 };
 
 struct LightTableHandles {
     rg::BufferHandle lights;
     rg::BufferHandle directions;
+    rg::BufferHandle candidates;   // only with candidates
+    rg::BufferHandle candidateIds;
 };
 
 // The gather's images at the gather resolution.
@@ -115,6 +128,12 @@ LightTableHandles addUploadPass(rg::RenderGraph& graph, LightTables tables) {
     handles.lights = graph.createBuffer("vpl.lights", storageBuffer(tables.lights.size() * sizeof(gpu::VplLight)));
     handles.directions =
         graph.createBuffer("vpl.directions", storageBuffer(tables.directions.size() * sizeof(glm::vec4)));
+    if (!tables.candidates.empty()) {
+        handles.candidates =
+            graph.createBuffer("vpl.candidate_table", storageBuffer(tables.candidates.size() * sizeof(glm::vec4)));
+        handles.candidateIds =
+            graph.createBuffer("vpl.candidate_ids", storageBuffer(tables.candidateIds.size() * sizeof(uint32_t)));
+    }
     struct UploadData {
         LightTables tables;
         LightTableHandles handles;
@@ -125,6 +144,10 @@ LightTableHandles addUploadPass(rg::RenderGraph& graph, LightTables tables) {
             d.tables = std::move(tables);
             handles.lights = b.write(handles.lights, rg::Access::TransferWrite);
             handles.directions = b.write(handles.directions, rg::Access::TransferWrite);
+            if (handles.candidates.valid()) {
+                handles.candidates = b.write(handles.candidates, rg::Access::TransferWrite);
+                handles.candidateIds = b.write(handles.candidateIds, rg::Access::TransferWrite);
+            }
             d.handles = handles;
         },
         [](const UploadData& d, rg::PassContext& pc) {
@@ -132,6 +155,12 @@ LightTableHandles addUploadPass(rg::RenderGraph& graph, LightTables tables) {
                          d.tables.lights.size() * sizeof(gpu::VplLight));
             updateBuffer(pc.cmd(), pc.buffer(d.handles.directions).buffer, d.tables.directions.data(),
                          d.tables.directions.size() * sizeof(glm::vec4));
+            if (d.handles.candidates.valid()) {
+                updateBuffer(pc.cmd(), pc.buffer(d.handles.candidates).buffer, d.tables.candidates.data(),
+                             d.tables.candidates.size() * sizeof(glm::vec4));
+                updateBuffer(pc.cmd(), pc.buffer(d.handles.candidateIds).buffer, d.tables.candidateIds.data(),
+                             d.tables.candidateIds.size() * sizeof(uint32_t));
+            }
         });
     return handles;
 }
@@ -189,8 +218,8 @@ gpu::VplPixelPush pixelPush(const VplInputs& in, const VplSettings& settings, ui
 
 struct VplTechnique::Impl {
     Context& ctx;
-    Pipeline generate, emitter, bounce, visibilityMap, gather, gatherVisible, gatherMaps, interleaveRows,
-        interleaveColumns, negativeGenerate, negativeGather, upsample, refine, refineVisible, refineMaps;
+    Pipeline generate, importance, importanceVisible, select, emitter, bounce, visibilityMap, gather, gatherVisible,
+        gatherMaps, interleaveRows, interleaveColumns, negativeGenerate, negativeGather, upsample, refine, refineVisible, refineMaps;
     VkSampler pointSampler = VK_NULL_HANDLE; // texelFetch-only, but sampled bindings need one
     // Halton directions per (count, cosOuter bits): the CPU search is the only costly CPU step.
     std::map<std::pair<uint32_t, uint32_t>, std::vector<glm::vec3>> directionCache;
@@ -205,6 +234,9 @@ struct VplTechnique::Impl {
     void addEmitterPass(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& settings,
                         const LightTableHandles& tables, uint32_t source, uint32_t vplCount, bool first,
                         rg::BufferHandle& vpls);
+    rg::BufferHandle addSelectPasses(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& settings,
+                                     LightTableHandles& tables, uint32_t candidatesPerSun, uint32_t suns,
+                                     uint32_t lightCount, rg::BufferHandle& vpls);
     void addBouncePasses(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& settings,
                          const LightTableHandles& tables, uint32_t lightCount, uint32_t vplCount,
                          rg::BufferHandle& vpls);
@@ -263,7 +295,19 @@ Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& 
             // around the camera, each with the area it stands for. A camera that moves changes
             // only the few that cross a ring; points that followed the camera would all move
             // every frame and the image would shimmer.
-            if (windowIsFocused(spot.window, settings.focusRadius)) {
+            if (windowIsFocused(spot.window, settings.focusRadius) && settings.candidates > 0) {
+                // Candidates: the same lattices, `candidates` times denser; vpl.select draws the
+                // sun's N VPLs from them by their contribution to the frame. Until then its
+                // slots hold points beyond the window (empty VPLs).
+                const uint32_t m = vplCount * settings.candidates;
+                FocusedWindowSamples focused = focusedWindowPoints(spot.window, camera.position, settings.focusRadius,
+                                                                   m, interleave * interleave);
+                for (uint32_t k = 0; k < m; ++k)
+                    tables.candidates.emplace_back(focused.samples[k], float(l));
+                tables.candidateIds.insert(tables.candidateIds.end(), focused.ids.begin(), focused.ids.end());
+                tables.candidatesPerSun = m;
+                samples.emplace_back(vplCount, glm::vec3(2.0f, 2.0f, 1.0f));
+            } else if (windowIsFocused(spot.window, settings.focusRadius)) {
                 FocusedWindowSamples focused = focusedWindowPoints(spot.window, camera.position,
                                                                    settings.focusRadius, vplCount, interleave * interleave);
                 samples.push_back(std::move(focused.samples));
@@ -330,6 +374,70 @@ void VplTechnique::Impl::addGeneratePass(rg::RenderGraph& graph, const VplInputs
         .read(VPL_GENERATE_BINDING_DIRECTIONS, tables.directions)
         .overwrite(VPL_GENERATE_BINDING_VPLS, vpls)
         .dispatch({vplCount, 1, 1});
+}
+
+// Large sun windows' candidates (docs/vpl.md, "Candidates weighted by the image"): their VPL
+// records (vpl_generate.comp over the candidate table), their estimated contribution to the
+// frame (vpl_importance.comp, through the visibility grid when there is one), and the sun's N
+// VPLs drawn from them by priority sampling (vpl_select.comp), which also writes the bounce rays
+// of their children into the generation table.
+rg::BufferHandle VplTechnique::Impl::addSelectPasses(rg::RenderGraph& graph, const VplInputs& in,
+                                                     const VplSettings& settings, LightTableHandles& tables,
+                                                     uint32_t candidatesPerSun, uint32_t suns, uint32_t lightCount,
+                                                     rg::BufferHandle& vpls) {
+    const uint32_t total = candidatesPerSun * suns;
+    rg::BufferHandle candidates =
+        graph.createBuffer("vpl.candidates", storageBuffer(VkDeviceSize(total) * sizeof(gpu::VplRecord)));
+    gpu::VplGeneratePush generatePush{};
+    generatePush.info = glm::uvec4(lightCount, total, 0, 0);
+    rg::ComputePass(graph, "vpl.candidates", generate)
+        .push(generatePush)
+        .sample(VPL_GENERATE_BINDING_RSM_POSITION, in.rsmPosition, pointSampler)
+        .sample(VPL_GENERATE_BINDING_RSM_NORMAL, in.rsmNormal, pointSampler)
+        .sample(VPL_GENERATE_BINDING_RSM_FLUX, in.rsmFlux, pointSampler)
+        .read(VPL_GENERATE_BINDING_SHADOW_VIEWS, in.shadowViews)
+        .read(VPL_GENERATE_BINDING_LIGHTS, tables.lights)
+        .read(VPL_GENERATE_BINDING_DIRECTIONS, tables.candidates)
+        .overwrite(VPL_GENERATE_BINDING_VPLS, candidates)
+        .dispatch({total, 1, 1});
+
+    rg::BufferHandle weights =
+        graph.createBuffer("vpl.candidate_weights", storageBuffer(VkDeviceSize(total) * sizeof(float)));
+    const bool visible = settings.visibility != VplVisibilityMode::Off && in.occupancy.valid();
+    gpu::VplImportancePush importancePush{};
+    importancePush.info = glm::uvec4(total, GI_VPL_IMPORTANCE_PIXELS, in.width, in.height);
+    importancePush.params = glm::vec4(settings.clampDistance * settings.clampDistance, 0.0f, 0.0f, 0.0f);
+    if (visible) {
+        const uint32_t halves = in.occupancyHalves.valid() ? 2u : 1u;
+        importancePush.interleave = glm::uvec4(0u, 0u, 0u, halves * in.occupancyResolution);
+        importancePush.grid = glm::vec4(glm::vec3(in.occupancyOriginSize), in.occupancyOriginSize.w / float(halves));
+    }
+    rg::ComputePass importancePass(graph, "vpl.importance", visible ? importanceVisible : importance);
+    importancePass.push(importancePush)
+        .sample(VPL_IMPORTANCE_BINDING_POSITION, in.gPosition, pointSampler)
+        .sample(VPL_IMPORTANCE_BINDING_NORMAL, in.gNormal, pointSampler)
+        .sample(VPL_IMPORTANCE_BINDING_ALBEDO, in.gAlbedo, pointSampler)
+        .read(VPL_IMPORTANCE_BINDING_CANDIDATES, candidates)
+        .overwrite(VPL_IMPORTANCE_BINDING_WEIGHTS, weights);
+    if (visible)
+        importancePass.sample(VPL_IMPORTANCE_BINDING_OCCUPANCY,
+                              in.occupancyHalves.valid() ? in.occupancyHalves : in.occupancy, pointSampler);
+    importancePass.dispatch({total, 1, 1});
+
+    gpu::VplSelectPush selectPush{};
+    selectPush.info = glm::uvec4(candidatesPerSun, settings.vplCount, settings.interleave, lightCount);
+    selectPush.shape = glm::uvec4(lightCount * settings.bounces, settings.bounces, 0u, 0u);
+    selectPush.params = glm::vec4(kVplCandidateFloor, 0.0f, 0.0f, 0.0f);
+    rg::ComputePass(graph, "vpl.select", select)
+        .push(selectPush)
+        .read(VPL_SELECT_BINDING_TABLE, tables.candidates)
+        .read(VPL_SELECT_BINDING_IDS, tables.candidateIds)
+        .read(VPL_SELECT_BINDING_CANDIDATES, candidates)
+        .read(VPL_SELECT_BINDING_WEIGHTS, weights)
+        .write(VPL_SELECT_BINDING_VPLS, vpls)
+        .write(VPL_SELECT_BINDING_DIRECTIONS, tables.directions)
+        .dispatch({suns * GI_VPL_SELECT_LOCAL_SIZE, 1, 1});
+    return candidates;
 }
 
 // The emitter source's VPLs on this frame's emissive surfels (vpl_emitter.comp): after
@@ -545,7 +653,7 @@ VplTechnique::VplTechnique(std::unique_ptr<Impl> impl) : m(std::move(impl)) {}
 
 VplTechnique::~VplTechnique() {
     Context& ctx = m->ctx;
-    for (Pipeline* p : {&m->generate, &m->emitter, &m->bounce, &m->visibilityMap, &m->gather, &m->interleaveRows, &m->interleaveColumns, &m->negativeGenerate,
+    for (Pipeline* p : {&m->generate, &m->importance, &m->importanceVisible, &m->select, &m->emitter, &m->bounce, &m->visibilityMap, &m->gather, &m->interleaveRows, &m->interleaveColumns, &m->negativeGenerate,
                         &m->negativeGather, &m->upsample, &m->refine, &m->gatherVisible, &m->refineVisible, &m->gatherMaps,
                         &m->refineMaps})
         destroyPipeline(ctx, *p);
@@ -559,6 +667,9 @@ Result<std::unique_ptr<VplTechnique>> VplTechnique::create(Context& ctx) {
     Impl& m = *technique->m;
     const std::pair<Pipeline*, const char*> shaders[] = {
         {&m.generate, "gi/vpl/vpl_generate.comp"},
+        {&m.importance, "gi/vpl/vpl_importance.comp"},
+        {&m.importanceVisible, "gi/vpl/vpl_importance_visible.comp"},
+        {&m.select, "gi/vpl/vpl_select.comp"},
         {&m.emitter, "gi/vpl/vpl_emitter.comp"},
         {&m.bounce, "gi/vpl/vpl_bounce.comp"},
         {&m.visibilityMap, "gi/vpl/vpl_visibility_map.comp"},
@@ -622,12 +733,19 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
     const uint32_t spotCount = uint32_t(in.spots.size());
     const uint32_t lightCount = tables->sources;
     out.vplCount = uint32_t(tables->directions.size());
-    const LightTableHandles uploaded = addUploadPass(graph, std::move(tables.value()));
+    const uint32_t candidatesPerSun = tables->candidatesPerSun;
+    const uint32_t suns = candidatesPerSun > 0 ? uint32_t(tables->candidates.size()) / candidatesPerSun : 0u;
+    LightTableHandles uploaded = addUploadPass(graph, std::move(tables.value()));
     out.vpls = graph.createBuffer("vpl.vpls", storageBuffer(VkDeviceSize(out.vplCount) * sizeof(gpu::VplRecord)));
     if (spotCount > 0)
         m->addGeneratePass(graph, in, uploaded, spotCount, out.vplCount, out.vpls);
     if (emitters)
         m->addEmitterPass(graph, in, settings, uploaded, spotCount, out.vplCount, spotCount == 0, out.vpls);
+    if (suns > 0) {
+        out.candidates =
+            m->addSelectPasses(graph, in, settings, uploaded, candidatesPerSun, suns, lightCount, out.vpls);
+        out.candidateCount = candidatesPerSun * suns;
+    }
     if (settings.bounces > 1)
         m->addBouncePasses(graph, in, settings, uploaded, lightCount, out.vplCount, out.vpls);
 

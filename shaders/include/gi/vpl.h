@@ -108,6 +108,26 @@
 #define VPL_VISIBILITY_MAP_BINDING_ALBEDO 1 // the voxel grid's albedo volume (a = occupancy)
 #define VPL_VISIBILITY_MAP_BINDING_HALVES 2 // with half voxels: the emission volume, a = half-voxel bits
 #define VPL_VISIBILITY_MAP_BINDING_MAP 3    // output: float per VPL and texel, VPL-major (metres)
+// vpl_importance.comp: a large sun window's candidate VPLs weighted by the light they bring to a
+// sparse set of the frame's visible points (docs/vpl.md, "Candidates weighted by the image").
+#define VPL_IMPORTANCE_BINDING_POSITION 0   // G-buffer world position (w = 1 where geometry)
+#define VPL_IMPORTANCE_BINDING_NORMAL 1     // G-buffer normal
+#define VPL_IMPORTANCE_BINDING_ALBEDO 2     // G-buffer albedo
+#define VPL_IMPORTANCE_BINDING_CANDIDATES 3 // VplRecord per candidate (vpl_generate.comp over the candidate table)
+#define VPL_IMPORTANCE_BINDING_WEIGHTS 4    // output: float per candidate, its estimated contribution
+#define VPL_IMPORTANCE_BINDING_OCCUPANCY 5  // vpl_importance_visible.comp only: the grid's occupancy (as the gather's)
+// vpl_select.comp: per focused sun, N of its candidates by priority sampling into its VPL slots.
+#define VPL_SELECT_BINDING_TABLE 0      // the candidate table: xy window NDC, z area (m^2), w light index
+#define VPL_SELECT_BINDING_IDS 1        // uint per candidate: its world-fixed id (lattice point)
+#define VPL_SELECT_BINDING_CANDIDATES 2 // VplRecord per candidate
+#define VPL_SELECT_BINDING_WEIGHTS 3    // float per candidate (vpl_importance.comp)
+#define VPL_SELECT_BINDING_VPLS 4       // output: the sun's slots of the VplRecord buffer
+#define VPL_SELECT_BINDING_DIRECTIONS 5 // output: the bounce rays of the selected VPLs' children (the generation table)
+// Halton pixels (bases 2, 3) of the G-buffer at which each candidate's light is estimated.
+#define GI_VPL_IMPORTANCE_PIXELS 64u
+// Work-group width of vpl_select.comp: one group per focused sun.
+#define GI_VPL_SELECT_LOCAL_SIZE 256
+
 // Texels per side of a VPL's visibility map: side^2 rays per VPL.
 #define GI_VPL_VISIBILITY_MAP_SIDE 12u
 
@@ -186,6 +206,24 @@ GI_GPU_STRUCT(VplBouncePush) {
 };
 GI_CHECK_SIZE(VplBouncePush, 48);
 
+// Push constants of vpl_importance.comp. `interleave` and `grid` have the names and meaning of
+// VplPixelPush's, which the visibility march (gi/vpl_visibility.h) reads.
+GI_GPU_STRUCT(VplImportancePush) {
+    uvec4 info;       // x candidates, y G-buffer pixels sampled, z, w G-buffer width and height
+    vec4 params;      // x clamp^2 (as VplPixelPush::params.x), y, z, w 0
+    uvec4 interleave; // x, y, z 0, w voxels per axis of the visibility grid (0 without visibility)
+    vec4 grid;        // visibility: xyz the voxel grid's min corner (world), w voxel edge (m)
+};
+GI_CHECK_SIZE(VplImportancePush, 64);
+
+// Push constants of vpl_select.comp.
+GI_GPU_STRUCT(VplSelectPush) {
+    uvec4 info;   // x candidates per focused sun M, y VPLs per source N, z interleave n, w generation-0 sources L
+    uvec4 shape;  // x sources (L x generations), y generations B, z, w 0
+    vec4 params;  // x the share of the weights spread by flux alone (defensive floor), y, z, w 0
+};
+GI_CHECK_SIZE(VplSelectPush, 48);
+
 // Interleaved sampling (Keller & Heidrich; Segovia et al.): pixel (x, y) of the gather image
 // gathers subset s = (y mod n) n + (x mod n) of the n^2 subsets. The VPL buffer is laid out
 // subset-major: subset s holds, light after light, the contiguous block
@@ -236,6 +274,29 @@ GI_INLINE vec3 vplHaltonSphere(uint i) {
     float phi = 2.0f * GI_VPL_PI * vplRadicalInverse(i, 3u);
     float r = sqrt(max(0.0f, 1.0f - z * z));
     return vec3(r * cos(phi), r * sin(phi), z);
+}
+
+// Bounce ray `i` (Halton index, from 1) of generation `generation` >= 1: the Halton point of the
+// generation's bases (5, 7; then 11, 13; then 17, 19: primes the placement does not use) mapped
+// to the cosine-weighted hemisphere about +Z (Malley: uniform points of the unit disc lifted to
+// the hemisphere have pdf cos / pi).
+GI_INLINE vec3 vplBounceDirection(uint i, uint generation) {
+    uint g = generation < 1u ? 1u : (generation > 3u ? 3u : generation);
+    uint base = g == 1u ? 5u : (g == 2u ? 11u : 17u);
+    float u = vplRadicalInverse(i, base);
+    float v = vplRadicalInverse(i, base + 2u);
+    float r = sqrt(u);
+    float phi = 6.28318530718f * v;
+    return vec3(r * cos(phi), r * sin(phi), sqrt(max(0.0f, 1.0f - u)));
+}
+
+// A uniform number in (0, 1] fixed by a world-fixed id (a candidate's lattice point): the
+// candidate's priority-sampling key (vpl_select.comp). PCG's output permutation of an LCG step.
+GI_INLINE float vplCandidateUniform(uint id) {
+    uint state = id * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    word = (word >> 22u) ^ word;
+    return (float(word >> 8u) + 1.0f) * (1.0f / 16777216.0f);
 }
 
 // Solid angle of texel (x, y) of a square-pixel perspective image of `width` x `height` whose
