@@ -91,6 +91,10 @@ std::vector<Knob> makeKnobs() {
                  [](GiSettings& s) -> uint32_t& { return s.lpv.cascades; }),
         floatKnob("lpv.cell", 1e-4, 1e4, lpv, "finest cascade's cell edge, metres",
                   [](GiSettings& s) -> float& { return s.lpv.cellSize; }),
+        floatKnob("lpv.fit_cell", 0, 1e4, lpv,
+                  "largest cell edge (metres) of the fitted grid: up to 24 cells per axis and "
+                  "proportionally more steps where that reaches it (0 = lpv.grid cells)",
+                  [](GiSettings& s) -> float& { return s.lpv.fittedCell; }),
         boolKnob("lpv.half", lpv, "RGBA16F SH storage (off = RGBA32F)",
                  [](GiSettings& s) -> bool& { return s.lpv.halfFloat; }),
         uintKnob("lpv.rsm_reduce", 1, 4, lpv,

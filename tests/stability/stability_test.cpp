@@ -313,6 +313,7 @@ TEST_F(Stability, SmallestAndLargestGridsAreFiniteOrAClearError) {
                    Case{Technique::Vct, 256}}) {
         GiSettings settings = smallSettings(c.t);
         settings.lpv.gridSize = c.grid;
+        settings.lpv.fittedCell = 0.0f; // exactly c.grid cells (the fitted cell would give the box 4^3)
         settings.vct.gridResolution = c.grid;
         std::string what = std::string(toString(c.t)) + " grid " + std::to_string(c.grid);
         auto f = render(settings, scene);
@@ -434,6 +435,8 @@ TEST_F(Stability, AbsurdSettingsAreClearErrors) {
          [](GiSettings& s) { s.technique = Technique::Vct; s.vct.diffuseAperture = std::nanf(""); }},
         {"lpv grid 0", "grid", [](GiSettings& s) { s.technique = Technique::Lpv; s.lpv.gridSize = 0; }},
         {"lpv grid 100000", "grid", [](GiSettings& s) { s.technique = Technique::Lpv; s.lpv.gridSize = 100000; }},
+        {"lpv NaN fitted cell", "fittedCell",
+         [](GiSettings& s) { s.technique = Technique::Lpv; s.lpv.fittedCell = std::nanf(""); }},
         {"lpv NaN damping", "damping",
          [](GiSettings& s) { s.technique = Technique::Lpv; s.lpv.damping = std::nanf(""); }},
         {"vpl 0 VPLs", "vpl", [](GiSettings& s) { s.technique = Technique::Vpl; s.vpl.vplCount = 0; }},

@@ -43,7 +43,7 @@ TEST(Knobs, SetReachesTheField) {
     EXPECT_EQ(findKnob("vct.occlusion")->get(s), "shadowmap");
     s.technique = Technique::Lpv;
     EXPECT_EQ(describeKnobs(s),
-              "grid=64 iterations=20 occlusion=off bounces=off damping=0.25 cascades=0 cell=1 half=on rsm_reduce=2");
+              "grid=64 iterations=20 occlusion=off bounces=off damping=0.25 cascades=0 cell=1 fit_cell=0.3 half=on rsm_reduce=2");
 }
 
 TEST(Knobs, BadValuesAreOneLineErrorsNamingTheKnob) {

@@ -132,3 +132,38 @@ TEST(LpvGrid, AutomaticCascadesOnlyForACameraInsideARegionTooLargeForOneGrid) {
     EXPECT_EQ(cascadeCount(0, 0.1f, 1.0f, true), kAutoCascades);
     EXPECT_EQ(cascadeCount(0, 10.0f, 28.0f, true), 1u);
 }
+
+TEST(LpvGrid, FittedCellsFollowACellEdgeInMetresUpToTheCap) {
+    // The longest side spans cells - 2 cells (fitLpvGrid), so cells = ceil(longest / maxCell) + 2.
+    const Aabb cornell = box({0, 0, 0}, {0.556f, 0.549f, 0.559f});
+    const Aabb room = box({-0.2f, -0.2f, -0.2f}, {6.2f, 3.2f, 5.2f}); // the room with its 0.2 m walls
+    EXPECT_EQ(fittedCells(cornell, 16, 0.3f), 16u);                  // 4 cells would do: the minimum
+    EXPECT_EQ(fittedCells(room, 16, 0.3f), 24u);                     // ceil(6.4 / 0.3) + 2
+    auto g = fitLpvGrid(room, fittedCells(room, 16, 0.3f));
+    ASSERT_TRUE(g);
+    EXPECT_LE(g->origin.w, 0.3f);
+    EXPECT_GT(g->origin.w, 0.29f); // 6.4 / 22
+    EXPECT_EQ(fittedCells(room, 16, 0.4f), 18u);                     // ceil(16) + 2
+    // 22 cells of 0.3 m span 6.6 m: a longer region cannot get 0.3 m cells and keeps the minimum.
+    EXPECT_EQ(fittedCells(box({0, 0, 0}, {6.5f, 1, 1}), 16, 0.3f), kMaxFittedCells);
+    EXPECT_EQ(fittedCells(box({0, 0, 0}, {6.7f, 1, 1}), 16, 0.3f), 16u);
+    EXPECT_EQ(fittedCells(box({0, 0, 0}, {16, 6, 10}), 16, 0.3f), 16u); // the hall
+    EXPECT_EQ(fittedCells(box({0, 0, 0}, {4e5f, 1, 1}), 16, 0.3f), 16u);
+    // Off, a minimum above the cap, and regions without a size keep the minimum.
+    EXPECT_EQ(fittedCells(room, 16, 0.0f), 16u);
+    EXPECT_EQ(fittedCells(room, 32, 0.3f), 32u);
+    EXPECT_EQ(fittedCells(room, 1, 0.3f), 24u);
+    EXPECT_EQ(fittedCells(Aabb{}, 16, 0.3f), 16u);
+    EXPECT_EQ(fittedCells(box({0, 0, 0}, {std::numeric_limits<float>::infinity(), 1, 1}), 16, 0.3f), 16u);
+    EXPECT_EQ(fittedCells(box({1, 1, 1}, {1, 1, 1}), 16, 0.3f), 16u); // a point
+}
+
+TEST(LpvGrid, FittedIterationsKeepTheShareOfTheGridLightCrosses) {
+    EXPECT_EQ(fittedIterations(20, 16, 16), 20u);
+    EXPECT_EQ(fittedIterations(20, 16, 24), 30u);
+    EXPECT_EQ(fittedIterations(20, 16, 18), 23u); // 22.5 rounded
+    EXPECT_EQ(fittedIterations(7, 16, 16), 7u);
+    EXPECT_EQ(fittedIterations(0, 16, 24), 0u);
+    EXPECT_EQ(fittedIterations(4096, 1, 24), kMaxFittedIterations); // no more than the settings accept
+    EXPECT_EQ(fittedIterations(300, 1, 24), kMaxFittedIterations);
+}

@@ -49,6 +49,17 @@ TEST(LpvSettings, OutOfRangeNamesTheField) {
         EXPECT_TRUE(validate(s)) << n;
     }
     s = LpvSettings{};
+    for (float cell : {-0.1f, 2e4f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+        s.fittedCell = cell;
+        r = validate(s);
+        ASSERT_FALSE(r) << cell;
+        EXPECT_NE(r.error().message.find("fittedCell"), std::string::npos) << r.error().message;
+    }
+    for (float cell : {0.0f, 0.3f, 1e4f}) { // 0: gridSize cells
+        s.fittedCell = cell;
+        EXPECT_TRUE(validate(s)) << cell;
+    }
+    s = LpvSettings{};
     for (float cell : {0.0f, -1.0f, 2e4f, std::numeric_limits<float>::quiet_NaN(),
                        std::numeric_limits<float>::infinity()}) {
         s.cellSize = cell;

@@ -13,8 +13,18 @@ struct LpvSettings {
     // choice from its sweep over every built-in scene: the fewest steps at which the bunny box
     // beats the best constant by the 0.8x margin; more steps grow the point-lit box's grazing
     // self-lighting (docs/lpv.md "Defaults", docs/bench/lpv-128).
+    // With fittedCell > 0 this is the fitted grid's fewest cells; cascades always have gridSize.
     uint32_t gridSize = 16;
-    uint32_t iterations = 20; // propagation steps = how many cells light travels, 0..4096
+    uint32_t iterations = 20; // propagation steps = how many cells light travels, 0..4096; a fitted grid
+                              // with more than gridSize cells takes iterations * cells / gridSize
+    // Metres, 0..1e4: the one grid fitted to the lit region gets more cells than gridSize, up to
+    // 24 per axis, to make its cells no larger than this, and proportionally more steps, so light
+    // still crosses it. The cell edge is set in metres, not as a share of the scene's bounds: the
+    // Cornell boxes keep 16^3 x 20 (4 cm cells), the 6.4 m sun-lit room gets 24^3 x 30 (0.29 m cells
+    // instead of 0.46 m), which brings its error against the all-bounce reference below 0.8x the best
+    // constant's. A region longer than 22 cells of this size (the hall, the atrium) keeps gridSize.
+    // 0 = gridSize cells whatever the region's size (docs/lpv.md "Fitted grid resolution").
+    float fittedCell = 0.3f;
     bool occlusion = true;    // attenuate by the geometry volume (fuzzy blocking) while propagating
     bool bounces = false;     // reflect the light the GV stops at occupied voxels of the shared voxel grid
                               // (Gaitatzes et al.; needs occlusion); off by default: on the Cornell box

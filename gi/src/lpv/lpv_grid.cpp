@@ -26,6 +26,27 @@ Result<gpu::LpvGrid> fitLpvGrid(const Aabb& region, uint32_t cells) {
     return grid;
 }
 
+uint32_t fittedCells(const Aabb& region, uint32_t minCells, float maxCell) {
+    const glm::vec3 extent = region.extent();
+    const float longest = std::max({extent.x, extent.y, extent.z});
+    if (!(maxCell > 0.0f) || !region.valid() || !std::isfinite(longest) || minCells >= kMaxFittedCells)
+        return minCells;
+    // The longest side spans cells - 2 cells (fitLpvGrid); computed in double, so a huge region
+    // cannot overflow.
+    const double needed = std::ceil(double(longest) / double(maxCell)) + 2.0;
+    if (needed > double(kMaxFittedCells))
+        return minCells; // the cap cannot reach the cell edge: the grid stays as it was
+    return std::max(uint32_t(needed), minCells);
+}
+
+uint32_t fittedIterations(uint32_t iterations, uint32_t gridSize, uint32_t cells) {
+    if (gridSize == 0 || cells == gridSize)
+        return iterations;
+    // At most the largest step count the settings accept, unless iterations is larger itself.
+    const uint64_t scaled = (uint64_t(iterations) * cells + gridSize / 2) / gridSize;
+    return uint32_t(std::min<uint64_t>(scaled, std::max(iterations, kMaxFittedIterations)));
+}
+
 Aabb litRegion(const Aabb& bounds, const std::vector<Light>& lights) {
     Aabb lit;
     for (const Light& light : lights) {

@@ -16,6 +16,27 @@ namespace vkgi::gi::lpv {
 // on the region's faces stay inside), centred. Errors on an empty or non-finite region.
 Result<gpu::LpvGrid> fitLpvGrid(const Aabb& region, uint32_t cells);
 
+// The most cells per axis the fitted grid takes to make its cells small enough (fittedCells):
+// propagation updates cells^3 cells per step with steps growing with the cells, 5.1x the cell
+// updates of 16^3 x 20 at 24^3 x 30 (16x at 32^3 x 40).
+constexpr uint32_t kMaxFittedCells = 24;
+
+// Cells per axis of the grid fitted to `region`: the fewest whose cells (fitLpvGrid: the longest
+// side over cells - 2) are at most `maxCell` metres, and at least `minCells`
+// (LpvSettings::gridSize). A region that needs more than kMaxFittedCells for that keeps `minCells`:
+// its cells are coarser than `maxCell` either way, and with more of them the fitted atrium gets
+// ahead of the camera-centred cascades that stand in for it inside a large world (docs/lpv.md,
+// "Fitted grid resolution"). `maxCell` <= 0, or a region that is empty or not finite: `minCells`.
+// The cell edge is set in metres, so a Cornell box keeps its 16^3 and a room gets the cells a
+// room's features need, whatever the two have in common as a share of their bounds.
+uint32_t fittedCells(const Aabb& region, uint32_t minCells, float maxCell);
+
+// Propagation steps of a fitted grid of `cells` per axis: `iterations` per `gridSize` cells,
+// rounded, so light crosses the same share of the grid (exactly `iterations` when cells equals
+// gridSize), and at most kMaxFittedIterations (LpvSettings' largest step count).
+constexpr uint32_t kMaxFittedIterations = 4096;
+uint32_t fittedIterations(uint32_t iterations, uint32_t gridSize, uint32_t cells);
+
 // The part of `bounds` the scene's lights can reach: the whole bounds when any light is
 // directional or has an infinite range, else the bounds clipped to the union of the range
 // boxes of the point and spot lights. Invalid when nothing is lit.

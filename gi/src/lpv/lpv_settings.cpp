@@ -23,6 +23,9 @@ Result<void> validate(const LpvSettings& s) {
                          std::to_string(kMaxCascades) + "] (0 = automatic)");
     if (!(s.cellSize > 0.0f && s.cellSize <= kMaxCell))
         return makeError("LpvSettings.cellSize = " + std::to_string(s.cellSize) + ": must be in (0, 1e4] metres");
+    if (!(s.fittedCell >= 0.0f && s.fittedCell <= kMaxCell))
+        return makeError("LpvSettings.fittedCell = " + std::to_string(s.fittedCell) +
+                         ": must be in [0, 1e4] metres (0 = gridSize cells)");
     if (!(s.damping >= 0.0f && s.damping <= 1.0f))
         return makeError("LpvSettings.damping = " + std::to_string(s.damping) + ": must be in [0, 1]");
     if (s.rsmReduce != 1 && s.rsmReduce != 2 && s.rsmReduce != 4)

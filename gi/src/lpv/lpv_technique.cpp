@@ -105,7 +105,7 @@ public:
         if (auto fitted = fitGrid(scene, gpu); !fitted)
             return fitted.error();
         if (m_settings.bounces) // the grid of the bounce
-            return m_voxels.sceneChanged(ctx, gpu, uploaded, voxelResolutionFor(m_settings.gridSize),
+            return m_voxels.sceneChanged(ctx, gpu, uploaded, voxelResolutionFor(m_fittedCells),
                                          scene.cameraOrDefault().position);
         return {};
     }
@@ -145,11 +145,13 @@ private:
     // The grid fitted to the part of the scene the lights reach (none when nothing is lit).
     Result<void> fitGrid(const Scene& scene, const GpuScene& gpu) {
         m_grid.reset();
+        m_fittedCells = m_settings.gridSize;
         // Emission has no range: with emitters the whole scene is lit.
         Aabb region = m_emitters.empty() ? lpv::litRegion(gpu.bounds, scene.lights) : gpu.bounds;
         if (!region.valid())
             return {};
-        auto grid = lpv::fitLpvGrid(region, m_settings.gridSize);
+        m_fittedCells = lpv::fittedCells(region, m_settings.gridSize, m_settings.fittedCell);
+        auto grid = lpv::fitLpvGrid(region, m_fittedCells);
         if (!grid)
             return grid.error();
         m_grid = *grid;
@@ -178,8 +180,9 @@ private:
         if (fresh || needsPropagation(grid, in.selection.changes)) {
             lpv::VoxelInput voxels = addVoxelPasses(graph, in);
             const std::vector<lpv::RsmInput> rsms = injectedRsms(graph, in, sources, grid.origin.w);
-            lpv::InjectionResult propagated =
-                addGridPasses(graph, grid, sources, rsms, voxels, "gi.lpv", kept.accumulation, kept.injectionBuffer);
+            const uint32_t steps = lpv::fittedIterations(m_settings.iterations, m_settings.gridSize, m_fittedCells);
+            lpv::InjectionResult propagated = addGridPasses(graph, grid, sources, rsms, voxels, steps, "gi.lpv",
+                                                            kept.accumulation, kept.injectionBuffer);
             kept.accumulation = propagated.accumulation;
             kept.injectionBuffer = propagated.buffer;
             if (kept.channelSum.valid())
@@ -233,7 +236,7 @@ private:
             lpv::ShHandles accumulation =
                 lpv::createShVolume(graph, (prefix + ".accumulation").c_str(), glm::ivec3(grid.size), sources.format);
             lpv::InjectionResult propagated =
-                addGridPasses(graph, grid, sources, rsms, voxels, prefix, accumulation, {});
+                addGridPasses(graph, grid, sources, rsms, voxels, m_settings.iterations, prefix, accumulation, {});
             lpv::CascadeBlend blend;
             blend.fadeBorder = true;
             blend.accumulate = k > 0;
@@ -245,13 +248,13 @@ private:
         return indirect;
     }
 
-    // Injection, geometry volume and propagation of one grid into `accumulation` (written
-    // whole) with `injectionBuffer` (invalid: a transient). Returns the accumulated light and
-    // the injection buffer the lookup reads.
+    // Injection, geometry volume and `steps` propagation steps of one grid into `accumulation`
+    // (written whole) with `injectionBuffer` (invalid: a transient). Returns the accumulated light
+    // and the injection buffer the lookup reads.
     lpv::InjectionResult addGridPasses(rg::RenderGraph& graph, const gpu::LpvGrid& grid, const FrameSources& sources,
                                        const std::vector<lpv::RsmInput>& rsms, const lpv::VoxelInput& voxels,
-                                       const std::string& prefix, const lpv::ShHandles& accumulation,
-                                       rg::BufferHandle injectionBuffer) {
+                                       uint32_t steps, const std::string& prefix,
+                                       const lpv::ShHandles& accumulation, rg::BufferHandle injectionBuffer) {
         const glm::ivec3 cells(grid.size);
         lpv::ShHandles firstWavefront = lpv::createShVolume(graph, (prefix + ".wave.a").c_str(), cells, sources.format);
         lpv::InjectionResult injected = lpv::addInjectionPasses(graph, m_injector, grid, sources.format, rsms,
@@ -270,7 +273,7 @@ private:
                                         lpv::createShVolume(graph, (prefix + ".wave.b").c_str(), cells, sources.format),
                                         injected.accumulation};
         volumes = lpv::addPropagationPasses(graph, m_propagator, cells, sources.format, volumes, geometryVolume,
-                                            m_settings.iterations, voxels, grid.origin, prefix);
+                                            steps, voxels, grid.origin, prefix);
         return {volumes.wavefront, volumes.accumulation, injected.buffer};
     }
 
@@ -435,6 +438,7 @@ private:
     lpv::Propagator m_propagator;
     lpv::Injector m_injector;
     std::optional<gpu::LpvGrid> m_grid; // fitted to the lit region (also what cascadeCount weighs)
+    uint32_t m_fittedCells = 0;         // m_grid's cells per axis (lpv::fittedCells)
     Aabb m_region;                      // the lit region
     std::vector<EmitterPointSource> m_emitters; // the emission's proxies (empty without emission)
     bool m_sceneHasLights = false;
