@@ -167,7 +167,9 @@ std::string helpText() {
            "       vkgi-bench --jit [--techniques a,b] [--repeat N] [--out DIR]\n"
            "       vkgi-bench --flight [--scenes a,b] [--techniques a,b] [--size WxH] [--set KNOBS] [--frames N]\n"
            "                  [--path dolly|orbit] [--out DIR]\n" +
-           apps::formatOptions(optionTable(defaults), 19);
+           apps::formatOptions(optionTable(defaults), 19) +
+           "Exit codes: 0 success, 1 scene/render/output failure, 2 bad arguments, 3 validation messages\n"
+           "(VKGI_VALIDATION=1 enables the validation layers).\n";
 }
 
 } // namespace vkgi::bench

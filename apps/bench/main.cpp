@@ -77,47 +77,22 @@ void printReport(const bench::Options& opt, const std::vector<gi::BenchRecord>& 
         }
 }
 
-} // namespace
-
-int main(int argc, char** argv) {
-    auto opt = bench::parseArgs(argc, argv);
-    if (!opt) {
-        std::fprintf(stderr, "vkgi-bench: %s\n", opt.error().message.c_str());
-        return 2;
-    }
-    if (opt->help) {
-        std::fputs(bench::helpText().c_str(), stdout);
-        return 0;
-    }
-    // Compilation is what --jit measures: Mesa's disk cache would serve shaders compiled by an
-    // earlier run. Must be set before the driver loads.
-    if (opt->jit)
-        setenv("MESA_SHADER_CACHE_DISABLE", "true", 1);
-    auto ctx = defaultDeviceBuilder().build();
-    if (!ctx) {
-        std::fprintf(stderr, "vkgi-bench: %s\n", ctx.error().message.c_str());
-        return 1;
-    }
-    if (opt->scaling)
-        return bench::runScaling(**ctx, *opt);
-    if (opt->jit)
-        return bench::runJit(**ctx, *opt);
-    if (opt->flight)
-        return bench::runFlight(**ctx, *opt);
+// The default mode: every scene x technique x configuration against the path-traced reference.
+int runTable(Context& ctx, const bench::Options& opt) {
     // The streaming rate every pass is compared with, measured now on this device and load.
-    auto streamGBs = bench::measureStreamGBs(**ctx);
+    auto streamGBs = bench::measureStreamGBs(ctx);
     if (!streamGBs) {
         std::fprintf(stderr, "vkgi-bench: %s\n", streamGBs.error().message.c_str());
         return 1;
     }
     std::vector<std::pair<std::string, std::string>> jobs; // technique, knobs
-    for (const auto& t : opt->techniques)
-        for (const auto& k : !opt->set ? bench::sweepFor(t, opt->quick)
+    for (const auto& t : opt.techniques)
+        for (const auto& k : !opt.set ? bench::sweepFor(t, opt.quick)
                              : t == "none" ? std::vector<std::string>{""}
-                                           : std::vector<std::string>{*opt->set})
+                                           : std::vector<std::string>{*opt.set})
             jobs.push_back({t, k});
     std::vector<Scene> scenes; // all loaded up front: a bad name fails before any long work
-    for (const auto& sceneName : opt->scenes) {
+    for (const auto& sceneName : opt.scenes) {
         auto scene = loadScene(sceneName);
         if (!scene) {
             std::fprintf(stderr, "vkgi-bench: %s\n", scene.error().message.c_str());
@@ -126,17 +101,17 @@ int main(int argc, char** argv) {
         scenes.push_back(std::move(*scene));
     }
     std::vector<gi::BenchRecord> records;
-    Progress progress("vkgi-bench", jobs.size() * opt->scenes.size());
+    Progress progress("vkgi-bench", jobs.size() * opt.scenes.size());
     for (size_t si = 0; si < scenes.size(); ++si) {
-        const std::string& sceneName = opt->scenes[si];
+        const std::string& sceneName = opt.scenes[si];
         const Scene* scene = &scenes[si];
         std::map<int, gi::ReferenceImages> refs; // by bounce count
         auto reference = [&](int bounces) -> Result<const gi::ReferenceImages*> {
             if (!refs.count(bounces)) {
                 gi::ReferenceSettings rs;
-                rs.spp = opt->spp;
+                rs.spp = opt.spp;
                 rs.maxBounces = bounces;
-                auto ref = gi::renderReferenceCached(*scene, scene->cameraOrDefault(), opt->width, opt->height, rs);
+                auto ref = gi::renderReferenceCached(*scene, scene->cameraOrDefault(), opt.width, opt.height, rs);
                 if (!ref)
                     return ref.error();
                 refs[bounces] = std::move(*ref);
@@ -170,7 +145,7 @@ int main(int argc, char** argv) {
                 return 1;
             }
             bench::References r{&(*matched)->full, &(*matched)->indirect, bounces, &(*all)->full, &(*all)->indirect};
-            auto m = bench::measure(**ctx, *scene, sceneName, s, knobs, *opt, r);
+            auto m = bench::measure(ctx, *scene, sceneName, s, knobs, opt, r);
             if (!m) {
                 std::fprintf(stderr, "vkgi-bench: %s %s [%s]: %s\n", sceneName.c_str(), tech.c_str(), knobs.c_str(),
                              m.error().message.c_str());
@@ -189,11 +164,47 @@ int main(int argc, char** argv) {
         }
     }
     progress.finish();
-    if (auto ok = writeOutputs(*opt, records); !ok) {
+    if (auto ok = writeOutputs(opt, records); !ok) {
         std::fprintf(stderr, "vkgi-bench: %s\n", ok.error().message.c_str());
         return 1;
     }
-    printReport(*opt, records, *streamGBs);
-    std::printf("wrote %s/bench.csv, bench.json, bench.md and plots\n", opt->outDir.c_str());
+    printReport(opt, records, *streamGBs);
+    std::printf("wrote %s/bench.csv, bench.json, bench.md and plots\n", opt.outDir.c_str());
     return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    auto opt = bench::parseArgs(argc, argv);
+    if (!opt) {
+        std::fprintf(stderr, "vkgi-bench: %s\n", opt.error().message.c_str());
+        return 2;
+    }
+    if (opt->help) {
+        std::fputs(bench::helpText().c_str(), stdout);
+        return 0;
+    }
+    // Compilation is what --jit measures: Mesa's disk cache would serve shaders compiled by an
+    // earlier run. Must be set before the driver loads.
+    if (opt->jit)
+        setenv("MESA_SHADER_CACHE_DISABLE", "true", 1);
+    auto ctx = defaultDeviceBuilder().build();
+    if (!ctx) {
+        std::fprintf(stderr, "vkgi-bench: %s\n", ctx.error().message.c_str());
+        return 1;
+    }
+    int code = opt->scaling ? bench::runScaling(**ctx, *opt)
+               : opt->jit   ? bench::runJit(**ctx, *opt)
+               : opt->flight ? bench::runFlight(**ctx, *opt)
+                             : runTable(**ctx, *opt);
+    // With VKGI_VALIDATION=1 any message (printed as it came) fails the run; counted once the
+    // context is destroyed, which reports the objects it still held.
+    const std::shared_ptr<const ValidationLog> log = (*ctx)->sharedValidation();
+    ctx->reset();
+    if (uint32_t n = log->count(); n > 0) {
+        std::fprintf(stderr, "vkgi-bench: %u validation message(s) (printed above)\n", n);
+        return 3;
+    }
+    return code;
 }

@@ -151,7 +151,8 @@ compilation); unprofiled_ms is a third such frame timed without a timestamp per 
 persistent volumes.
 Environment: VKGI_DEVICE=<substring> picks the Vulkan device by name; VKGI_VALIDATION=1 enables
 the validation layers.
-Exit codes: 0 success, 1 scene/render/output failure, 2 bad arguments.
+Exit codes: 0 success, 1 scene/render/output failure, 2 bad arguments, 3 validation messages
+(VKGI_VALIDATION=1; nothing is written).
 )" + apps::knobHelpSection();
 }
 

@@ -34,6 +34,8 @@ struct Rendered {
     // GPU times and passes of a third frame with nothing changed (GI techniques only): what a
     // static scene costs once the persistent volumes are valid.
     std::optional<render::StaticFrame> staticFrame;
+    // The GPU context's validation log, read once the context is destroyed (none for the path tracer).
+    std::shared_ptr<const ValidationLog> validation;
 };
 
 int fail(int code, const std::string& message) {
@@ -99,7 +101,8 @@ Result<Rendered> renderGi(const Scene& scene, const Camera& camera, const render
                     plain->totalMs,
                     frame->leftOut,
                     render::MemoryUse{frame->persistentByOwner, frame->transientBytes, frame->passMemory},
-                    render::StaticFrame{still->passes, still->totalMs, still->leftOut}};
+                    render::StaticFrame{still->passes, still->totalMs, still->leftOut},
+                    (*system)->context().sharedValidation()};
 }
 
 Result<Rendered> renderPathTraced(const Scene& scene, const Camera& camera, const render::Options& o, int bounces) {
@@ -117,7 +120,8 @@ Result<Rendered> renderPathTraced(const Scene& scene, const Camera& camera, cons
                     std::nullopt,
                     {},
                     std::nullopt,
-                    {}};
+                    {},
+                    nullptr};
 }
 
 // Errors of the full image and of its indirect part (full - direct) against the reference.
@@ -249,6 +253,10 @@ int main(int argc, char** argv) {
     auto rendered = pathTraced ? renderPathTraced(*scene, camera, o, bounces) : renderGi(*scene, camera, o, *settings);
     if (!rendered)
         return fail(1, rendered.error().message);
+    // With VKGI_VALIDATION=1 any message (printed as it came) fails the run before a file is written;
+    // the log is complete: the context, destroyed by now, reported the objects it still held.
+    if (rendered->validation && rendered->validation->count() > 0)
+        return fail(3, std::to_string(rendered->validation->count()) + " validation message(s) (printed above)");
     // Before any file is written: an asked-for part the technique did not produce.
     if (!o.glossyOutputs.empty() && rendered->glossy.pixels.empty())
         return fail(1, "--out-glossy: technique " + o.technique + " produces no glossy image (vct does)");

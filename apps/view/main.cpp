@@ -70,8 +70,10 @@ int main(int argc, char** argv) {
             return fail(1, viewer.error().message);
         code = (*viewer)->run();
     }
-    // Everything but the device is destroyed now, so teardown messages are counted too.
-    if (uint32_t n = (*ctx)->validation().count(); n > 0)
+    // Counted once the device is destroyed too, which reports every Vulkan object left alive.
+    const std::shared_ptr<const ValidationLog> log = (*ctx)->sharedValidation();
+    ctx->reset();
+    if (uint32_t n = log->count(); n > 0)
         return fail(3, std::to_string(n) + " validation message(s) (printed above)");
     return code;
 }

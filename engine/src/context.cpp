@@ -320,7 +320,7 @@ Result<std::unique_ptr<Context>> DeviceBuilder::buildContext() {
     const char* layer = "VK_LAYER_KHRONOS_validation";
     VkValidationFeatureEnableEXT syncFeature = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
     VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
-    VkDebugUtilsMessengerCreateInfoEXT messenger = messengerInfo(&ctx->m_validation);
+    VkDebugUtilsMessengerCreateInfoEXT messenger = messengerInfo(ctx->m_validation.get());
     if (validation) {
         ici.enabledLayerCount = 1;
         ici.ppEnabledLayerNames = &layer;

@@ -30,9 +30,11 @@ struct CliRun {
     std::string err; // stderr
 };
 
-CliRun run(const std::string& args) {
+// `env`: extra "NAME=value" assignments for the run.
+CliRun run(const std::string& args, const std::string& env = "") {
     CliRun r;
-    std::string cmd = renderBinary().string() + " " + args + " 2>&1 1>/dev/null";
+    // With the validation layers on, as in every GPU test: a message makes vkgi-render exit 3.
+    std::string cmd = "VKGI_VALIDATION=1 " + env + " " + renderBinary().string() + " " + args + " 2>&1 1>/dev/null";
     FILE* p = popen(cmd.c_str(), "r");
     if (!p)
         return r;
@@ -105,6 +107,18 @@ TEST_F(Cli, UnreadableSceneExitsOneAndWritesNothing) {
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find("box.gltf"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "x.png"));
+}
+
+// The check every run above relies on: a validation message fails the run (exit 3) and nothing
+// is written. The layer's best-practices checks (enabled through its environment) always warn.
+TEST_F(Cli, ValidationMessagesExitThreeAndWriteNothing) {
+    fs::path dir = vkgi::test::outputDir() / "cli_validation";
+    fs::remove_all(dir);
+    CliRun r = run("--scene cornell --size 16x16 --out " + (dir / "x.png").string(),
+                   "VK_LAYER_ENABLES=VK_VALIDATION_FEATURE_ENABLE_BEST_PRACTICES_EXT");
+    EXPECT_EQ(r.exitCode, 3) << r.err;
+    EXPECT_NE(r.err.find("validation message(s)"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir / "x.png"));
 }
 

@@ -2,6 +2,7 @@
 // and specialization plumbing, timestamps, the allocator, and embedding on a device that
 // vkgi did not create.
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 
 #include "vkgi/frame_constants.hpp"
@@ -212,6 +213,33 @@ TEST_F(ComputeSmoke, ValidationLayerReportsMisuse) {
     if (buffer)
         vkDestroyBuffer(ctx().device(), buffer, nullptr);
     validation().clear();
+}
+
+// The fixture checks the log after the device is destroyed, because only vkDestroyDevice reports
+// an object the test left alive. This test leaks a sampler on its own context on purpose: the
+// log held past the context must name it.
+TEST(ValidationLog, HearsTheObjectALeakLeavesWhenTheDeviceIsDestroyed) {
+    DeviceBuilder builder = defaultDeviceBuilder();
+    builder.enableValidation(true, true);
+    if (!std::getenv("VKGI_DEVICE"))
+        builder.preferDeviceName("llvmpipe");
+    auto ctx = builder.build();
+    if (!ctx) {
+        if (test::gpuRequired())
+            FAIL() << "no Vulkan device: " << ctx.error().message;
+        GTEST_SKIP() << "no Vulkan device: " << ctx.error().message;
+    }
+    VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    VkSampler sampler = VK_NULL_HANDLE;
+    VKGI_CHECK(vkCreateSampler((*ctx)->device(), &info, nullptr, &sampler));
+    const std::shared_ptr<const ValidationLog> log = (*ctx)->sharedValidation();
+    EXPECT_EQ(log->count(), 0u);
+    ctx->reset();
+    ASSERT_GE(log->count(), 1u);
+    bool named = false;
+    for (const std::string& m : log->messages())
+        named = named || m.find("VkSampler") != std::string::npos;
+    EXPECT_TRUE(named) << log->messages().front();
 }
 
 // Set 0: the per-frame constants reach a shader through the shared frame layout, and the

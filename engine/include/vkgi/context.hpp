@@ -52,7 +52,10 @@ public:
     const VkPhysicalDeviceProperties& properties() const { return m_properties; }
     const DeviceFunctions& fn() const { return m_fn; }
     Allocator& allocator() { return *m_allocator; }
-    ValidationLog& validation() { return m_validation; }
+    ValidationLog& validation() { return *m_validation; }
+    // The same log for a holder that outlives the context: vkDestroyDevice and vkDestroyInstance
+    // report the objects still alive into it while ~Context runs.
+    std::shared_ptr<const ValidationLog> sharedValidation() const { return m_validation; }
     bool ownsDevice() const { return m_ownsDevice; }
     // Nanoseconds per timestamp tick, and whether the queue supports timestamps.
     double timestampPeriodNs() const { return m_properties.limits.timestampPeriod; }
@@ -92,7 +95,7 @@ private:
     VkDescriptorSetLayout m_frameSetLayout = VK_NULL_HANDLE;
     DeviceFunctions m_fn;
     std::unique_ptr<Allocator> m_allocator;
-    ValidationLog m_validation;
+    std::shared_ptr<ValidationLog> m_validation = std::make_shared<ValidationLog>();
     bool m_ownsDevice = true;
     bool m_debugUtils = false;
 };
