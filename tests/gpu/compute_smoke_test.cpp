@@ -2,7 +2,6 @@
 // and specialization plumbing, timestamps, the allocator, and embedding on a device that
 // vkgi did not create.
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 
 #include "vkgi/frame_constants.hpp"
@@ -219,11 +218,7 @@ TEST_F(ComputeSmoke, ValidationLayerReportsMisuse) {
 // an object the test left alive. This test leaks a sampler on its own context on purpose: the
 // log held past the context must name it.
 TEST(ValidationLog, HearsTheObjectALeakLeavesWhenTheDeviceIsDestroyed) {
-    DeviceBuilder builder = defaultDeviceBuilder();
-    builder.enableValidation(true, true);
-    if (!std::getenv("VKGI_DEVICE"))
-        builder.preferDeviceName("llvmpipe");
-    auto ctx = builder.build();
+    auto ctx = test::buildTestContext();
     if (!ctx) {
         if (test::gpuRequired())
             FAIL() << "no Vulkan device: " << ctx.error().message;

@@ -71,30 +71,26 @@ protected:
 
     // The VPL records of one frame, through the host-graph path (GiSystem::addPasses).
     std::vector<gpu::VplRecord> vplRecords(GiSystem& sys, const Camera& camera) {
-        rg::RenderGraph graph;
-        rg::Blackboard bb;
-        FrameRequest req;
-        auto outputs = sys.addPasses(graph, bb, camera, kSize, kSize, req);
-        EXPECT_TRUE(outputs) << outputs.error().message;
-        const VplOutputs* vo = bb.tryGet<VplOutputs>();
-        if (!outputs || !vo || vo->vplCount == 0)
-            return {};
-        VkDeviceSize bytes = VkDeviceSize(vo->vplCount) * sizeof(gpu::VplRecord);
-        return test::asArray<gpu::VplRecord>(test::runAndReadBuffer(ctx(), graph, vo->vpls, bytes));
+        return records(sys, camera, &VplOutputs::vpls, &VplOutputs::vplCount);
     }
 
     // A large sun window's candidate VPLs (VplOutputs::candidates), empty without.
     std::vector<gpu::VplRecord> candidateRecords(GiSystem& sys, const Camera& camera) {
+        return records(sys, camera, &VplOutputs::candidates, &VplOutputs::candidateCount);
+    }
+
+    std::vector<gpu::VplRecord> records(GiSystem& sys, const Camera& camera, rg::BufferHandle VplOutputs::*buffer,
+                                        uint32_t VplOutputs::*count) {
         rg::RenderGraph graph;
         rg::Blackboard bb;
         FrameRequest req;
         auto outputs = sys.addPasses(graph, bb, camera, kSize, kSize, req);
         EXPECT_TRUE(outputs) << outputs.error().message;
         const VplOutputs* vo = bb.tryGet<VplOutputs>();
-        if (!outputs || !vo || vo->candidateCount == 0)
+        if (!outputs || !vo || vo->*count == 0)
             return {};
-        VkDeviceSize bytes = VkDeviceSize(vo->candidateCount) * sizeof(gpu::VplRecord);
-        return test::asArray<gpu::VplRecord>(test::runAndReadBuffer(ctx(), graph, vo->candidates, bytes));
+        VkDeviceSize bytes = VkDeviceSize(vo->*count) * sizeof(gpu::VplRecord);
+        return test::asArray<gpu::VplRecord>(test::runAndReadBuffer(ctx(), graph, vo->*buffer, bytes));
     }
 
     HdrImage indirect(GiSystem& sys, const Scene& scene, double* ms = nullptr,
@@ -123,6 +119,16 @@ HdrImage referenceIndirect(const Scene& scene, uint32_t spp) {
     auto ref = renderReferenceCached(scene, *scene.camera, kSize, kSize, rs);
     EXPECT_TRUE(ref) << ref.error().message;
     return ref ? ref->indirect : HdrImage{};
+}
+
+// The sun of the directional-light tests on test::planeScene's 20 m plane: 3 lux from about 20
+// degrees off the vertical.
+Light sunAtAnAngle() {
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+    sun.intensity = 3.0f;
+    return sun;
 }
 
 } // namespace
@@ -413,10 +419,7 @@ TEST_F(VplScene, PointLightVplsCoverTheSphereWithExactFlux) {
 // they carry what the plane reflects, albedo * E * cos(theta) * 400 m^2 = 600 cos(theta), up to
 // the Halton points' discrepancy.
 TEST_F(VplScene, DirectionalLightVplsSampleItsWindowWithExactFlux) {
-    Light sun;
-    sun.type = LightType::Directional;
-    sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
-    sun.intensity = 3.0f;
+    const Light sun = sunAtAnAngle();
     Scene scene = test::planeScene(0.5f, sun);
     VplSettings v;
     v.vplCount = 1024;
@@ -451,10 +454,7 @@ TEST_F(VplScene, DirectionalLightVplsSampleItsWindowWithExactFlux) {
 // quadrature whose outer rings, a few points hundreds of square metres each, make it depend on
 // where the camera is. Over 16 camera places it averages out.
 TEST_F(VplScene, FocusedSunVplsGatherAroundTheCameraAndStayUnbiased) {
-    Light sun;
-    sun.type = LightType::Directional;
-    sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
-    sun.intensity = 3.0f;
+    const Light sun = sunAtAnAngle();
     Scene scene = test::planeScene(0.5f, sun);
     VplSettings v;
     v.vplCount = 1024;
@@ -501,10 +501,7 @@ TEST_F(VplScene, FocusedSunVplsGatherAroundTheCameraAndStayUnbiased) {
 // the lattices and weights move with the camera place, the keys belong to the lattice points)
 // the ratio of the two averages to 1, and each place's is near it.
 TEST_F(VplScene, FocusedSunCandidatesAreDrawnWithoutBias) {
-    Light sun;
-    sun.type = LightType::Directional;
-    sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
-    sun.intensity = 3.0f;
+    const Light sun = sunAtAnAngle();
     Scene scene = test::planeScene(0.5f, sun);
     VplSettings v;
     v.vplCount = 256;

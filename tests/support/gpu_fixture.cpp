@@ -10,12 +10,16 @@ bool gpuRequired() {
     return v && std::strcmp(v, "1") == 0;
 }
 
-void GpuTest::SetUp() {
+Result<std::unique_ptr<Context>> buildTestContext() {
     DeviceBuilder builder = defaultDeviceBuilder();
     builder.enableValidation(true, true);
     if (!std::getenv("VKGI_DEVICE"))
         builder.preferDeviceName("llvmpipe");
-    auto ctx = builder.build();
+    return builder.build();
+}
+
+void GpuTest::SetUp() {
+    auto ctx = buildTestContext();
     if (!ctx) {
         if (gpuRequired())
             FAIL() << "no Vulkan device: " << ctx.error().message;
