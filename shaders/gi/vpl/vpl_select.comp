@@ -23,6 +23,7 @@
 // generation table gets the bounce ray the candidate's id names (vplBounceDirection), so a VPL
 // keeps its children's rays whatever slot it takes.
 #include "gi/vpl.h"
+#include "gi/vpl_term.h"
 
 layout(local_size_x = GI_VPL_SELECT_LOCAL_SIZE) in;
 layout(push_constant) uniform PushBlock { VplSelectPush pc; };
@@ -41,14 +42,12 @@ shared uint sCount;
 shared uint sKept[kMaxSubsets];
 shared uint sScan[GI_VPL_SELECT_LOCAL_SIZE];
 
-float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
-
 uint first;       // the sun's first candidate
 float floorShare; // defensive floor per unit of flux luminance
 float weightScale;
 
 float weightOf(uint c) {
-    float flux = candidates[first + c].position.w > 0.0 ? luminance(candidates[first + c].flux.rgb) : 0.0;
+    float flux = candidates[first + c].position.w > 0.0 ? vplLuminance(candidates[first + c].flux.rgb) : 0.0;
     return flux > 0.0 ? weights[first + c] * weightScale + floorShare * flux : 0.0;
 }
 
@@ -114,7 +113,7 @@ void main() {
     float w = 0.0, f = 0.0;
     for (uint c = tid; c < M; c += GI_VPL_SELECT_LOCAL_SIZE) {
         VplRecord v = candidates[first + c];
-        float flux = v.position.w > 0.0 ? luminance(v.flux.rgb) : 0.0;
+        float flux = v.position.w > 0.0 ? vplLuminance(v.flux.rgb) : 0.0;
         if (flux > 0.0) {
             w += weights[first + c];
             f += flux;

@@ -6,25 +6,22 @@
 #ifndef VKGI_GI_VPL_GATHER_H
 #define VKGI_GI_VPL_GATHER_H
 #include "vpl.h"
+#include "vpl_term.h"
 #ifdef VPL_VISIBILITY
 #include "vpl_visibility.h"
 #endif
 
-float vplLuminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
-
 // Irradiance (lux) at x (normal n) from the positive VPLs [first, end): each is a cosine
-// emitter, E = flux/pi * cosVpl * cosX / max(d^2, clamp2 * r^2) with r^2 the VPL's footprint
-// (flux.w), so the clamp follows the spacing of the VPLs, not any length of the scene. `travel` receives the sum of the
-// unit directions the light travels in, weighted by the luminance of each contribution.
+// emitter, E = flux/pi * vplPositiveTerm (clamp2 times the VPL's footprint). `travel` receives
+// the sum of the unit directions the light travels in, weighted by the luminance of each
+// contribution.
 vec3 vplGatherPositive(vec3 x, vec3 n, uint first, uint end, float clamp2, out vec3 travel) {
     vec3 e = vec3(0.0);
     travel = vec3(0.0);
     for (uint k = first; k < end; ++k) {
         VplRecord v = vpls[k];
-        vec3 d = v.position.xyz - x;
-        float d2 = dot(d, d);
-        vec3 w = d * inversesqrt(max(d2, 1e-30));
-        float g = max(dot(n, w), 0.0) * max(-dot(v.direction.xyz, w), 0.0) / max(d2, clamp2 * v.flux.w);
+        vec3 w;
+        float g = vplPositiveTerm(v.position.xyz, v.direction.xyz, x, n, clamp2 * v.flux.w, w);
 #ifdef VPL_VISIBILITY
         if (g > 0.0)
             g *= vplVisibility(k, x, n, v.position.xyz, v.direction.xyz);

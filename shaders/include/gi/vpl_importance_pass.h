@@ -10,6 +10,7 @@
 #ifndef VKGI_GI_VPL_IMPORTANCE_PASS_H
 #define VKGI_GI_VPL_IMPORTANCE_PASS_H
 #include "vpl.h"
+#include "vpl_term.h"
 
 layout(local_size_x = GI_VPL_LOCAL_SIZE_1D) in;
 layout(push_constant) uniform PushBlock { VplImportancePush pc; };
@@ -24,14 +25,12 @@ layout(set = 1, binding = VPL_IMPORTANCE_BINDING_OCCUPANCY) uniform sampler3D vp
 #include "vpl_visibility.h"
 #endif
 
-float vplImportanceLuminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
-
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.info.x)
         return;
     VplRecord v = candidates[i];
-    float flux = vplImportanceLuminance(v.flux.rgb);
+    float flux = vplLuminance(v.flux.rgb);
     if (!(v.position.w > 0.0) || !(flux > 0.0)) {
         weights[i] = 0.0;
         return;
@@ -48,15 +47,13 @@ void main() {
             continue;
         seen += 1u;
         vec3 n = texelFetch(gNormal, pixel, 0).xyz;
-        vec3 d = v.position.xyz - x.xyz;
-        float d2 = dot(d, d);
-        vec3 w = d * inversesqrt(max(d2, 1e-30));
-        float g = max(dot(n, w), 0.0) * max(-dot(v.direction.xyz, w), 0.0) / max(d2, clamp2);
+        vec3 w;
+        float g = vplPositiveTerm(v.position.xyz, v.direction.xyz, x.xyz, n, clamp2, w);
 #ifdef VPL_VISIBILITY_MARCH
         if (g > 0.0 && pc.interleave.w > 0u)
             g *= vplVisibility(i, x.xyz, n, v.position.xyz, v.direction.xyz);
 #endif
-        sum += g * vplImportanceLuminance(texelFetch(gAlbedo, pixel, 0).rgb);
+        sum += g * vplLuminance(texelFetch(gAlbedo, pixel, 0).rgb);
     }
     weights[i] = seen > 0u ? flux * sum / (GI_VPL_PI * float(seen)) : 0.0;
 }
