@@ -103,6 +103,7 @@ struct ShadowData {
     uint32_t resolution = 0;
     std::vector<ShadowLayer> layers; // the lights' own layers (cascade layers follow them)
     VkSampler compareSampler = VK_NULL_HANDLE; // linear, depth compare LESS_OR_EQUAL, clamp to edge
+    VkSampler pointSampler = VK_NULL_HANDLE;   // nearest, no compare: the stored depths themselves
 };
 
 // Present only when the technique asked for it (or GiSettings::forceRsm).

@@ -246,6 +246,7 @@ void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Di
     shadow.resolution = layout.resolution;
     shadow.layers = layout.layers;
     shadow.compareSampler = p.shadowSampler;
+    shadow.pointSampler = p.pointSampler;
     blackboard.add(shadow);
     if (rsm) {
         std::vector<ShadowLayer> rsmLayers = layout.layers;

@@ -172,7 +172,7 @@ public:
             options.shadowAtlas = sd->atlas;
             options.shadowViews = sd->views;
             options.lightShadows = sd->lightShadows;
-            options.shadowSampler = sd->compareSampler;
+            options.shadowSampler = sd->pointSampler;
         }
         VctOutputs out = addVctPasses(graph, *m_volumes, grid, scene.lights, m_lightCount, settings, &g, options);
         in.blackboard.add(out);
@@ -259,7 +259,7 @@ private:
         options.shadowAtlas = in.shadow.atlas;
         options.shadowViews = in.shadow.views;
         options.lightShadows = in.shadow.lightShadows;
-        options.shadowSampler = in.shadow.compareSampler;
+        options.shadowSampler = in.shadow.pointSampler;
         VoxelSceneHandles handles{in.scene.vertices, in.scene.indices, in.scene.instances, in.scene.materials,
                                   m_draws};
         const VoxelUpdate sceneUpdate = voxelUpdateFor(changes);

@@ -44,31 +44,110 @@ layout(set = 1, binding = VCT_LIGHT_BINDING_LIST_WORDS, r32ui) uniform readonly 
 #ifdef GI_VOXEL_LIGHT_SHADOW_MAP
 layout(set = 1, binding = VCT_LIGHT_BINDING_LIGHT_SHADOWS, std430) readonly buffer LightShadows { GpuLightShadow lightShadows[]; };
 layout(set = 1, binding = VCT_LIGHT_BINDING_SHADOW_VIEWS, std430) readonly buffer ShadowViews { GpuShadowView shadowViews[]; };
-layout(set = 1, binding = VCT_LIGHT_BINDING_SHADOW_ATLAS) uniform sampler2DArrayShadow shadowAtlas;
+layout(set = 1, binding = VCT_LIGHT_BINDING_SHADOW_ATLAS) uniform sampler2DArray shadowAtlas; // point-sampled: the stored depths
 
-// Visibility of light i from voxel centre p (world; unit normal n or zero, unit toLight) in the
-// direct-light shadow atlas (gi/direct_types.h), one bilinear compare. Every point of the
-// voxel lies within sqrt(3)/2 voxels of its centre, so the lookup point, moved that far
-// towards the light, is at least as near the light as any surface inside the voxel: the
-// voxel's own surface cannot shadow it. It also moves one voxel along the normal (as the ray
-// march starts), off the rest of its wall. The stored first surface may be nearer than the
-// lookup point by the depth change across one texel of a tilted surface: one texel footprint
-// of bias covers tilts up to 45 degrees.
-float shadowMapVisibility(uint i, vec3 p, vec3 n, vec3 toLight) {
-    GpuLightShadow ls = lightShadows[i];
-    if (ls.info.z == GI_SHADOW_NONE)
-        return 1.0;
-    vec3 q = p + pc.grid.originSize.w * (n + 0.8660254 * toLight);
+// Light i's first surface on the ray from world point q towards the light (unit dir): where it
+// lies (s, metres towards the light: q + s dir) and which way it faces (the unit normal on the
+// light's side, from the stored depths of the 2x2 texels around q: their slope along the layer's
+// u and v axes). The stored depth is the nearest of the four texels', unfiltered.
+struct ShadowHit {
+    float s;
+    vec3 normal;
+};
+ShadowHit shadowHitAlongRay(uint i, GpuLightShadow ls, vec3 q, vec3 dir) {
     uint layer = ls.info.x;
     if (ls.info.z == GI_SHADOW_CUBE)
         layer += cubeFace(q - lights[i].positionType.xyz);
     GpuShadowView view = shadowViews[layer];
-    bool ortho = view.eye.w <= 0.0;
-    float texel = ortho ? view.texel.x : view.texel.x * max(dot(q - view.eye.xyz, view.axisArea.xyz), 0.0);
     vec4 clip = view.viewProj * vec4(q, 1.0);
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
-    float depth = (ortho ? clip.z : distance(q, view.eye.xyz) / view.eye.w) - texel / view.texel.y;
-    return texture(shadowAtlas, vec4(uv, float(layer), depth));
+    bool ortho = view.eye.w <= 0.0;
+    float depth = ortho ? clip.z : distance(q, view.eye.xyz) / view.eye.w;
+    // Gathered texels: x (i0, j1), y (i1, j1), z (i1, j0), w (i0, j0).
+    vec4 d = textureGather(shadowAtlas, vec3(uv, float(layer)), 0);
+    vec2 f = fract(uv * view.texel.z - 0.5);
+    float nearest = f.x < 0.5 ? (f.y < 0.5 ? d.w : d.x) : (f.y < 0.5 ? d.z : d.y);
+    ShadowHit hit;
+    // Depth grows away from the light, linearly in metres (texel.y metres per unit).
+    hit.s = (depth - nearest) * view.texel.y;
+    // The layer's u and v axes in the world are the directions of its first two clip rows; one
+    // texel spans texel.x metres there (times the distance for a perspective layer).
+    mat4 m = view.viewProj;
+    vec3 eu = normalize(vec3(m[0][0], m[1][0], m[2][0])), ev = normalize(vec3(m[0][1], m[1][1], m[2][1]));
+    float texelWorld = ortho ? view.texel.x : view.texel.x * max(distance(q, view.eye.xyz) - hit.s, 1e-6);
+    vec2 slope = 0.5 * vec2(d.y - d.x + d.z - d.w, d.x - d.w + d.y - d.z) * view.texel.y / texelWorld;
+    hit.normal = normalize(slope.x * eu + slope.y * ev + dir);
+    return hit;
+}
+
+// Visibility of light i from the surface with unit normal n in the voxel with centre p (world;
+// unit toLight, n . toLight > 0) in the direct-light shadow atlas (gi/direct_types.h): the share
+// of the light's rays that reach the voxel's surface. The rays through kShadowTaps points spread
+// over the voxel (a 3D low-discrepancy set, so that no light direction lines them up) meet the
+// light's first surface (the atlas's stored depth) inside the voxel (that surface is lit there),
+// beyond it (the ray crossed the voxel without meeting its surface: no say), or before it. The
+// lit hits locate the surface: the plane with normal n through their mean. A ray stopped before
+// the voxel is blocked only if it would have met that plane inside the voxel; one that would
+// have crossed it outside (a point under a floor whose ray leaves through the voxel's side and
+// meets the same floor one voxel on) has no say either. So whatever the voxel's size, the test
+// reads the surfaces themselves: no lookup point is moved off the voxel past walls a coarse
+// voxel is thicker than, and a sunlit patch that a sub-voxel opening casts on a floor counts by
+// its share. Inside / before / beyond take a margin of a texel's footprint (the stored depth of a
+// tilted surface varies across a texel) and a fiftieth of a voxel; a surface on the voxel's face
+// is inside it. Without a lit hit the voxel is shadowed if any ray is blocked, lit if none.
+const uint kShadowTaps = 16u;
+// A hit faces the surface's normal n within 60 degrees.
+const float kShadowFacing = 0.5;
+// Tap t of the voxel (in [0, 1]^3): x stratified, y and z radical inverses.
+vec3 shadowTap(uint t) {
+    return vec3((float(t) + 0.5) / float(kShadowTaps), float(bitfieldReverse(t)) * 2.3283064e-10,
+                fract(float(t) * 0.6180340 + 0.3));
+}
+float shadowMapVisibility(uint i, vec3 p, vec3 n, vec3 toLight) {
+    GpuLightShadow ls = lightShadows[i];
+    if (ls.info.z == GI_SHADOW_NONE)
+        return 1.0;
+    float a = pc.grid.originSize.w;
+    vec3 lightPos = lights[i].positionType.xyz;
+    bool directional = uint(lights[i].positionType.w) == GI_LIGHT_DIRECTIONAL;
+    GpuShadowView view0 = shadowViews[ls.info.x];
+    float texel = view0.eye.w <= 0.0 ? view0.texel.x : view0.texel.x * max(distance(p, lightPos), 1e-6);
+    float margin = 1.5 * texel + 0.02 * a;
+    vec3 boxLo = p - (0.5 * a + margin), boxHi = p + (0.5 * a + margin);
+    float lit = 0.0, litHeight = 0.0;
+    uint blockedTaps = 0u; // bit t: tap t's ray is stopped before the voxel
+    for (uint t = 0u; t < kShadowTaps; ++t) {
+        vec3 q = p + (shadowTap(t) - 0.5) * a;
+        vec3 dir = directional ? toLight : normalize(lightPos - q);
+        // The ray q + s dir is inside the box for s in [s0, s1], s0 <= 0 <= s1.
+        vec3 inv = 1.0 / mix(vec3(1e-20), dir, greaterThan(abs(dir), vec3(1e-20)));
+        vec3 lo = (boxLo - q) * inv, hi = (boxHi - q) * inv;
+        float s0 = max(max(min(lo.x, hi.x), min(lo.y, hi.y)), min(lo.z, hi.z));
+        float s1 = min(min(max(lo.x, hi.x), max(lo.y, hi.y)), max(lo.z, hi.z));
+        if (!directional)
+            s1 = min(s1, distance(lightPos, q)); // a light inside the voxel
+        ShadowHit hit = shadowHitAlongRay(i, ls, q, dir);
+        bool inside = hit.s >= s0 && hit.s <= s1;
+        // A first surface inside the voxel that does not face n is another surface of the voxel
+        // (the sunlit outside of a wall whose voxel also holds the floor inside): for the
+        // surface facing n it blocks the ray like one before the voxel.
+        bool facing = dot(hit.normal, n) >= kShadowFacing;
+        lit += inside && facing ? 1.0 : 0.0;
+        litHeight += inside && facing ? dot(q + hit.s * dir - p, n) : 0.0;
+        blockedTaps |= hit.s > s1 || (inside && !facing) ? 1u << t : 0u;
+    }
+    if (lit == 0.0)
+        return blockedTaps != 0u ? 0.0 : 1.0;
+    // Blocked rays that would have met the plane at height h inside the voxel. (Towards a point
+    // light the rays diverge; across a voxel the mean direction stands for them here.)
+    float h = litHeight / lit, blocked = 0.0;
+    float cosine = dot(n, toLight);
+    for (uint left = blockedTaps; left != 0u; left &= left - 1u) {
+        vec3 q = p + (shadowTap(uint(findLSB(left))) - 0.5) * a;
+        vec3 meets = q + ((h - dot(q - p, n)) / cosine) * toLight;
+        blocked += all(greaterThanEqual(meets, boxLo)) && all(lessThanEqual(meets, boxHi)) ? 1.0 : 0.0;
+    }
+    return lit / (lit + blocked);
 }
 #endif
 

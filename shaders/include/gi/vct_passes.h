@@ -264,7 +264,7 @@ GI_CHECK_SIZE(VctClipmapParams, 144);
 #define VCT_LIGHT_BINDING_LIST 6           // the occupied-voxel list the indirect dispatch runs over
 #define VCT_LIGHT_BINDING_LIGHT_SHADOWS 7  // shadow map variant: GpuLightShadow per light (gi/direct_types.h)
 #define VCT_LIGHT_BINDING_SHADOW_VIEWS 8   // shadow map variant: GpuShadowView per atlas layer
-#define VCT_LIGHT_BINDING_SHADOW_ATLAS 9   // shadow map variant: the depth atlas, compare-sampled
+#define VCT_LIGHT_BINDING_SHADOW_ATLAS 9   // shadow map variant: the depth atlas, its stored depths gathered (point sampler)
 #define VCT_LIGHT_BINDING_FACES 10         // the grid's faces volume
 #define VCT_LIGHT_BINDING_WRITTEN 11       // the "written" volume (read and updated)
 #define VCT_LIGHT_BINDING_LIST_WORDS 12    // hard march: the occupied-voxel list as R32UI texels
