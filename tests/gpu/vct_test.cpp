@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "vkgi/context.hpp"
+#include "engine/lights.h"
+#include "gi/direct_types.h"
 #include "support/gpu_fixture.hpp"
 #include "vct/vct_passes.hpp"
 #include "vct_test_scene.hpp"
@@ -315,6 +317,111 @@ TEST_F(Vct, VoxelDirectLightMatchesTheClosedForm) {
     EXPECT_NEAR(at(floorPoint).r, expected, expected * 2e-3f);
     EXPECT_LT(at({0.25f, 0.0f, 0.25f}).r, 0.1f * expected);
     EXPECT_GT(at({0.25f, 0.0f, 0.8f}).r, 0.5f * expected);
+}
+
+// The shadow-map occlusion (VctOcclusion::ShadowMap): a voxel's visibility is the share of the
+// light's rays through it that reach its surface (voxel_light_body.glsl). A floor lies a quarter
+// into a voxel layer of a 16^3 unit grid under an oblique sun (tan 56 degrees off the vertical,
+// tilted along z); a roof over x < xE, the middle of column 7, shades it. The atlas is one
+// orthographic layer whose depths are cast here by hand. Closed forms: a floor voxel in the open
+// reflects exactly albedo / pi * E * cos (V = 1: the taps under the floor, whose rays meet the
+// same floor a voxel on, have no say), one under the roof nothing, the roof's top is lit, and the
+// floor voxel the roof's edge halves gets half of the light (by the taps' share; the hard march
+// gives it all or nothing).
+TEST_F(Vct, ShadowMapVisibilityIsTheShareOfRaysReachingTheSurface) {
+    const gpu::VoxelGridParams params = boxGrid(16, chooseRadianceScale(1000.0f));
+    const glm::vec3 origin(params.originSize);
+    const float a = params.originSize.w;
+    const float yFloor = origin.y + 3.25f * a, yRoof = origin.y + 10.5f * a, xEdge = origin.x + 7.5f * a;
+    TestScene scene;
+    uint32_t white = scene.addMaterial(glm::vec3(0.5f));
+    auto quad = [&](glm::vec3 o, glm::vec3 u, glm::vec3 v) { // facing cross(u, v)
+        scene.addDraw({{o, o + u, o + u + v}, {o, o + u + v, o + v}}, white);
+    };
+    quad({0.0f, yFloor, 0.0f}, {0.0f, 0.0f, 1.0f}, {1.0f, 0.0f, 0.0f});
+    quad({0.0f, yRoof, -1.0f}, {0.0f, 0.0f, 3.0f}, {xEdge, 0.0f, 0.0f});
+    const glm::vec3 toLight = glm::normalize(glm::vec3(0.0f, 1.0f, 1.5f));
+    const float lux = 1000.0f;
+    LightRecord sun{glm::vec4(0.0f, 0.0f, 0.0f, float(GI_LIGHT_DIRECTIONAL)), glm::vec4(-toLight, 0.0f),
+                    glm::vec4(1.0f, 1.0f, 1.0f, lux), glm::vec4(0.0f)};
+    setup(scene, {sun}, params);
+
+    // One orthographic layer looking along -toLight: u, v across, depth = distance from the near
+    // plane through `eye` over `range`.
+    const uint32_t res = 512;
+    const float half = 1.5f, range = 4.0f;
+    const glm::vec3 axis = -toLight, eu(1.0f, 0.0f, 0.0f), ev = glm::normalize(glm::cross(axis, eu));
+    const glm::vec3 eye = glm::vec3(0.5f) - 2.0f * axis;
+    gpu::GpuShadowView view{};
+    for (int k = 0; k < 3; ++k) {
+        view.viewProj[k][0] = eu[k] / half;
+        view.viewProj[k][1] = ev[k] / half;
+        view.viewProj[k][2] = axis[k] / range;
+    }
+    view.viewProj[3] = glm::vec4(-glm::dot(eye, eu) / half, -glm::dot(eye, ev) / half, -glm::dot(eye, axis) / range, 1.0f);
+    const float texel = 2.0f * half / float(res);
+    view.eye = glm::vec4(eye, 0.0f);
+    view.axisArea = glm::vec4(axis, texel * texel);
+    view.texel = glm::vec4(texel, range, float(res), 0.0f);
+    std::vector<float> depth(size_t(res) * res);
+    for (uint32_t j = 0; j < res; ++j)
+        for (uint32_t i = 0; i < res; ++i) {
+            glm::vec3 p = eye + ((i + 0.5f) * texel - half) * eu + ((j + 0.5f) * texel - half) * ev;
+            float t = range; // the first of the roof and the floor along p + t axis
+            float tRoof = (yRoof - p.y) / axis.y, tFloor = (yFloor - p.y) / axis.y;
+            glm::vec3 r = p + tRoof * axis, f = p + tFloor * axis;
+            if (r.x >= 0.0f && r.x <= xEdge && r.z >= -1.0f && r.z <= 2.0f)
+                t = tRoof;
+            else if (f.x >= 0.0f && f.x <= 1.0f && f.z >= 0.0f && f.z <= 1.0f)
+                t = tFloor;
+            depth[size_t(j) * res + i] = t / range;
+        }
+    ImageDesc d;
+    d.format = VK_FORMAT_D32_SFLOAT;
+    d.width = d.height = res;
+    d.arrayLayers = 1;
+    d.arrayView = true;
+    d.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    Image atlas = createImage(ctx(), d, "t.atlas");
+    uploadImage(ctx(), atlas, depth.data(), depth.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
+    gpu::GpuLightShadow shadow{glm::uvec4(0u, 1u, GI_SHADOW_SINGLE, 0u), glm::uvec4(0u)};
+    Buffer views = uploaded(ctx(), &view, sizeof(view), "t.views");
+    Buffer shadows = uploaded(ctx(), &shadow, sizeof(shadow), "t.shadows");
+    SamplerDesc pointDesc;
+    pointDesc.filter = VK_FILTER_NEAREST;
+    pointDesc.mipmap = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    VkSampler point = createSampler(ctx(), pointDesc);
+
+    VctSettings s;
+    s.bounces = 1;
+    s.occlusion = VctOcclusion::ShadowMap;
+    runGraph(ctx(), *m_pool, [&](rg::RenderGraph& graph) {
+        VoxelGridData grid = addVoxelGridPasses(graph, *m_grid, importScene(graph, m_buf, m_scene.draws), VoxelUpdate::Full);
+        rg::BufferHandle lights = graph.importBuffer("t.lights", m_lights, rg::Access::TransferWrite);
+        VctPassOptions options;
+        options.shadowAtlas = graph.importImage("t.atlas", atlas, rg::Access::ComputeStorageWrite);
+        options.shadowViews = graph.importBuffer("t.views", views, rg::Access::TransferWrite);
+        options.lightShadows = graph.importBuffer("t.shadows", shadows, rg::Access::TransferWrite);
+        options.shadowSampler = point;
+        VctOutputs out = addVctPasses(graph, *m_volumes, grid, lights, m_lightCount, s, nullptr, options);
+        graph.exportImage(out.directional, rg::Access::ComputeStorageRead);
+    });
+    const std::vector<glm::vec4> level0 = readHalf4(ctx(), m_volumes->directional(), 0);
+    auto down = [&](int x, int y, int z) { return directionalTexel(level0, 16, 0, {x, y, z}, 3).r; }; // travelling -y
+    const float albedo = 128.0f / 255.0f;
+    const float open = albedo / kPi * lux * toLight.y * params.scales.y;
+    std::printf("open floor %.4f (exact %.4f), under the roof %.4f, roof top %.4f, halved %.4f (V %.3f)\n",
+                down(12, 3, 8), open, down(3, 3, 8), down(3, 10, 8), down(7, 3, 8), down(7, 3, 8) / open);
+    for (int z : {4, 8, 11}) {
+        EXPECT_NEAR(down(12, 3, z), open, 2e-3f * open) << "open floor, z " << z;
+        EXPECT_EQ(down(3, 3, z), 0.0f) << "under the roof, z " << z;
+        EXPECT_NEAR(down(3, 10, z), open, 2e-3f * open) << "roof top, z " << z;
+        EXPECT_NEAR(down(7, 3, z), 0.5f * open, 0.15f * open) << "the roof's edge halves the voxel, z " << z;
+    }
+    vkDestroySampler(ctx().device(), point, nullptr);
+    for (Buffer* b : {&views, &shadows})
+        destroyBuffer(ctx(), *b);
+    destroyImage(ctx(), atlas);
 }
 
 // Crassin's pre-integration on one voxel and on a wall: exact values of the first level. Level
