@@ -113,12 +113,21 @@ protected:
 // "PT indirect" against the path tracer's own paths of >= 2 reflections (what vkgi-render
 // --compare and vkgi-bench call indirect). "constant" is the best constant colour on the
 // surface pixels (bestAmbient), added to the direct image (full) or alone (indirect columns).
-//   scene             full   constant  indirect  constant  PT indirect  constant  before the filter
-//   cornell           0.0436 0.215     0.0600    0.309     0.0545       0.302     0.0536 / 0.0732 / 0.0679
-//   cornell_point     0.121  0.237     0.239     0.510     0.223        0.509     0.133 / 0.276 / 0.253
-//   cornell_emissive  0.376  0.424     0.377     0.428     0.888        0.283     0.389 / 0.390 / 1.07
-//   room (sharp)      0.371  0.495     0.156     0.285     0.156        0.284     0.415 / 0.201 / 0.201
-//   atrium (sharp)    0.165  0.155     0.633     0.359     0.224        0.279     0.197 / 0.583 / 0.265
+//   scene             full   constant  indirect  constant  PT indirect  constant  hard march
+//   cornell           0.0254 0.215     0.0354    0.309     0.0283       0.302     0.0311 / 0.0409 / 0.0348
+//   cornell_point     0.0663 0.237     0.126     0.510     0.121        0.509     0.0690 / 0.129 / 0.123
+//   cornell_emissive  0.324  0.424     0.324     0.428     0.611        0.283     0.324 / 0.324 / 0.611
+//   room (sharp)      0.518  0.495     0.299     0.285     0.299        0.284     0.342 / 0.125 / 0.124
+//   atrium (sharp)    0.144  0.154     0.235     0.281     0.169        0.279     0.173 / 0.255 / 0.209
+// The voxel light's visibility is the shadow map's (VctOcclusion::ShadowMap, the default); the
+// last column is the hard occupancy march it replaced. The march narrows the room's windows by a
+// voxel on every side (conservative voxels), which at 32^3 leaves 0.79 of the window patches'
+// first-bounce light that the shadow map finds (and that both find at 128^3, within 8%). The
+// cones then over-read the patches (1.2e3 nits against tens in the rest of the room): with the
+// patches' full light the room's mean indirect is 1.43x the path tracer's at 32^3 (1.31x at the
+// default 64^3), where the narrowed windows gave 1.09x (1.08x). So the room no longer beats the
+// constant against the three-reflection reference at 32^3; against all reflections (the bench)
+// it does, and better than with the march (docs/vct.md "Visibility").
 // (2026-11-27, with the default vct.filter 4, docs/vct.md "Filter"; it filters the atrium's
 // sub-pixel edges of 1e3-nit surfaces in the "indirect" column too, which rose 9%. Before the
 // texel-ahead rule: cornell 0.0585 / 0.0743 / 0.0688, cornell_point 0.113 / 0.248 / 0.232,
@@ -156,24 +165,28 @@ protected:
 // convex combination of voxel radiances (docs/vct.md, "Energy"), so VCT can exceed the
 // reference only where voxels hold more light than the surfaces they stand for (a thin wall's
 // lit side read through a texel, conservatively thick lit patches). Measured at 32^3 / 64^3:
-// cornell 0.974, cornell_point 0.785, room 1.101 / 1.081, atrium 0.734 / 0.937 (the emissive
+// cornell 1.011, cornell_point 0.803, room 1.434 / 1.307, atrium 0.943 / 0.998 (the emissive
 // box's is not the same quantity, see below). Few cones also overshoot without creating
 // energy: (1/n) sum L_i over n fixed cosine-distributed directions is a quadrature of E / pi,
 // and with 4 cones on the spot-lit box it reads up to 15% high (NoConfigurationAddsEnergy).
 // Bounds: at most 20% more (that quadrature error and rounding), at least 65% (the atrium's
 // 73% at 32^3).
 constexpr double kMaxMeanRatio = 1.2, kMinMeanRatio = 0.65;
+// The room: its window patches, 1.2e3 nits in a room of tens, are over-read by the cones (see
+// the table above); 1.5 bounds the measured 1.43 (32^3) and 1.31 (64^3) with the same margin.
+constexpr double kRoomMaxMeanRatio = 1.5;
 
 TEST_F(VctReference, BuiltinScenesAgainstThePathTracer) {
     struct Case {
         const char* scene;
         double full, indirect, indirectPt;
         bool beatsConstant, ptIndirectBeatsConstant;
-    } cases[] = {{"cornell", 0.0436, 0.0600, 0.0545, true, true},
-                 {"cornell_point", 0.121, 0.239, 0.223, true, true},
-                 {"cornell_emissive", 0.376, 0.377, 0.888, true, false},
-                 {"room", 0.371, 0.156, 0.156, true, true},
-                 {"atrium", 0.165, 0.633, 0.224, false, false}};
+        double maxMeanRatio;
+    } cases[] = {{"cornell", 0.0254, 0.0354, 0.0283, true, true, kMaxMeanRatio},
+                 {"cornell_point", 0.0663, 0.126, 0.121, true, true, kMaxMeanRatio},
+                 {"cornell_emissive", 0.324, 0.324, 0.611, true, false, kMaxMeanRatio},
+                 {"room", 0.518, 0.299, 0.299, false, false, kRoomMaxMeanRatio},
+                 {"atrium", 0.144, 0.235, 0.169, false, false, kMaxMeanRatio}};
     VctSettings s;
     s.gridResolution = 32;
     s.lowResFactor = 2; // 64^2 test images: the default 4 would trace 16^2 (docs/vct.md)
@@ -190,29 +203,27 @@ TEST_F(VctReference, BuiltinScenesAgainstThePathTracer) {
             EXPECT_LT(e.indirectPt, e.ambientIndirectPt) << c.scene;
         }
         if (std::string(c.scene) != "cornell_emissive") { // see above: not the same quantity
-            EXPECT_LT(e.meanRatioPt, kMaxMeanRatio) << c.scene;
+            EXPECT_LT(e.meanRatioPt, c.maxMeanRatio) << c.scene;
             EXPECT_GT(e.meanRatioPt, kMinMeanRatio) << c.scene;
         }
     }
 }
 
 // The default 64^3 grid on the sun-lit scenes (same 64^2 images, cones at half resolution and
-// 4096-sample references as above). Measured (2026-11-24, lavapipe):
-// Sharp sun shadows as above (2048^2, no PCF):
-//   scene    full   constant  PT indirect  constant
-//   room     0.368  0.495     0.153        0.284
-//   atrium   0.096  0.155     0.142        0.279
-// (2026-11-27, with the default vct.filter 4; before it: room 0.402 / 0.188, atrium 0.141 /
-// 0.199; before the second bounce per (block, normal class): room 0.404 / 0.188, atrium 0.159 /
-// 0.214.) Bounds: the measurements + 20% as above (both renderers are deterministic), and the PT
-// indirect below 0.85 x the constant computed in the run (measured 0.54x and 0.51x); the
-// room's full image below its constant too (the atrium's was level with it before the filter).
+// 4096-sample references as above). Measured with the shadow map's visibility (the hard march
+// in parentheses), sharp sun shadows as above (2048^2, no PCF):
+//   scene    full           constant  PT indirect    constant  mean indirect / PT
+//   room     0.393 (0.313)  0.495     0.174 (0.097)  0.284     1.31 (1.08)
+//   atrium   0.098 (0.111)  0.154     0.121 (0.138)  0.279     1.00 (0.99)
+// (The room: see the table above.) Bounds: the measurements + 20% as above (both renderers are
+// deterministic), and the PT indirect below 0.85 x the constant computed in the run (measured
+// 0.61x and 0.43x); the room's full image below its constant too.
 TEST_F(VctReference, DefaultGridInTheSunLitScenes) {
     struct Case {
         const char* scene;
         double full, indirectPt;
         bool beatsConstant;
-    } cases[] = {{"room", 0.368, 0.153, true}, {"atrium", 0.096, 0.142, true}};
+    } cases[] = {{"room", 0.393, 0.174, true}, {"atrium", 0.098, 0.121, true}};
     VctSettings s; // gridResolution 64 by default
     s.lowResFactor = 2;
     ASSERT_EQ(s.gridResolution, 64u);
@@ -226,7 +237,7 @@ TEST_F(VctReference, DefaultGridInTheSunLitScenes) {
         if (std::string(c.scene) == "room") {
             EXPECT_LT(e.full, e.ambientFull);
         }
-        EXPECT_LT(e.meanRatioPt, kMaxMeanRatio) << c.scene;
+        EXPECT_LT(e.meanRatioPt, std::string(c.scene) == "room" ? kRoomMaxMeanRatio : kMaxMeanRatio) << c.scene;
         EXPECT_GT(e.meanRatioPt, kMinMeanRatio) << c.scene;
     }
 }

@@ -53,16 +53,16 @@ struct VctSettings {
     // and columns, cut where the pixel's surface ends. 1 = off, at most kVctMaxFilter. Smooths
     // the blotches the coarse voxels leave on curved surfaces; the default is the bench's choice
     // (docs/vct.md).
-    uint32_t filter = 4;
+    uint32_t filter = 5;
     bool glossy = true;          // glossy cone whose aperture follows the roughness
     bool ambientOcclusion = true;
     float aoDistance = 0.0f;     // Villegas' AO decay distance in metres; 0 = 1/8 of the grid
     bool softShadows = false;    // cone-traced shadows of punctual lights
     float shadowAperture = 0.05f; // half-angle of the shadow cone (radians)
-    // The hard march by default. The shadow map is cheaper but its lookup leaks the sun through
-    // the room's 2-voxel window wall: mean indirect 1.73x the path tracer's (march 1.08x), 16^3
-    // Cornell boxes 1.27x (docs/vct.md).
-    VctOcclusion occlusion = VctOcclusion::RayMarchHard;
+    // The shadow map by default: it finds which of the light's rays reach each voxel's surface,
+    // where the march stops at whole conservative voxels and narrows openings by a voxel
+    // (docs/vct.md "Visibility"). Graphs without the direct-light passes fall back to the march.
+    VctOcclusion occlusion = VctOcclusion::ShadowMap;
     // Clipmap levels (0..8). 1: one grid fitted to the scene bounds or gridBox. 2..8: camera-centred
     // levels of gridResolution^3 voxels each, level l with voxels of `voxel` * 2^l metres, so what
     // the grid resolves does not depend on how far the scene extends (docs/vct.md "Clipmap").

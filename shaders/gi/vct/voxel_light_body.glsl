@@ -46,10 +46,27 @@ layout(set = 1, binding = VCT_LIGHT_BINDING_LIGHT_SHADOWS, std430) readonly buff
 layout(set = 1, binding = VCT_LIGHT_BINDING_SHADOW_VIEWS, std430) readonly buffer ShadowViews { GpuShadowView shadowViews[]; };
 layout(set = 1, binding = VCT_LIGHT_BINDING_SHADOW_ATLAS) uniform sampler2DArray shadowAtlas; // point-sampled: the stored depths
 
+// World point of the stored depth d (layer units) at atlas coordinate uv of `view`, for q's ray:
+// orthographic layers are linear in uv and depth (q, at uv0 and depth dq, anchors them),
+// perspective ones store the distance from the eye along the ray through uv.
+vec3 shadowTexelPoint(GpuShadowView view, vec2 uv, float d, vec3 q, vec2 uv0, float dq, vec3 dir) {
+    mat4 m = view.viewProj;
+    vec3 row0 = vec3(m[0][0], m[1][0], m[2][0]), row1 = vec3(m[0][1], m[1][1], m[2][1]);
+    // clip = 2 uv - 1 changes along row k by |row k| per metre.
+    vec2 c = 2.0 * uv - 1.0;
+    if (view.eye.w <= 0.0) {
+        vec2 dc = 2.0 * (uv - uv0);
+        return q + dc.x * row0 / dot(row0, row0) + dc.y * row1 / dot(row1, row1) + (dq - d) * view.texel.y * dir;
+    }
+    vec3 forward = vec3(m[0][3], m[1][3], m[2][3]);
+    vec3 ray = forward + c.x * row0 / dot(row0, row0) + c.y * row1 / dot(row1, row1);
+    return view.eye.xyz + (d * view.eye.w) * normalize(ray);
+}
+
 // Light i's first surface on the ray from world point q towards the light (unit dir): where it
 // lies (s, metres towards the light: q + s dir) and which way it faces (the unit normal on the
-// light's side, from the stored depths of the 2x2 texels around q: their slope along the layer's
-// u and v axes). The stored depth is the nearest of the four texels', unfiltered.
+// light's side, through the stored surface points of the 2x2 texels around q). The stored depth
+// is the nearest of the four texels', unfiltered.
 struct ShadowHit {
     float s;
     vec3 normal;
@@ -61,22 +78,22 @@ ShadowHit shadowHitAlongRay(uint i, GpuLightShadow ls, vec3 q, vec3 dir) {
     GpuShadowView view = shadowViews[layer];
     vec4 clip = view.viewProj * vec4(q, 1.0);
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
-    bool ortho = view.eye.w <= 0.0;
-    float depth = ortho ? clip.z : distance(q, view.eye.xyz) / view.eye.w;
-    // Gathered texels: x (i0, j1), y (i1, j1), z (i1, j0), w (i0, j0).
+    float depth = view.eye.w <= 0.0 ? clip.z : distance(q, view.eye.xyz) / view.eye.w;
+    // Gathered texels: x (i0, j1), y (i1, j1), z (i1, j0), w (i0, j0), centred at uv00 + (i, j) / res.
     vec4 d = textureGather(shadowAtlas, vec3(uv, float(layer)), 0);
-    vec2 f = fract(uv * view.texel.z - 0.5);
+    float res = view.texel.z;
+    vec2 uv00 = (floor(uv * res - 0.5) + 0.5) / res;
+    vec2 f = fract(uv * res - 0.5);
     float nearest = f.x < 0.5 ? (f.y < 0.5 ? d.w : d.x) : (f.y < 0.5 ? d.z : d.y);
     ShadowHit hit;
     // Depth grows away from the light, linearly in metres (texel.y metres per unit).
     hit.s = (depth - nearest) * view.texel.y;
-    // The layer's u and v axes in the world are the directions of its first two clip rows; one
-    // texel spans texel.x metres there (times the distance for a perspective layer).
-    mat4 m = view.viewProj;
-    vec3 eu = normalize(vec3(m[0][0], m[1][0], m[2][0])), ev = normalize(vec3(m[0][1], m[1][1], m[2][1]));
-    float texelWorld = ortho ? view.texel.x : view.texel.x * max(distance(q, view.eye.xyz) - hit.s, 1e-6);
-    vec2 slope = 0.5 * vec2(d.y - d.x + d.z - d.w, d.x - d.w + d.y - d.z) * view.texel.y / texelWorld;
-    hit.normal = normalize(slope.x * eu + slope.y * ev + dir);
+    vec3 p00 = shadowTexelPoint(view, uv00, d.w, q, uv, depth, dir);
+    vec3 p11 = shadowTexelPoint(view, uv00 + 1.0 / res, d.y, q, uv, depth, dir);
+    vec3 p10 = shadowTexelPoint(view, uv00 + vec2(1.0, 0.0) / res, d.z, q, uv, depth, dir);
+    vec3 p01 = shadowTexelPoint(view, uv00 + vec2(0.0, 1.0) / res, d.x, q, uv, depth, dir);
+    vec3 normal = cross(p11 - p00, p01 - p10);
+    hit.normal = normalize(dot(normal, dir) < 0.0 ? -normal : normal);
     return hit;
 }
 
