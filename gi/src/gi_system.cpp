@@ -238,8 +238,9 @@ void GiSystem::Impl::addShadowPasses(rg::RenderGraph& graph, rg::Blackboard& bb,
     // tap's extra texel and the normal offset, plus a texel of rounding.
     cascades.marginTexels = float(settings.pcfRadius) + std::ceil(settings.shadowNormalOffset) + 2.0f;
     const Aabb rsmWindow = rsm && technique ? technique->rsmWindow(frame) : Aabb{};
-    ShadowLayout layout =
-        planShadows(scene, gpu->bounds, settings.shadowMapSize, settings.maxShadowLayers, cascades, rsmWindow);
+    const std::vector<Aabb> shadowWindows = technique ? technique->shadowWindows(frame) : std::vector<Aabb>{};
+    ShadowLayout layout = planShadows(scene, gpu->bounds, settings.shadowMapSize, settings.maxShadowLayers, cascades,
+                                      rsmWindow, shadowWindows);
     // New atlas or RSM arrays have no contents yet: every light renders.
     uint32_t oldLayers = shadows.layers, oldRsmLayers = shadows.rsmLayers, oldResolution = shadows.resolution;
     bool oldRsm = shadows.rsm;
@@ -264,8 +265,14 @@ void GiSystem::Impl::addShadowPasses(rg::RenderGraph& graph, rg::Blackboard& bb,
             if ((keepCascades[i] >> k) & 1u)
                 selection.leaveOut(cascadePassName(i, k), LeftOutReason::NotDirty,
                                    "light " + std::to_string(i) + ", every object and the cascade's texels unchanged");
+    std::vector<uint32_t> keepShadowWindows = cleanShadowWindows(layout, lastShadowLayout, shadowChanges);
+    for (uint32_t i = 0; i < keepShadowWindows.size(); ++i)
+        for (uint32_t k = 0; k < layout.lights[i].windowCount; ++k)
+            if ((keepShadowWindows[i] >> k) & 1u)
+                selection.leaveOut(windowPassName(i, k), LeftOutReason::NotDirty,
+                                   "light " + std::to_string(i) + ", every object and the window's view unchanged");
     addLightPasses(graph, bb, pipelines, frame, bb.get<SceneHandles>(), layout, shadows, rsm, keep, keepCascades,
-                   keepWindows);
+                   keepWindows, keepShadowWindows);
     lastShadowLayout = std::move(layout);
     shadowChanges.reset();
 }

@@ -146,22 +146,35 @@ std::vector<bool> cleanRsmWindows(const ShadowLayout& now, const ShadowLayout& l
     });
 }
 
-std::vector<uint32_t> cleanShadowCascades(const ShadowLayout& now, const ShadowLayout& last,
-                                          const SceneChanges& changes) {
+namespace {
+// Per light, bit k set when layer first + k of the range (first, count) of LightShadowPlan is the
+// same as in `last` (same range, bitwise same view) and the light did not change.
+std::vector<uint32_t> cleanLayerRanges(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes,
+                                       uint32_t LightShadowPlan::*first, uint32_t LightShadowPlan::*count) {
     std::vector<uint32_t> clean(now.lights.size(), 0u);
     if (!layoutsComparable(now, last, changes))
         return clean;
     for (uint32_t i = 0; i < now.lights.size(); ++i) {
         const LightShadowPlan& a = now.lights[i];
         const LightShadowPlan& b = last.lights[i];
-        if (a.cascadeFirst != b.cascadeFirst || a.cascadeCount != b.cascadeCount || changes.lightChanged(i))
+        if (a.*first != b.*first || a.*count != b.*count || changes.lightChanged(i))
             continue;
-        for (uint32_t k = 0; k < a.cascadeCount; ++k)
-            if (std::memcmp(&now.views[a.cascadeFirst + k], &last.views[b.cascadeFirst + k],
-                            sizeof(gpu::GpuShadowView)) == 0)
+        for (uint32_t k = 0; k < a.*count; ++k)
+            if (std::memcmp(&now.views[a.*first + k], &last.views[b.*first + k], sizeof(gpu::GpuShadowView)) == 0)
                 clean[i] |= 1u << k;
     }
     return clean;
+}
+} // namespace
+
+std::vector<uint32_t> cleanShadowCascades(const ShadowLayout& now, const ShadowLayout& last,
+                                          const SceneChanges& changes) {
+    return cleanLayerRanges(now, last, changes, &LightShadowPlan::cascadeFirst, &LightShadowPlan::cascadeCount);
+}
+
+std::vector<uint32_t> cleanShadowWindows(const ShadowLayout& now, const ShadowLayout& last,
+                                         const SceneChanges& changes) {
+    return cleanLayerRanges(now, last, changes, &LightShadowPlan::windowFirst, &LightShadowPlan::windowCount);
 }
 
 bool sameView(const Camera& a, uint32_t aw, uint32_t ah, const Camera& b, uint32_t bw, uint32_t bh) {

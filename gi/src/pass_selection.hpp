@@ -98,6 +98,11 @@ std::vector<bool> cleanRsmWindows(const ShadowLayout& now, const ShadowLayout& l
 // not at all), and no change to the light or to any object since.
 std::vector<uint32_t> cleanShadowCascades(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes);
 
+// Shadow-window passes to leave out: per light, bit k set when its window layer k still holds
+// this frame's content: same layers, a bitwise same view (the window's box did not move) and no
+// change to the light or to any object since.
+std::vector<uint32_t> cleanShadowWindows(const ShadowLayout& now, const ShadowLayout& last, const SceneChanges& changes);
+
 // Same camera and frame size (bitwise): view-dependent work may be reused.
 bool sameView(const Camera& a, uint32_t aw, uint32_t ah, const Camera& b, uint32_t bw, uint32_t bh);
 

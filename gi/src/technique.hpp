@@ -15,6 +15,7 @@
 // this scene, it records with PassSelection::leaveOut. GiSystem does not call addPasses at all
 // when no requested output needs indirect light (the changes then keep accumulating).
 #include <memory>
+#include <vector>
 
 #include "vkgi/gpu_scene.hpp"
 #include "vkgi/rg/blackboard.hpp"
@@ -61,6 +62,15 @@ public:
     // The part of the scene whose RSM texels this frame's passes read, when it is a window
     // inside the scene (planShadows then fits directional lights' RSMs to it); invalid = all.
     virtual Aabb rsmWindow(const FrameData& frame) const {
+        (void)frame;
+        return {};
+    }
+    // Boxes, finest first, whose points this frame's passes look up in the shadow atlas for every
+    // directional light (VCT's clipmap levels). planShadows gives each light one depth-only
+    // layer fitted to each leading box whose texels are finer than the light's whole-scene layer;
+    // the shaders find them in GpuLightShadow::cascades (z first window layer, w count: box k is
+    // layer z + k when k < w, else the light's own layer). Empty = none.
+    virtual std::vector<Aabb> shadowWindows(const FrameData& frame) const {
         (void)frame;
         return {};
     }

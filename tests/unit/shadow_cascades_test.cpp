@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "direct/cascades.hpp"
 #include "direct/direct_passes.hpp"
+#include "pass_selection.hpp"
 #include "vkgi/gi.hpp"
 
 using namespace vkgi;
@@ -257,6 +259,237 @@ TEST(ShadowCascades, SunRsmWindowIsFinerAndKeepsTheOccludersTowardTheSun) {
     spot.direction = {0, -1, 0};
     scene.lights = {spot};
     EXPECT_FALSE(planShadows(scene, kWorld, 256, 64, {}, window).lights[0].rsmWindowed);
+}
+
+// VCT's clipmap levels around a camera at `centre` (finest first): cubes of 16, 32, 64, 128 m.
+std::vector<Aabb> clipmapBoxes(glm::vec3 centre) {
+    std::vector<Aabb> boxes;
+    for (float side : {16.0f, 32.0f, 64.0f, 128.0f})
+        boxes.push_back(box(centre - 0.5f * side, centre + 0.5f * side));
+    return boxes;
+}
+
+Aabb clipped(const Aabb& b, const Aabb& bounds) {
+    return box(glm::max(b.min, bounds.min), glm::min(b.max, bounds.max));
+}
+
+std::array<glm::vec3, 8> cornersOf(const Aabb& b) {
+    std::array<glm::vec3, 8> c;
+    for (int i = 0; i < 8; ++i)
+        c[i] = glm::vec3((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z);
+    return c;
+}
+
+// The texel size of a window's layer in closed form: the square holding the box's projection
+// along the sun (its larger side 2r in the light's frame) with (margin + 1) texels on each side,
+// 2 h / n with h = r + (margin + 1) 2 h / n.
+float expectedWindowTexel(const Aabb& b, const glm::vec3& sun, uint32_t n, float margin) {
+    const glm::vec3 dir = glm::normalize(sun);
+    const glm::vec3 up = std::abs(dir.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1);
+    const glm::vec3 right = glm::normalize(glm::cross(dir, up)), v = glm::cross(right, dir);
+    float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
+    for (const glm::vec3& c : cornersOf(b)) {
+        const float p[2] = {glm::dot(c, right), glm::dot(c, v)};
+        for (int a = 0; a < 2; ++a) {
+            lo[a] = std::min(lo[a], p[a]);
+            hi[a] = std::max(hi[a], p[a]);
+        }
+    }
+    const float r = 0.5f * std::max(hi[0] - lo[0], hi[1] - lo[1]);
+    return 2.0f * r / (float(n) - 2.0f * (margin + 1.0f));
+}
+
+// Shadow windows (TechniqueModule::shadowWindows, VCT's clipmap levels in atrium_world): one
+// depth-only layer per box after all cascades (so neither the cascades nor the RSM's layers
+// change), finest first, each holding its box clipped to the world with the margin, with the
+// texel of the closed form, all finer than the sun's whole-scene layer.
+TEST(ShadowCascades, ShadowWindowsFollowTheCascadesAndAreFinerThanTheOwnLayer) {
+    Scene scene = sunScene();
+    CascadeRequest req;
+    req.count = 4;
+    req.camera = camera({0, 1.7f, -12.5f}, glm::vec3(0, 3.5f, 6) - glm::vec3(0, 1.7f, -12.5f));
+    req.marginTexels = 3.0f;
+    const uint32_t n = 256;
+    const std::vector<Aabb> windows = clipmapBoxes(req.camera.position);
+    ShadowLayout without = planShadows(scene, kWorld, n, 64, req);
+    ShadowLayout with = planShadows(scene, kWorld, n, 64, req, {}, windows);
+    const LightShadowPlan& plan = with.lights[0];
+    ASSERT_EQ(plan.cascadeCount, 4u);
+    EXPECT_EQ(plan.windowFirst, 5u) << "after the light's own layer and its 4 cascades";
+    ASSERT_EQ(plan.windowCount, 4u);
+    ASSERT_EQ(with.views.size(), 9u);
+    EXPECT_EQ(with.lightLayers(), 1u) << "the RSM has the light's own layer only";
+    EXPECT_EQ(without.lights[0].windowCount, 0u);
+    EXPECT_EQ(without.lights[0].windowFirst, 0u);
+    ASSERT_EQ(without.views.size(), 5u);
+    EXPECT_EQ(std::memcmp(with.views.data(), without.views.data(), 5 * sizeof(gpu::GpuShadowView)), 0)
+        << "own layer and cascades as without windows";
+    const float whole = with.views[0].texel.x;
+    for (uint32_t k = 0; k < 4; ++k) {
+        const gpu::GpuShadowView& v = with.views[plan.windowFirst + k];
+        const Aabb b = clipped(windows[k], kWorld);
+        const float expected = expectedWindowTexel(b, kSun, n, req.marginTexels);
+        EXPECT_NEAR(v.texel.x / expected, 1.0f, 1e-5f) << "window " << k;
+        EXPECT_LT(v.texel.x, whole) << "window " << k;
+        if (k > 0) {
+            EXPECT_GT(v.texel.x, with.views[plan.windowFirst + k - 1].texel.x) << "finest first";
+        }
+        EXPECT_FLOAT_EQ(v.axisArea.w, v.texel.x * v.texel.x);
+        EXPECT_EQ(v.eye.w, 0.0f) << "orthographic";
+        for (const glm::vec3& c : cornersOf(b)) {
+            glm::vec3 t = texelOf(v, c);
+            EXPECT_GE(t.x, req.marginTexels) << "window " << k;
+            EXPECT_GE(t.y, req.marginTexels) << "window " << k;
+            EXPECT_LE(t.x, float(n) - req.marginTexels) << "window " << k;
+            EXPECT_LE(t.y, float(n) - req.marginTexels) << "window " << k;
+            EXPECT_GE(t.z, 0.0f);
+            EXPECT_LE(t.z, 1.0f);
+        }
+        // 32 voxels per level: shadow texels per voxel side.
+        const float voxel = (windows[k].max.x - windows[k].min.x) / 32.0f;
+        std::printf("window %u (%.0f m): texel %.4f m = %.2f per %.2f m voxel; own layer %.3f m\n", k,
+                    windows[k].max.x - windows[k].min.x, v.texel.x, voxel / v.texel.x, voxel, whole);
+    }
+}
+
+// A window whose texels are not finer than the light's own layer is dropped, and every window
+// after it (the technique's later boxes then read the own layer); so is a first window as large
+// as the world, leaving the layout as without windows.
+TEST(ShadowCascades, ShadowWindowNotFinerIsDroppedWithAllAfterIt) {
+    Scene scene = sunScene();
+    const Aabb small = box({-8, -1, -8}, {8, 7, 8});
+    ShadowLayout layout = planShadows(scene, kWorld, 256, 64, {}, {}, {small, kWorld, small});
+    EXPECT_EQ(layout.lights[0].windowFirst, 1u);
+    EXPECT_EQ(layout.lights[0].windowCount, 1u);
+    EXPECT_EQ(layout.views.size(), 2u);
+    ShadowLayout none = planShadows(scene, kWorld, 256, 64, {}, {}, {kWorld, small});
+    EXPECT_EQ(none.lights[0].windowCount, 0u);
+    EXPECT_EQ(none.lights[0].windowFirst, 0u);
+    EXPECT_EQ(none.views.size(), 1u);
+    // A larger box than the world, clipped to it, is the world: not finer either.
+    ShadowLayout larger = planShadows(scene, kWorld, 256, 64, {}, {}, {box(kWorld.min - 50.0f, kWorld.max + 50.0f)});
+    EXPECT_EQ(larger.lights[0].windowCount, 0u);
+}
+
+// The window's depth range spans from the scene's point nearest the sun to the box's far side:
+// a caster above the box (outside it, between it and the sun) lies inside the range at the box's
+// texel, and so does every corner of the bounds toward the sun.
+TEST(ShadowCascades, ShadowWindowDepthCoversTheCastersTowardTheSun) {
+    Scene scene = sunScene();
+    const Aabb low = box({-8, -1, -8}, {8, 3, 8});
+    ShadowLayout layout = planShadows(scene, kWorld, 256, 64, {}, {}, {low});
+    ASSERT_EQ(layout.lights[0].windowCount, 1u);
+    const gpu::GpuShadowView& v = layout.views[layout.lights[0].windowFirst];
+    const glm::vec3 dir = glm::normalize(kSun);
+    const glm::vec3 top(0.0f, 3.0f, 0.0f), caster = top - 7.0f * dir;
+    ASSERT_GT(caster.y, low.max.y);
+    ASSERT_LT(caster.y, kWorld.max.y); // a point of the scene outside the box
+    const glm::vec3 tTop = texelOf(v, top), tCaster = texelOf(v, caster);
+    EXPECT_NEAR(tCaster.x, tTop.x, 1e-3f);
+    EXPECT_NEAR(tCaster.y, tTop.y, 1e-3f);
+    EXPECT_GE(tCaster.z, 0.0f);
+    EXPECT_LT(tCaster.z, tTop.z) << "the caster is in front of the receiver";
+    float nearest = 1e30f;
+    for (const glm::vec3& c : cornersOf(kWorld)) {
+        const float z = texelOf(v, c).z;
+        nearest = std::min(nearest, z);
+        EXPECT_GE(z, 0.0f);
+    }
+    EXPECT_LT(nearest, 2e-3f) << "the range starts at the scene's point nearest the sun (plus the pad)";
+    // It ends at the box's far side (clipped to the world): no depth is spent beyond it.
+    float farthest = -1e30f;
+    for (const glm::vec3& c : cornersOf(clipped(low, kWorld)))
+        farthest = std::max(farthest, texelOf(v, c).z);
+    EXPECT_LE(farthest, 1.0f);
+    EXPECT_GT(farthest, 0.998f);
+}
+
+// Windows take the atlas's remaining layers one by one, light after light: each light keeps the
+// leading windows that fit into maxShadowLayers after every light's own layers and cascades.
+// Point and spot lights get none.
+TEST(ShadowCascades, ShadowWindowsRespectMaxLayersAndSkipPunctualLights) {
+    Scene scene = sunScene();
+    CascadeRequest req;
+    req.count = 4;
+    req.camera = camera({0, 1.7f, -12.5f}, {0, 0.1f, 1});
+    req.marginTexels = 3.0f;
+    const std::vector<Aabb> windows = clipmapBoxes(req.camera.position);
+    ShadowLayout seven = planShadows(scene, kWorld, 256, 7, req, {}, windows);
+    EXPECT_EQ(seven.lights[0].cascadeCount, 4u);
+    EXPECT_EQ(seven.lights[0].windowFirst, 5u);
+    EXPECT_EQ(seven.lights[0].windowCount, 2u);
+    EXPECT_EQ(seven.views.size(), 7u);
+    ShadowLayout five = planShadows(scene, kWorld, 256, 5, req, {}, windows);
+    EXPECT_EQ(five.lights[0].windowCount, 0u);
+    EXPECT_EQ(five.lights[0].windowFirst, 0u);
+    EXPECT_EQ(five.views.size(), 5u);
+
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.position = {0, 5, 0};
+    spot.direction = {0, -1, 0};
+    spot.outerConeAngle = 0.5f;
+    Light point;
+    point.type = LightType::Point;
+    point.position = {2, 3, 1};
+    Light sun2 = scene.lights[0];
+    sun2.direction = glm::normalize(glm::vec3(-0.5f, -1.0f, 0.1f));
+    scene.lights = {spot, scene.lights[0], point, sun2};
+    // Own layers 1 + 1 + 6 + 1, no cascades, then the first sun's 4 windows and 2 of the second's.
+    ShadowLayout mixed = planShadows(scene, kWorld, 256, 15, {}, {}, windows);
+    ASSERT_EQ(mixed.lights.size(), 4u);
+    for (uint32_t i : {0u, 2u}) {
+        EXPECT_EQ(mixed.lights[i].windowCount, 0u) << "light " << i;
+        EXPECT_EQ(mixed.lights[i].windowFirst, 0u) << "light " << i;
+    }
+    EXPECT_EQ(mixed.lights[1].windowFirst, 9u);
+    EXPECT_EQ(mixed.lights[1].windowCount, 4u);
+    EXPECT_EQ(mixed.lights[3].windowFirst, 13u);
+    EXPECT_EQ(mixed.lights[3].windowCount, 2u);
+    EXPECT_EQ(mixed.views.size(), 15u);
+    EXPECT_EQ(mixed.lightLayers(), 9u);
+}
+
+// A window's origin is on the light's texel lattice: the same box gives bitwise the same view
+// (its pass is left out), a box moved by a voxel keeps the texel size and a translation of whole
+// texels (static shadow edges stay on the same texels), and a moved window alone is re-rendered.
+TEST(ShadowCascades, ShadowWindowSnapsToTheTexelLattice) {
+    Scene scene = sunScene();
+    const uint32_t n = 256;
+    // Clipmap boxes lie on their voxel grid: their corners, and so their sizes, are exact.
+    const glm::vec3 start(3.25f, 1.75f, -12.5f);
+    ShadowLayout base = planShadows(scene, kWorld, n, 64, {}, {}, clipmapBoxes(start));
+    ShadowLayout again = planShadows(scene, kWorld, n, 64, {}, {}, clipmapBoxes(start));
+    ASSERT_EQ(base.lights[0].windowCount, 4u);
+    ASSERT_EQ(base.views.size(), again.views.size());
+    EXPECT_EQ(std::memcmp(base.views.data(), again.views.data(), base.views.size() * sizeof(gpu::GpuShadowView)), 0);
+    for (int step = 1; step <= 8; ++step) {
+        // Level 0 moves by its 0.5 m voxels, the others stay (as clipmap levels scroll).
+        std::vector<Aabb> windows = clipmapBoxes(start);
+        const glm::vec3 offset = glm::vec3(0.5f, 0.0f, -0.5f) * float(step);
+        windows[0] = box(windows[0].min + offset, windows[0].max + offset);
+        ShadowLayout moved = planShadows(scene, kWorld, n, 64, {}, {}, windows);
+        ASSERT_EQ(moved.lights[0].windowCount, 4u);
+        const gpu::GpuShadowView& v = moved.views[1];
+        EXPECT_EQ(v.texel.x, base.views[1].texel.x) << "step " << step;
+        for (int axis = 0; axis < 2; ++axis) {
+            float texels = v.viewProj[3][axis] * float(n) * 0.5f; // clip units -> texels
+            EXPECT_NEAR(texels, std::round(texels), 2e-3f) << "step " << step;
+        }
+        EXPECT_NE(v.viewProj, base.views[1].viewProj);
+        SceneChanges none;
+        none.reset();
+        std::vector<uint32_t> clean = cleanShadowWindows(moved, base, none);
+        EXPECT_EQ(clean[0], 0xEu) << "only window 0 moved, step " << step;
+        SceneChanges light;
+        light.reset();
+        light.lights = {0};
+        EXPECT_EQ(cleanShadowWindows(again, base, light)[0], 0u) << "a changed light re-renders every window";
+    }
+    SceneChanges none;
+    none.reset();
+    EXPECT_EQ(cleanShadowWindows(again, base, none)[0], 0xFu);
+    EXPECT_EQ(windowPassName(0, 2), "gi.light[0].directional.window[2]");
 }
 
 TEST(ShadowCascades, SettingOutOfRangeIsAReadableError) {

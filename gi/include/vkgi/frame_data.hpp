@@ -101,7 +101,7 @@ struct ShadowData {
     rg::BufferHandle views;        // GpuShadowView[layer]
     rg::BufferHandle lightShadows; // GpuLightShadow[light]
     uint32_t resolution = 0;
-    std::vector<ShadowLayer> layers; // the lights' own layers (cascade layers follow them)
+    std::vector<ShadowLayer> layers; // the lights' own layers (cascade and window layers follow them)
     VkSampler compareSampler = VK_NULL_HANDLE; // linear, depth compare LESS_OR_EQUAL, clamp to edge
     VkSampler pointSampler = VK_NULL_HANDLE;   // nearest, no compare: the stored depths themselves
 };

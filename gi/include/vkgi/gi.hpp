@@ -52,7 +52,9 @@ struct GiSettings {
     // per texel over 6 layers) well inside the module's memory budget.
     uint32_t shadowMapSize = 256;
     // Atlas layers (a spot/directional light takes 1, a point light or wide spot 6); lights past
-    // the limit are unshadowed. The default bounds the atlas's memory at the default layer size.
+    // the limit are unshadowed. Cascades, then a technique's shadow windows (docs/direct.md
+    // "Windows"), take what is left. The default bounds the atlas's memory at the default layer
+    // size.
     uint32_t maxShadowLayers = 64;
     // Shadow cascades per directional light (0..8, 0 = off; docs/direct.md): shadow-only atlas
     // layers fitted to slices of the camera's view depth, which the deferred direct pass reads

@@ -82,6 +82,36 @@ Sphere sliceSphere(const CascadeFrustum& f, float d0, float d1) {
     return {f.position + f.forward * z, radius};
 }
 
+namespace {
+
+// The orthographic layer of the light's rotation `view` whose square box of half size `half` is
+// centred on `centre` (light frame, on the texel lattice) and spans [zNear, zFar] along `dir`,
+// padded so that geometry on either end is not clipped.
+gpu::GpuShadowView latticeView(const glm::mat4& view, const glm::vec3& dir, glm::vec2 centre, float half, float zNear,
+                               float zFar, uint32_t resolution) {
+    const float n = float(resolution);
+    const float texel = 2.0f * half / n;
+    float pad = 1e-3f * (zFar - zNear) + 1e-4f * half;
+    zNear -= pad;
+    zFar += pad;
+    gpu::GpuShadowView v{};
+    v.viewProj = glm::orthoRH_ZO(centre.x - half, centre.x + half, centre.y - half, centre.y + half, zNear, zFar) * view;
+    glm::mat3 toWorld = glm::transpose(glm::mat3(view));
+    v.eye = glm::vec4(toWorld * glm::vec3(centre, -zNear), 0.0f);
+    v.axisArea = glm::vec4(dir, texel * texel);
+    v.texel = glm::vec4(texel, zFar - zNear, n, 0.0f);
+    return v;
+}
+
+std::array<glm::vec3, 8> aabbCorners(const Aabb& b) {
+    std::array<glm::vec3, 8> c;
+    for (int i = 0; i < 8; ++i)
+        c[i] = glm::vec3((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z);
+    return c;
+}
+
+} // namespace
+
 gpu::GpuShadowView cascadeView(const glm::vec3& lightDir, const Sphere& sphere, const Aabb& bounds, uint32_t resolution,
                                float marginTexels) {
     const glm::vec3 dir = glm::normalize(lightDir);
@@ -111,16 +141,36 @@ gpu::GpuShadowView cascadeView(const glm::vec3& lightDir, const Sphere& sphere, 
     float zNear = lo, zFar = std::min(hi, std::ceil((-c.z + half) / half) * half);
     if (zFar <= zNear)
         zFar = zNear + half;
-    float pad = 1e-3f * (zFar - zNear) + 1e-4f * half;
-    zNear -= pad;
-    zFar += pad;
-    gpu::GpuShadowView v{};
-    v.viewProj = glm::orthoRH_ZO(centre.x - half, centre.x + half, centre.y - half, centre.y + half, zNear, zFar) * view;
-    glm::mat3 toWorld = glm::transpose(glm::mat3(view));
-    v.eye = glm::vec4(toWorld * glm::vec3(centre, -zNear), 0.0f);
-    v.axisArea = glm::vec4(dir, texel * texel);
-    v.texel = glm::vec4(texel, zFar - zNear, n, 0.0f);
-    return v;
+    return latticeView(view, dir, centre, half, zNear, zFar, resolution);
+}
+
+gpu::GpuShadowView windowView(const glm::vec3& lightDir, const Aabb& box, const Aabb& bounds, uint32_t resolution,
+                              float marginTexels) {
+    const glm::vec3 dir = glm::normalize(lightDir);
+    const float n = float(resolution);
+    glm::mat4 view = glm::lookAtRH(glm::vec3(0.0f), dir, lightUpFor(dir));
+    // Half extents of the box's projection in the light's frame (x, y) and along it (z), from
+    // the box's size alone: a moved box of the same size gets bitwise the same texel size.
+    const glm::vec3 halfSize = 0.5f * (box.max - box.min);
+    const glm::mat3 rotation(view);
+    const glm::vec3 extent =
+        glm::abs(rotation[0] * halfSize.x) + glm::abs(rotation[1] * halfSize.y) + glm::abs(rotation[2] * halfSize.z);
+    // Square box: half size h = radius + (margin + 1) texels of size 2h / n, as for a cascade.
+    const float radius = std::max(std::max(extent.x, extent.y), 1e-3f);
+    float frac = std::min(2.0f * (marginTexels + 1.0f) / n, 0.5f);
+    float half = radius / (1.0f - frac);
+    float texel = 2.0f * half / n;
+    glm::vec3 c = glm::vec3(view * glm::vec4(0.5f * (box.min + box.max), 1.0f));
+    glm::vec2 centre = glm::round(glm::vec2(c) / texel) * texel;
+    // Depth along the light (-z): from the bounds' (or the box's) point nearest the light, so
+    // every caster between the box and the light is in front, to the box's far side (no
+    // receiver beyond).
+    float zNear = -c.z - extent.z, zFar = -c.z + extent.z;
+    for (const glm::vec3& b : aabbCorners(bounds))
+        zNear = std::min(zNear, glm::dot(b, dir));
+    if (zFar <= zNear)
+        zFar = zNear + half;
+    return latticeView(view, dir, centre, half, zNear, zFar, resolution);
 }
 
 CascadeSet planCascades(const CascadeFrustum& f, const glm::vec3& lightDir, const Aabb& bounds, uint32_t count,

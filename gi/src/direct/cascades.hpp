@@ -60,6 +60,15 @@ Sphere sliceSphere(const CascadeFrustum& f, float d0, float d1);
 gpu::GpuShadowView cascadeView(const glm::vec3& lightDir, const Sphere& sphere, const Aabb& bounds, uint32_t resolution,
                                float marginTexels);
 
+// Orthographic layer looking along `lightDir` whose square box holds the projection of `box`
+// along the light with `marginTexels` texels to spare on each side, origin snapped to whole
+// texels of the light's rotation frame as for a cascade (a box moved by any step keeps its texel
+// size and the world's texel lattice; an unmoved box gives a bitwise equal view). Its depth range
+// spans from the nearest point of `bounds` or `box` toward the light (every caster between the
+// box and the light) to the box's far side. A shadow window (planShadows).
+gpu::GpuShadowView windowView(const glm::vec3& lightDir, const Aabb& box, const Aabb& bounds, uint32_t resolution,
+                              float marginTexels);
+
 struct CascadeSet {
     std::vector<float> splits;              // count + 1 view depths
     std::vector<gpu::GpuShadowView> views;  // one per slice, finest first

@@ -51,6 +51,10 @@ struct LightShadowPlan {
     // follow the atlas's light layers (layerCount), so RSM arrays never include them.
     uint32_t cascadeFirst = 0;
     uint32_t cascadeCount = 0;
+    // Directional lights: shadow-only window layers, one per leading box of planShadows'
+    // `shadowWindows` (window k in layer windowFirst + k), after every light's cascades.
+    uint32_t windowFirst = 0;
+    uint32_t windowCount = 0;
     // Directional lights with an RSM window (planShadows' rsmWindow): the RSM layer is rendered
     // from this view, fitted to the window, in a pass of its own; the own atlas layer keeps the
     // whole scene for the shadow lookups. Without it the RSM shares the own layer's view.
@@ -58,9 +62,9 @@ struct LightShadowPlan {
     gpu::GpuShadowView rsmView{};
 };
 struct ShadowLayout {
-    std::vector<LightShadowPlan> lights;    // one per scene light
-    std::vector<gpu::GpuShadowView> views;  // one per atlas layer: light layers, then cascade layers
-    std::vector<ShadowLayer> layers;        // one per light layer (the RSM's layers)
+    std::vector<LightShadowPlan> lights;   // one per scene light
+    std::vector<gpu::GpuShadowView> views; // one per atlas layer: light, then cascade, then window layers
+    std::vector<ShadowLayer> layers;       // one per light layer (the RSM's layers)
     uint32_t resolution = 0;
     uint32_t lightLayers() const { return uint32_t(layers.size()); }
 };
@@ -69,7 +73,8 @@ struct CascadeRequest {
     uint32_t count = 0;
     Camera camera;
     float aspect = 1.0f;
-    float marginTexels = 0.0f; // the deferred pass's PCF reach plus normal offset, in texels
+    float marginTexels = 0.0f; // the deferred pass's PCF reach plus normal offset, in texels (also
+                               // the shadow windows' margin, with or without cascades)
 };
 // Every light's own layers first (lights past `maxLayers` stay unshadowed, as without cascades);
 // then cascades for directional lights while the atlas has room. A light keeps the leading
@@ -79,8 +84,17 @@ struct CascadeRequest {
 // light's RSM is then rendered for that region alone (depth still spanning the scene toward
 // the sun) when that makes its texels at least twice as fine: the LPV's cascades in a large
 // world read a few tens of metres of a sun's RSM that otherwise covers hundreds.
+// `shadowWindows` (TechniqueModule::shadowWindows, finest first): boxes whose points a technique
+// looks up in the atlas. After all cascades, each directional light gets one depth-only layer per
+// window (windowView of the window clipped to the bounds, margin cascades.marginTexels) while the
+// atlas has room, up to kMaxShadowWindows; it keeps the leading windows whose texels are finer
+// than its whole-scene layer, and the first one that is not ends the list (its points and those
+// of every later window read the whole-scene layer).
 ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers,
-                         const CascadeRequest& cascades = {}, const Aabb& rsmWindow = {});
+                         const CascadeRequest& cascades = {}, const Aabb& rsmWindow = {},
+                         const std::vector<Aabb>& shadowWindows = {});
+// Most shadow windows a light gets (the bits of addLightPasses' keep mask).
+constexpr uint32_t kMaxShadowWindows = 32;
 
 // The 6 cube-face views of a point light at `eye` reaching every corner of `bounds` (the views
 // planShadows gives a point light without a range): +x, -x, +y, -y, +z, -z.
@@ -125,12 +139,15 @@ std::string lightPassName(uint32_t light, LightType type);
 // Lights with `keep[i]` true get no pass: their persistent layers still hold this frame's content.
 // Each cascade of a directional light is one more pass ("gi.light[i].directional.cascade[k]",
 // depth only), left out when bit k of `keepCascades[i]` is set; so is an RSM window
-// (rsmWindowPassName), left out when `keepWindows[i]` is true.
+// (rsmWindowPassName), left out when `keepWindows[i]` is true; and each shadow window layer
+// (windowPassName, depth only), left out when bit k of `keepShadowWindows[i]` is set.
 void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const DirectPipelines& p,
                     const FrameData& frame, const SceneHandles& scene, const ShadowLayout& layout,
                     ShadowTargets& targets, bool rsm, const std::vector<bool>& keep = {},
-                    const std::vector<uint32_t>& keepCascades = {}, const std::vector<bool>& keepWindows = {});
+                    const std::vector<uint32_t>& keepCascades = {}, const std::vector<bool>& keepWindows = {},
+                    const std::vector<uint32_t>& keepShadowWindows = {});
 std::string cascadePassName(uint32_t light, uint32_t cascade);
+std::string windowPassName(uint32_t light, uint32_t window); // "gi.light[i].directional.window[k]"
 std::string rsmWindowPassName(uint32_t light); // "gi.light[i].directional.rsm"
 
 // The RSM of point sources that are not scene lights (the LPV's emitter proxies, docs/lpv.md):

@@ -19,6 +19,10 @@ std::string cascadePassName(uint32_t light, uint32_t cascade) {
     return lightPassName(light, LightType::Directional) + ".cascade[" + std::to_string(cascade) + "]";
 }
 
+std::string windowPassName(uint32_t light, uint32_t window) {
+    return lightPassName(light, LightType::Directional) + ".window[" + std::to_string(window) + "]";
+}
+
 namespace {
 
 using rg::Access;
@@ -79,8 +83,9 @@ void addSetupPass(rg::RenderGraph& graph, const ShadowLayout& layout, uint32_t l
             if (d.tables.views.empty())
                 d.tables.views.push_back(gpu::GpuShadowView{});
             for (const LightShadowPlan& plan : layout.lights)
-                d.tables.lights.push_back({glm::uvec4(plan.firstLayer, plan.layerCount, plan.kind, 0u),
-                                           glm::uvec4(plan.cascadeFirst, plan.cascadeCount, 0u, 0u)});
+                d.tables.lights.push_back(
+                    {glm::uvec4(plan.firstLayer, plan.layerCount, plan.kind, 0u),
+                     glm::uvec4(plan.cascadeFirst, plan.cascadeCount, plan.windowFirst, plan.windowCount)});
             d.tables.lights.resize(std::max<size_t>(lightCount, 1));
             d.clear = layout.views.empty();
             d.rsm = rsm;
@@ -153,22 +158,26 @@ void recordLightPass(const LightPassInfo& info, rg::PassContext& pc) {
 }
 
 // What one light pass renders: the light's own layers (with the RSM when asked, unless the RSM
-// is windowed), one cascade layer (depth only: the RSM is written for the light's own layers
-// alone, so RSM consumers count each light's flux once), or a directional light's RSM window
-// (the RSM layer from LightShadowPlan::rsmView, with a depth target of its own so that the
-// atlas layer keeps the whole scene's depth for the shadow lookups). One pass per cascade: a
-// camera move often changes the fine cascades' matrices and not the coarse ones.
+// is windowed), one cascade or shadow-window layer (depth only: the RSM is written for the
+// light's own layers alone, so RSM consumers count each light's flux once), or a directional
+// light's RSM window (the RSM layer from LightShadowPlan::rsmView, with a depth target of its own
+// so that the atlas layer keeps the whole scene's depth for the shadow lookups). One pass per
+// cascade and per shadow window: a camera move often changes the fine ones' matrices and not
+// the coarse ones.
 struct LightLayers {
-    enum Kind { Own, Cascade, RsmWindow } kind = Own;
-    uint32_t cascade = 0;
+    enum Kind { Own, Cascade, RsmWindow, ShadowWindow } kind = Own;
+    uint32_t index = 0; // the cascade or shadow window
 };
 
 void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameData& frame, const SceneHandles& scene,
                   const ShadowLayout& layout, const LightShadowPlan& plan, bool rsm, AtlasHandles& h,
                   LightLayers what = {}) {
     const bool cascade = what.kind == LightLayers::Cascade, window = what.kind == LightLayers::RsmWindow;
+    const bool shadowWindow = what.kind == LightLayers::ShadowWindow;
     rsm = window || (rsm && what.kind == LightLayers::Own && !plan.rsmWindowed);
-    const uint32_t first = cascade ? plan.cascadeFirst + what.cascade : plan.firstLayer;
+    const uint32_t first = cascade        ? plan.cascadeFirst + what.index
+                           : shadowWindow ? plan.windowFirst + what.index
+                                          : plan.firstLayer;
     const uint32_t count = what.kind == LightLayers::Own ? plan.layerCount : 1u;
     auto info = std::make_shared<LightPassInfo>();
     bool textured = !frame.scene->textures.empty();
@@ -186,9 +195,10 @@ void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameD
         info->faces.push_back({v.viewProj, v.eye, v.axisArea, glm::uvec4(0u, plan.light, layer, 0u)});
     }
     const Light& light = frame.scene->lights[plan.light];
-    std::string name = cascade  ? cascadePassName(plan.light, what.cascade)
-                       : window ? rsmWindowPassName(plan.light)
-                                : lightPassName(plan.light, light.type);
+    std::string name = cascade        ? cascadePassName(plan.light, what.index)
+                       : shadowWindow ? windowPassName(plan.light, what.index)
+                       : window       ? rsmWindowPassName(plan.light)
+                                      : lightPassName(plan.light, light.type);
     graph.addPass(
         std::move(name),
         [&](rg::PassBuilder& b) {
@@ -222,7 +232,8 @@ void addLightPass(rg::RenderGraph& graph, const DirectPipelines& p, const FrameD
 void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const DirectPipelines& p,
                     const FrameData& frame, const SceneHandles& scene, const ShadowLayout& layout,
                     ShadowTargets& targets, bool rsm, const std::vector<bool>& keep,
-                    const std::vector<uint32_t>& keepCascades, const std::vector<bool>& keepWindows) {
+                    const std::vector<uint32_t>& keepCascades, const std::vector<bool>& keepWindows,
+                    const std::vector<uint32_t>& keepShadowWindows) {
     AtlasHandles h;
     h.atlas = graph.importImage("gi.shadow.atlas", targets.atlas);
     if (rsm) {
@@ -242,6 +253,10 @@ void addLightPasses(rg::RenderGraph& graph, rg::Blackboard& blackboard, const Di
         for (uint32_t k = 0; k < plan.cascadeCount; ++k)
             if (!(plan.light < keepCascades.size() && (keepCascades[plan.light] >> k) & 1u))
                 addLightPass(graph, p, frame, scene, layout, plan, rsm, h, {LightLayers::Cascade, k});
+    for (const LightShadowPlan& plan : layout.lights)
+        for (uint32_t k = 0; k < plan.windowCount; ++k)
+            if (!(plan.light < keepShadowWindows.size() && (keepShadowWindows[plan.light] >> k) & 1u))
+                addLightPass(graph, p, frame, scene, layout, plan, rsm, h, {LightLayers::ShadowWindow, k});
     shadow.atlas = h.atlas;
     shadow.resolution = layout.resolution;
     shadow.layers = layout.layers;

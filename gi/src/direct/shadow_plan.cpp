@@ -109,7 +109,8 @@ std::vector<gpu::GpuShadowView> cubeShadowViews(const glm::vec3& eye, const Aabb
 }
 
 ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolution, uint32_t maxLayers,
-                         const CascadeRequest& cascades, const Aabb& rsmWindow) {
+                         const CascadeRequest& cascades, const Aabb& rsmWindow,
+                         const std::vector<Aabb>& shadowWindows) {
     ShadowLayout layout;
     layout.resolution = resolution;
     for (uint32_t i = 0; i < scene.lights.size(); ++i) {
@@ -158,12 +159,10 @@ ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolu
             layout.layers.push_back({i, single ? 0 : k, layout.views[plan.firstLayer + k].viewProj});
         layout.lights.push_back(plan);
     }
-    if (cascades.count == 0)
-        return layout;
     const CascadeFrustum frustum = cascadeFrustum(cascades.camera, cascades.aspect);
     for (LightShadowPlan& plan : layout.lights) {
         const Light& l = scene.lights[plan.light];
-        if (l.type != LightType::Directional || plan.kind == GI_SHADOW_NONE ||
+        if (cascades.count == 0 || l.type != LightType::Directional || plan.kind == GI_SHADOW_NONE ||
             layout.views.size() + cascades.count > maxLayers)
             continue;
         CascadeSet set = planCascades(frustum, glm::normalize(l.direction), bounds, cascades.count, resolution,
@@ -177,6 +176,32 @@ ShadowLayout planShadows(const Scene& scene, const Aabb& bounds, uint32_t resolu
         plan.cascadeFirst = uint32_t(layout.views.size());
         plan.cascadeCount = finer;
         layout.views.insert(layout.views.end(), set.views.begin(), set.views.begin() + finer);
+    }
+    // Shadow windows after every cascade, so that the cascades' and the RSM's layers do not
+    // depend on whether a technique asks for windows.
+    for (LightShadowPlan& plan : layout.lights) {
+        const Light& l = scene.lights[plan.light];
+        if (l.type != LightType::Directional || plan.kind == GI_SHADOW_NONE)
+            continue;
+        const float wholeTexel = layout.views[plan.firstLayer].texel.x;
+        plan.windowFirst = uint32_t(layout.views.size());
+        for (const Aabb& w : shadowWindows) {
+            if (!w.valid() || plan.windowCount == kMaxShadowWindows || layout.views.size() >= maxLayers)
+                break;
+            // Only the part inside the bounds holds geometry; a box outside them keeps its own
+            // extent (nothing to draw, but window k stays layer windowFirst + k).
+            Aabb box;
+            box.min = glm::max(w.min, bounds.min);
+            box.max = glm::min(w.max, bounds.max);
+            gpu::GpuShadowView v = windowView(glm::normalize(l.direction), box.valid() ? box : w, bounds, resolution,
+                                              cascades.marginTexels);
+            if (!(v.texel.x < wholeTexel))
+                break;
+            layout.views.push_back(v);
+            ++plan.windowCount;
+        }
+        if (plan.windowCount == 0)
+            plan.windowFirst = 0;
     }
     return layout;
 }

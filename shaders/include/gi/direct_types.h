@@ -60,8 +60,12 @@ GI_CHECK_SIZE(GpuShadowView, 112);
 
 // Which atlas layers belong to a light: info x first layer, y layer count, z GI_SHADOW_* kind.
 // Every consumer that samples the atlas at arbitrary points (voxel light, VPLs) reads `info`.
-// `cascades` (directional lights, the deferred pass only): x first cascade layer, y cascade
-// count (0 = none), finest first; shadow-only layers fitted to this frame's camera, with no RSM.
+// `cascades` (directional lights; 0 for point and spot lights), all shadow-only layers with no
+// RSM: x first cascade layer, y cascade count (0 = none), finest first, fitted to this frame's
+// camera and read by the deferred pass only; z first shadow-window layer, w window count
+// (0 = none): window k (TechniqueModule::shadowWindows, finest first) is layer z + k for k < w,
+// fitted to that box (its x, y on whole texels, its depth from the scene's nearest point toward
+// the light to the box's far side); a box k >= w reads the light's own layer (`info`).
 GI_GPU_STRUCT(GpuLightShadow) {
     uvec4 info;
     uvec4 cascades;
