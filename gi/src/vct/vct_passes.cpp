@@ -247,8 +247,9 @@ void addLightPass(rg::RenderGraph& graph, const VctVolumes& volumes, const Voxel
     // not with the shadow atlas, which follows the camera.
     const KeepBox keep = useShadowMap ? KeepBox{} : keepBox(options, volumes.grid().resolution());
     gpu::VoxelLightPush push{volumes.grid().params(),
-                             glm::uvec4(lightCount, mode, options.emission ? GI_VOXEL_LIGHT_EMISSION : 0u, 0u), keep.lo,
-                             keep.hi};
+                             glm::uvec4(lightCount, mode, options.emission ? GI_VOXEL_LIGHT_EMISSION : 0u,
+                                        options.shadowWindow == ~0u ? 0u : options.shadowWindow + 1u),
+                             keep.lo, keep.hi};
     rg::ComputePass pass(graph, "gi.vct.light", useShadowMap ? p.lightShadowMap : soft ? p.lightSoft : p.light);
     pass.push(push);
     if (useShadowMap)

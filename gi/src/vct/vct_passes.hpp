@@ -45,6 +45,9 @@ struct VctPassOptions {
     rg::ImageHandle shadowAtlas;
     rg::BufferHandle shadowViews, lightShadows;
     VkSampler shadowSampler = VK_NULL_HANDLE;
+    // Which shadow window (TechniqueModule::shadowWindows) of each directional light fits this
+    // grid's box; ~0u: none, the voxel light reads the light's own layer.
+    uint32_t shadowWindow = ~0u;
     // false: the glossy image is not asked for; the trace passes leave it unwritten (the
     // indirect image holds the glossy cone's share either way).
     bool glossyImage = true;

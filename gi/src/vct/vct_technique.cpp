@@ -173,6 +173,7 @@ public:
             options.shadowViews = sd->views;
             options.lightShadows = sd->lightShadows;
             options.shadowSampler = sd->pointSampler;
+            options.shadowWindow = 0; // the grid's box (shadowWindows)
         }
         VctOutputs out = addVctPasses(graph, *m_volumes, grid, scene.lights, m_lightCount, settings, &g, options);
         in.blackboard.add(out);
@@ -180,6 +181,31 @@ public:
         // visibility it replaces, vct_soft_shadow.comp); the composite and the direct output read it.
         return {out.indirect, settings.ambientOcclusion ? out.indirect : rg::ImageHandle{},
                 settings.glossy ? out.glossy : rg::ImageHandle{}, out.direct};
+    }
+
+    // The voxel light's shadow-map visibility reads the atlas inside the grid: one window per
+    // clipmap level (the level's box this frame, the same cell addClipmapPasses places it at), or
+    // the fitted grid's box. A window no finer than the light's whole-scene layer is not made.
+    std::vector<Aabb> shadowWindows(const FrameData& frame) const override {
+        if (m_settings.occlusion != VctOcclusion::ShadowMap)
+            return {};
+        if (m_grid) {
+            const gpu::VoxelGridParams& p = m_grid->params();
+            Aabb box;
+            box.min = glm::vec3(p.originSize);
+            box.max = box.min + p.originSize.w * float(p.dims.x);
+            return {box};
+        }
+        std::vector<Aabb> boxes;
+        const uint32_t n = m_settings.gridResolution;
+        for (const ClipLevel& level : m_levels) {
+            const float voxel = level.grid->params().originSize.w;
+            Aabb box;
+            box.min = glm::vec3(clipCell(frame.camera.position, voxel, n)) * voxel;
+            box.max = box.min + voxel * float(n);
+            boxes.push_back(box);
+        }
+        return boxes;
     }
 
     uint64_t persistentBytes() const override {
@@ -326,6 +352,7 @@ private:
                 levelOptions.clipmap = &clipmap;
                 levelOptions.clipParams = clipParams;
                 levelOptions.clipLevel = l;
+                levelOptions.shadowWindow = l; // the level's box (shadowWindows)
                 if (move && sceneUpdate == VoxelUpdate::None && !changes.anyLight() && level.lit &&
                     glm::all(glm::lessThan(glm::abs(*move), glm::ivec3(int(n))))) {
                     levelOptions.shifted = true;

@@ -46,6 +46,18 @@ layout(set = 1, binding = VCT_LIGHT_BINDING_LIGHT_SHADOWS, std430) readonly buff
 layout(set = 1, binding = VCT_LIGHT_BINDING_SHADOW_VIEWS, std430) readonly buffer ShadowViews { GpuShadowView shadowViews[]; };
 layout(set = 1, binding = VCT_LIGHT_BINDING_SHADOW_ATLAS) uniform sampler2DArray shadowAtlas; // point-sampled: the stored depths
 
+// The atlas layer of light i that holds point q of this grid: a directional light's window
+// fitted to this grid's box (pc.info.w = 1 + the window's index, gi/direct_types.h) when the
+// atlas has it, else the light's own layer (its cube face for a point light).
+uint shadowLayer(uint i, GpuLightShadow ls, vec3 q) {
+    if (pc.info.w != 0u && pc.info.w <= ls.cascades.w)
+        return ls.cascades.z + pc.info.w - 1u;
+    uint layer = ls.info.x;
+    if (ls.info.z == GI_SHADOW_CUBE)
+        layer += cubeFace(q - lights[i].positionType.xyz);
+    return layer;
+}
+
 // World point of the stored depth d (layer units) at atlas coordinate uv of `view`, for q's ray:
 // orthographic layers are linear in uv and depth (q, at uv0 and depth dq, anchors them),
 // perspective ones store the distance from the eye along the ray through uv.
@@ -72,9 +84,7 @@ struct ShadowHit {
     vec3 normal;
 };
 ShadowHit shadowHitAlongRay(uint i, GpuLightShadow ls, vec3 q, vec3 dir) {
-    uint layer = ls.info.x;
-    if (ls.info.z == GI_SHADOW_CUBE)
-        layer += cubeFace(q - lights[i].positionType.xyz);
+    uint layer = shadowLayer(i, ls, q);
     GpuShadowView view = shadowViews[layer];
     vec4 clip = view.viewProj * vec4(q, 1.0);
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
@@ -101,20 +111,28 @@ ShadowHit shadowHitAlongRay(uint i, GpuLightShadow ls, vec3 q, vec3 dir) {
 // unit toLight, n . toLight > 0) in the direct-light shadow atlas (gi/direct_types.h): the share
 // of the light's rays that reach the voxel's surface. The rays through kShadowTaps points spread
 // over the voxel (a 3D low-discrepancy set, so that no light direction lines them up) meet the
-// light's first surface (the atlas's stored depth) inside the voxel (that surface is lit there),
-// beyond it (the ray crossed the voxel without meeting its surface: no say), or before it. The
-// lit hits locate the surface: the plane with normal n through their mean. A ray stopped before
-// the voxel is blocked only if it would have met that plane inside the voxel; one that would
-// have crossed it outside (a point under a floor whose ray leaves through the voxel's side and
-// meets the same floor one voxel on) has no say either. So whatever the voxel's size, the test
-// reads the surfaces themselves: no lookup point is moved off the voxel past walls a coarse
-// voxel is thicker than, and a sunlit patch that a sub-voxel opening casts on a floor counts by
-// its share. Inside / before / beyond take a margin of a texel's footprint (the stored depth of a
-// tilted surface varies across a texel) and a fiftieth of a voxel; a surface on the voxel's face
-// is inside it. Without a lit hit the voxel is shadowed if any ray is blocked, lit if none.
+// light's first surface (the atlas's stored depth) inside the voxel, beyond it (the ray crossed
+// the voxel without meeting its surface: no say), or before it.
+// - Lit: inside, on a surface that faces n within 60 degrees. The other surfaces of a voxel (the
+//   sunlit outside of a wall whose voxel also holds the floor inside) are not the one lit along
+//   n. A hit whose 2x2 texels give a normal nearly across the ray (a depth edge between two
+//   surfaces, or a surface the light grazes) counts as facing: its normal says nothing.
+// - The lit hits locate the surface: the plane with normal n through their mean.
+// - Blocked: a ray stopped before the voxel, if it would have met that plane inside the voxel;
+//   one that would have crossed it outside (a point under a floor whose ray leaves through the
+//   voxel's side and meets the same floor one voxel on) has no say. A surface inside the voxel
+//   that does not face n blocks only in front of the plane: a pier's side face behind the plane
+//   of its front face is beside the front face, not in its way.
+// Whatever the voxel's size, the test reads the surfaces themselves: no lookup point is moved off
+// the voxel past walls a coarse voxel is thicker than, and a sunlit patch that a sub-voxel
+// opening casts on a floor counts by its share. Inside / before / beyond take a margin of a
+// texel's footprint (the stored depth of a tilted surface varies across a texel) and a fiftieth
+// of a voxel; a surface on the voxel's face is inside it. Without a lit hit the voxel is
+// shadowed if any ray is blocked, lit if none.
 const uint kShadowTaps = 16u;
-// A hit faces the surface's normal n within 60 degrees.
-const float kShadowFacing = 0.5;
+// A hit faces the surface's normal n within 60 degrees; its normal is unknown when it is within
+// about 9 degrees of the ray's perpendicular.
+const float kShadowFacing = 0.5, kShadowEdgeOn = 0.15;
 // Tap t of the voxel (in [0, 1]^3): x stratified, y and z radical inverses.
 vec3 shadowTap(uint t) {
     return vec3((float(t) + 0.5) / float(kShadowTaps), float(bitfieldReverse(t)) * 2.3283064e-10,
@@ -127,12 +145,14 @@ float shadowMapVisibility(uint i, vec3 p, vec3 n, vec3 toLight) {
     float a = pc.grid.originSize.w;
     vec3 lightPos = lights[i].positionType.xyz;
     bool directional = uint(lights[i].positionType.w) == GI_LIGHT_DIRECTIONAL;
-    GpuShadowView view0 = shadowViews[ls.info.x];
+    GpuShadowView view0 = shadowViews[shadowLayer(i, ls, p)];
     float texel = view0.eye.w <= 0.0 ? view0.texel.x : view0.texel.x * max(distance(p, lightPos), 1e-6);
     float margin = 1.5 * texel + 0.02 * a;
     vec3 boxLo = p - (0.5 * a + margin), boxHi = p + (0.5 * a + margin);
     float lit = 0.0, litHeight = 0.0;
-    uint blockedTaps = 0u; // bit t: tap t's ray is stopped before the voxel
+    uint blockedTaps = 0u;   // bit t: tap t's ray is stopped before the voxel, or inside it by a
+                             // surface that does not face n (at height beside[t] along n)
+    float beside[kShadowTaps];
     for (uint t = 0u; t < kShadowTaps; ++t) {
         vec3 q = p + (shadowTap(t) - 0.5) * a;
         vec3 dir = directional ? toLight : normalize(lightPos - q);
@@ -145,24 +165,25 @@ float shadowMapVisibility(uint i, vec3 p, vec3 n, vec3 toLight) {
             s1 = min(s1, distance(lightPos, q)); // a light inside the voxel
         ShadowHit hit = shadowHitAlongRay(i, ls, q, dir);
         bool inside = hit.s >= s0 && hit.s <= s1;
-        // A first surface inside the voxel that does not face n is another surface of the voxel
-        // (the sunlit outside of a wall whose voxel also holds the floor inside): for the
-        // surface facing n it blocks the ray like one before the voxel.
-        bool facing = dot(hit.normal, n) >= kShadowFacing;
+        bool facing = dot(hit.normal, n) >= kShadowFacing || dot(hit.normal, dir) < kShadowEdgeOn;
+        float height = dot(q + hit.s * dir - p, n);
         lit += inside && facing ? 1.0 : 0.0;
-        litHeight += inside && facing ? dot(q + hit.s * dir - p, n) : 0.0;
+        litHeight += inside && facing ? height : 0.0;
         blockedTaps |= hit.s > s1 || (inside && !facing) ? 1u << t : 0u;
+        beside[t] = inside && !facing ? height : 2.0 * a;
     }
     if (lit == 0.0)
         return blockedTaps != 0u ? 0.0 : 1.0;
-    // Blocked rays that would have met the plane at height h inside the voxel. (Towards a point
-    // light the rays diverge; across a voxel the mean direction stands for them here.)
+    // Blocked rays that would have met the plane at height h inside the voxel; the voxel's own
+    // surfaces not facing n only in front of it.
     float h = litHeight / lit, blocked = 0.0;
     float cosine = dot(n, toLight);
     for (uint left = blockedTaps; left != 0u; left &= left - 1u) {
-        vec3 q = p + (shadowTap(uint(findLSB(left))) - 0.5) * a;
+        uint t = uint(findLSB(left));
+        vec3 q = p + (shadowTap(t) - 0.5) * a;
         vec3 meets = q + ((h - dot(q - p, n)) / cosine) * toLight;
-        blocked += all(greaterThanEqual(meets, boxLo)) && all(lessThanEqual(meets, boxHi)) ? 1.0 : 0.0;
+        bool inVoxel = all(greaterThanEqual(meets, boxLo)) && all(lessThanEqual(meets, boxHi));
+        blocked += inVoxel && (beside[t] > a || beside[t] > h) ? 1.0 : 0.0;
     }
     return lit / (lit + blocked);
 }

@@ -89,7 +89,8 @@ GI_INLINE uint voxelWrittenBitsWords(uint n) { return voxelListBitsOffset(n) / 3
 // move (shifted in by gi.vct.shift): they only restore their "written" record.
 GI_GPU_STRUCT(VoxelLightPush) {
     VoxelGridParams grid;
-    uvec4 info; // x light count, y occlusion mode (GI_VCT_OCCLUSION_*), z flags (GI_VOXEL_LIGHT_*), w 0
+    uvec4 info; // x light count, y occlusion mode (GI_VCT_OCCLUSION_*), z flags (GI_VOXEL_LIGHT_*), w 1 + the
+                // shadow window of directional lights fitted to this grid (GpuLightShadow), 0 none
     ivec4 keepLo;
     ivec4 keepHi;
 };
