@@ -58,21 +58,30 @@ uint shadowLayer(uint i, GpuLightShadow ls, vec3 q) {
     return layer;
 }
 
-// World point of the stored depth d (layer units) at atlas coordinate uv of `view`, for q's ray:
-// orthographic layers are linear in uv and depth (q, at uv0 and depth dq, anchors them),
-// perspective ones store the distance from the eye along the ray through uv.
-vec3 shadowTexelPoint(GpuShadowView view, vec2 uv, float d, vec3 q, vec2 uv0, float dq, vec3 dir) {
-    mat4 m = view.viewProj;
+// One atlas layer as the taps read it: its view and the world directions along which its u and v
+// grow, scaled so that a change of c = 2 uv - 1 by 1 moves that many metres (row k / |row k|^2).
+struct ShadowLayer {
+    uint layer;
+    GpuShadowView view;
+    vec3 du, dv;
+};
+ShadowLayer shadowLayerAt(uint layer) {
+    ShadowLayer l;
+    l.layer = layer;
+    l.view = shadowViews[layer];
+    mat4 m = l.view.viewProj;
     vec3 row0 = vec3(m[0][0], m[1][0], m[2][0]), row1 = vec3(m[0][1], m[1][1], m[2][1]);
-    // clip = 2 uv - 1 changes along row k by |row k| per metre.
-    vec2 c = 2.0 * uv - 1.0;
-    if (view.eye.w <= 0.0) {
-        vec2 dc = 2.0 * (uv - uv0);
-        return q + dc.x * row0 / dot(row0, row0) + dc.y * row1 / dot(row1, row1) + (dq - d) * view.texel.y * dir;
-    }
-    vec3 forward = vec3(m[0][3], m[1][3], m[2][3]);
-    vec3 ray = forward + c.x * row0 / dot(row0, row0) + c.y * row1 / dot(row1, row1);
-    return view.eye.xyz + (d * view.eye.w) * normalize(ray);
+    l.du = row0 / dot(row0, row0);
+    l.dv = row1 / dot(row1, row1);
+    return l;
+}
+
+// World point of the stored depth d (layer units) at atlas coordinate uv of a perspective layer:
+// the distance from the eye along the ray through uv.
+vec3 shadowPerspectivePoint(ShadowLayer l, vec2 uv, float d) {
+    mat4 m = l.view.viewProj;
+    vec3 ray = vec3(m[0][3], m[1][3], m[2][3]) + (2.0 * uv.x - 1.0) * l.du + (2.0 * uv.y - 1.0) * l.dv;
+    return l.view.eye.xyz + (d * l.view.eye.w) * normalize(ray);
 }
 
 // Light i's first surface on the ray from world point q towards the light (unit dir): where it
@@ -83,26 +92,32 @@ struct ShadowHit {
     float s;
     vec3 normal;
 };
-ShadowHit shadowHitAlongRay(uint i, GpuLightShadow ls, vec3 q, vec3 dir) {
-    uint layer = shadowLayer(i, ls, q);
-    GpuShadowView view = shadowViews[layer];
-    vec4 clip = view.viewProj * vec4(q, 1.0);
+ShadowHit shadowHitAlongRay(ShadowLayer l, vec3 q, vec3 dir) {
+    vec4 clip = l.view.viewProj * vec4(q, 1.0);
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
-    float depth = view.eye.w <= 0.0 ? clip.z : distance(q, view.eye.xyz) / view.eye.w;
+    bool ortho = l.view.eye.w <= 0.0;
+    float depth = ortho ? clip.z : distance(q, l.view.eye.xyz) / l.view.eye.w;
     // Gathered texels: x (i0, j1), y (i1, j1), z (i1, j0), w (i0, j0), centred at uv00 + (i, j) / res.
-    vec4 d = textureGather(shadowAtlas, vec3(uv, float(layer)), 0);
-    float res = view.texel.z;
-    vec2 uv00 = (floor(uv * res - 0.5) + 0.5) / res;
+    vec4 d = textureGather(shadowAtlas, vec3(uv, float(l.layer)), 0);
+    float res = l.view.texel.z;
     vec2 f = fract(uv * res - 0.5);
     float nearest = f.x < 0.5 ? (f.y < 0.5 ? d.w : d.x) : (f.y < 0.5 ? d.z : d.y);
     ShadowHit hit;
     // Depth grows away from the light, linearly in metres (texel.y metres per unit).
-    hit.s = (depth - nearest) * view.texel.y;
-    vec3 p00 = shadowTexelPoint(view, uv00, d.w, q, uv, depth, dir);
-    vec3 p11 = shadowTexelPoint(view, uv00 + 1.0 / res, d.y, q, uv, depth, dir);
-    vec3 p10 = shadowTexelPoint(view, uv00 + vec2(1.0, 0.0) / res, d.z, q, uv, depth, dir);
-    vec3 p01 = shadowTexelPoint(view, uv00 + vec2(0.0, 1.0) / res, d.x, q, uv, depth, dir);
-    vec3 normal = cross(p11 - p00, p01 - p10);
+    hit.s = (depth - nearest) * l.view.texel.y;
+    // The surface through the four texels' points, from its diagonals (00 -> 11, 10 -> 01). An
+    // orthographic layer is linear in uv and depth: one texel is 2 / res along du and dv.
+    vec3 diag0 = (2.0 / res) * (l.du + l.dv) + (d.w - d.y) * l.view.texel.y * dir;
+    vec3 diag1 = (2.0 / res) * (l.dv - l.du) + (d.z - d.x) * l.view.texel.y * dir;
+    if (!ortho) {
+        vec2 uv00 = (floor(uv * res - 0.5) + 0.5) / res;
+        vec3 p00 = shadowPerspectivePoint(l, uv00, d.w), p11 = shadowPerspectivePoint(l, uv00 + 1.0 / res, d.y);
+        vec3 p10 = shadowPerspectivePoint(l, uv00 + vec2(1.0, 0.0) / res, d.z);
+        vec3 p01 = shadowPerspectivePoint(l, uv00 + vec2(0.0, 1.0) / res, d.x);
+        diag0 = p11 - p00;
+        diag1 = p01 - p10;
+    }
+    vec3 normal = cross(diag0, diag1);
     hit.normal = normalize(dot(normal, dir) < 0.0 ? -normal : normal);
     return hit;
 }
@@ -145,14 +160,19 @@ float shadowMapVisibility(uint i, vec3 p, vec3 n, vec3 toLight) {
     float a = pc.grid.originSize.w;
     vec3 lightPos = lights[i].positionType.xyz;
     bool directional = uint(lights[i].positionType.w) == GI_LIGHT_DIRECTIONAL;
-    GpuShadowView view0 = shadowViews[shadowLayer(i, ls, p)];
+    // The layer at the voxel's centre serves every tap, but a cube face each tap's own.
+    bool cube = ls.info.z == GI_SHADOW_CUBE;
+    ShadowLayer layer = shadowLayerAt(shadowLayer(i, ls, p));
+    GpuShadowView view0 = layer.view;
     float texel = view0.eye.w <= 0.0 ? view0.texel.x : view0.texel.x * max(distance(p, lightPos), 1e-6);
     float margin = 1.5 * texel + 0.02 * a;
     vec3 boxLo = p - (0.5 * a + margin), boxHi = p + (0.5 * a + margin);
     float lit = 0.0, litHeight = 0.0;
-    uint blockedTaps = 0u;   // bit t: tap t's ray is stopped before the voxel, or inside it by a
-                             // surface that does not face n (at height beside[t] along n)
-    float beside[kShadowTaps];
+    uint blockedTaps = 0u; // bit t: tap t's ray is stopped before the voxel, or inside it by a
+                           // surface that does not face n
+    // The heights along n of those inside the voxel, 4 bits a tap (0..15 for -a..a; 15 for a
+    // ray stopped before the voxel, which blocks wherever the plane lies).
+    uvec2 beside = uvec2(0u);
     for (uint t = 0u; t < kShadowTaps; ++t) {
         vec3 q = p + (shadowTap(t) - 0.5) * a;
         vec3 dir = directional ? toLight : normalize(lightPos - q);
@@ -163,14 +183,15 @@ float shadowMapVisibility(uint i, vec3 p, vec3 n, vec3 toLight) {
         float s1 = min(min(max(lo.x, hi.x), max(lo.y, hi.y)), max(lo.z, hi.z));
         if (!directional)
             s1 = min(s1, distance(lightPos, q)); // a light inside the voxel
-        ShadowHit hit = shadowHitAlongRay(i, ls, q, dir);
+        ShadowHit hit = shadowHitAlongRay(cube ? shadowLayerAt(shadowLayer(i, ls, q)) : layer, q, dir);
         bool inside = hit.s >= s0 && hit.s <= s1;
         bool facing = dot(hit.normal, n) >= kShadowFacing || dot(hit.normal, dir) < kShadowEdgeOn;
         float height = dot(q + hit.s * dir - p, n);
         lit += inside && facing ? 1.0 : 0.0;
         litHeight += inside && facing ? height : 0.0;
         blockedTaps |= hit.s > s1 || (inside && !facing) ? 1u << t : 0u;
-        beside[t] = inside && !facing ? height : 2.0 * a;
+        uint quantized = inside && !facing ? uint(clamp((height / a + 1.0) * 7.5 + 0.5, 0.0, 15.0)) : 15u;
+        beside[t >> 3u] |= quantized << (4u * (t & 7u));
     }
     if (lit == 0.0)
         return blockedTaps != 0u ? 0.0 : 1.0;
@@ -183,7 +204,8 @@ float shadowMapVisibility(uint i, vec3 p, vec3 n, vec3 toLight) {
         vec3 q = p + (shadowTap(t) - 0.5) * a;
         vec3 meets = q + ((h - dot(q - p, n)) / cosine) * toLight;
         bool inVoxel = all(greaterThanEqual(meets, boxLo)) && all(lessThanEqual(meets, boxHi));
-        blocked += inVoxel && (beside[t] > a || beside[t] > h) ? 1.0 : 0.0;
+        float height = (float((beside[t >> 3u] >> (4u * (t & 7u))) & 15u) / 7.5 - 1.0) * a;
+        blocked += inVoxel && height >= h - a / 7.5 ? 1.0 : 0.0;
     }
     return lit / (lit + blocked);
 }
