@@ -259,18 +259,19 @@ void GiSystem::Impl::addShadowPasses(rg::RenderGraph& graph, rg::Blackboard& bb,
         if (keepWindows[i])
             selection.leaveOut(rsmWindowPassName(i), LeftOutReason::NotDirty,
                                "light " + std::to_string(i) + ", every object and the RSM window unchanged");
+    // Per light a bit per extra layer (cascade or window) whose content stays: its pass is left out.
+    auto leaveOutKeptLayers = [&](const std::vector<uint32_t>& kept, uint32_t LightShadowPlan::*count,
+                                  std::string (*passName)(uint32_t, uint32_t), const std::string& why) {
+        for (uint32_t i = 0; i < kept.size(); ++i)
+            for (uint32_t k = 0; k < layout.lights[i].*count; ++k)
+                if ((kept[i] >> k) & 1u)
+                    selection.leaveOut(passName(i, k), LeftOutReason::NotDirty,
+                                       "light " + std::to_string(i) + ", every object and " + why);
+    };
     std::vector<uint32_t> keepCascades = cleanShadowCascades(layout, lastShadowLayout, shadowChanges);
-    for (uint32_t i = 0; i < keepCascades.size(); ++i)
-        for (uint32_t k = 0; k < layout.lights[i].cascadeCount; ++k)
-            if ((keepCascades[i] >> k) & 1u)
-                selection.leaveOut(cascadePassName(i, k), LeftOutReason::NotDirty,
-                                   "light " + std::to_string(i) + ", every object and the cascade's texels unchanged");
+    leaveOutKeptLayers(keepCascades, &LightShadowPlan::cascadeCount, cascadePassName, "the cascade's texels unchanged");
     std::vector<uint32_t> keepShadowWindows = cleanShadowWindows(layout, lastShadowLayout, shadowChanges);
-    for (uint32_t i = 0; i < keepShadowWindows.size(); ++i)
-        for (uint32_t k = 0; k < layout.lights[i].windowCount; ++k)
-            if ((keepShadowWindows[i] >> k) & 1u)
-                selection.leaveOut(windowPassName(i, k), LeftOutReason::NotDirty,
-                                   "light " + std::to_string(i) + ", every object and the window's view unchanged");
+    leaveOutKeptLayers(keepShadowWindows, &LightShadowPlan::windowCount, windowPassName, "the window's view unchanged");
     addLightPasses(graph, bb, pipelines, frame, bb.get<SceneHandles>(), layout, shadows, rsm, keep, keepCascades,
                    keepWindows, keepShadowWindows);
     lastShadowLayout = std::move(layout);

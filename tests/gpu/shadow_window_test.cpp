@@ -20,12 +20,7 @@ using namespace vkgi;
 
 namespace {
 
-Aabb box(glm::vec3 lo, glm::vec3 hi) {
-    Aabb b;
-    b.extend(lo);
-    b.extend(hi);
-    return b;
-}
+using test::box;
 
 class ShadowWindow : public test::GpuTest {
 protected:

@@ -4,6 +4,14 @@
 
 namespace vkgi::test {
 
+// The box with corners lo and hi.
+inline Aabb box(glm::vec3 lo, glm::vec3 hi) {
+    Aabb b;
+    b.extend(lo);
+    b.extend(hi);
+    return b;
+}
+
 // A square plane of half-side `halfSize` at y = 0 (normal +Y, uniform grey `albedo`), one
 // instance, no light and no camera.
 Scene plane(float albedo, float halfSize);

@@ -7,17 +7,13 @@
 #include <gtest/gtest.h>
 
 #include "lpv/lpv_grid.hpp"
+#include "support/test_scenes.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi::lpv;
 
 namespace {
-Aabb box(glm::vec3 lo, glm::vec3 hi) {
-    Aabb b;
-    b.extend(lo);
-    b.extend(hi);
-    return b;
-}
+using test::box;
 } // namespace
 
 TEST(LpvGrid, FitLeavesOneCellOfMarginAroundTheLongestSide) {

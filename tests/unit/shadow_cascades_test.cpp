@@ -10,6 +10,7 @@
 #include "direct/direct_passes.hpp"
 #include "pass_selection.hpp"
 #include "vkgi/gi.hpp"
+#include "support/test_scenes.hpp"
 
 using namespace vkgi;
 using namespace vkgi::gi;
@@ -26,12 +27,7 @@ Camera camera(glm::vec3 position, glm::vec3 forward, float znear = 0.05f, float 
     return c;
 }
 
-Aabb box(glm::vec3 lo, glm::vec3 hi) {
-    Aabb b;
-    b.extend(lo);
-    b.extend(hi);
-    return b;
-}
+using test::box;
 
 const glm::vec3 kSun = glm::normalize(glm::vec3(0.35f, -1.0f, 0.5f));
 const Aabb kWorld = box({-200.0f, -0.25f, -200.0f}, {200.0f, 9.6f, 200.0f});
@@ -155,14 +151,21 @@ TEST(ShadowCascades, SnappedTranslationStaysOnTheTexelLattice) {
     EXPECT_GT(unchanged, 20);
 }
 
+// Four cascades with the deferred pass's default margin (3 texels) for a camera at
+// (0, 1.7, -12.5) looking along `forward`.
+CascadeRequest fourCascades(glm::vec3 forward) {
+    CascadeRequest req;
+    req.count = 4;
+    req.camera = camera({0, 1.7f, -12.5f}, forward);
+    req.marginTexels = 3.0f;
+    return req;
+}
+
 // planShadows: the cascades finer than the whole-scene layer (the near slices' first), counted in
 // maxShadowLayers after every light's own layer, never in the RSM's layers.
 TEST(ShadowCascades, PlanShadowsSpendsLayersOnCascadesOnlyWhereTheyHelp) {
     Scene scene = sunScene();
-    CascadeRequest req;
-    req.count = 4;
-    req.camera = camera({0, 1.7f, -12.5f}, glm::vec3(0, 3.5f, 6) - glm::vec3(0, 1.7f, -12.5f));
-    req.marginTexels = 3.0f;
+    CascadeRequest req = fourCascades(glm::vec3(0, 3.5f, 6) - glm::vec3(0, 1.7f, -12.5f));
 
     ShadowLayout world = planShadows(scene, kWorld, 256, 64, req);
     ASSERT_EQ(world.lights.size(), 1u);
@@ -305,10 +308,7 @@ float expectedWindowTexel(const Aabb& b, const glm::vec3& sun, uint32_t n, float
 // texel of the closed form, all finer than the sun's whole-scene layer.
 TEST(ShadowCascades, ShadowWindowsFollowTheCascadesAndAreFinerThanTheOwnLayer) {
     Scene scene = sunScene();
-    CascadeRequest req;
-    req.count = 4;
-    req.camera = camera({0, 1.7f, -12.5f}, glm::vec3(0, 3.5f, 6) - glm::vec3(0, 1.7f, -12.5f));
-    req.marginTexels = 3.0f;
+    CascadeRequest req = fourCascades(glm::vec3(0, 3.5f, 6) - glm::vec3(0, 1.7f, -12.5f));
     const uint32_t n = 256;
     const std::vector<Aabb> windows = clipmapBoxes(req.camera.position);
     ShadowLayout without = planShadows(scene, kWorld, n, 64, req);
@@ -409,10 +409,7 @@ TEST(ShadowCascades, ShadowWindowDepthCoversTheCastersTowardTheSun) {
 // Point and spot lights get none.
 TEST(ShadowCascades, ShadowWindowsRespectMaxLayersAndSkipPunctualLights) {
     Scene scene = sunScene();
-    CascadeRequest req;
-    req.count = 4;
-    req.camera = camera({0, 1.7f, -12.5f}, {0, 0.1f, 1});
-    req.marginTexels = 3.0f;
+    CascadeRequest req = fourCascades({0, 0.1f, 1});
     const std::vector<Aabb> windows = clipmapBoxes(req.camera.position);
     ShadowLayout seven = planShadows(scene, kWorld, 256, 7, req, {}, windows);
     EXPECT_EQ(seven.lights[0].cascadeCount, 4u);
