@@ -229,8 +229,8 @@ struct VplTechnique::Impl {
     Result<LightTables> lightTables(const std::vector<VplSpot>& spots, bool emitters, const VplSettings& settings,
                                     const Camera& camera);
 
-    void addGeneratePass(rg::RenderGraph& graph, const VplInputs& in, const LightTableHandles& tables,
-                         uint32_t lightCount, uint32_t vplCount, rg::BufferHandle& vpls);
+    void addGeneratePass(rg::RenderGraph& graph, const std::string& name, const VplInputs& in, rg::BufferHandle lights,
+                         rg::BufferHandle directions, uint32_t lightCount, uint32_t vplCount, rg::BufferHandle& vpls);
     void addEmitterPass(rg::RenderGraph& graph, const VplInputs& in, const VplSettings& settings,
                         const LightTableHandles& tables, uint32_t source, uint32_t vplCount, bool first,
                         rg::BufferHandle& vpls);
@@ -360,18 +360,21 @@ Result<LightTables> VplTechnique::Impl::lightTables(const std::vector<VplSpot>& 
     return tables;
 }
 
-void VplTechnique::Impl::addGeneratePass(rg::RenderGraph& graph, const VplInputs& in, const LightTableHandles& tables,
-                                         uint32_t lightCount, uint32_t vplCount, rg::BufferHandle& vpls) {
+// vpl_generate.comp: `vplCount` VPL records from the RSM along the generation table `directions`
+// (the VPLs themselves, "vpl.generate", or a large sun window's candidates, "vpl.candidates").
+void VplTechnique::Impl::addGeneratePass(rg::RenderGraph& graph, const std::string& name, const VplInputs& in,
+                                         rg::BufferHandle lights, rg::BufferHandle directions, uint32_t lightCount,
+                                         uint32_t vplCount, rg::BufferHandle& vpls) {
     gpu::VplGeneratePush push{};
     push.info = glm::uvec4(lightCount, vplCount, 0, 0);
-    rg::ComputePass(graph, "vpl.generate", generate)
+    rg::ComputePass(graph, name, generate)
         .push(push)
         .sample(VPL_GENERATE_BINDING_RSM_POSITION, in.rsmPosition, pointSampler)
         .sample(VPL_GENERATE_BINDING_RSM_NORMAL, in.rsmNormal, pointSampler)
         .sample(VPL_GENERATE_BINDING_RSM_FLUX, in.rsmFlux, pointSampler)
         .read(VPL_GENERATE_BINDING_SHADOW_VIEWS, in.shadowViews)
-        .read(VPL_GENERATE_BINDING_LIGHTS, tables.lights)
-        .read(VPL_GENERATE_BINDING_DIRECTIONS, tables.directions)
+        .read(VPL_GENERATE_BINDING_LIGHTS, lights)
+        .read(VPL_GENERATE_BINDING_DIRECTIONS, directions)
         .overwrite(VPL_GENERATE_BINDING_VPLS, vpls)
         .dispatch({vplCount, 1, 1});
 }
@@ -388,18 +391,7 @@ rg::BufferHandle VplTechnique::Impl::addSelectPasses(rg::RenderGraph& graph, con
     const uint32_t total = candidatesPerSun * suns;
     rg::BufferHandle candidates =
         graph.createBuffer("vpl.candidates", storageBuffer(VkDeviceSize(total) * sizeof(gpu::VplRecord)));
-    gpu::VplGeneratePush generatePush{};
-    generatePush.info = glm::uvec4(lightCount, total, 0, 0);
-    rg::ComputePass(graph, "vpl.candidates", generate)
-        .push(generatePush)
-        .sample(VPL_GENERATE_BINDING_RSM_POSITION, in.rsmPosition, pointSampler)
-        .sample(VPL_GENERATE_BINDING_RSM_NORMAL, in.rsmNormal, pointSampler)
-        .sample(VPL_GENERATE_BINDING_RSM_FLUX, in.rsmFlux, pointSampler)
-        .read(VPL_GENERATE_BINDING_SHADOW_VIEWS, in.shadowViews)
-        .read(VPL_GENERATE_BINDING_LIGHTS, tables.lights)
-        .read(VPL_GENERATE_BINDING_DIRECTIONS, tables.candidates)
-        .overwrite(VPL_GENERATE_BINDING_VPLS, candidates)
-        .dispatch({total, 1, 1});
+    addGeneratePass(graph, "vpl.candidates", in, tables.lights, tables.candidates, lightCount, total, candidates);
 
     rg::BufferHandle weights =
         graph.createBuffer("vpl.candidate_weights", storageBuffer(VkDeviceSize(total) * sizeof(float)));
@@ -738,7 +730,8 @@ Result<VplOutputs> VplTechnique::addPasses(rg::RenderGraph& graph, const VplInpu
     LightTableHandles uploaded = addUploadPass(graph, std::move(tables.value()));
     out.vpls = graph.createBuffer("vpl.vpls", storageBuffer(VkDeviceSize(out.vplCount) * sizeof(gpu::VplRecord)));
     if (spotCount > 0)
-        m->addGeneratePass(graph, in, uploaded, spotCount, out.vplCount, out.vpls);
+        m->addGeneratePass(graph, "vpl.generate", in, uploaded.lights, uploaded.directions, spotCount, out.vplCount,
+                           out.vpls);
     if (emitters)
         m->addEmitterPass(graph, in, settings, uploaded, spotCount, out.vplCount, spotCount == 0, out.vpls);
     if (suns > 0) {

@@ -60,13 +60,13 @@ uint shadowLayer(uint i, GpuLightShadow ls, vec3 q) {
 
 // One atlas layer as the taps read it: its view and the world directions along which its u and v
 // grow, scaled so that a change of c = 2 uv - 1 by 1 moves that many metres (row k / |row k|^2).
-struct ShadowLayer {
+struct AtlasLayer {
     uint layer;
     GpuShadowView view;
     vec3 du, dv;
 };
-ShadowLayer shadowLayerAt(uint layer) {
-    ShadowLayer l;
+AtlasLayer atlasLayer(uint layer) {
+    AtlasLayer l;
     l.layer = layer;
     l.view = shadowViews[layer];
     mat4 m = l.view.viewProj;
@@ -78,7 +78,7 @@ ShadowLayer shadowLayerAt(uint layer) {
 
 // World point of the stored depth d (layer units) at atlas coordinate uv of a perspective layer:
 // the distance from the eye along the ray through uv.
-vec3 shadowPerspectivePoint(ShadowLayer l, vec2 uv, float d) {
+vec3 shadowPerspectivePoint(AtlasLayer l, vec2 uv, float d) {
     mat4 m = l.view.viewProj;
     vec3 ray = vec3(m[0][3], m[1][3], m[2][3]) + (2.0 * uv.x - 1.0) * l.du + (2.0 * uv.y - 1.0) * l.dv;
     return l.view.eye.xyz + (d * l.view.eye.w) * normalize(ray);
@@ -92,7 +92,7 @@ struct ShadowHit {
     float s;
     vec3 normal;
 };
-ShadowHit shadowHitAlongRay(ShadowLayer l, vec3 q, vec3 dir) {
+ShadowHit shadowHitAlongRay(AtlasLayer l, vec3 q, vec3 dir) {
     vec4 clip = l.view.viewProj * vec4(q, 1.0);
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
     bool ortho = l.view.eye.w <= 0.0;
@@ -162,7 +162,7 @@ float shadowMapVisibility(uint i, vec3 p, vec3 n, vec3 toLight) {
     bool directional = uint(lights[i].positionType.w) == GI_LIGHT_DIRECTIONAL;
     // The layer at the voxel's centre serves every tap, but a cube face each tap's own.
     bool cube = ls.info.z == GI_SHADOW_CUBE;
-    ShadowLayer layer = shadowLayerAt(shadowLayer(i, ls, p));
+    AtlasLayer layer = atlasLayer(shadowLayer(i, ls, p));
     GpuShadowView view0 = layer.view;
     float texel = view0.eye.w <= 0.0 ? view0.texel.x : view0.texel.x * max(distance(p, lightPos), 1e-6);
     float margin = 1.5 * texel + 0.02 * a;
@@ -183,7 +183,7 @@ float shadowMapVisibility(uint i, vec3 p, vec3 n, vec3 toLight) {
         float s1 = min(min(max(lo.x, hi.x), max(lo.y, hi.y)), max(lo.z, hi.z));
         if (!directional)
             s1 = min(s1, distance(lightPos, q)); // a light inside the voxel
-        ShadowHit hit = shadowHitAlongRay(cube ? shadowLayerAt(shadowLayer(i, ls, q)) : layer, q, dir);
+        ShadowHit hit = shadowHitAlongRay(cube ? atlasLayer(shadowLayer(i, ls, q)) : layer, q, dir);
         bool inside = hit.s >= s0 && hit.s <= s1;
         bool facing = dot(hit.normal, n) >= kShadowFacing || dot(hit.normal, dir) < kShadowEdgeOn;
         float height = dot(q + hit.s * dir - p, n);
