@@ -191,7 +191,10 @@ protected:
 // (docs/vct.md "Pre-filtered opacity") hall_world measures 0.1593 / 0.2319: 0.95x and 0.96x the
 // hall's. With the shadow map's visibility for the voxel light (docs/vct.md "Visibility") the
 // hall measures 0.1570 / 0.2239 and hall_world 0.1351 / 0.1905 (0.86x, 0.85x): the coarse levels
-// gain most from it. The bar is the upper one; under 64 MiB.
+// gain most from it. With surfaces on voxel faces setting only the voxels behind them
+// (docs/vct.md "Voxelization"; a clipmap's world-aligned lattice meets the hall's floor and
+// walls), hall_world measures 0.1422 / 0.2025 against the hall's 0.1571 / 0.2240 (0.91x,
+// 0.90x). The bar is the upper one; under 64 MiB.
 TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
     VctMeasured hall = measureVct("hall");
     VctMeasured world = measureVct("hall_world");
@@ -210,14 +213,15 @@ TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
 // bounce across levels 0.2927, 1.86x 0.1574; with the clipmap's pre-filtered opacity 0.2386,
 // 1.69x; with one second bounce per side of a thin wall's voxel and the voxel light's march
 // through the fill, 0.2128 against 0.1346, 1.58x; with the shadow map's visibility, each clipmap
-// level reading a sun layer fitted to its box, 0.1775 against 0.1158, 1.53x), under 64 MiB.
-TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorAtMost65PercentAboveTheAtriums) {
+// level reading a sun layer fitted to its box, 0.1775 against 0.1158, 1.53x; with surfaces on
+// voxel faces setting only the voxels behind them, 0.1661, 1.43x), under 64 MiB.
+TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorAtMost50PercentAboveTheAtriums) {
     VctMeasured atrium = measureVct("atrium");
     VctMeasured world = measureVct("atrium_world");
     EXPECT_EQ(atrium.levels, 1u);
     EXPECT_EQ(world.levels, kVctAutoLevels);
     EXPECT_GT(atrium.relMseIndirect, 0.0);
-    EXPECT_LE(world.relMseIndirect, 1.65 * atrium.relMseIndirect);
+    EXPECT_LE(world.relMseIndirect, 1.5 * atrium.relMseIndirect);
     EXPECT_LE(world.techniqueBytes, kMaxTechniqueBytes);
 }
 

@@ -278,7 +278,7 @@ void addBox(std::vector<Tri>& tris, glm::vec3 lo, glm::vec3 hi) {
 // of the voxel's cross-section its surfaces block (gi/voxel_grid.h), in closed form: a sheet
 // blocks the area it projects onto the voxel's face; a closed column its silhouette once, not
 // once per side; a thin closed wall, a wall's face and a floor meeting a wall fill the voxel; a
-// surface that only touches a voxel's face leaves it occupied but with fill 0.
+// surface that only touches a voxel's face leaves it empty.
 TEST_F(Voxelize, FillIsTheShareOfTheCrossSectionTheSurfacesBlock) {
     gpu::VoxelGridParams params = unitGrid(16);
     params.dims.w = 1;
@@ -308,9 +308,9 @@ TEST_F(Voxelize, FillIsTheShareOfTheCrossSectionTheSurfacesBlock) {
         for (uint32_t x = 3; x < 6; ++x)
             EXPECT_NEAR(fill(x, 3, z), 1.0f, tol) << "A: a sheet across the voxel";
         EXPECT_NEAR(fill(6, 3, z), 0.3f, tol) << "A: a sheet over 0.3 of the voxel";
-        EXPECT_EQ(fill(2, 3, z), 0.0f) << "A: the sheet's edge on the voxel's face";
+        EXPECT_EQ(r.albedo[4 * voxelIndex(n, {2, 3, z}) + 3], 0) << "A: the sheet's edge on the voxel's face";
     }
-    EXPECT_EQ(fill(4, 3, 8), 0.0f);
+    EXPECT_EQ(r.albedo[4 * voxelIndex(n, {4, 3, 8}) + 3], 0);
     for (uint32_t y = 3; y < 12; ++y)
         EXPECT_NEAR(fill(9, y, 9), 0.4f, tol) << "B: the column's 0.4 silhouette, once";
     for (uint32_t z = 2; z < 14; ++z) {
@@ -323,6 +323,34 @@ TEST_F(Voxelize, FillIsTheShareOfTheCrossSectionTheSurfacesBlock) {
             EXPECT_NEAR(fill(13, y, z), 1.0f, tol) << "E: a thick wall's face";
             EXPECT_NEAR(fill(14, y, z), 1.0f, tol) << "E: its other face";
         }
+}
+
+// A surface on the plane between two voxel layers (a floor at y = 0 of a world-aligned
+// clipmap level) touches both closed boxes but is voxelized into the one behind it only: a sheet
+// facing +y at y = 5 sets the layer y = 4, one facing -y at y = 10 the layer y = 10, and a closed
+// box whose y faces lie on the lattice sets its own layers, not one more of free space above and
+// below. Edges that lie off the lattice keep the conservative test.
+TEST_F(Voxelize, ASurfaceOnAVoxelFaceSetsTheVoxelsBehindIt) {
+    makeGrid(unitGrid(16));
+    std::vector<Tri> tris;
+    addQuad(tris, {2.5f, 5.0f, 2.5f}, {0, 0, 4.0f}, {4.0f, 0, 0});  // facing +y: x, z in [2.5, 6.5]
+    addQuad(tris, {2.5f, 10.0f, 2.5f}, {4.0f, 0, 0}, {0, 0, 4.0f}); // facing -y
+    addBox(tris, {9.5f, 8.0f, 9.5f}, {12.5f, 12.0f, 12.5f});         // y faces on the lattice
+    voxelizeGrey(tris, 0.5f);
+    Readback r = read();
+    const uint32_t n = 16;
+    uint32_t wrong = 0;
+    for (uint32_t z = 0; z < n; ++z)
+        for (uint32_t y = 0; y < n; ++y)
+            for (uint32_t x = 0; x < n; ++x) {
+                bool inSheets = x >= 2 && x <= 6 && z >= 2 && z <= 6 && (y == 4 || y == 10);
+                bool inBox = x >= 9 && x <= 12 && z >= 9 && z <= 12 && y >= 8 && y <= 11 &&
+                             (x == 9 || x == 12 || z == 9 || z == 12 || y == 8 || y == 11);
+                bool set = r.albedo[4 * voxelIndex(n, {x, y, z}) + 3] == 255;
+                if (set != (inSheets || inBox) && ++wrong <= 8)
+                    ADD_FAILURE() << "voxel " << x << "," << y << "," << z << (set ? " set" : " left empty");
+            }
+    EXPECT_EQ(wrong, 0u);
 }
 
 TEST_F(Voxelize, SliversAndSubVoxelTrianglesAreNotLostButZeroAreaOnesSetNothing) {

@@ -54,8 +54,9 @@ void main() {
     vec3 normal = len > 1e-3 * float(count) * GI_VOXEL_FIXED_ONE ? normalSum / len : vec3(0.0);
     imageStore(outAlbedo, c, vec4(albedo, 1.0));
     imageStore(outNormal, c, vec4(voxelNormalEncode(normal), 1.0));
-    // The half-voxel bits (dims.z = 1): a voxel the full test touched always has one (a
-    // triangle grazing it within the slack may miss every half's test: count it whole).
+    // The half-voxel bits (dims.z = 1): a voxel the full test set always has one (a triangle
+    // entering it within the test's margin of the halves' faces may pass no half's test: count
+    // it whole).
     float alpha = pc.grid.dims.z != 0u ? float(w3.y != 0u ? w3.y : 255u) : 0.0;
     // The fill (dims.w = 1): the projected areas P_k (words 13..15, voxel face = 1), each taken
     // once per side: s_k, the larger side's share of axis k's face coverage, is 1 for a sheet

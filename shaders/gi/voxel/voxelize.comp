@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Conservative compute voxelization, one invocation or one work group per triangle: every voxel whose closed box
-// the triangle touches (separating-axis test, so slivers and sub-voxel triangles count too)
+// the triangle touches (separating-axis test, so slivers and sub-voxel triangles count too;
+// a triangle on a voxel face counts in the voxel behind it only)
 // receives the triangle's albedo, its face coverages (max(0, +-n_axis) for the six axis
 // directions, which way it faces), emission and, with dims.w = 1 (VCT's pre-filtered opacity),
 // its area inside the voxel projected along each axis as fixed-point integer sums. Integer atomics
@@ -28,15 +29,17 @@ layout(set = 1, binding = VOXELIZE_BINDING_MATERIALS, std430) readonly buffer Ma
 #include "voxel_acc.glsl" // the records (gi/voxel_grid.h)
 layout(set = 1, binding = VOXELIZE_BINDING_TOUCHED_BITS, std430) buffer TouchedBits { uint touchedBits[]; }; // bit x + N (y + N z)
 
-// Slack added to every separating-axis radius, in voxel units: rounding may then only add a
-// voxel that the triangle grazes within 1e-5 voxels, never drop one it touches.
-const float kSatSlack = 1e-5;
+// A voxel is set when the triangle enters its interior: the separating-axis tests run on the box
+// shrunk by this margin (voxel units), so a triangle that only touches the box's boundary (an
+// edge on a voxel face) is separated, whatever the rounding of its coordinates.
+const float kSatMargin = 1e-5;
+// How far a triangle moves against its normal before the test: see main().
+const float kBehindSurface = 1e-3;
 
 // Projection of the three vertices on `axis` against the projected half-extent h of the box.
 bool separatedOn(vec3 axis, vec3 v0, vec3 v1, vec3 v2, float h) {
     float p0 = dot(axis, v0), p1 = dot(axis, v1), p2 = dot(axis, v2);
     float r = h * (abs(axis.x) + abs(axis.y) + abs(axis.z));
-    r += kSatSlack * (1.0 + r);
     return min(p0, min(p1, p2)) > r || max(p0, max(p1, p2)) < -r;
 }
 
@@ -52,7 +55,7 @@ bool overlapsBox(vec3 v0, vec3 v1, vec3 v2, vec3 n, float h) {
         separatedOn(vec3(-e2.y, e2.x, 0.0), v0, v1, v2, h))
         return false;
     float r = h * (abs(n.x) + abs(n.y) + abs(n.z));
-    return abs(dot(n, v0)) <= r + kSatSlack * (1.0 + r);
+    return abs(dot(n, v0)) <= r;
 }
 
 // The half-voxel occupancy (dims.z = 1, gi/voxel_grid.h): bit i + 2 j + 4 k for each half-size
@@ -64,8 +67,8 @@ uint halfVoxelBits(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
         vec3 c = vec3(float(b & 1u), float((b >> 1u) & 1u), float((b >> 2u) & 1u)) * 0.5 - 0.25;
         vec3 a0 = v0 - c, a1 = v1 - c, a2 = v2 - c;
         vec3 lo = min(a0, min(a1, a2)), hi = max(a0, max(a1, a2));
-        float r = 0.25 + kSatSlack * 1.25;
-        if (any(greaterThan(lo, vec3(r))) || any(lessThan(hi, vec3(-r))) || !overlapsBox(a0, a1, a2, n, 0.25))
+        float r = 0.25 - kSatMargin;
+        if (any(greaterThanEqual(lo, vec3(r))) || any(lessThanEqual(hi, vec3(-r))) || !overlapsBox(a0, a1, a2, n, r))
             continue;
         bits |= 1u << b;
     }
@@ -80,8 +83,8 @@ layout(constant_id = 1) const bool kVoxelFill = false;
 // box, projected along x, y and z (dims.w = 1, the fill of gi/voxel_grid.h): the triangle clipped
 // to the box's six planes (Sutherland-Hodgman; each plane adds at most one vertex, so 9 hold
 // the polygon), whose vector area 1/2 sum v_i x v_i+1 has the projected areas as components.
-// A triangle on a face of the box lies inside it, as in the separating-axis test, so a face
-// shared by two voxels counts in both, as their occupancy does.
+// The box is closed, as in the separating-axis test; a triangle on a face of it was moved
+// behind that face first (main()), so it counts in one of the two voxels, as it occupies one.
 vec3 projectedAreaInside(vec3 v0, vec3 v1, vec3 v2) {
     vec3 poly[9], next[9];
     poly[0] = v0;
@@ -183,6 +186,13 @@ void main() {
     vec3 faceNormal = n / len;
     if (dot(faceNormal, shading) < 0.0)
         faceNormal = -faceNormal;
+    // A surface lying on a plane between two voxel layers (a floor at y = 0 in world voxels)
+    // touches both closed boxes; it belongs to the one behind it. Moved back by 1e-3 voxels (far
+    // above the slack), it sets one layer, and a closed solid whose faces lie on the lattice sets
+    // its own voxels only, not one more layer of free space on each side, which the cones would
+    // read as occupied at the surface (docs/vct.md "Voxelization").
+    for (int i = 0; i < 3; ++i)
+        p[i] -= faceNormal * kBehindSurface;
 
     int res = int(pc.grid.dims.x);
     // Voxel coordinates below are those of p (world voxels with info.y = 1); the box is the part
@@ -191,7 +201,7 @@ void main() {
     vec3 lo = min(p[0], min(p[1], p[2])), hi = max(p[0], max(p[1], p[2]));
     if (any(isnan(lo + hi)))
         return;
-    ivec3 vlo = ivec3(floor(lo - kSatSlack)), vhi = ivec3(floor(hi + kSatSlack));
+    ivec3 vlo = ivec3(floor(lo + kSatMargin)), vhi = ivec3(ceil(hi - kSatMargin)) - 1;
     // World voxels: a triangle is skipped exactly when none of the voxels it may graze lies in
     // the box, so a voxel on a box face gets the same triangles whichever box held it. A fitted
     // grid keeps its original test (its images are the goldens').
@@ -230,7 +240,7 @@ void main() {
             c[u] = cu;
             c[w] = cw;
             vec3 centre = vec3(c) + 0.5;
-            if (overlapsBox(p[0] - centre, p[1] - centre, p[2] - centre, n, 0.5))
+            if (overlapsBox(p[0] - centre, p[1] - centre, p[2] - centre, n, 0.5 - kSatMargin))
                 splat(c - pc.cell.xyz, res, albedo, faceNormal, emission, emissive,
                       pc.grid.dims.z != 0u ? halfVoxelBits(p[0] - centre, p[1] - centre, p[2] - centre, n) : 0u,
                       kVoxelFill ? projectedAreaInside(p[0] - centre, p[1] - centre, p[2] - centre) : vec3(0.0));
