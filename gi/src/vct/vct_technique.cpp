@@ -55,12 +55,31 @@ void setStaticDrawBounds(const Scene& scene, const std::vector<Aabb>& meshBounds
     }
 }
 
-// Min corner (in level voxels of edge `voxel`) of a level of n^3 voxels centred on `eye`: a whole
-// number of 2-voxel blocks, so the level's 2^3 blocks (mip 1) and the next coarser level's voxels
-// cover the same space.
-glm::ivec3 clipCell(glm::vec3 eye, float voxel, uint32_t n) {
-    glm::vec3 blocks = glm::floor(eye / (2.0f * voxel) + 0.5f);
-    return 2 * glm::ivec3(blocks) - glm::ivec3(int(n / 2));
+// How far ahead of the camera the clipmap levels' centres lie, in level extents, along the
+// horizontal part of the view direction (docs/vct.md "Clipmap": what a camera in a large world
+// sees lies ahead of it, and mostly along the ground).
+constexpr float kClipAhead = 0.15f;
+
+// kClipAhead of a level of n^3 voxels, in whole 2-voxel blocks of that level along x and z (the
+// same for every level): 0 for a camera looking straight up or down.
+glm::ivec3 clipAheadBlocks(const Camera& camera, uint32_t n) {
+    const glm::vec2 ground(camera.forward.x, camera.forward.z);
+    const float len = glm::length(ground);
+    if (!(len > 1e-3f))
+        return glm::ivec3(0);
+    const glm::vec2 blocks = glm::round(ground * (0.5f * kClipAhead * float(n) / len));
+    return glm::ivec3(int(blocks.x), 0, int(blocks.y));
+}
+
+// Min corner (in level voxels of edge `voxel`) of a level of n^3 voxels around `camera`: centred
+// on the camera's position snapped to the level's 2-voxel blocks, then moved clipAheadBlocks
+// ahead. A whole number of blocks, so the level's 2^3 blocks (mip 1) and the next coarser level's
+// voxels cover the same space; the levels stay nested (level l - 1's centre is clipAheadBlocks
+// level-l voxels from level l's, well within the n/4 between their faces); and the corner moves
+// with the position exactly as a centred level's, plus a step when a turn changes the blocks.
+glm::ivec3 clipCell(const Camera& camera, float voxel, uint32_t n) {
+    glm::vec3 blocks = glm::floor(camera.position / (2.0f * voxel) + 0.5f);
+    return 2 * (glm::ivec3(blocks) + clipAheadBlocks(camera, n)) - glm::ivec3(int(n / 2));
 }
 
 class VctTechnique final : public TechniqueModule {
@@ -201,7 +220,7 @@ public:
         for (const ClipLevel& level : m_levels) {
             const float voxel = level.grid->params().originSize.w;
             Aabb box;
-            box.min = glm::vec3(clipCell(frame.camera.position, voxel, n)) * voxel;
+            box.min = glm::vec3(clipCell(frame.camera, voxel, n)) * voxel;
             box.max = box.min + voxel * float(n);
             boxes.push_back(box);
         }
@@ -292,9 +311,9 @@ private:
         rg::ImageHandle clipmap = graph.importImage("gi.vct.clipmap", m_clipmap);
         gpu::VctClipmapParams params{};
         params.info = glm::uvec4(uint32_t(m_levels.size()), n, 0u, 0u);
-        const glm::ivec3 cell0 = clipCell(frame.camera.position, m_levels[0].grid->params().originSize.w, n);
+        const glm::ivec3 cell0 = clipCell(frame.camera, m_levels[0].grid->params().originSize.w, n);
         for (uint32_t l = 0; l < m_levels.size(); ++l) {
-            const glm::ivec3 cell = clipCell(frame.camera.position, m_levels[l].grid->params().originSize.w, n);
+            const glm::ivec3 cell = clipCell(frame.camera, m_levels[l].grid->params().originSize.w, n);
             params.level[l] = glm::vec4(glm::vec3(cell * (1 << l) - cell0), float(1u << l));
         }
         // The second bounce of a level gathers through the clipmap volume into the coarser levels,
@@ -304,7 +323,7 @@ private:
         for (uint32_t l = uint32_t(m_levels.size()); l-- > 0;) {
             ClipLevel& level = m_levels[l];
             const float voxel = level.grid->params().originSize.w;
-            const glm::ivec3 cell = clipCell(frame.camera.position, voxel, n);
+            const glm::ivec3 cell = clipCell(frame.camera, voxel, n);
             const bool moved = !level.placed || cell != level.cell;
             std::optional<glm::ivec3> move;
             if (moved) {
