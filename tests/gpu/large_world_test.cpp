@@ -168,14 +168,15 @@ struct VctMeasured : Measured {
 
 class LargeWorldVct : public LargeWorld {
 protected:
-    VctMeasured measureVct(const std::string& name) {
+    VctMeasured measureVct(const std::string& name, const VctSettings& vct = {}) {
         GiSettings settings;
         settings.technique = Technique::Vct;
+        settings.vct = vct;
         VctMeasured m;
         static_cast<Measured&>(m) = measure(name, settings);
         Scene scene = test::builtinScene(name);
         m.levels = resolveVctLevels(settings.vct, scene.bounds(), *scene.camera).levels;
-        std::printf("[large world] vct defaults, %s: %u level(s), relMSE %.4f (best constant %.4f), at eps 1e-3 %.4f "
+        std::printf("[large world] vct, %s: %u level(s), relMSE %.4f (best constant %.4f), at eps 1e-3 %.4f "
                     "(%.4f), indirect relMSE %.4f, technique memory %.2f MiB\n",
                     name.c_str(), m.levels, m.relMse, m.constant, m.relMseDark, m.constantDark, m.relMseIndirect,
                     double(m.techniqueBytes) / 1048576.0);
@@ -238,9 +239,20 @@ TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
 // constant at epsilon 0.01 and 1e-3 (issue #15): atrium_world 0.2569 against the constant's
 // 0.2920 at both (0.3110 before the voxelizer's rule for surfaces on voxel faces, which failed
 // it), hall_world 0.1371 against 0.3578 at 1e-3.
+// The world itself adds no error: the atrium alone with the clipmap the world gets (forced: 4
+// levels of 32^3 from 0.5 m) is the best that clipmap can do there, and the world is within the
+// issue's 15% of it (measured 0.1507 against 0.1846, 0.82x; at 128^2 in the bench 0.157 against
+// 0.191). What separates the world from the fitted atrium is the clipmap's resolution 11-26 m
+// ahead within the 64 MiB budget (docs/vct.md, Known limits).
 TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorAtMost40PercentAboveTheAtriums) {
     VctMeasured atrium = measureVct("atrium");
     VctMeasured world = measureVct("atrium_world");
+    VctSettings sameClipmap;
+    sameClipmap.levels = kVctAutoLevels;
+    sameClipmap.gridResolution = kVctAutoLevelResolution;
+    VctMeasured atriumClipmap = measureVct("atrium", sameClipmap);
+    EXPECT_EQ(atriumClipmap.levels, kVctAutoLevels);
+    EXPECT_LE(world.relMseIndirect, 1.15 * atriumClipmap.relMseIndirect);
     EXPECT_EQ(atrium.levels, 1u);
     EXPECT_EQ(world.levels, kVctAutoLevels);
     EXPECT_GT(atrium.relMseIndirect, 0.0);
