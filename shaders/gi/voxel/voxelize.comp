@@ -1,8 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Conservative compute voxelization, one invocation or one work group per triangle: every voxel whose closed box
-// the triangle touches (separating-axis test, so slivers and sub-voxel triangles count too;
-// a triangle on a voxel face counts in the voxel behind it only)
+// Conservative compute voxelization, one invocation or one work group per triangle: every voxel whose interior
+// the triangle enters (separating-axis test, so slivers and sub-voxel triangles count too; a
+// triangle on a voxel face counts in the voxel behind it only)
 // receives the triangle's albedo, its face coverages (max(0, +-n_axis) for the six axis
 // directions, which way it faces), emission and, with dims.w = 1 (VCT's pre-filtered opacity),
 // its area inside the voxel projected along each axis as fixed-point integer sums. Integer atomics
@@ -60,7 +60,8 @@ bool overlapsBox(vec3 v0, vec3 v1, vec3 v2, vec3 n, float h) {
 
 // The half-voxel occupancy (dims.z = 1, gi/voxel_grid.h): bit i + 2 j + 4 k for each half-size
 // box (i, j, k) of the voxel that the triangle (relative to the voxel's centre, voxel units)
-// touches, by the same separating-axis test as the voxel's, on boxes of half extent 0.25.
+// enters, by the same separating-axis test as the voxel's, on boxes of half extent 0.25 less the
+// margin.
 uint halfVoxelBits(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
     uint bits = 0u;
     for (uint b = 0u; b < 8u; ++b) {
@@ -188,7 +189,7 @@ void main() {
         faceNormal = -faceNormal;
     // A surface lying on a plane between two voxel layers (a floor at y = 0 in world voxels)
     // touches both closed boxes; it belongs to the one behind it. Moved back by 1e-3 voxels (far
-    // above the slack), it sets one layer, and a closed solid whose faces lie on the lattice sets
+    // above the test's margin), it sets one layer, and a closed solid whose faces lie on the lattice sets
     // its own voxels only, not one more layer of free space on each side, which the cones would
     // read as occupied at the surface (docs/vct.md "Voxelization").
     for (int i = 0; i < 3; ++i)
@@ -202,7 +203,7 @@ void main() {
     if (any(isnan(lo + hi)))
         return;
     ivec3 vlo = ivec3(floor(lo + kSatMargin)), vhi = ivec3(ceil(hi - kSatMargin)) - 1;
-    // World voxels: a triangle is skipped exactly when none of the voxels it may graze lies in
+    // World voxels: a triangle is skipped exactly when none of the voxels it may enter lies in
     // the box, so a voxel on a box face gets the same triangles whichever box held it. A fitted
     // grid keeps its original test (its images are the goldens').
     bool outside = pc.info.y != 0u ? any(greaterThan(vlo, boxHi)) || any(lessThan(vhi, boxLo))
