@@ -102,11 +102,8 @@ TEST(ShadowCascades, EveryBoxHoldsItsSliceWithTheMargin) {
                 }
                 // Every caster in the bounds between the light and the slice is in the depth
                 // range: the bounds' corner nearest the light maps to depth >= 0.
-                for (int c = 0; c < 8; ++c) {
-                    glm::vec3 corner((c & 1) ? kWorld.max.x : kWorld.min.x, (c & 2) ? kWorld.max.y : kWorld.min.y,
-                                     (c & 4) ? kWorld.max.z : kWorld.min.z);
+                for (const glm::vec3& corner : kWorld.corners())
                     EXPECT_GE(texelOf(set.views[i], corner).z, 0.0f);
-                }
             }
         }
 }
@@ -236,9 +233,7 @@ TEST(ShadowCascades, SunRsmWindowIsFinerAndKeepsTheOccludersTowardTheSun) {
     Aabb clipped = window;
     clipped.min = glm::max(clipped.min, kWorld.min);
     clipped.max = glm::min(clipped.max, kWorld.max);
-    for (int i = 0; i < 8; ++i) {
-        glm::vec3 c((i & 1) ? clipped.max.x : clipped.min.x, (i & 2) ? clipped.max.y : clipped.min.y,
-                    (i & 4) ? clipped.max.z : clipped.min.z);
+    for (const glm::vec3& c : clipped.corners()) {
         glm::vec3 t = texelOf(w, c);
         EXPECT_GE(t.x, 0.0f);
         EXPECT_LE(t.x, 256.0f);
@@ -276,13 +271,6 @@ Aabb clipped(const Aabb& b, const Aabb& bounds) {
     return box(glm::max(b.min, bounds.min), glm::min(b.max, bounds.max));
 }
 
-std::array<glm::vec3, 8> cornersOf(const Aabb& b) {
-    std::array<glm::vec3, 8> c;
-    for (int i = 0; i < 8; ++i)
-        c[i] = glm::vec3((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z);
-    return c;
-}
-
 // The texel size of a window's layer in closed form: the square holding the box's projection
 // along the sun (its larger side 2r in the light's frame) with (margin + 1) texels on each side,
 // 2 h / n with h = r + (margin + 1) 2 h / n.
@@ -291,7 +279,7 @@ float expectedWindowTexel(const Aabb& b, const glm::vec3& sun, uint32_t n, float
     const glm::vec3 up = std::abs(dir.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1);
     const glm::vec3 right = glm::normalize(glm::cross(dir, up)), v = glm::cross(right, dir);
     float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
-    for (const glm::vec3& c : cornersOf(b)) {
+    for (const glm::vec3& c : b.corners()) {
         const float p[2] = {glm::dot(c, right), glm::dot(c, v)};
         for (int a = 0; a < 2; ++a) {
             lo[a] = std::min(lo[a], p[a]);
@@ -336,7 +324,7 @@ TEST(ShadowCascades, ShadowWindowsFollowTheCascadesAndAreFinerThanTheOwnLayer) {
         }
         EXPECT_FLOAT_EQ(v.axisArea.w, v.texel.x * v.texel.x);
         EXPECT_EQ(v.eye.w, 0.0f) << "orthographic";
-        for (const glm::vec3& c : cornersOf(b)) {
+        for (const glm::vec3& c : b.corners()) {
             glm::vec3 t = texelOf(v, c);
             EXPECT_GE(t.x, req.marginTexels) << "window " << k;
             EXPECT_GE(t.y, req.marginTexels) << "window " << k;
@@ -390,7 +378,7 @@ TEST(ShadowCascades, ShadowWindowDepthCoversTheCastersTowardTheSun) {
     EXPECT_GE(tCaster.z, 0.0f);
     EXPECT_LT(tCaster.z, tTop.z) << "the caster is in front of the receiver";
     float nearest = 1e30f;
-    for (const glm::vec3& c : cornersOf(kWorld)) {
+    for (const glm::vec3& c : kWorld.corners()) {
         const float z = texelOf(v, c).z;
         nearest = std::min(nearest, z);
         EXPECT_GE(z, 0.0f);
@@ -398,7 +386,7 @@ TEST(ShadowCascades, ShadowWindowDepthCoversTheCastersTowardTheSun) {
     EXPECT_LT(nearest, 2e-3f) << "the range starts at the scene's point nearest the sun (plus the pad)";
     // It ends at the box's far side (clipped to the world): no depth is spent beyond it.
     float farthest = -1e30f;
-    for (const glm::vec3& c : cornersOf(clipped(low, kWorld)))
+    for (const glm::vec3& c : clipped(low, kWorld).corners())
         farthest = std::max(farthest, texelOf(v, c).z);
     EXPECT_LE(farthest, 1.0f);
     EXPECT_GT(farthest, 0.998f);

@@ -3,6 +3,7 @@
 // path-traced reference. glTF units and conventions: metres, +Y up, right-handed;
 // lights in KHR_lights_punctual units (cd for point/spot, lux for directional);
 // material emission in nits (cd/m^2), already multiplied by emissiveStrength.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -25,6 +26,13 @@ struct Aabb {
     }
     glm::vec3 centre() const { return 0.5f * (min + max); }
     glm::vec3 extent() const { return max - min; }
+    // Corner i takes max along x, y, z where bit 0, 1, 2 of i is set.
+    std::array<glm::vec3, 8> corners() const {
+        std::array<glm::vec3, 8> c;
+        for (int i = 0; i < 8; ++i)
+            c[i] = glm::vec3((i & 1) ? max.x : min.x, (i & 2) ? max.y : min.y, (i & 4) ? max.z : min.z);
+        return c;
+    }
     bool operator==(const Aabb&) const = default;
 };
 

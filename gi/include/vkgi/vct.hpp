@@ -63,7 +63,7 @@ struct VctSettings {
     // where the march stops at whole conservative voxels and narrows openings by a voxel
     // (docs/vct.md "Visibility"). Graphs without the direct-light passes fall back to the march.
     VctOcclusion occlusion = VctOcclusion::ShadowMap;
-    // Clipmap levels (0..8). 1: one grid fitted to the scene bounds or gridBox. 2..8: camera-centred
+    // Clipmap levels (0..8). 1: one grid fitted to the scene bounds or gridBox. 2..8: camera-following
     // levels of gridResolution^3 voxels each, level l with voxels of `voxel` * 2^l metres, so what
     // the grid resolves does not depend on how far the scene extends (docs/vct.md "Clipmap").
     // Memory grows as levels * gridResolution^3, so a clipmap wants a smaller gridResolution than

@@ -30,9 +30,7 @@ bool sceneDepthRange(const CascadeFrustum& f, const Aabb& bounds, float& near, f
     if (!bounds.valid())
         return false;
     float lo = 1e30f, hi = -1e30f;
-    for (int i = 0; i < 8; ++i) {
-        glm::vec3 c((i & 1) ? bounds.max.x : bounds.min.x, (i & 2) ? bounds.max.y : bounds.min.y,
-                    (i & 4) ? bounds.max.z : bounds.min.z);
+    for (const glm::vec3& c : bounds.corners()) {
         float d = glm::dot(c - f.position, f.forward);
         lo = std::min(lo, d);
         hi = std::max(hi, d);
@@ -103,13 +101,6 @@ gpu::GpuShadowView latticeView(const glm::mat4& view, const glm::vec3& dir, glm:
     return v;
 }
 
-std::array<glm::vec3, 8> aabbCorners(const Aabb& b) {
-    std::array<glm::vec3, 8> c;
-    for (int i = 0; i < 8; ++i)
-        c[i] = glm::vec3((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z);
-    return c;
-}
-
 } // namespace
 
 gpu::GpuShadowView cascadeView(const glm::vec3& lightDir, const Sphere& sphere, const Aabb& bounds, uint32_t resolution,
@@ -129,9 +120,7 @@ gpu::GpuShadowView cascadeView(const glm::vec3& lightDir, const Sphere& sphere, 
     // Depth along the light: from the bounds' nearest point to the light (every caster) to the
     // box's far side or the bounds' far end, whichever is nearer (no receiver beyond).
     float lo = 1e30f, hi = -1e30f;
-    for (int i = 0; i < 8; ++i) {
-        glm::vec3 b((i & 1) ? bounds.max.x : bounds.min.x, (i & 2) ? bounds.max.y : bounds.min.y,
-                    (i & 4) ? bounds.max.z : bounds.min.z);
+    for (const glm::vec3& b : bounds.corners()) {
         float d = glm::dot(b, dir);
         lo = std::min(lo, d);
         hi = std::max(hi, d);
@@ -166,7 +155,7 @@ gpu::GpuShadowView windowView(const glm::vec3& lightDir, const Aabb& box, const 
     // every caster between the box and the light is in front, to the box's far side (no
     // receiver beyond).
     float zNear = -c.z - extent.z, zFar = -c.z + extent.z;
-    for (const glm::vec3& b : aabbCorners(bounds))
+    for (const glm::vec3& b : bounds.corners())
         zNear = std::min(zNear, glm::dot(b, dir));
     if (zFar <= zNear)
         zFar = zNear + half;

@@ -31,19 +31,12 @@ const std::array<glm::vec3, 6> kCubeAxes = {glm::vec3(1, 0, 0),  glm::vec3(-1, 0
 
 glm::vec3 upFor(const glm::vec3& axis) { return lightUpFor(axis); }
 
-std::array<glm::vec3, 8> corners(const Aabb& b) {
-    std::array<glm::vec3, 8> c;
-    for (int i = 0; i < 8; ++i)
-        c[i] = glm::vec3((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z);
-    return c;
-}
-
 // What the light can reach within the scene: the farthest bounds corner, or its range when
 // shorter (beyond it the light contributes nothing). Stored depth is distance / far in a 32-bit
 // float, so its precision is relative to far, not to the scene's size.
 float farDistance(const glm::vec3& eye, const Aabb& b, float range) {
     float far = 0.0f;
-    for (const glm::vec3& c : corners(b))
+    for (const glm::vec3& c : b.corners())
         far = std::max(far, glm::distance(eye, c));
     if (range > 0.0f)
         far = std::min(far, range);
@@ -74,12 +67,12 @@ gpu::GpuShadowView orthoView(const glm::vec3& dir, const Aabb& b, uint32_t n, co
     glm::vec3 eye = b.centre() - dir * (2.0f * reachRadius + glm::distance(b.centre(), reach.centre()));
     glm::mat4 view = glm::lookAtRH(eye, b.centre(), upFor(dir));
     glm::vec3 lo(1e30f), hi(-1e30f);
-    for (const glm::vec3& c : corners(b)) {
+    for (const glm::vec3& c : b.corners()) {
         glm::vec3 v = glm::vec3(view * glm::vec4(c, 1.0f));
         lo = glm::min(lo, v);
         hi = glm::max(hi, v);
     }
-    for (const glm::vec3& c : corners(reach)) {
+    for (const glm::vec3& c : reach.corners()) {
         float z = (view * glm::vec4(c, 1.0f)).z;
         lo.z = std::min(lo.z, z);
         hi.z = std::max(hi.z, z);

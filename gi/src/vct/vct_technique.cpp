@@ -48,10 +48,8 @@ void setStaticDrawBounds(const Scene& scene, const std::vector<Aabb>& meshBounds
         if (draws[i].dynamic || inst.mesh >= meshBounds.size() || !meshBounds[inst.mesh].valid())
             continue;
         const Aabb& b = meshBounds[inst.mesh];
-        for (int c = 0; c < 8; ++c) {
-            glm::vec3 corner((c & 1) ? b.max.x : b.min.x, (c & 2) ? b.max.y : b.min.y, (c & 4) ? b.max.z : b.min.z);
+        for (const glm::vec3& corner : b.corners())
             draws[i].bounds.extend(glm::vec3(inst.transform * glm::vec4(corner, 1.0f)));
-        }
     }
 }
 
