@@ -212,7 +212,8 @@ protected:
 // (docs/vct.md "Voxelization"; a clipmap's world-aligned lattice meets the hall's floor and
 // walls), hall_world measures 0.1422 / 0.2025 against the hall's 0.1571 / 0.2240 (0.91x,
 // 0.90x); with the levels centred ahead of the camera (docs/vct.md "Clipmap") 0.1354 / 0.1903
-// (0.86x, 0.85x). The bar is the issue's upper one; under 64 MiB.
+// (0.86x, 0.85x); with world voxels centred on the lattice 0.1195 / 0.1609 (0.76x, 0.72x). The
+// bar is the issue's upper one; under 64 MiB.
 TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
     VctMeasured hall = measureVct("hall");
     VctMeasured world = measureVct("hall_world");
@@ -226,25 +227,21 @@ TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
     expectBeatsTheBestConstant(world);
 }
 
-// The atrium does not meet the 15% bar: the far half of the atrium is read from the 2 m and 4 m
-// levels (docs/vct.md "Clipmap", where the error comes from, and limits; 64^3 levels match the
-// fitted atrium but exceed the 64 MiB budget). What is asserted is what the changes reach: the indirect error within 1.65x the
-// atrium's (measured 0.2393 against 0.1408, 1.70x, with the 16 m finest level; before the second
-// bounce across levels 0.2927, 1.86x 0.1574; with the clipmap's pre-filtered opacity 0.2386,
-// 1.69x; with one second bounce per side of a thin wall's voxel and the voxel light's march
-// through the fill, 0.2128 against 0.1346, 1.58x; with the shadow map's visibility, each clipmap
-// level reading a sun layer fitted to its box, 0.1775 against 0.1158, 1.53x; with surfaces on
-// voxel faces setting only the voxels behind them, 0.1661, 1.43x; with the levels centred ahead
-// of the camera, 0.1507, 1.30x), under 64 MiB. Both scenes of each pair also beat the best
-// constant at epsilon 0.01 and 1e-3 (issue #15): atrium_world 0.2569 against the constant's
-// 0.2920 at both (0.3110 before the voxelizer's rule for surfaces on voxel faces, which failed
-// it), hall_world 0.1371 against 0.3578 at 1e-3.
+// The atrium does not meet the 15% bar. What is asserted is what the changes reach: the indirect
+// error within 1.25x the fitted atrium's (history, each change against its parent: 1.86x before
+// the second bounce across levels, 1.70x with the 16 m finest level, 1.58x with a second bounce per
+// side of a thin wall's voxel, 1.53x with the shadow map's visibility, 1.43x with surfaces on
+// voxel faces setting the voxels behind them, 1.30x with the levels ahead of the camera, 1.21x
+// (0.1399 against 0.1158) with world voxels centred on the lattice), under 64 MiB. Both scenes of
+// each pair also beat the best constant at epsilon 0.01 and 1e-3 (issue #15): atrium_world 0.2843
+// against the constant's 0.2920 at both; its composite is dominated by a few pixels of the sun's
+// shadow edge on the floor, the same in the fitted atrium.
 // The world itself adds no error: the atrium alone with the clipmap the world gets (forced: 4
 // levels of 32^3 from 0.5 m) is the best that clipmap can do there, and the world is within the
-// issue's 15% of it (measured 0.1507 against 0.1846, 0.82x; at 128^2 in the bench 0.157 against
-// 0.191). What separates the world from the fitted atrium is the clipmap's resolution 11-26 m
-// ahead within the 64 MiB budget (docs/vct.md, Known limits).
-TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorAtMost40PercentAboveTheAtriums) {
+// issue's 15% of it (measured 0.1399 against 0.1552, 0.90x). What separates the world from the
+// fitted atrium is mostly the fitted grid's voxel size, 0.454 m, where VCT happens to do best on
+// the atrium (docs/vct.md "Clipmap", where the error comes from).
+TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorAtMost25PercentAboveTheAtriums) {
     VctMeasured atrium = measureVct("atrium");
     VctMeasured world = measureVct("atrium_world");
     VctSettings sameClipmap;
@@ -256,7 +253,7 @@ TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorAtMost40PercentAboveTheAtriums) 
     EXPECT_EQ(atrium.levels, 1u);
     EXPECT_EQ(world.levels, kVctAutoLevels);
     EXPECT_GT(atrium.relMseIndirect, 0.0);
-    EXPECT_LE(world.relMseIndirect, 1.4 * atrium.relMseIndirect);
+    EXPECT_LE(world.relMseIndirect, 1.25 * atrium.relMseIndirect);
     EXPECT_LE(world.techniqueBytes, kMaxTechniqueBytes);
     expectBeatsTheBestConstant(atrium);
     expectBeatsTheBestConstant(world);

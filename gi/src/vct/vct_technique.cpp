@@ -71,10 +71,12 @@ glm::ivec3 clipAheadBlocks(const Camera& camera, uint32_t n) {
 
 // Min corner (in level voxels of edge `voxel`) of a level of n^3 voxels around `camera`: centred
 // on the camera's position snapped to the level's 2-voxel blocks, then moved clipAheadBlocks
-// ahead. A whole number of blocks, so the level's 2^3 blocks (mip 1) and the next coarser level's
-// voxels cover the same space; the levels stay nested (level l - 1's centre is clipAheadBlocks
-// level-l voxels from level l's, well within the n/4 between their faces); and the corner moves
-// with the position exactly as a centred level's, plus a step when a turn changes the blocks.
+// ahead. A whole number of blocks, so a move shifts whole 2^3 blocks (mip 1); the levels stay
+// nested (level l - 1's centre is clipAheadBlocks level-l voxels from level l's, well within the
+// n/4 between their faces); and the corner moves with the position exactly as a centred level's,
+// plus a step when a turn changes the blocks. Each level's voxels are centred on its own lattice
+// (worldVoxelCorner), so level l's blocks and level l + 1's voxels are half a level-l voxel apart:
+// nothing reads them as the same cells (a cone samples each level at its own coordinates).
 glm::ivec3 clipCell(const Camera& camera, float voxel, uint32_t n) {
     glm::vec3 blocks = glm::floor(camera.position / (2.0f * voxel) + 0.5f);
     return 2 * (glm::ivec3(blocks) + clipAheadBlocks(camera, n)) - glm::ivec3(int(n / 2));
@@ -218,7 +220,7 @@ public:
         for (const ClipLevel& level : m_levels) {
             const float voxel = level.grid->params().originSize.w;
             Aabb box;
-            box.min = glm::vec3(clipCell(frame.camera, voxel, n)) * voxel;
+            box.min = worldVoxelCorner(clipCell(frame.camera, voxel, n), voxel);
             box.max = box.min + voxel * float(n);
             boxes.push_back(box);
         }
@@ -312,7 +314,9 @@ private:
         const glm::ivec3 cell0 = clipCell(frame.camera, m_levels[0].grid->params().originSize.w, n);
         for (uint32_t l = 0; l < m_levels.size(); ++l) {
             const glm::ivec3 cell = clipCell(frame.camera, m_levels[l].grid->params().originSize.w, n);
-            params.level[l] = glm::vec4(glm::vec3(cell * (1 << l) - cell0), float(1u << l));
+            // Level l's corner is worldVoxelCorner(cell, 2^l v): its voxels are centred on their own
+            // lattice, half a level-l voxel against half a finest one.
+            params.level[l] = glm::vec4(glm::vec3(cell * (1 << l) - cell0) - 0.5f * float((1 << l) - 1), float(1u << l));
         }
         // The second bounce of a level gathers through the clipmap volume into the coarser levels,
         // so the levels are lit coarsest first: a level's gathers find the coarser levels' layers

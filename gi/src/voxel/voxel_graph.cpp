@@ -161,8 +161,8 @@ void addVoxelize(rg::RenderGraph& graph, const VoxelGrid& grid, const VoxelScene
                 // The box widened by a voxel (more than the voxelizer's slack and the rounding of
                 // the bounds): a draw outside it has no triangle that could touch the box.
                 const float v = grid.params().originSize.w;
-                const glm::vec3 lo = glm::vec3(grid.cell() + box.lo - 1) * v;
-                const glm::vec3 hi = glm::vec3(grid.cell() + box.hi + 2) * v;
+                const glm::vec3 lo = worldVoxelCorner(grid.cell() + box.lo - 1, v);
+                const glm::vec3 hi = worldVoxelCorner(grid.cell() + box.hi + 2, v);
                 if (glm::any(glm::greaterThan(d.bounds.min, hi)) || glm::any(glm::lessThan(d.bounds.max, lo)))
                     continue;
             }

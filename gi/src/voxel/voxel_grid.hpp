@@ -30,6 +30,17 @@ float chooseRadianceScale(float maxRadiance);
 // voxel from it (the closest a voxel centre gets), I / (voxel/2)^2 / pi, or lux / pi.
 float sceneMaxRadiance(const Scene& scene, float voxelSize);
 
+// World voxels (grids placed by VoxelGrid::setCell): voxel k of edge v spans [(k - 1/2) v,
+// (k + 1/2) v) on each axis, so its centre lies on the lattice k v. Content authored on a metric
+// grid (floors at y = 0, walls at whole metres, 0.3 m slabs at 5.1-5.4 m) then runs through voxel
+// centres, as on a fitted grid (fitVoxelGrid puts the box faces on voxel centres), instead of
+// lying on voxel faces, where a surface's voxel lies wholly on one side of it and a thin slab
+// falls into one voxel with both its faces (docs/vct.md "Clipmap", "Voxel centres on the lattice").
+// The min corner (world position) of the voxel `cell`:
+inline glm::vec3 worldVoxelCorner(glm::ivec3 cell, float voxel) {
+    return (glm::vec3(cell) - 0.5f) * voxel;
+}
+
 // One draw of the GPU scene as the voxelizer sees it (mirrors GpuDraw of vkgi/gpu_scene.hpp).
 struct VoxelDraw {
     uint32_t instance = 0;
@@ -86,7 +97,7 @@ public:
     void setCell(glm::ivec3 cell) {
         m_cell = cell;
         m_worldVoxels = true;
-        m_params.originSize = glm::vec4(glm::vec3(cell) * m_params.originSize.w, m_params.originSize.w);
+        m_params.originSize = glm::vec4(worldVoxelCorner(cell, m_params.originSize.w), m_params.originSize.w);
     }
     glm::ivec3 cell() const { return m_cell; }
     bool worldVoxels() const { return m_worldVoxels; }

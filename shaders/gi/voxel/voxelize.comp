@@ -158,8 +158,8 @@ void main() {
     uint base = pc.draw.y + 3u * tri;
     vec3 p[3];
     vec3 shadingSum = vec3(0.0);
-    // World-voxel positions (clipmap levels) subtract no origin: see VoxelizePush.
-    vec3 origin = pc.info.y != 0u ? vec3(0.0) : pc.grid.originSize.xyz;
+    // World-voxel positions (clipmap levels) subtract no origin but half a voxel: see VoxelizePush.
+    vec3 origin = pc.info.y != 0u ? vec3(-0.5 * pc.grid.originSize.w) : pc.grid.originSize.xyz;
     for (int i = 0; i < 3; ++i) {
         GpuVertex v = vertices[indices[base + uint(i)] + pc.draw.w];
         p[i] = ((inst.model * vec4(v.positionU.xyz, 1.0)).xyz - origin) * pc.grid.scales.x;

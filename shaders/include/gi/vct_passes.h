@@ -235,7 +235,8 @@ GI_CHECK_SIZE(VctShadowPush, 96);
 // (vct_trace_clip.comp, voxel_clip.glsl) read it with these parameters in a uniform block.
 #define GI_VCT_MAX_LEVELS 8u
 GI_GPU_STRUCT(VctClipmapParams) {
-    // Per level: xyz its min corner in finest voxels from level 0's (whole numbers), w 2^l.
+    // Per level: xyz its min corner in finest voxels from level 0's (whole numbers minus
+    // (2^l - 1) / 2: each level's voxels are centred on its own lattice, worldVoxelCorner), w 2^l.
     vec4 level[GI_VCT_MAX_LEVELS];
     uvec4 info; // x level count, y N, z 0, w 0
 };

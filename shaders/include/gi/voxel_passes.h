@@ -15,7 +15,8 @@ GI_CHECK_SIZE(VoxelGridPush, 48);
 
 // voxelize.comp: one dispatch per draw. info.x = 0: one invocation per triangle; info.x = 1:
 // one work group per triangle (and row slice), its invocations sharing the triangle's columns.
-// info.y = 1: positions in world voxels (world position / voxel edge, no origin subtracted), the
+// info.y = 1: positions in world voxels (world position / voxel edge + 1/2, no origin subtracted:
+// world voxel k is centred on k times the edge, worldVoxelCorner in voxel_grid.hpp), the
 // grid's min corner at world voxel `cell`: a clipmap level then makes the same float decisions
 // for a voxel whatever its corner, so content kept across a move equals a fresh voxelization.
 // Only voxels in [boxLo, boxHi] (grid voxels, inclusive) receive contributions: the whole grid,
