@@ -353,6 +353,34 @@ TEST_F(Voxelize, ASurfaceOnAVoxelFaceSetsTheVoxelsBehindIt) {
     EXPECT_EQ(wrong, 0u);
 }
 
+// World voxels (a grid placed by setCell, as a clipmap level): voxel k spans [k - 1/2, k + 1/2)
+// (worldVoxelCorner), so a sheet on the lattice (y = 0, x and z from -3 to 3) runs through voxel
+// centres and sets the one layer k = 0 over x, z in -3..3, and a sheet on a half-integer plane
+// lies on a voxel face and sets the voxel behind it. With faces on the lattice the first sheet
+// set the layer below it and x, z in -3..2 (docs/vct.md "Voxel centres on the lattice").
+TEST_F(Voxelize, WorldVoxelsAreCentredOnTheLattice) {
+    makeGrid(unitGrid(16));
+    m_grid->setCell(glm::ivec3(-8)); // world voxels -8 .. 7 are grid voxels 0 .. 15
+    std::vector<Tri> tris;
+    addQuad(tris, {-3.0f, 0.0f, -3.0f}, {0, 0, 6.0f}, {6.0f, 0, 0}); // facing +y, on the lattice
+    addQuad(tris, {-3.0f, 2.5f, -3.0f}, {6.0f, 0, 0}, {0, 0, 6.0f}); // facing -y, on a voxel face
+    voxelizeGrey(tris, 0.5f);
+    Readback r = read();
+    const uint32_t n = 16;
+    uint32_t wrong = 0;
+    for (uint32_t z = 0; z < n; ++z)
+        for (uint32_t y = 0; y < n; ++y)
+            for (uint32_t x = 0; x < n; ++x) {
+                // world y = 0 is grid 8; the voxel behind the -y sheet at 2.5 is world 3, grid 11
+                bool expected = x >= 5 && x <= 11 && z >= 5 && z <= 11 && (y == 8 || y == 11);
+                bool set = r.albedo[4 * voxelIndex(n, {x, y, z}) + 3] == 255;
+                if (set != expected && ++wrong <= 8)
+                    ADD_FAILURE() << "voxel " << x << "," << y << "," << z << (set ? " set" : " left empty");
+            }
+    EXPECT_EQ(wrong, 0u);
+    EXPECT_EQ(m_grid->params().originSize, glm::vec4(-8.5f, -8.5f, -8.5f, 1.0f));
+}
+
 TEST_F(Voxelize, SliversAndSubVoxelTrianglesAreNotLostButZeroAreaOnesSetNothing) {
     makeGrid(unitGrid(16));
     std::vector<Tri> tris = {
