@@ -80,6 +80,8 @@ void referenceSets(const std::vector<Tri>& tris, uint32_t n, float eps, std::vec
             }
 }
 
+size_t voxelIndex(uint32_t n, glm::uvec3 c) { return (size_t(c.z) * n + c.y) * n + c.x; }
+
 struct Readback {
     std::vector<uint8_t> albedo, normal, emission, accum;
 };
@@ -129,6 +131,21 @@ protected:
         voxelizeAll();
     }
     void updateDynamic() { frame(VoxelUpdate::Dynamic); }
+    // The occupied voxels are exactly those `expected(x, y, z)` names (the first 8 misses reported).
+    template <class Expected>
+    void expectOccupiedExactly(Expected expected) {
+        Readback r = read();
+        const uint32_t n = m_grid->resolution();
+        uint32_t wrong = 0;
+        for (uint32_t z = 0; z < n; ++z)
+            for (uint32_t y = 0; y < n; ++y)
+                for (uint32_t x = 0; x < n; ++x) {
+                    bool set = r.albedo[4 * voxelIndex(n, {x, y, z}) + 3] == 255;
+                    if (set != expected(x, y, z) && ++wrong <= 8)
+                        ADD_FAILURE() << "voxel " << x << "," << y << "," << z << (set ? " set" : " left empty");
+                }
+        EXPECT_EQ(wrong, 0u);
+    }
 
     Readback read() {
         const VoxelVolumes& v = m_grid->volumes();
@@ -167,7 +184,6 @@ protected:
     VoxelSceneBuffers m_scene;
 };
 
-size_t voxelIndex(uint32_t n, glm::uvec3 c) { return (size_t(c.z) * n + c.y) * n + c.x; }
 
 } // namespace
 
@@ -337,20 +353,12 @@ TEST_F(Voxelize, ASurfaceOnAVoxelFaceSetsTheVoxelsBehindIt) {
     addQuad(tris, {2.5f, 10.0f, 2.5f}, {4.0f, 0, 0}, {0, 0, 4.0f}); // facing -y
     addBox(tris, {9.5f, 8.0f, 9.5f}, {12.5f, 12.0f, 12.5f});         // y faces on the lattice
     voxelizeGrey(tris, 0.5f);
-    Readback r = read();
-    const uint32_t n = 16;
-    uint32_t wrong = 0;
-    for (uint32_t z = 0; z < n; ++z)
-        for (uint32_t y = 0; y < n; ++y)
-            for (uint32_t x = 0; x < n; ++x) {
-                bool inSheets = x >= 2 && x <= 6 && z >= 2 && z <= 6 && (y == 4 || y == 10);
-                bool inBox = x >= 9 && x <= 12 && z >= 9 && z <= 12 && y >= 8 && y <= 11 &&
-                             (x == 9 || x == 12 || z == 9 || z == 12 || y == 8 || y == 11);
-                bool set = r.albedo[4 * voxelIndex(n, {x, y, z}) + 3] == 255;
-                if (set != (inSheets || inBox) && ++wrong <= 8)
-                    ADD_FAILURE() << "voxel " << x << "," << y << "," << z << (set ? " set" : " left empty");
-            }
-    EXPECT_EQ(wrong, 0u);
+    expectOccupiedExactly([](uint32_t x, uint32_t y, uint32_t z) {
+        bool inSheets = x >= 2 && x <= 6 && z >= 2 && z <= 6 && (y == 4 || y == 10);
+        bool inBox = x >= 9 && x <= 12 && z >= 9 && z <= 12 && y >= 8 && y <= 11 &&
+                     (x == 9 || x == 12 || z == 9 || z == 12 || y == 8 || y == 11);
+        return inSheets || inBox;
+    });
 }
 
 // World voxels (a grid placed by setCell, as a clipmap level): voxel k spans [k - 1/2, k + 1/2)
@@ -365,19 +373,10 @@ TEST_F(Voxelize, WorldVoxelsAreCentredOnTheLattice) {
     addQuad(tris, {-3.0f, 0.0f, -3.0f}, {0, 0, 6.0f}, {6.0f, 0, 0}); // facing +y, on the lattice
     addQuad(tris, {-3.0f, 2.5f, -3.0f}, {6.0f, 0, 0}, {0, 0, 6.0f}); // facing -y, on a voxel face
     voxelizeGrey(tris, 0.5f);
-    Readback r = read();
-    const uint32_t n = 16;
-    uint32_t wrong = 0;
-    for (uint32_t z = 0; z < n; ++z)
-        for (uint32_t y = 0; y < n; ++y)
-            for (uint32_t x = 0; x < n; ++x) {
-                // world y = 0 is grid 8; the voxel behind the -y sheet at 2.5 is world 3, grid 11
-                bool expected = x >= 5 && x <= 11 && z >= 5 && z <= 11 && (y == 8 || y == 11);
-                bool set = r.albedo[4 * voxelIndex(n, {x, y, z}) + 3] == 255;
-                if (set != expected && ++wrong <= 8)
-                    ADD_FAILURE() << "voxel " << x << "," << y << "," << z << (set ? " set" : " left empty");
-            }
-    EXPECT_EQ(wrong, 0u);
+    // World y = 0 is grid 8; the voxel behind the -y sheet at 2.5 is world 3, grid 11.
+    expectOccupiedExactly([](uint32_t x, uint32_t y, uint32_t z) {
+        return x >= 5 && x <= 11 && z >= 5 && z <= 11 && (y == 8 || y == 11);
+    });
     EXPECT_EQ(m_grid->params().originSize, glm::vec4(-8.5f, -8.5f, -8.5f, 1.0f));
 }
 
