@@ -316,7 +316,8 @@ private:
             const glm::ivec3 cell = clipCell(frame.camera, m_levels[l].grid->params().originSize.w, n);
             // Level l's corner is worldVoxelCorner(cell, 2^l v): its voxels are centred on their own
             // lattice, half a level-l voxel against half a finest one.
-            params.level[l] = glm::vec4(glm::vec3(cell * (1 << l) - cell0) - 0.5f * float((1 << l) - 1), float(1u << l));
+            const glm::vec3 corner = glm::vec3(cell * (1 << l) - cell0) - 0.5f * float((1 << l) - 1);
+            params.level[l] = glm::vec4(corner, float(1u << l));
         }
         // The second bounce of a level gathers through the clipmap volume into the coarser levels,
         // so the levels are lit coarsest first: a level's gathers find the coarser levels' layers
