@@ -235,7 +235,7 @@ TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
 // (0.1399 against 0.1158) with world voxels centred on the lattice), under 64 MiB. Both scenes of
 // each pair also beat the best constant at epsilon 0.01 and 1e-3 (issue #15): atrium_world 0.2843
 // against the constant's 0.2920 at both; its composite is dominated by a few pixels of the sun's
-// shadow edge on the floor, the same in the fitted atrium.
+// shadow edge on the floor, the same before world voxels were centred.
 // The world itself adds no error: the atrium alone with the clipmap the world gets (forced: 4
 // levels of 32^3 from 0.5 m) is the best that clipmap can do there, and the world is within the
 // issue's 15% of it (measured 0.1399 against 0.1552, 0.90x). What separates the world from the
