@@ -141,7 +141,9 @@ std::vector<Knob> makeKnobs() {
                  [](GiSettings& s) -> uint32_t& { return s.vct.gridResolution; }),
         uintKnob("vct.cones", 1, 32, vct, "diffuse cones per pixel and per voxel (bounce)",
                  [](GiSettings& s) -> uint32_t& { return s.vct.diffuseCones; }),
-        floatKnob("vct.aperture", 0.01, 1.4, vct, "diffuse cone half-angle, radians",
+        floatKnob("vct.aperture", 0.01, kVctMaxDiffuseAperture, vct,
+                  "diffuse cone half-angle, radians (the level cap makes every half-angle from atan(1/3) on "
+                  "read the same texels, and narrows cones off the normal further)",
                   [](GiSettings& s) -> float& { return s.vct.diffuseAperture; }),
         floatKnob("vct.step", 0.05, 4, vct, "cone step in cone diameters",
                   [](GiSettings& s) -> float& { return s.vct.stepFactor; }),

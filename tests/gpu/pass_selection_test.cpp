@@ -529,7 +529,7 @@ TEST_F(PassSelectionTest, SettingsChangesRebuildOnlyWhatDependsOnThem) {
     expectFresh(atlas, settings, "shadow map size");
 
     // A VCT knob rebuilds the technique (new volumes: voxelized again), nothing else.
-    settings.vct.diffuseAperture = 0.4f;
+    settings.vct.diffuseAperture = 0.25f;
     ASSERT_TRUE(sys->setSettings(settings));
     FrameResult cones = frame(*sys, *scene);
     EXPECT_TRUE(ran(cones, "gi.voxel.voxelize"));

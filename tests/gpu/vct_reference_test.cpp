@@ -270,6 +270,37 @@ TEST_F(VctReference, NoConfigurationAddsEnergy) {
     std::printf("mean indirect over the path tracer's: %.3f - %.3f\n", lo, hi);
 }
 
+// The level cap sets the diffuse cones' width (docs/vct.md "Cones"): a sample at t may read
+// texels at most rise * t / 1.5 wide, and a cone of half-angle a is 2 t tan(a) wide, so from
+// tan(a) = 1/3 on every half-angle reads the same texels. The default (the widest accepted,
+// 21/64 rad) and atan(1/3) give the same image bit for bit (the former default, 30 degrees,
+// did too); a narrower cone than the cap allows reads finer texels and changes the image.
+TEST_F(VctReference, TheLevelCapSetsTheConesWidth) {
+    auto scene = makeBuiltinScene("cornell");
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    auto composite = [&](float aperture) {
+        GiSettings settings;
+        settings.technique = Technique::Vct;
+        settings.vct.gridResolution = 32;
+        settings.vct.lowResFactor = 2; // 64^2 test images: the default 4 would trace 16^2 (docs/vct.md)
+        settings.vct.diffuseAperture = aperture;
+        auto frame = test::renderOnce(ctx(), settings, *scene, scene->cameraOrDefault(), kSize, kSize, {});
+        EXPECT_TRUE(frame.ok()) << frame.error().message;
+        return frame.ok() ? frame->composite : HdrImage{};
+    };
+    const HdrImage widest = composite(VctSettings{}.diffuseAperture);
+    const HdrImage cap = composite(std::atan(1.0f / 3.0f));
+    const HdrImage narrow = composite(0.15f);
+    ASSERT_FALSE(widest.empty());
+    EXPECT_EQ(VctSettings{}.diffuseAperture, kVctMaxDiffuseAperture);
+    EXPECT_TRUE(widest.pixels == cap.pixels);
+    ASSERT_EQ(narrow.pixels.size(), widest.pixels.size());
+    auto diff = compareImages(narrow, widest);
+    ASSERT_TRUE(diff.ok());
+    std::printf("cone width: 0.15 rad against the default, relMSE %.4f\n", diff->relMse);
+    EXPECT_GT(diff->relMse, 1e-4);
+}
+
 // Full-resolution cones (lowResFactor 1) against half resolution (2) on the spot-lit
 // box (256-sample reference): the upsample with its discontinuity refine adds at most 10% to
 // the error (measured: full 0.0619 at half vs 0.0703 at full resolution, indirect 0.0875 vs

@@ -32,6 +32,8 @@ TEST(VctSettings, BadValuesAreReadableErrors) {
     s = {};
     s.diffuseAperture = std::numeric_limits<float>::quiet_NaN();
     expectError(s, "diffuseAperture");
+    s.diffuseAperture = 0.5236f; // 30 degrees: the level cap would make it read what 18.4 degrees reads
+    expectError(s, "diffuseAperture 0.523");
     s = {};
     s.stepFactor = 0.0f;
     expectError(s, "stepFactor");

@@ -28,14 +28,24 @@ enum class VctPrefilter : uint32_t {
     On = 2,
 };
 
+// Widest diffuse cone half-angle (radians). A sample at distance t along a cone whose direction
+// makes cos = rise with the surface normal reads texels at most rise * t / 1.5 wide, or their
+// filter would reach the surface the cone starts from (the level cap, docs/vct.md "Cones"). A
+// cone of half-angle a is 2 t tan(a) wide there, so every half-angle from atan(1/3) = 0.3218
+// (18.4 degrees) on reads the same texels: the cap sets the width, not the angle. 21/64 is just
+// above atan(1/3) and exact in a float and in text (the knob prints and parses it).
+inline constexpr float kVctMaxDiffuseAperture = 0.328125f;
+
 struct VctSettings {
     // Voxels per axis, a power of two in [16, 256].
     uint32_t gridResolution = 64;
     // Grid box; empty = fitted to the scene bounds (cubic voxels, half a voxel of margin).
     std::optional<Aabb> gridBox;
-    // Diffuse cones per pixel over the normal hemisphere (1..32) and their half-angle (radians).
+    // Diffuse cones per pixel over the normal hemisphere (1..32) and their half-angle (radians,
+    // at most kVctMaxDiffuseAperture; the level cap narrows cones off the normal further, to
+    // atan(rise / 3)).
     uint32_t diffuseCones = 6;
-    float diffuseAperture = 0.5236f;
+    float diffuseAperture = kVctMaxDiffuseAperture;
     // Distance between cone samples in units of the current cone diameter (0 < f <= 4).
     float stepFactor = 1.0f;
     // Light bounces carried by the voxels: 1 = direct light only, 2 = plus a per-voxel gather,

@@ -22,9 +22,11 @@ Result<void> validateVctSettings(const VctSettings& s) {
                          " must be a power of two in [16, 256]");
     if (s.diffuseCones == 0 || s.diffuseCones > 32)
         return makeError("vct: diffuseCones " + std::to_string(s.diffuseCones) + " must be in [1, 32]");
-    // Half-angles up to 80 degrees: beyond that a cone no longer has a useful axis.
-    if (!std::isfinite(s.diffuseAperture) || s.diffuseAperture <= 0.0f || s.diffuseAperture > 1.4f)
-        return makeError("vct: diffuseAperture must be a finite half-angle in (0, 1.4] radians");
+    // Wider half-angles would read exactly the texels kVctMaxDiffuseAperture reads (the level cap).
+    if (!std::isfinite(s.diffuseAperture) || s.diffuseAperture <= 0.0f || s.diffuseAperture > kVctMaxDiffuseAperture)
+        return makeError("vct: diffuseAperture " + std::to_string(s.diffuseAperture) +
+                         " must be a finite half-angle in (0, 0.328125] radians: the level cap keeps a wider "
+                         "cone to the texels atan(1/3) reads");
     if (!std::isfinite(s.stepFactor) || s.stepFactor <= 0.0f || s.stepFactor > 4.0f)
         return makeError("vct: stepFactor must be finite and in (0, 4]");
     if (s.lowResFactor != 1 && s.lowResFactor != 2 && s.lowResFactor != 4)
