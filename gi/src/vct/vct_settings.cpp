@@ -25,8 +25,8 @@ Result<void> validateVctSettings(const VctSettings& s) {
     // Wider half-angles would read exactly the texels kVctMaxDiffuseAperture reads (the level cap).
     if (!std::isfinite(s.diffuseAperture) || s.diffuseAperture <= 0.0f || s.diffuseAperture > kVctMaxDiffuseAperture)
         return makeError("vct: diffuseAperture " + std::to_string(s.diffuseAperture) +
-                         " must be a finite half-angle in (0, 0.328125] radians: the level cap keeps a wider "
-                         "cone to the texels atan(1/3) reads");
+                         " must be a finite half-angle in (0, " + std::to_string(kVctMaxDiffuseAperture) +
+                         "] radians: the level cap keeps a wider cone to the texels atan(1/3) reads");
     if (!std::isfinite(s.stepFactor) || s.stepFactor <= 0.0f || s.stepFactor > 4.0f)
         return makeError("vct: stepFactor must be finite and in (0, 4]");
     if (s.lowResFactor != 1 && s.lowResFactor != 2 && s.lowResFactor != 4)
