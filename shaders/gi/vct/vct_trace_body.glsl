@@ -74,37 +74,42 @@ void main() {
     vec3 normal = normalize(nr.xyz);
     // Rotated cone sets (docs/vct.md "Rotated cone sets"): with the filter on, the diffuse cones
     // turn about the normal, by one of 4 angles (k + 1/2) pi/2 in a 2 x 2 pattern of low-res
-    // texels in the low-res trace, and by 0 or pi in a checkerboard of pixels where pixels are
-    // traced at full resolution (f = 1, the refine). Each pixel's set is still a whole estimate;
-    // the filter's window averages the pattern, so the light no longer follows tangentFrame's
+    // texels in the low-res trace, and by 0 or pi in a checkerboard of pixels where every pixel
+    // is traced at full resolution (f = 1). Each pixel's set is still a whole estimate; the
+    // filter's window averages the pattern, so the light no longer follows tangentFrame's
     // azimuth, which whirls around n = +-z: a curved surface facing a camera that looks along -z
-    // showed a bright blotch there. Refined pixels take 2 angles because they lie mostly along
-    // edges, where the window is cut short and 4 left more of the pattern (docs/vct.md).
+    // showed a bright blotch there. Refined pixels lie mostly along edges and silhouettes, where
+    // the window is cut short and cannot average a pattern: each traces both sets, at 0 and pi.
+    bool rotate = (pc.cones.info.y & GI_VCT_FLAG_ROTATE) != 0u;
     float turn = 0.0;
-    if ((pc.cones.info.y & GI_VCT_FLAG_ROTATE) != 0u) {
-#ifdef GI_VCT_REFINE
-        ivec2 cell = px & 1;
-        bool lowTrace = false;
-#else
+#ifndef GI_VCT_REFINE
+    if (rotate) {
         bool lowTrace = pc.lowRes.x > 1u;
         ivec2 cell = (lowTrace ? dst : px) & 1;
-#endif
         turn = lowTrace ? 1.57079633 * (float((cell.x * 2) ^ (cell.y * 3)) + 0.5) // opposite turns side by side
                         : 3.14159265 * float((cell.x + cell.y) & 1);
     }
+#endif
 #ifdef GI_VCT_CLIPMAP
     // In finest voxels from level 0's corner (pc.grid is level 0), lifted one voxel of the
     // coarsest level the first samples read.
     vec3 u = (position.xyz - pc.grid.originSize.xyz) * pc.grid.scales.x;
     float start = clipLift(u);
     vec3 p = u + start * normal;
-    float occlusion;
-    vec3 diffuse = diffuseGatherClip(p, normal, pc.cones, start, turn, occlusion);
+#define VCT_DIFFUSE_GATHER(TURN, OCCLUSION) diffuseGatherClip(p, normal, pc.cones, start, TURN, OCCLUSION)
 #else
     float n = float(pc.grid.dims.x);
     vec3 p = (position.xyz - pc.grid.originSize.xyz) * pc.grid.scales.x + normal;
+#define VCT_DIFFUSE_GATHER(TURN, OCCLUSION) diffuseGather(p, normal, pc.cones, n, TURN, OCCLUSION)
+#endif
     float occlusion;
-    vec3 diffuse = diffuseGather(p, normal, pc.cones, n, turn, occlusion);
+    vec3 diffuse = VCT_DIFFUSE_GATHER(turn, occlusion);
+#ifdef GI_VCT_REFINE
+    if (rotate) {
+        float opposite;
+        diffuse = 0.5 * (diffuse + VCT_DIFFUSE_GATHER(3.14159265, opposite));
+        occlusion = 0.5 * (occlusion + opposite);
+    }
 #endif
     vec3 glossy = vec3(0.0);
     if ((pc.cones.info.y & GI_VCT_FLAG_GLOSSY) != 0u) {
