@@ -262,7 +262,7 @@ protected:
 // epsilons) does not rise (the measured values: the commits that added the test and the rotated
 // cone sets). The filter averages the rotated cone sets (docs/vct.md "Rotated cone sets"): at the
 // default settings (f = 4) the HF ratio is within issue #15's 1.5x. At f = 2, the resolution the
-// other tests use at 64^2, it stays above 1.5 (1.62 measured, bound 1.65): what remains lies
+// other tests use at 64^2, it stays above 1.5 (1.61 measured, bound 1.65): what remains lies
 // along the silhouettes and contact edges, where VCT's indirect light steps from one surface to
 // the next by more than the path tracer's (an error of the light's level on either side), and
 // the filter never crosses an edge (docs/vct.md "Filter", "Known limits").
