@@ -184,7 +184,6 @@ protected:
     VoxelSceneBuffers m_scene;
 };
 
-
 } // namespace
 
 TEST_F(Voxelize, BigTriangleSetsExactlyTheTouchedVoxels) {
