@@ -243,8 +243,9 @@ TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
 // The world itself adds no error: the atrium alone with the clipmap the world gets (forced: 4
 // levels of 32^3 from 0.5 m) is the best that clipmap can do there, and the world is within the
 // issue's 15% of it (measured 0.1176 against 0.1348, 0.87x). What separates the world from the
-// fitted atrium is mostly the fitted grid's voxel size, 0.454 m, where VCT happens to do best on
-// the atrium (docs/vct.md "Clipmap", where the error comes from).
+// fitted atrium is the fitted grid's voxel size, 0.454 m, and where its blocks fall: a clipmap
+// level on the fitted grid's voxels and blocks gives the fitted image, and the same level moved
+// by one voxel along x 1.44x its error (docs/vct.md "Known limits", "Coarse levels in the world").
 TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorAtMost25PercentAboveTheAtriums) {
     VctMeasured atrium = measureVct("atrium");
     VctMeasured world = measureVct("atrium_world");
