@@ -214,7 +214,9 @@ protected:
 // 0.90x); with the levels centred ahead of the camera (docs/vct.md "Clipmap") 0.1354 / 0.1903
 // (0.86x, 0.85x); with world voxels centred on the lattice 0.1195 / 0.1609 (0.76x, 0.72x); with
 // refined pixels tracing both turned cone sets 0.1180 / 0.1575 against the hall's 0.1494 /
-// 0.2141 (0.79x, 0.74x). The bar is the issue's upper one; under 64 MiB.
+// 0.2141 (0.79x, 0.74x); with the skipped segments tested (docs/vct.md "The skipped segment")
+// 0.1183 / 0.1608 against 0.1470 / 0.2119 (0.80x, 0.76x). The bar is the issue's upper one;
+// under 64 MiB.
 TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
     VctMeasured hall = measureVct("hall");
     VctMeasured world = measureVct("hall_world");
@@ -228,25 +230,27 @@ TEST_F(LargeWorldVct, ClipmapKeepsTheHallsErrorInA400mWorld) {
     expectBeatsTheBestConstant(world);
 }
 
-// The atrium does not meet the 15% bar. What is asserted is what the changes reach: the indirect
-// error within 1.25x the fitted atrium's (history, each change against its parent: 1.86x before
-// the second bounce across levels, 1.70x with the 16 m finest level, 1.58x with a second bounce per
-// side of a thin wall's voxel, 1.53x with the shadow map's visibility, 1.43x with surfaces on
-// voxel faces setting the voxels behind them, 1.30x with the levels ahead of the camera, 1.21x
-// (0.1399 against 0.1158) with world voxels centred on the lattice, 1.11x (0.1176 against
-// 0.1056) with refined pixels tracing both turned cone sets), under 64 MiB. At 128^2 that change
-// lowered the world's error less than the atrium's: the bench measures 1.27x there (0.1128
-// against 0.0891, from 1.22x), so the 15% is not reached and the bar stays. Both scenes of each
-// pair also beat the best constant at epsilon 0.01 and 1e-3 (issue #15): atrium_world 0.2653
-// against the constant's 0.2920 at both; its composite is dominated by a few pixels of the sun's
-// shadow edge on the floor, the same before world voxels were centred.
+// The atrium in the 400 m world: the indirect error within the issue's 15% of the fitted atrium's,
+// under 64 MiB. History (each change against its parent): 1.86x before the second bounce across
+// levels, 1.70x with the 16 m finest level, 1.58x with a second bounce per side of a thin wall's
+// voxel, 1.53x with the shadow map's visibility, 1.43x with surfaces on voxel faces setting the
+// voxels behind them, 1.30x with the levels ahead of the camera, 1.21x with world voxels centred
+// on the lattice, 1.11x (0.1176 against 0.1056) with refined pixels tracing both turned cone sets
+// (1.27x at 128^2 in the bench), 1.08x (0.1043 against 0.0963) with the skipped segments tested
+// (docs/vct.md "The skipped segment"; 1.07x at 128^2). What the last change fixed: the cones of
+// the piers' pixels behind the banners (0.3 m in front of them) started beyond the banners and
+// read the sunlit courtyard; at 128^2 about 14 such pixels made half of the world's excess.
+// Both scenes of each pair also beat the best constant at epsilon 0.01 and 1e-3 (issue #15):
+// atrium_world 0.2539 against the constant's 0.2920 at both; its composite is dominated by a few
+// pixels of the sun's shadow edge on the floor.
 // The world itself adds no error: the atrium alone with the clipmap the world gets (forced: 4
 // levels of 32^3 from 0.5 m) is the best that clipmap can do there, and the world is within the
-// issue's 15% of it (measured 0.1176 against 0.1348, 0.87x). What separates the world from the
-// fitted atrium is the fitted grid's voxel size, 0.454 m, and where its blocks fall: a clipmap
-// level on the fitted grid's voxels and blocks gives the fitted image, and the same level moved
-// by one voxel along x 1.44x its error (docs/vct.md "Known limits", "Coarse levels in the world").
-TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorAtMost25PercentAboveTheAtriums) {
+// issue's 15% of it (measured 0.1043 against 0.1243, 0.84x). What remains between the world and
+// the fitted atrium is the fitted grid's voxel size, 0.454 m, and where its blocks fall: a
+// clipmap level on the fitted grid's voxels and blocks gives the fitted image, and the same level
+// moved by one voxel along x 1.44x its error (docs/vct.md "Known limits", "Coarse levels in the
+// world").
+TEST_F(LargeWorldVct, ClipmapKeepsTheAtriumsIndirectErrorInA400mWorld) {
     VctMeasured atrium = measureVct("atrium");
     VctMeasured world = measureVct("atrium_world");
     VctSettings sameClipmap;
@@ -258,7 +262,7 @@ TEST_F(LargeWorldVct, ClipmapAtriumIndirectErrorAtMost25PercentAboveTheAtriums) 
     EXPECT_EQ(atrium.levels, 1u);
     EXPECT_EQ(world.levels, kVctAutoLevels);
     EXPECT_GT(atrium.relMseIndirect, 0.0);
-    EXPECT_LE(world.relMseIndirect, 1.25 * atrium.relMseIndirect);
+    EXPECT_LE(world.relMseIndirect, 1.15 * atrium.relMseIndirect) << "the issue's bar";
     EXPECT_LE(world.techniqueBytes, kMaxTechniqueBytes);
     expectBeatsTheBestConstant(atrium);
     expectBeatsTheBestConstant(world);

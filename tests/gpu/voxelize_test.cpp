@@ -197,9 +197,11 @@ TEST_F(Voxelize, BigTriangleSetsExactlyTheTouchedVoxels) {
     EXPECT_GE(float(occupied), area / std::sqrt(2.0f));
 }
 
-// dims.z = 1 (the camera-centred shared grid, VPL's visibility march): the emission volume's
-// alpha holds the half-voxel bits, bit i + 2 j + 4 k for the half-size box (i, j, k) a triangle
-// touches, against the clipping reference on the half boxes; without it the alpha stays 0.
+// dims.z = 1 (VCT's grids, the camera-centred shared grid of VPL's visibility march): the normal
+// volume's alpha holds the half-voxel bits over 255, bit i + 2 j + 4 k for the half-size box
+// (i, j, k) a triangle touches, against the clipping reference on the half boxes; without it the
+// alpha is the occupancy, 1. With the fill (dims.w = 1) as well, the bits and the fill are the
+// ones each flag gives alone (they share the accumulation record: word 0 and words 13..15).
 TEST_F(Voxelize, HalfVoxelBitsAreExactlyTheTouchedHalves) {
     gpu::VoxelGridParams params = unitGrid(16);
     params.dims.z = 1;
@@ -212,7 +214,6 @@ TEST_F(Voxelize, HalfVoxelBitsAreExactlyTheTouchedHalves) {
                              {{9.3f, 1.1f, 2.1f}, {9.3f, 11.2f, 13.9f}, {9.3f, 1.1f, 13.9f}}};
     voxelizeGrey(tris, 0.5f);
     Readback r = read();
-    const auto* e = reinterpret_cast<const uint16_t*>(r.emission.data());
     const uint32_t n = 16;
     // Rounding decides only within eps of contact: such halves (the triangle's plane passes within
     // 1e-4 of a half box: 2 of the 32768 here) may go either way.
@@ -222,9 +223,7 @@ TEST_F(Voxelize, HalfVoxelBitsAreExactlyTheTouchedHalves) {
         for (uint32_t y = 0; y < n; ++y)
             for (uint32_t x = 0; x < n; ++x) {
                 const size_t i = voxelIndex(n, {x, y, z});
-                const float a = halfToFloat(e[4 * i + 3]);
-                const uint32_t bits = uint32_t(a);
-                ASSERT_EQ(float(bits), a);
+                const uint32_t bits = r.normal[4 * i + 3];
                 EXPECT_EQ(bits != 0, r.albedo[4 * i + 3] == 255) << "bits exactly where the voxel is occupied";
                 for (uint32_t b = 0; b < 8; ++b) {
                     const glm::vec3 lo = glm::vec3(x, y, z) + 0.5f * glm::vec3(b & 1, (b >> 1) & 1, (b >> 2) & 1);
@@ -251,7 +250,7 @@ TEST_F(Voxelize, HalfVoxelBitsAreExactlyTheTouchedHalves) {
             if (triangleTouchesBox(tris[0], lo - eps, lo + 1.0f + eps))
                 continue;
             ++wallOnly;
-            EXPECT_EQ(uint32_t(halfToFloat(e[4 * voxelIndex(n, {9, y, z}) + 3])), y == 5 ? 0x55u : 0x11u)
+            EXPECT_EQ(uint32_t(r.normal[4 * voxelIndex(n, {9, y, z}) + 3]), y == 5 ? 0x55u : 0x11u)
                 << "y " << y << " z " << z;
         }
     EXPECT_GT(wallOnly, 10u);
@@ -259,13 +258,33 @@ TEST_F(Voxelize, HalfVoxelBitsAreExactlyTheTouchedHalves) {
     EXPECT_GT(partial, 0u);
     std::printf("[voxelize] half-voxel bits: %u halves set, %u voxels partly occupied\n", halves, partial);
 
-    // Without dims.z the alpha stays 0.
+    // Without dims.z the alpha is the occupancy, and the emission's alpha stays 0.
     makeGrid(unitGrid(16));
-    voxelizeAll();
+    voxelizeGrey(tris, 0.5f);
     Readback plain = read();
     const auto* pe = reinterpret_cast<const uint16_t*>(plain.emission.data());
-    for (size_t i = 0; i < size_t(n) * n * n; ++i)
+    for (size_t i = 0; i < size_t(n) * n * n; ++i) {
+        ASSERT_EQ(plain.normal[4 * i + 3], plain.albedo[4 * i + 3]);
         ASSERT_EQ(pe[4 * i + 3], 0u);
+    }
+    // With the fill too: the same bits, and the fill a grid with the fill alone stores.
+    gpu::VoxelGridParams filled = unitGrid(16);
+    filled.dims.w = 1;
+    makeGrid(filled);
+    voxelizeGrey(tris, 0.5f);
+    Readback fillOnly = read();
+    filled.dims.z = 1;
+    makeGrid(filled);
+    voxelizeGrey(tris, 0.5f);
+    Readback both = read();
+    uint32_t filledVoxels = 0;
+    for (size_t i = 0; i < size_t(n) * n * n; ++i) {
+        ASSERT_EQ(both.normal[4 * i + 3], r.normal[4 * i + 3]) << i;
+        ASSERT_EQ(both.emission[8 * i + 6], fillOnly.emission[8 * i + 6]) << i;
+        ASSERT_EQ(both.emission[8 * i + 7], fillOnly.emission[8 * i + 7]) << i;
+        filledVoxels += fillOnly.emission[8 * i + 6] != 0 || fillOnly.emission[8 * i + 7] != 0;
+    }
+    EXPECT_GT(filledVoxels, 100u);
 }
 
 namespace {

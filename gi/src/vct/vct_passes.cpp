@@ -391,10 +391,11 @@ rg::ImageHandle addBouncePasses(rg::RenderGraph& graph, VctVolumes& volumes, con
 }
 
 // The per-pixel passes ("gi.vct.trace" and, at low resolution, the upsample and refine) through
-// out.directional.
+// out.directional; `occupancy` is the grid's (clipmap: level 0's) normal volume, whose half-voxel
+// bits the skipped segments read.
 VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, VctOutputs out,
                           const VctSettings& settings, const VctGBufferHandles& g, bool glossyImage,
-                          const VctClipmapHandles* clip = nullptr);
+                          rg::ImageHandle occupancy, const VctClipmapHandles* clip = nullptr);
 
 // "gi.vct.shadow": direct light with cone-traced visibility through out.directional into out.direct.
 // Only with VctSettings::softShadows and a G-buffer with emission.
@@ -427,9 +428,9 @@ VctOutputs addSoftShadowPass(rg::RenderGraph& graph, const VctVolumes& volumes, 
 // The passes every frame runs after the voxel light and mips: soft shadows and the trace.
 VctOutputs addPixelPasses(rg::RenderGraph& graph, const VctVolumes& volumes, VctOutputs out,
                           const VctSettings& settings, const VctGBufferHandles* gbuffer, rg::BufferHandle lights,
-                          uint32_t lightCount, bool glossyImage) {
+                          uint32_t lightCount, bool glossyImage, rg::ImageHandle occupancy) {
     out = addSoftShadowPass(graph, volumes, out, settings, gbuffer, lights, lightCount);
-    return gbuffer ? addTracePasses(graph, volumes, out, settings, *gbuffer, glossyImage) : out;
+    return gbuffer ? addTracePasses(graph, volumes, out, settings, *gbuffer, glossyImage, occupancy) : out;
 }
 
 } // namespace
@@ -441,7 +442,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     rg::BufferHandle list = graph.importBuffer("gi.vct.voxel_list", volumes.listState());
     out.directional = graph.importImage("gi.vct.directional", volumes.directionalState());
     if (!options.relight) // nothing the voxel light depends on changed: the kept volume and mips
-        return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage);
+        return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage, grid.normal);
     // The axes whose level-0 views each voxel last stored (gi/vct_passes.h): the voxel light
     // zeroes those its faces no longer cover, gi.vct.list.stale those of emptied voxels.
     rg::ImageHandle written = graph.importImage("gi.vct.written", volumes.writtenState());
@@ -502,7 +503,7 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
         }
     }
     volumes.setBounceKnown(options.saveLit && settings.bounces >= 2);
-    return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage);
+    return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage, grid.normal);
 }
 
 rg::BufferHandle addClipmapParamsPass(rg::RenderGraph& graph, const gpu::VctClipmapParams& params) {
@@ -581,14 +582,14 @@ VctOutputs addVctClipmapTracePasses(rg::RenderGraph& graph, const VctVolumes& le
                                     const VctSettings& settings, const VctGBufferHandles& gbuffer, bool glossyImage) {
     VctOutputs out;
     out.directional = clip.volume;
-    return addTracePasses(graph, level0, out, settings, gbuffer, glossyImage, &clip);
+    return addTracePasses(graph, level0, out, settings, gbuffer, glossyImage, clip.occupancy[0], &clip);
 }
 
 namespace {
 
 VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, VctOutputs out,
                           const VctSettings& settings, const VctGBufferHandles& g, bool glossyImage,
-                          const VctClipmapHandles* clip) {
+                          rg::ImageHandle occupancy, const VctClipmapHandles* clip) {
     const VctVolumes::Pipelines& p = volumes.pipelines();
     const Pipeline& tracePipeline = clip ? p.traceClip : p.trace;
     const Pipeline& refinePipeline = clip ? p.traceRefineClip : p.traceRefine;
@@ -628,9 +629,10 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, Vct
         .read(VCT_TRACE_BINDING_ALBEDO, g.albedo)
         .overwrite(VCT_TRACE_BINDING_INDIRECT, indirect)
         .overwrite(VCT_TRACE_BINDING_GLOSSY, glossy)
-        .write(VCT_TRACE_BINDING_REFINE_LIST, refineList);
+        .write(VCT_TRACE_BINDING_REFINE_LIST, refineList)
+        .read(VCT_TRACE_BINDING_OCCUPANCY, occupancy);
     if (clip)
-        trace.read(VCT_TRACE_BINDING_CLIPMAP, clip->params);
+        trace.read(VCT_TRACE_BINDING_CLIPMAP, clip->params).read(VCT_TRACE_BINDING_OCCUPANCY_COARSE, clip->occupancy[1]);
     trace.dispatch({push.lowRes.y, push.lowRes.z, 1u});
     if (f == 1) {
         out.indirect = filter ? addVctFilterPasses(graph, p.filter, g, indirect, glossy, 1u, settings.filter)
@@ -664,9 +666,10 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, Vct
         .read(VCT_TRACE_BINDING_ALBEDO, g.albedo)
         .write(VCT_TRACE_BINDING_INDIRECT, out.indirect)
         .write(VCT_TRACE_BINDING_GLOSSY, out.glossy)
-        .read(VCT_TRACE_BINDING_REFINE_LIST, refineList);
+        .read(VCT_TRACE_BINDING_REFINE_LIST, refineList)
+        .read(VCT_TRACE_BINDING_OCCUPANCY, occupancy);
     if (clip)
-        refine.read(VCT_TRACE_BINDING_CLIPMAP, clip->params);
+        refine.read(VCT_TRACE_BINDING_CLIPMAP, clip->params).read(VCT_TRACE_BINDING_OCCUPANCY_COARSE, clip->occupancy[1]);
     refine.dispatchIndirect(refineList, sizeof(uint32_t));
     if (filter) // at full resolution, so that the refined pixels are filtered too
         out.indirect = addVctFilterPasses(graph, p.filter, g, out.indirect, out.glossy, 1u, settings.filter);

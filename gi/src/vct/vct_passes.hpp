@@ -89,6 +89,9 @@ rg::ImageHandle addVctFilterPasses(rg::RenderGraph& graph, const Pipeline& pipel
 struct VctClipmapHandles {
     rg::ImageHandle volume;  // RGBA16F 2D array, N x N, GI_VCT_DIRECTIONS N levels layers, the directional mips
     rg::BufferHandle params; // VctClipmapParams (uniform)
+    // Levels 0 and 1's normal volumes, whose alpha holds the half-voxel bits (gi/voxel_grid.h) the
+    // trace's skipped segments read (vct_trace_body.glsl).
+    rg::ImageHandle occupancy[2];
 };
 
 // "gi.vct.clip.params": a transient uniform buffer holding `params`.

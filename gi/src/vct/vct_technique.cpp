@@ -125,7 +125,8 @@ public:
         if (m_clipmap.image.image)
             destroyImage(ctx, m_clipmap.image);
         m_clipmap = {};
-        params->dims.w = m_settings.prefilter == VctPrefilter::On ? 1u : 0u; // the fill (gi/voxel_grid.h)
+        params->dims.z = 1u; // the half-voxel bits the trace's skipped segments read (gi/voxel_grid.h)
+        params->dims.w = m_settings.prefilter == VctPrefilter::On ? 1u : 0u; // the fill
         auto grid = VoxelGrid::create(ctx, *params);
         if (!grid)
             return grid.error();
@@ -257,7 +258,8 @@ private:
             gpu::VoxelGridParams params{};
             params.originSize = glm::vec4(glm::vec3(0.0f), voxel);
             params.scales = glm::vec4(1.0f / voxel, scale, 1.0f / scale, 0.0f);
-            params.dims = glm::uvec4(n, uint32_t(std::countr_zero(n)), 0u, m_settings.prefilter != VctPrefilter::Off ? 1u : 0u);
+            // The half-voxel bits (the trace's skipped segments), and the fill unless it is off.
+            params.dims = glm::uvec4(n, uint32_t(std::countr_zero(n)), 1u, m_settings.prefilter != VctPrefilter::Off);
             ClipLevel level;
             auto grid = VoxelGrid::create(ctx, params);
             if (!grid)
@@ -323,6 +325,7 @@ private:
         // so the levels are lit coarsest first: a level's gathers find the coarser levels' layers
         // complete (first and second bounce) and its own first bounce, copied in before them.
         const rg::BufferHandle clipParams = addClipmapParamsPass(graph, params);
+        rg::ImageHandle occupancy[2];
         for (uint32_t l = uint32_t(m_levels.size()); l-- > 0;) {
             ClipLevel& level = m_levels[l];
             const float voxel = level.grid->params().originSize.w;
@@ -366,6 +369,8 @@ private:
             level.update = VoxelUpdate::None;
             if (l == 0)
                 in.blackboard.add(grid); // the finest level stands for the grid
+            if (l < 2)
+                occupancy[l] = grid.normal; // the trace's skipped segments (VctClipmapHandles)
             if (relight) {
                 // A move alone keeps the light of the voxels both corners cover; a light or an
                 // object change relights the level whole.
@@ -390,7 +395,7 @@ private:
         }
         if (m_settings.bounces < 2)
             selection.leaveOut("gi.vct.bounce*", LeftOutReason::NotNeeded, "vct.bounces = 1");
-        VctClipmapHandles clip{clipmap, clipParams};
+        VctClipmapHandles clip{clipmap, clipParams, {occupancy[0], occupancy[1]}};
         VctGBufferHandles g{gbuffer.position, gbuffer.normal, gbuffer.albedo,       gbuffer.emission,
                             frame.width,      frame.height,   frame.camera.position};
         VctOutputs out =

@@ -156,7 +156,7 @@ public:
             in.occupancyOriginSize = grid.params.originSize;
             in.occupancyResolution = grid.params.dims.x;
             if (grid.params.dims.z != 0)
-                in.occupancyHalves = grid.emission; // the camera-centred grid's half-voxel bits
+                in.occupancyHalves = grid.normal; // the camera-centred grid's half-voxel bits (its alpha)
         } else {
             settings.visibility = VplVisibilityMode::Off; // no geometry, no grid: nothing can occlude
             settings.bounces = 1;        // nor reflect a bounced ray

@@ -18,10 +18,83 @@ layout(local_size_x = GI_VCT_REFINE_GROUP) in; // indirect: header words 1..3 (v
 layout(local_size_x = 8, local_size_y = 8) in;
 #endif
 layout(push_constant) uniform Push { VctTracePush pc; };
+
+// ---- The skipped segment (docs/vct.md "The skipped segment") ----
+// A cone starts one voxel off the surface and takes its first sample one voxel further on, so it
+// never reads what lies in between: a banner hanging 0.3 m in front of a pier, the far side of a
+// crevice. The segment from the surface point to the first sample is marched in quarter-voxel
+// steps through the voxelizer's half-voxel occupancy (the normal volume's alpha, gi/voxel_grid.h),
+// from where a half voxel no longer reaches back to the surface's own plane; a cone that meets an
+// occupied half voxel ends there and takes that voxel's light along the cone (its view of the
+// level-0 directional volume: the face the cone meets). Read in the grid, or in the clipmap level
+// whose voxels the cones start from when that is level 0 or 1 (testing the coarser levels too
+// made `atrium_world` worse).
+layout(set = 1, binding = VCT_TRACE_BINDING_OCCUPANCY, rgba8) uniform readonly image3D occupancyFine;
+#ifdef GI_VCT_CLIPMAP
+layout(set = 1, binding = VCT_TRACE_BINDING_OCCUPANCY_COARSE, rgba8) uniform readonly image3D occupancyCoarse;
+#endif
+// Per pixel: whether to test, the surface point and the first sample's distance (finest voxels,
+// the grid's voxels without a clipmap), and the tested level, its corner and voxel.
+bool skipTest = false;
+vec3 skipSurface = vec3(0.0);
+float skipStart = 1.0;
+int skipLevel = 0;
+vec3 skipCorner = vec3(0.0);
+float skipVoxel = 1.0;
+vec3 skipHit = vec3(0.0); // where the last blocked segment met a surface (the tested level's voxels)
+
+bool skippedSurface(vec3 origin, vec3 d, vec3 normal) {
+    vec3 s = (skipSurface - skipCorner) / skipVoxel;
+    vec3 q = (origin + skipStart * d - skipCorner) / skipVoxel;
+    int steps = int(ceil(4.0 * length(q - s)));
+    // A half voxel of side 1/2 around a point h above the plane reaches below it up to
+    // h < |n|_1 / 2: such points may lie in the surface's own half voxels.
+    float clear = 0.5 * (abs(normal.x) + abs(normal.y) + abs(normal.z));
+    int n = int(pc.grid.dims.x);
+    for (int i = 1; i <= steps; ++i) {
+        vec3 x = mix(s, q, float(i) / float(steps));
+        ivec3 c = ivec3(floor(x));
+        if (dot(x - s, normal) < clear || any(lessThan(c, ivec3(0))) || any(greaterThanEqual(c, ivec3(n))))
+            continue;
+#ifdef GI_VCT_CLIPMAP
+        float a = skipLevel == 0 ? imageLoad(occupancyFine, c).a : imageLoad(occupancyCoarse, c).a;
+#else
+        float a = imageLoad(occupancyFine, c).a;
+#endif
+        ivec3 h = min(ivec3(2.0 * (x - vec3(c))), ivec3(1));
+        if ((voxelHalfBits(a) & (1u << uint(h.x + 2 * h.y + 4 * h.z))) != 0u) {
+            skipHit = vec3(c) + 0.5; // the voxel alone, not filtered with its neighbours
+            return true;
+        }
+    }
+    return false;
+}
+
+vec3 skippedLight(vec3 d);
+#define VCT_SKIPPED_CONE(origin, d, normal)                                                       \
+    if (skipTest && skippedSurface(origin, d, normal)) {                                          \
+        sum += skippedLight(d);                                                                   \
+        occlusion += 1.0;                                                                         \
+        continue;                                                                                 \
+    }
+
 #include "voxel_cone.glsl"
 #ifdef GI_VCT_CLIPMAP
 #include "voxel_clip.glsl"
 #endif
+
+// The light a cone blocked at skipHit meets: the voxel's view along d (level 0 of the tested
+// grid, the texel holding the point), its radiance = rgb over the optical depth.
+vec3 skippedLight(vec3 d) {
+    ConeFrame f = coneFrame(d, float(pc.grid.dims.x));
+#ifdef GI_VCT_CLIPMAP
+    float layerBase = float(GI_VCT_DIRECTIONS * uint(skipLevel)) * f.n;
+#else
+    float layerBase = 0.0;
+#endif
+    vec4 s = sampleDirectionalAt(f, skipHit, 0, 1.0, false, layerBase);
+    return s.a > 0.0 ? s.rgb / s.a : vec3(0.0);
+}
 layout(set = 1, binding = VCT_TRACE_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
 layout(set = 1, binding = VCT_TRACE_BINDING_NORMAL, rgba16f) uniform readonly image2D gNormal;
 layout(set = 1, binding = VCT_TRACE_BINDING_ALBEDO, rgba16f) uniform readonly image2D gAlbedo;
@@ -96,10 +169,19 @@ void main() {
     vec3 u = (position.xyz - pc.grid.originSize.xyz) * pc.grid.scales.x;
     float start = clipLift(u);
     vec3 p = u + start * normal;
+    skipLevel = findMSB(int(start)); // the lift is the voxel of the level the cones start from
+    skipTest = skipLevel < 2;
+    skipSurface = u;
+    skipStart = start;
+    skipCorner = clip.level[min(skipLevel, 1)].xyz;
+    skipVoxel = start;
 #define VCT_DIFFUSE_GATHER(TURN, OCCLUSION) diffuseGatherClip(p, normal, pc.cones, start, TURN, OCCLUSION)
 #else
     float n = float(pc.grid.dims.x);
     vec3 p = (position.xyz - pc.grid.originSize.xyz) * pc.grid.scales.x + normal;
+    skipTest = true;
+    skipSurface = p - normal;
+    skipStart = kConeStart;
 #define VCT_DIFFUSE_GATHER(TURN, OCCLUSION) diffuseGather(p, normal, pc.cones, n, TURN, OCCLUSION)
 #endif
     float occlusion;

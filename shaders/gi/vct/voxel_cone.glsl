@@ -236,6 +236,12 @@ mat3 tangentFrame(vec3 n) {
 // `extra` is its last float: the grid size for traceCone, the start for the clipmap's tracer).
 // The cone set turns about the normal by `turn` radians (rotated cone sets, vct_trace_body.glsl).
 // A macro because GLSL has no function parameters: one gather serves the grid and the clipmap.
+// The per-pixel trace defines VCT_SKIPPED_CONE(origin, d, normal), a statement that ends a cone
+// whose skipped segment meets a surface, with that surface's light (vct_trace_body.glsl); the
+// voxels' own gathers start from above their voxels' surfaces and skip nothing.
+#ifndef VCT_SKIPPED_CONE
+#define VCT_SKIPPED_CONE(origin, d, normal)
+#endif
 #define VCT_DEFINE_DIFFUSE_GATHER(NAME, TRACE)                                                   \
     vec3 NAME(vec3 origin, vec3 normal, ConeParams cp, float extra, float turn,                  \
               out float occlusion) {                                                             \
@@ -248,6 +254,7 @@ mat3 tangentFrame(vec3 n) {
         for (uint i = 0u; i < count; ++i) {                                                      \
             float occ;                                                                           \
             vec3 d = frame * hemisphereCone(i, count);                                           \
+            VCT_SKIPPED_CONE(origin, d, normal)                                                  \
             sum += TRACE(origin, d, dot(d, normal), cp.cone.x, cp.cone.y, cp.cone.z, extra, occ).rgb; \
             occlusion += occ;                                                                    \
         }                                                                                        \

@@ -27,7 +27,7 @@ void main() {
     int n = int(pc.grid.dims.x);
     uint slab = voxelAccSlab(c, uint(n));
     uint rec = (GI_VOXEL_ACC_STRIDE / 4u) * voxelAccRecord(c, uint(n));
-    // Words 0..13: count, albedo rgb, faces +x -x +y -y +z -z, emission rgb, half-voxel bits
+    // Words 0..12: count and half-voxel bits, albedo rgb, faces +x -x +y -y +z -z, emission rgb
     // (gi/voxel_grid.h).
     uvec4 w0 = voxelAccLoad(slab, rec), w1 = voxelAccLoad(slab, rec + 1u), w2 = voxelAccLoad(slab, rec + 2u),
           w3 = voxelAccLoad(slab, rec + 3u);
@@ -41,7 +41,7 @@ void main() {
     if (imageLoad(staticAlbedo, c).a > 0.0)
         return; // the static voxel copied into the target stays
 #endif
-    uint count = min(w0.x, GI_VOXEL_MAX_CONTRIBUTIONS);
+    uint count = min(w0.x & ((1u << GI_VOXEL_ACC_COUNT_BITS) - 1u), GI_VOXEL_MAX_CONTRIBUTIONS);
     float inv = 1.0 / (float(count) * GI_VOXEL_FIXED_ONE);
     vec3 albedo = vec3(w0.yzw) * inv;
     uvec3 p = uvec3(w1.x, w1.z, w2.x), m = uvec3(w1.y, w1.w, w2.y);
@@ -53,11 +53,13 @@ void main() {
     float len = length(normalSum);
     vec3 normal = len > 1e-3 * float(count) * GI_VOXEL_FIXED_ONE ? normalSum / len : vec3(0.0);
     imageStore(outAlbedo, c, vec4(albedo, 1.0));
-    imageStore(outNormal, c, vec4(voxelNormalEncode(normal), 1.0));
     // The half-voxel bits (dims.z = 1): a voxel the full test set always has one (a triangle
     // entering it within the test's margin of the halves' faces may pass no half's test: count
     // it whole).
-    float alpha = pc.grid.dims.z != 0u ? float(w3.y != 0u ? w3.y : 255u) : 0.0;
+    uint halves = w0.x >> GI_VOXEL_ACC_COUNT_BITS;
+    float occupancy = pc.grid.dims.z != 0u ? float(halves != 0u ? halves : 255u) / 255.0 : 1.0;
+    imageStore(outNormal, c, vec4(voxelNormalEncode(normal), occupancy));
+    float alpha = 0.0;
     // The fill (dims.w = 1): the projected areas P_k (words 13..15, voxel face = 1), each taken
     // once per side: s_k, the larger side's share of axis k's face coverage, is 1 for a sheet
     // and 1/2 for a closed surface, which covers its silhouette from both sides. The axis of the

@@ -7,12 +7,13 @@
 //   albedo   RGBA8_UNORM   rgb = mean linear albedo of the triangles touching the voxel,
 //                          a = occupancy (1 = at least one triangle touches it, else 0)
 //   normal   RGBA8_UNORM   rgb = voxelNormalEncode(mean face normal) (0.5 = zero vector when the
-//                          normals cancel, e.g. both sides of a thin wall), a = occupancy
+//                          normals cancel, e.g. both sides of a thin wall), a = occupancy (1), or
+//                          with dims.z = 1 the voxel's half-voxel occupancy over 255: bit
+//                          i + 2 j + 4 k set when a triangle touches the half-size box (i, j, k) of
+//                          the voxel's 2x2x2 (i = 0 the lower half in x); nonzero exactly where
+//                          the voxel is occupied (voxelHalfBits)
 //   emission RGBA16F       rgb = mean emitted radiance (nits) * radianceScale; a = 0, or with
-//                          dims.z = 1 the voxel's half-voxel occupancy: bit i + 2 j + 4 k set when
-//                          a triangle touches the half-size box (i, j, k) of the voxel's 2x2x2
-//                          (i = 0 the lower half in x), stored as a float 0..255 (exact in half);
-//                          or with dims.w = 1 the voxel's fill: the share of its cross-section its
+//                          dims.w = 1 the voxel's fill: the share of its cross-section its
 //                          surfaces block (pre-filtered opacity, docs/vct.md "Pre-filtered
 //                          opacity"), min(1, sum_k P_k s_k) with P_k the triangles' area inside
 //                          the voxel projected along axis k over the voxel's face area and s_k the
@@ -38,9 +39,9 @@ GI_GPU_STRUCT(VoxelGridParams) {
     vec4 originSize;  // xyz world-space min corner of the grid, w = voxel edge length (m)
     vec4 scales;      // x = 1 / voxel edge, y = radianceScale, z = 1 / radianceScale, w = 0
     uvec4 dims;       // x = N (power of two), y = log2(N), z = 1: record the half-voxel
-                      // occupancy (emission's a; the camera-centred shared grid), else 0; w = 1:
-                      // record the fill (emission's a; VCT's pre-filtered opacity), else 0.
-                      // z and w are never both 1 (they share record words 13..15)
+                      // occupancy (normal's a; VCT's grids and the camera-centred shared grid),
+                      // else 0; w = 1: record the fill (emission's a; VCT's pre-filtered
+                      // opacity), else 0
 };
 GI_CHECK_SIZE(VoxelGridParams, 48);
 GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
@@ -61,9 +62,10 @@ GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 // Accumulation record of a voxel: GI_VOXEL_ACC_STRIDE uint words at word
 // GI_VOXEL_ACC_STRIDE * (x + N (y + N z)) of one storage buffer, so that one triangle's atomics
 // on a voxel and the resolve's loads of it touch one 64-byte cache line (13 separate R32UI
-// volumes put each of a voxel's ten atomics on a different line). Word 13 holds the half-voxel
-// bits (dims.z = 1), 14..15 are padding; or with dims.w = 1 words 13..15 the sums of the
-// triangles' areas inside the voxel projected along x, y, z (fixed point, voxel face = 1).
+// volumes put each of a voxel's ten atomics on a different line). Word 0 holds the count in its
+// low 24 bits and, with dims.z = 1, the half-voxel bits in its high 8; with dims.w = 1 words
+// 13..15 hold the sums of the triangles' areas inside the voxel projected along x, y, z (fixed
+// point, voxel face = 1), else they are padding.
 // Empty records are zero; the resolve zeroes each record it reads, so the buffer is zero
 // between voxelizations and needs no clear after the first.
 // The records are bound as GI_VOXEL_ACC_SLABS descriptor ranges of whole z-layers
@@ -72,11 +74,11 @@ GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 // 2^30 bytes, so there the eight ranges hold N/8 layers each; smaller grids fit in the first
 // range (the others alias it, unused).
 #define GI_VOXEL_ACC_SLABS 8u
-#define GI_VOXEL_ACC_COUNT 0
+#define GI_VOXEL_ACC_COUNT 0     // low GI_VOXEL_ACC_COUNT_BITS bits; the half-voxel bits above them
+#define GI_VOXEL_ACC_COUNT_BITS 24u
 #define GI_VOXEL_ACC_ALBEDO 1   // 3 channels: r, g, b
 #define GI_VOXEL_ACC_FACES 4    // 6 channels: max(0, n.x), max(0, -n.x), max(0, n.y), ... (unsigned)
 #define GI_VOXEL_ACC_EMISSION 10 // 3 channels: r, g, b (emission * radianceScale / GI_VOXEL_RADIANCE_TARGET, <= 1)
-#define GI_VOXEL_ACC_HALVES 13   // dims.z = 1: the half-voxel occupancy bits (atomicOr)
 #define GI_VOXEL_ACC_AREA 13     // dims.w = 1: 3 channels: projected area inside the voxel along x, y, z
 #define GI_VOXEL_ACC_CHANNELS 16u
 #define GI_VOXEL_ACC_STRIDE 16u
@@ -88,6 +90,9 @@ GI_INLINE uint voxelAccSlabLayers(uint n) {
 // Supported grid resolutions (powers of two).
 #define GI_VOXEL_MIN_RESOLUTION 16u
 #define GI_VOXEL_MAX_RESOLUTION 256u
+
+// The half-voxel bits of a voxel from its normal volume's alpha (dims.z = 1): 0 for an empty voxel.
+GI_INLINE uint voxelHalfBits(float normalAlpha) { return uint(normalAlpha * 255.0f + 0.5f); }
 
 GI_INLINE vec3 voxelNormalEncode(vec3 n) { return n * 0.5f + 0.5f; }
 GI_INLINE vec3 voxelNormalDecode(vec3 e) { return e * 2.0f - 1.0f; }

@@ -101,12 +101,12 @@
 #define VPL_BOUNCE_BINDING_ALBEDO 1     // the voxel grid's albedo volume (rgb albedo, a = occupancy, gi/voxel_grid.h)
 #define VPL_BOUNCE_BINDING_FACES 2      // the voxel grid's faces volume (R32UI, voxelFacesPack)
 #define VPL_BOUNCE_BINDING_VPLS 3       // VplRecord buffer: reads generation g - 1, writes generation g
-#define VPL_BOUNCE_BINDING_HALVES 4     // with half voxels (grid.y twice the volumes' size): the emission volume, a = half-voxel bits
+#define VPL_BOUNCE_BINDING_HALVES 4     // with half voxels (grid.y twice the volumes' size): the normal volume, a = half-voxel bits
 // vpl_visibility_map.comp (vpl.visibility maps): per VPL, the distance its light travels through the
 // voxel grid in each texel of a hemi-octahedral map about its normal (gi/vpl_visibility.h).
 #define VPL_VISIBILITY_MAP_BINDING_VPLS 0   // VplRecord per positive VPL (every generation written)
 #define VPL_VISIBILITY_MAP_BINDING_ALBEDO 1 // the voxel grid's albedo volume (a = occupancy)
-#define VPL_VISIBILITY_MAP_BINDING_HALVES 2 // with half voxels: the emission volume, a = half-voxel bits
+#define VPL_VISIBILITY_MAP_BINDING_HALVES 2 // with half voxels: the normal volume, a = half-voxel bits
 #define VPL_VISIBILITY_MAP_BINDING_MAP 3    // output: float per VPL and texel, VPL-major (metres)
 // vpl_importance.comp: a large sun window's candidate VPLs weighted by the light they bring to a
 // sparse set of the frame's visible points (docs/vpl.md, "Candidates weighted by the image").

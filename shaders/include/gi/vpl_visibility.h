@@ -24,7 +24,7 @@
 // the clipping. The light is multiplied by 1 - occupancy at each sample.
 //
 // Half voxels: when pc.interleave.w is twice the volume's size, `vplOccupancy` is the grid's
-// emission volume, whose alpha holds each voxel's 2x2x2 half-voxel occupancy bits (gi/voxel_grid.h),
+// normal volume, whose alpha holds each voxel's 2x2x2 half-voxel occupancy bits (gi/voxel_grid.h),
 // and pc.grid.w is half the voxel edge: the march (offsets, steps, box) runs on the half voxels,
 // as on a grid of twice the resolution, and a sample is blocked when its half's bit is set.
 //
@@ -164,7 +164,7 @@ float vplVisibility(uint k, vec3 x, vec3 nx, vec3 p, vec3 np) {
             if (!halves) {
                 visibility *= 1.0 - texelFetch(vplOccupancy, v, 0).a;
             } else {
-                uint bits = uint(texelFetch(vplOccupancy, v >> 1, 0).a + 0.5);
+                uint bits = voxelHalfBits(texelFetch(vplOccupancy, v >> 1, 0).a);
                 uint b = uint(v.x & 1) | (uint(v.y & 1) << 1u) | (uint(v.z & 1) << 2u);
                 if (((bits >> b) & 1u) != 0u)
                     visibility = 0.0;

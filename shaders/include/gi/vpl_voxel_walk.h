@@ -9,6 +9,7 @@
 // alpha is set; otherwise a voxel is occupied when the albedo volume's alpha is.
 #ifndef VKGI_GI_VPL_VOXEL_WALK_H
 #define VKGI_GI_VPL_VOXEL_WALK_H
+#include "voxel_grid.h" // voxelHalfBits
 
 // Orthonormal tangents of unit n (Duff et al. 2017, branchless): a VPL's local frame.
 void vplTangentFrame(vec3 n, out vec3 t, out vec3 b) {
@@ -48,7 +49,7 @@ VplVoxelHit vplVoxelWalk(vec3 o, vec3 dir, int cells, sampler3D albedoVolume, sa
         if (!halves) {
             occupied = texelFetch(albedoVolume, v, 0).a > 0.5;
         } else {
-            uint bits = uint(texelFetch(halvesVolume, v >> 1, 0).a + 0.5);
+            uint bits = voxelHalfBits(texelFetch(halvesVolume, v >> 1, 0).a);
             occupied = ((bits >> (uint(v.x & 1) | (uint(v.y & 1) << 1u) | (uint(v.z & 1) << 2u))) & 1u) != 0u;
         }
         if (occupied) {
