@@ -929,6 +929,59 @@ TEST_F(VctFurnace, TwoBouncesApproachLeTimesOnePlusRhoPlusRhoSquared) {
     EXPECT_GT(r2.mean - r1.mean, 0.9 * rho * rho);
 }
 
+// The skipped segment (docs/vct.md "The skipped segment"): a closed box whose walls emit Le
+// (albedo 0: no bounce) with a black sheet, 0.5 x 0.5 and both-sided, 0.6 voxel above the middle of
+// the floor. A floor point under its middle sees the sheet over at least 99.8% of the cosine-
+// weighted hemisphere (a square of half-side 0.15 at most 0.6 voxel = 0.019 above it), so its
+// incoming light is at most 0.002 Le; its cones start one voxel up, beyond the sheet, and
+// without the test read the walls (measured 0.66 Le, AO visibility 0.59; with it 0 and 0). Floor
+// points 0.1 or more beside the sheet, where it covers under 1% of their hemisphere, keep the
+// walls' light (0.946 Le either way).
+TEST_F(Vct, ConesMeetTheSurfaceInTheSegmentTheySkip) {
+    TestScene scene;
+    const float le = 1.0f;
+    scene.addDraw(innerBox(glm::vec3(0.0f), glm::vec3(1.0f)), scene.addMaterial(glm::vec3(0.0f), glm::vec3(le)));
+    const uint32_t n = 32;
+    gpu::VoxelGridParams params = boxGrid(n, chooseRadianceScale(le));
+    params.dims.z = 1; // the half-voxel bits, as the technique's grids record them
+    const float h = 0.6f * params.originSize.w;
+    const glm::vec3 a(0.25f, h, 0.25f), b(0.75f, h, 0.25f), c(0.75f, h, 0.75f), d(0.25f, h, 0.75f);
+    scene.addDraw({{a, c, b}, {a, d, c}, {a, b, c}, {a, c, d}}, scene.addMaterial(glm::vec3(0.0f)));
+    setup(scene, {}, params);
+    VctSettings s;
+    s.bounces = 1;
+    s.filter = 1; // the pixels are a list of points: under and beside the sheet alternate
+    runVoxels(s);
+    std::vector<glm::vec3> pos, nrm;
+    for (uint32_t j = 0; j < 8; ++j)
+        for (uint32_t i = 0; i < 8; ++i) {
+            const float z = 0.4f + 0.2f * (j + 0.5f) / 8.0f;
+            pos.push_back(glm::vec3(0.4f + 0.2f * (i + 0.5f) / 8.0f, 0.0f, z)); // under the sheet
+            pos.push_back(glm::vec3(0.05f + 0.1f * (i + 0.5f) / 8.0f, 0.0f, z)); // beside it
+            nrm.insert(nrm.end(), 2, glm::vec3(0.0f, 1.0f, 0.0f));
+        }
+    auto indirect = trace(s, pos, nrm, glm::vec3(1.0f), 16);
+    ASSERT_EQ(indirect.size(), pos.size());
+    double under = 0.0, beside = 0.0, underAo = 0.0, worstUnder = 0.0, leastBeside = 1e30;
+    for (size_t k = 0; k < indirect.size(); k += 2) {
+        under += indirect[k].g / 64.0;
+        underAo += indirect[k].a / 64.0;
+        worstUnder = std::max(worstUnder, double(indirect[k].g));
+        beside += indirect[k + 1].g / 64.0;
+        leastBeside = std::min(leastBeside, double(indirect[k + 1].g));
+    }
+    std::printf("skipped segment: incoming light under the sheet %.4f Le (max %.4f, AO visibility %.3f), beside it "
+                "%.4f Le (min %.4f)\n",
+                under / le, worstUnder / le, underAo, beside / le, leastBeside / le);
+    EXPECT_LE(worstUnder, 0.01 * le) << "the cones meet the sheet, whose light is 0";
+    EXPECT_LE(underAo, 0.01) << "and count it occluded";
+    // Beside the sheet as in the furnace (whose one-bounce indirect part reads 97%), but for the
+    // lattice: the column 2.5 voxels from the wall at x = 0 reads 0.80-0.83.
+    EXPECT_GE(beside, 0.9 * le) << "beside the sheet the cones pass";
+    EXPECT_GE(leastBeside, 0.75 * le);
+    EXPECT_LE(beside, 1.01 * le);
+}
+
 // The third bounce (a second gather over the two-bounce radiance, adding only the difference):
 // Le (1 + rho + rho^2 + rho^3), with the same energy bound above; below, each gather loses the
 // same share of what it gathers, so the loss compounds: measured 2026-11-28 1.8350 at rho 0.5,
