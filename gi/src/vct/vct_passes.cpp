@@ -442,7 +442,8 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
     rg::BufferHandle list = graph.importBuffer("gi.vct.voxel_list", volumes.listState());
     out.directional = graph.importImage("gi.vct.directional", volumes.directionalState());
     if (!options.relight) // nothing the voxel light depends on changed: the kept volume and mips
-        return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage, grid.normal);
+        return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage,
+                              grid.normal);
     // The axes whose level-0 views each voxel last stored (gi/vct_passes.h): the voxel light
     // zeroes those its faces no longer cover, gi.vct.list.stale those of emptied voxels.
     rg::ImageHandle written = graph.importImage("gi.vct.written", volumes.writtenState());
@@ -503,7 +504,8 @@ VctOutputs addVctPasses(rg::RenderGraph& graph, VctVolumes& volumes, const Voxel
         }
     }
     volumes.setBounceKnown(options.saveLit && settings.bounces >= 2);
-    return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage, grid.normal);
+    return addPixelPasses(graph, volumes, out, settings, gbuffer, lights, lightCount, options.glossyImage,
+                          grid.normal);
 }
 
 rg::BufferHandle addClipmapParamsPass(rg::RenderGraph& graph, const gpu::VctClipmapParams& params) {
@@ -632,7 +634,8 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, Vct
         .write(VCT_TRACE_BINDING_REFINE_LIST, refineList)
         .read(VCT_TRACE_BINDING_OCCUPANCY, occupancy);
     if (clip)
-        trace.read(VCT_TRACE_BINDING_CLIPMAP, clip->params).read(VCT_TRACE_BINDING_OCCUPANCY_COARSE, clip->occupancy[1]);
+        trace.read(VCT_TRACE_BINDING_CLIPMAP, clip->params)
+            .read(VCT_TRACE_BINDING_OCCUPANCY_COARSE, clip->occupancy[1]);
     trace.dispatch({push.lowRes.y, push.lowRes.z, 1u});
     if (f == 1) {
         out.indirect = filter ? addVctFilterPasses(graph, p.filter, g, indirect, glossy, 1u, settings.filter)
@@ -669,7 +672,8 @@ VctOutputs addTracePasses(rg::RenderGraph& graph, const VctVolumes& volumes, Vct
         .read(VCT_TRACE_BINDING_REFINE_LIST, refineList)
         .read(VCT_TRACE_BINDING_OCCUPANCY, occupancy);
     if (clip)
-        refine.read(VCT_TRACE_BINDING_CLIPMAP, clip->params).read(VCT_TRACE_BINDING_OCCUPANCY_COARSE, clip->occupancy[1]);
+        refine.read(VCT_TRACE_BINDING_CLIPMAP, clip->params)
+            .read(VCT_TRACE_BINDING_OCCUPANCY_COARSE, clip->occupancy[1]);
     refine.dispatchIndirect(refineList, sizeof(uint32_t));
     if (filter) // at full resolution, so that the refined pixels are filtered too
         out.indirect = addVctFilterPasses(graph, p.filter, g, out.indirect, out.glossy, 1u, settings.filter);

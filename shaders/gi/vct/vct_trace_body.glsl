@@ -28,7 +28,8 @@ layout(push_constant) uniform Push { VctTracePush pc; };
 // occupied half voxel ends there and takes that voxel's light along the cone (its view of the
 // level-0 directional volume: the face the cone meets). Read in the grid, or in the clipmap level
 // whose voxels the cones start from when that is level 0 or 1 (testing the coarser levels too
-// made `atrium_world` worse).
+// made `atrium_world` worse). A grid without the bits (dims.z = 0: tests' own grids) stores an
+// occupied voxel's alpha as 1, i.e. all eight halves set: there the test is per whole voxel.
 layout(set = 1, binding = VCT_TRACE_BINDING_OCCUPANCY, rgba8) uniform readonly image3D occupancyFine;
 #ifdef GI_VCT_CLIPMAP
 layout(set = 1, binding = VCT_TRACE_BINDING_OCCUPANCY_COARSE, rgba8) uniform readonly image3D occupancyCoarse;

@@ -308,7 +308,7 @@ GI_CHECK_SIZE(VctClipmapParams, 144);
 #define VCT_TRACE_BINDING_GLOSSY 6         // out: glossy cone radiance (RGBA32F)
 #define VCT_TRACE_BINDING_REFINE_LIST 7    // the refine list: header zeroed (trace) or traced (refine)
 #define VCT_TRACE_BINDING_CLIPMAP 8        // clipmap variants (trace, refine, bounce gathers): VctClipmapParams (uniform block)
-#define VCT_TRACE_BINDING_OCCUPANCY 9      // trace, refine: the grid's (clipmap: level 0's) normal volume, a = half-voxel bits
+#define VCT_TRACE_BINDING_OCCUPANCY 9      // trace, refine: the grid's (clipmap: level 0's) normal volume
 #define VCT_TRACE_BINDING_OCCUPANCY_COARSE 10 // clipmap trace, refine: level 1's normal volume
 #define VCT_SHADOW_BINDING_POSITION 2      // G-buffer position
 #define VCT_SHADOW_BINDING_NORMAL 3        // G-buffer normal

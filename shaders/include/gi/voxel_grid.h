@@ -63,9 +63,10 @@ GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 // GI_VOXEL_ACC_STRIDE * (x + N (y + N z)) of one storage buffer, so that one triangle's atomics
 // on a voxel and the resolve's loads of it touch one 64-byte cache line (13 separate R32UI
 // volumes put each of a voxel's ten atomics on a different line). Word 0 holds the count in its
-// low 24 bits and, with dims.z = 1, the half-voxel bits in its high 8; with dims.w = 1 words
-// 13..15 hold the sums of the triangles' areas inside the voxel projected along x, y, z (fixed
-// point, voxel face = 1), else they are padding.
+// low 24 bits (2^24 triangles in one voxel would carry into the next field) and, with
+// dims.z = 1, the half-voxel bits in its high 8; with dims.w = 1 words 13..15 hold the sums of
+// the triangles' areas inside the voxel projected along x, y, z (fixed point, voxel face = 1),
+// else they are padding.
 // Empty records are zero; the resolve zeroes each record it reads, so the buffer is zero
 // between voxelizations and needs no clear after the first.
 // The records are bound as GI_VOXEL_ACC_SLABS descriptor ranges of whole z-layers

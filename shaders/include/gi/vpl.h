@@ -101,7 +101,7 @@
 #define VPL_BOUNCE_BINDING_ALBEDO 1     // the voxel grid's albedo volume (rgb albedo, a = occupancy, gi/voxel_grid.h)
 #define VPL_BOUNCE_BINDING_FACES 2      // the voxel grid's faces volume (R32UI, voxelFacesPack)
 #define VPL_BOUNCE_BINDING_VPLS 3       // VplRecord buffer: reads generation g - 1, writes generation g
-#define VPL_BOUNCE_BINDING_HALVES 4     // with half voxels (grid.y twice the volumes' size): the normal volume, a = half-voxel bits
+#define VPL_BOUNCE_BINDING_HALVES 4     // half voxels (grid.y twice the volumes' size): the normal volume, a = the bits
 // vpl_visibility_map.comp (vpl.visibility maps): per VPL, the distance its light travels through the
 // voxel grid in each texel of a hemi-octahedral map about its normal (gi/vpl_visibility.h).
 #define VPL_VISIBILITY_MAP_BINDING_VPLS 0   // VplRecord per positive VPL (every generation written)
