@@ -35,18 +35,39 @@ layout(set = 1, binding = VCT_TRACE_BINDING_OCCUPANCY, rgba8) uniform readonly i
 layout(set = 1, binding = VCT_TRACE_BINDING_OCCUPANCY_COARSE, rgba8) uniform readonly image3D occupancyCoarse;
 #endif
 // Per pixel: whether to test, the surface point and the first sample's distance (finest voxels,
-// the grid's voxels without a clipmap), and the tested level, its corner and voxel.
+// the grid's voxels without a clipmap), and the tested clipmap level.
 bool skipTest = false;
 vec3 skipSurface = vec3(0.0);
 float skipStart = 1.0;
 int skipLevel = 0;
-vec3 skipCorner = vec3(0.0);
-float skipVoxel = 1.0;
 vec3 skipHit = vec3(0.0); // where the last blocked segment met a surface (the tested level's voxels)
 
+// Both defined below the cone tracers (the clipmap's levels, the volume's sampling), called from
+// their gathers.
+bool skippedSurface(vec3 origin, vec3 d, vec3 normal);
+vec3 skippedLight(vec3 d);
+#define VCT_SKIPPED_CONE(origin, d, normal)                                                       \
+    if (skipTest && skippedSurface(origin, d, normal)) {                                          \
+        sum += skippedLight(d);                                                                   \
+        occlusion += 1.0;                                                                         \
+        continue;                                                                                 \
+    }
+
+#include "voxel_cone.glsl"
+#ifdef GI_VCT_CLIPMAP
+#include "voxel_clip.glsl"
+#endif
+
 bool skippedSurface(vec3 origin, vec3 d, vec3 normal) {
-    vec3 s = (skipSurface - skipCorner) / skipVoxel;
-    vec3 q = (origin + skipStart * d - skipCorner) / skipVoxel;
+#ifdef GI_VCT_CLIPMAP
+    vec3 corner = clip.level[skipLevel].xyz;
+    float voxel = clip.level[skipLevel].w;
+#else
+    vec3 corner = vec3(0.0);
+    float voxel = 1.0;
+#endif
+    vec3 s = (skipSurface - corner) / voxel;
+    vec3 q = (origin + skipStart * d - corner) / voxel;
     int steps = int(ceil(4.0 * length(q - s)));
     // A half voxel of side 1/2 around a point h above the plane reaches below it up to
     // h < |n|_1 / 2: such points may lie in the surface's own half voxels.
@@ -70,19 +91,6 @@ bool skippedSurface(vec3 origin, vec3 d, vec3 normal) {
     }
     return false;
 }
-
-vec3 skippedLight(vec3 d);
-#define VCT_SKIPPED_CONE(origin, d, normal)                                                       \
-    if (skipTest && skippedSurface(origin, d, normal)) {                                          \
-        sum += skippedLight(d);                                                                   \
-        occlusion += 1.0;                                                                         \
-        continue;                                                                                 \
-    }
-
-#include "voxel_cone.glsl"
-#ifdef GI_VCT_CLIPMAP
-#include "voxel_clip.glsl"
-#endif
 
 // The light a cone blocked at skipHit meets: the voxel's view along d (level 0 of the tested
 // grid, the texel holding the point), its radiance = rgb over the optical depth.
@@ -174,8 +182,6 @@ void main() {
     skipTest = skipLevel < 2;
     skipSurface = u;
     skipStart = start;
-    skipCorner = clip.level[min(skipLevel, 1)].xyz;
-    skipVoxel = start;
 #define VCT_DIFFUSE_GATHER(TURN, OCCLUSION) diffuseGatherClip(p, normal, pc.cones, start, TURN, OCCLUSION)
 #else
     float n = float(pc.grid.dims.x);

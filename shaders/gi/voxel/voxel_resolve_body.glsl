@@ -41,7 +41,7 @@ void main() {
     if (imageLoad(staticAlbedo, c).a > 0.0)
         return; // the static voxel copied into the target stays
 #endif
-    uint count = min(w0.x & ((1u << GI_VOXEL_ACC_COUNT_BITS) - 1u), GI_VOXEL_MAX_CONTRIBUTIONS);
+    uint count = min(w0.x & GI_VOXEL_ACC_COUNT_MASK, GI_VOXEL_MAX_CONTRIBUTIONS);
     float inv = 1.0 / (float(count) * GI_VOXEL_FIXED_ONE);
     vec3 albedo = vec3(w0.yzw) * inv;
     uvec3 p = uvec3(w1.x, w1.z, w2.x), m = uvec3(w1.y, w1.w, w2.y);

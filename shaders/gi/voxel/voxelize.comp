@@ -126,7 +126,7 @@ void splat(ivec3 c, int n, vec3 albedo, vec3 normal, vec3 emission, bool emissiv
     uint rec = GI_VOXEL_ACC_STRIDE * voxelAccRecord(c, uint(n));
     if (halves != 0u)
         voxelAccOr(slab, rec + GI_VOXEL_ACC_COUNT, halves << GI_VOXEL_ACC_COUNT_BITS);
-    uint old = voxelAccAdd(slab, rec + GI_VOXEL_ACC_COUNT, 1u) & ((1u << GI_VOXEL_ACC_COUNT_BITS) - 1u);
+    uint old = voxelAccAdd(slab, rec + GI_VOXEL_ACC_COUNT, 1u) & GI_VOXEL_ACC_COUNT_MASK;
     // The first contribution marks the voxel; voxel_touched_list.comp lists the marks in grid order.
     if (old == 0u) {
         uint i = uint(c.x + n * (c.y + n * c.z));

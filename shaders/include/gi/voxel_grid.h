@@ -77,6 +77,7 @@ GI_CHECK_OFFSET(VoxelGridParams, dims, 32);
 #define GI_VOXEL_ACC_SLABS 8u
 #define GI_VOXEL_ACC_COUNT 0     // low GI_VOXEL_ACC_COUNT_BITS bits; the half-voxel bits above them
 #define GI_VOXEL_ACC_COUNT_BITS 24u
+#define GI_VOXEL_ACC_COUNT_MASK ((1u << GI_VOXEL_ACC_COUNT_BITS) - 1u)
 #define GI_VOXEL_ACC_ALBEDO 1   // 3 channels: r, g, b
 #define GI_VOXEL_ACC_FACES 4    // 6 channels: max(0, n.x), max(0, -n.x), max(0, n.y), ... (unsigned)
 #define GI_VOXEL_ACC_EMISSION 10 // 3 channels: r, g, b (emission * radianceScale / GI_VOXEL_RADIANCE_TARGET, <= 1)
